@@ -1,0 +1,1 @@
+//! `backlash` (work in progress).

@@ -1,0 +1,1 @@
+//! `gear-geometry` (work in progress).

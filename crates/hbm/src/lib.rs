@@ -1,0 +1,1 @@
+//! `hbm` (work in progress).

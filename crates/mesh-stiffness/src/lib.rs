@@ -1,0 +1,1 @@
+//! `mesh-stiffness` (work in progress).

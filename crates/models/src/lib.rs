@@ -1,0 +1,20 @@
+//! The published gear-dynamics models of geardyn.
+//!
+//! * [`liu2021`] — noncircular face gear (NFG) rattle under multifrequency parametric
+//!   excitation (Liu, Lv, Zhao 2021, Mech. Sci. 12:361).
+//! * [`karpov2017`] — oscillator excited at the variable mesh frequency of slightly non-circular
+//!   gears (Karpov et al. 2017, MMT 114:1).
+//! * [`yu2021`] — spur pair with dynamic, fractal backlash, 6-DOF transverse-torsional
+//!   (Yu, Sun, Li, Wu 2021).
+//!
+//! Each model: a dimensional parameter struct (SI, serde, validated), the paper's parameter set
+//! as a named constructor, the dimensionless form built in one place, and adapters to both
+//! engines ([`hbm`] and [`timestep`]).
+
+mod error;
+
+pub mod karpov2017;
+pub mod liu2021;
+pub mod yu2021;
+
+pub use error::Error;

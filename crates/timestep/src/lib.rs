@@ -1,0 +1,1 @@
+//! `timestep` (work in progress).

@@ -1,0 +1,2 @@
+//! geardyn project automation.
+fn main() {}
