@@ -1,2 +1,64 @@
 //! geardyn project automation.
-fn main() {}
+//!
+//! * `cargo xtask validate` — run every validation study, write `validation/` (CSV, SVG,
+//!   snapshots, `REPORT.md`).
+//! * `cargo xtask validate --check` — regenerate in memory and fail if any committed output or
+//!   snapshot would change (CI).
+//! * `cargo xtask study <file.toml>` — run a user study (format in `docs/studies.md`).
+
+mod study;
+mod validate;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "xtask", about = "geardyn project automation")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Run every validation study and write validation/ (CSV, SVG, snapshots, REPORT.md).
+    Validate {
+        /// Do not write: fail if any generated file differs from the committed one.
+        #[arg(long)]
+        check: bool,
+        /// Only studies whose id contains this text (never with --check).
+        #[arg(long)]
+        filter: Option<String>,
+    },
+    /// Run a user study file (see docs/studies.md); writes CSV, SVG and a JSON summary.
+    Study {
+        /// The study file (TOML).
+        file: PathBuf,
+        /// Output directory (default: next to the study file, `<name>/`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+/// The repository root (parent of `xtask/`).
+fn repo_root() -> PathBuf {
+    let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    manifest.parent().map(PathBuf::from).unwrap_or(manifest)
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.cmd {
+        Cmd::Validate { check, filter } => validate::run(&repo_root(), check, filter.as_deref()),
+        Cmd::Study { file, out } => study::run(&file, out.as_deref()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

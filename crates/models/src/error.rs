@@ -28,6 +28,10 @@ pub enum Error {
 impl Error {
     /// Shorthand for [`Error::InvalidParameter`].
     pub fn invalid(field: impl Into<String>, bound: impl Into<String>, value: f64) -> Self {
-        Error::InvalidParameter { field: field.into(), bound: bound.into(), value }
+        Error::InvalidParameter {
+            field: field.into(),
+            bound: bound.into(),
+            value,
+        }
     }
 }

@@ -1,1 +1,166 @@
-//! `validate` (work in progress).
+//! Validation harness of geardyn: every published table, figure, equation and claim of the three
+//! source papers, held against the models, with the comparison written out and snapshot-tested.
+//!
+//! # What a study is
+//!
+//! A [`Study`] names one published item — `paper`, `source` (`"Table 2, p. 12"`), a title and a
+//! one-paragraph description of how the paper is read — and a function `run` returning a
+//! [`StudyOutput`]:
+//!
+//! * **comparisons** ([`Comparison`]): quantity, unit, the paper's value ([`Reference`], kept as
+//!   printed), the model's value, deviation (absolute and relative), a [`Tolerance`] with its
+//!   basis ([`ToleranceBasis`]: printed precision, digitising, "about" in the text, numerical) and
+//!   the [`Verdict`] (pass if |model − paper| ≤ tolerance, else `DEVIATION`);
+//! * **claims** ([`Claim`]): a statement of the paper quoted with its page, the model's evidence
+//!   (with numbers) and a verdict (pass / deviation / inconclusive);
+//! * **tables** ([`Table`]): data written as CSV with `name [unit]` headers;
+//! * **figures** ([`Figure`]): series of curves rendered to SVG with plotters (their data is also
+//!   written as long-format CSV);
+//! * **readings**: comparisons and claims carry reading ids (`R-LIU-EQ20`, `R-KARPOV-EQ8`, …) —
+//!   headings `### R-… — title` in `docs/readings/*.md` — which the report links; use them to
+//!   explain every deviation and every choice between a printed and a consistent form.
+//!
+//! # Rules for studies
+//!
+//! 1. The paper's numbers come from `validation/published/<paper>.toml` ([`Published`], loaded
+//!    with [`published!`]), each with its source; never write a paper number into study code, and
+//!    never invent digitised points (figures without printed numbers are checked through the
+//!    text's claims and snapshotted).
+//! 2. Set the tolerance from the printed precision ([`Comparison::published`] does it:
+//!    half a unit in the last printed digit), the digitising uncertainty or the text's "about" —
+//!    before looking at the model number. A deviation stays in, with its reading.
+//! 3. Be deterministic: the same bits for any rayon thread count (parallel sweeps collect in
+//!    input order, no parallel float reductions, fixed iteration counts). All numbers are written
+//!    at [`SIGNIFICANT_DIGITS`] = 6 significant digits ([`fmt_sig`]).
+//! 4. Mark anything that integrates or continues a dynamic model [`Cost::Heavy`]; `cargo test -p
+//!    validate` runs only [`Cost::Fast`] studies. The whole `cargo xtask validate` should stay
+//!    within a couple of minutes on 2 cores, so keep sweeps modest.
+//! 5. Ids and table/figure names are file-name parts: `a-z 0-9 - _ .`, id prefixed by the paper
+//!    (`liu2021-fig11-omega`).
+//!
+//! Study lists live in `src/studies/<file>.rs`, each exposing `pub fn studies() -> Vec<Study>`,
+//! gathered by [`all_studies`].
+//!
+//! # Outputs (`cargo xtask validate`)
+//!
+//! [`run_studies`] runs the studies in parallel; [`render_all`] turns the results into files
+//! relative to `validation/`: `<paper>/<id>.csv` (comparison and claim rows),
+//! `<paper>/<id>_<table>.csv`, `<paper>/<id>_<figure>.svg` (+ `.csv`), `snapshots/<id>.snap`
+//! (insta format, every number at 6 significant digits) and `REPORT.md` (summary table of every
+//! comparison and claim with verdicts and links to the readings). `cargo xtask validate --check`
+//! regenerates everything in memory and fails if any byte differs from the committed files.
+//!
+//! # Example: a complete study
+//!
+//! ```
+//! use validate::{
+//!     Claim, Comparison, Cost, Figure, Paper, Reference, Series, Study, StudyOutput, Table,
+//!     Tolerance, Verdict,
+//! };
+//!
+//! fn run() -> Result<StudyOutput, validate::Error> {
+//!     // In a real study: let paper = validate::published!("karpov2017.toml")?;
+//!     //                  out.compare(Comparison::published(paper.value("table1.delta")?, model)?);
+//!     let exact = 2.0_f64.sqrt();
+//!     let model = 1.414_213;
+//!     let mut out = StudyOutput::new();
+//!     out.compare(
+//!         Comparison::new("√2", "1", Reference::computed(exact, "exact"), model,
+//!             Tolerance::numerical(1e-6))
+//!             .reading("R-KARPOV-EQ4"),
+//!     );
+//!     out.claim(Claim::new("√2 is irrational", "p. 1", "no counterexample found", Verdict::Pass));
+//!     let mut t = Table::new("points", &[("x", "m"), ("y", "N")]);
+//!     t.push_nums(&[1.0, 2.0])?;
+//!     out.table(t);
+//!     out.figure(
+//!         Figure::new("curve", "y = x²", ("x", "m"), ("y", "m²"))
+//!             .with(Series::line("model", (0..10).map(|i| (i as f64, (i * i) as f64)).collect())),
+//!     );
+//!     Ok(out)
+//! }
+//!
+//! let study = Study {
+//!     id: "example-sqrt2",
+//!     paper: Paper::Karpov2017,
+//!     source: "Eq. (0), p. 0",
+//!     title: "An example",
+//!     description: "Shows the harness.",
+//!     cost: Cost::Fast,
+//!     run,
+//! };
+//! let out = study.execute().unwrap();
+//! assert_eq!(out.tally(), (2, 0, 0));
+//! ```
+//!
+//! # User studies
+//!
+//! [`UserStudy`] reads the TOML study files of `cargo xtask study <file.toml>` (format in
+//! `docs/studies.md`): any model, parameter overrides, a sweep over one or two parameters, solver
+//! and settings.
+//!
+//! # References
+//!
+//! Liu, Lv, Zhao 2021 (Mech. Sci. 12:361); Karpov et al. 2017 (Mech. Mach. Theory 114:1);
+//! Yu, Sun, Li, Wu 2021 (preprint). See `docs/readings/` for every printed-vs-consistent choice.
+
+#![deny(missing_docs)]
+
+mod error;
+mod figure;
+mod format;
+mod published;
+mod render;
+mod studies;
+mod study;
+mod table;
+mod user;
+
+pub use error::{Error, ResultExt};
+pub use figure::{Figure, Series, Style};
+pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
+pub use published::{Published, PublishedClaim, PublishedValue};
+pub use render::{
+    ReadingsIndex, StudyResult, comparisons_csv, insta_snap, render_all, report, run_studies,
+    snapshot_body,
+};
+pub use studies::all_studies;
+pub use study::{
+    Claim, Comparison, Cost, Paper, Reference, Study, StudyOutput, Tolerance, ToleranceBand,
+    ToleranceBasis, Verdict,
+};
+pub use table::{Cell, Column, Table};
+pub use user::{
+    MODELS, Method, Solver, Sweep, UserStudy, UserStudyOutput, apply_overrides, run_user_study,
+};
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn study_ids_unique_and_valid() {
+        let studies = all_studies();
+        let mut ids: Vec<&str> = studies.iter().map(|s| s.id).collect();
+        ids.sort_unstable();
+        let n = ids.len();
+        ids.dedup();
+        assert_eq!(ids.len(), n, "duplicate study id");
+        for s in &studies {
+            assert!(
+                s.id.starts_with(s.paper.dir()),
+                "{} should start with {}",
+                s.id,
+                s.paper.dir()
+            );
+        }
+    }
+
+    #[test]
+    fn send_sync() {
+        fn check<T: Send + Sync>() {}
+        check::<Study>();
+        check::<StudyOutput>();
+        check::<Error>();
+    }
+}

@@ -1,0 +1,427 @@
+//! Dynamic backlash from gear-centre motion, Yu Eq. (6)–(11).
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, finite, positive};
+
+/// Nominal geometry of a spur pair needed by the dynamic backlash.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PairGeometry {
+    /// Reference (pitch) radius of the pinion R_p (m), > 0 (Yu Eq. 8, 16).
+    pub r_p: f64,
+    /// Reference (pitch) radius of the gear R_g (m), > 0 (Yu Eq. 8, 16).
+    pub r_g: f64,
+    /// Nominal pressure angle α_0 (rad), in (0, π/2) (Yu §3: 20°).
+    pub alpha0: f64,
+}
+
+impl PairGeometry {
+    /// Checked constructor.
+    pub fn new(r_p: f64, r_g: f64, alpha0: f64) -> Result<Self, Error> {
+        positive("R_p", r_p)?;
+        positive("R_g", r_g)?;
+        if !(alpha0.is_finite() && alpha0 > 0.0 && alpha0 < std::f64::consts::FRAC_PI_2) {
+            return Err(Error::InvalidParameter {
+                name: "alpha0",
+                bound: "in (0, π/2) rad",
+                value: alpha0,
+            });
+        }
+        Ok(Self { r_p, r_g, alpha0 })
+    }
+
+    /// Yu Table 1 pair (Kahraman's rig): R_p = R_g = 0.094 m, α_0 = 20°.
+    pub fn yu2021_table1() -> Self {
+        Self {
+            r_p: 0.094,
+            r_g: 0.094,
+            alpha0: 20f64.to_radians(),
+        }
+    }
+
+    /// Nominal centre distance a_0 = R_p + R_g (m).
+    #[inline]
+    pub fn a0(&self) -> f64 {
+        self.r_p + self.r_g
+    }
+
+    /// Pinion base radius R_pb = R_p cos α_0 (m) (Yu Eq. 7).
+    #[inline]
+    pub fn r_pb(&self) -> f64 {
+        self.r_p * self.alpha0.cos()
+    }
+
+    /// Sum of base radii R_pb + R_gb = a_0 cos α_0 (m).
+    #[inline]
+    pub fn base_sum(&self) -> f64 {
+        self.a0() * self.alpha0.cos()
+    }
+
+    /// Actual centre distance a (Yu Eq. 8) and Δa = a − a_0 (Eq. 9), with ∂a/∂(x_p, y_p, x_g, y_g).
+    /// Δa is computed as (a² − a_0²)/(a + a_0), free of cancellation for tiny displacements.
+    #[inline]
+    pub fn centre_distance(&self, c: &CentreDisplacement) -> (f64, f64, [f64; 4]) {
+        let a0 = self.a0();
+        let dx = c.x_p - c.x_g;
+        let y = c.y_p - c.y_g;
+        let x = a0 + dx;
+        let a = x.hypot(y);
+        let delta_a = (dx * (2.0 * a0 + dx) + y * y) / (a + a0);
+        let (ux, uy) = if a > 0.0 { (x / a, y / a) } else { (0.0, 0.0) };
+        (a, delta_a, [ux, uy, -ux, -uy])
+    }
+
+    /// Operating pressure angle α at centre distance `a` (rad) and dα/da, for the given law.
+    /// `cos α = c/a` with c = R_pb + R_gb (involute) or c = R_p + R_g (printed Eq. 16); for
+    /// a ≤ c the angle is clamped to 0 (and dα/da = 0): no NaN.
+    #[inline]
+    pub fn pressure_angle(&self, a: f64, law: PressureAngleLaw) -> (f64, f64) {
+        let c = self.law_constant(law);
+        if a > c {
+            let alpha = (c / a).acos();
+            (alpha, c / (a * (a * a - c * c).sqrt()))
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    #[inline]
+    fn law_constant(&self, law: PressureAngleLaw) -> f64 {
+        match law {
+            PressureAngleLaw::Involute => self.base_sum(),
+            PressureAngleLaw::PrintedEq16 => self.a0(),
+        }
+    }
+
+    /// Δp of Yu Eq. (7): (R_pb/2)(β_c² − β_0²), β = tan α, β_0 = tan α_0, β_c from the law at
+    /// centre distance `a`; returns (Δp, dΔp/da). Uses tan²α = a²/c² − 1 (no trigonometry).
+    #[inline]
+    pub fn delta_p(&self, a: f64, law: PressureAngleLaw) -> (f64, f64) {
+        let c = self.law_constant(law);
+        let r_pb = self.r_pb();
+        let t0 = self.alpha0.tan();
+        let (beta_c_sq, d) = if a > c {
+            (a * a / (c * c) - 1.0, 2.0 * a / (c * c))
+        } else {
+            (0.0, 0.0)
+        };
+        let diff = match law {
+            // β_c² − β_0² = (a² − a_0²)/c² exactly, since tan²α_0 = a_0²/c² − 1
+            PressureAngleLaw::Involute if a > c => {
+                let a0 = self.a0();
+                (a - a0) * (a + a0) / (c * c)
+            }
+            _ => beta_c_sq - t0 * t0,
+        };
+        (0.5 * r_pb * diff, 0.5 * r_pb * d)
+    }
+}
+
+/// Translations of the two gear centres (m), Yu Fig. 6 / Eq. (8): x along the line of centres,
+/// y normal to it, signed so that a = √((a_0 + x_p − x_g)² + (y_p − y_g)²) (x_p > 0 or x_g < 0
+/// moves the centres apart).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct CentreDisplacement {
+    /// x_p (m).
+    pub x_p: f64,
+    /// y_p (m).
+    pub y_p: f64,
+    /// x_g (m).
+    pub x_g: f64,
+    /// y_g (m).
+    pub y_g: f64,
+}
+
+impl CentreDisplacement {
+    /// From (x_p, y_p, x_g, y_g) in m.
+    pub fn new(x_p: f64, y_p: f64, x_g: f64, y_g: f64) -> Self {
+        Self { x_p, y_p, x_g, y_g }
+    }
+
+    /// As an array in the order of the gradients: [x_p, y_p, x_g, y_g].
+    pub fn to_array(&self) -> [f64; 4] {
+        [self.x_p, self.y_p, self.x_g, self.y_g]
+    }
+
+    /// From an array [x_p, y_p, x_g, y_g].
+    pub fn from_array(v: [f64; 4]) -> Self {
+        Self::new(v[0], v[1], v[2], v[3])
+    }
+}
+
+/// Law for the operating pressure angle α(a).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub enum PressureAngleLaw {
+    /// Involute geometry: cos α = (R_pb + R_gb)/a = a_0 cos α_0 / a (default; α = α_0 at a = a_0).
+    #[default]
+    Involute,
+    /// Yu Eq. (16) as printed: cos α = (R_p + R_g)/a; gives α = 0 at a = a_0 and is clamped to 0
+    /// for a < a_0 (reading R-YU-EQ16).
+    PrintedEq16,
+}
+
+/// Which relation turns centre motion into a backlash change b_dy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub enum DynamicForm {
+    /// Involute geometry (default): change of the normal backlash (along the line of action)
+    /// Δb = 2(R_pb + R_gb)(inv α' − inv α_0), inv α = tan α − α, cos α' = (R_pb + R_gb)/a.
+    /// Signed (centres apart → more backlash); linearisation Δb ≈ 2 sin α_0 Δa
+    /// (= 2 tan α_0 Δa circumferentially). Reading R-YU-EQ6.
+    #[default]
+    Involute,
+    /// Yu Eq. (6)/(10) as printed: Δb = (Δa² − Δp²)^{1/2} with Δp from Eq. (7); always ≥ 0
+    /// (sign-blind) under the default radicand policy.
+    YuEq10,
+}
+
+/// What to do when the radicand Δa² − Δp² of Yu Eq. (6) is negative.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub enum RadicandPolicy {
+    /// Δb = √max(r, 0) (default): a negative radicand means "no change of backlash".
+    #[default]
+    ClampZero,
+    /// Δb = sign(r)·√|r|: continuous, lets the backlash shrink.
+    SignedRoot,
+    /// Return [`Error::NegativeRadicand`].
+    Reject,
+}
+
+/// Complete backlash B = b_s + b_dy (Yu Eq. 11) as a function of the centre displacements.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DynamicBacklash {
+    /// Pair geometry.
+    pub geometry: PairGeometry,
+    /// Constant part b_s (m) (Yu Eq. 5), e.g. from
+    /// [`ConstantBacklashParams::constant_part`](crate::ConstantBacklashParams::constant_part).
+    pub b_s: f64,
+    /// Relation used for b_dy.
+    pub form: DynamicForm,
+    /// Pressure-angle law used for β_c in Eq. (7) (only for [`DynamicForm::YuEq10`]).
+    pub law: PressureAngleLaw,
+    /// Policy for a negative radicand (only for [`DynamicForm::YuEq10`]).
+    pub policy: RadicandPolicy,
+}
+
+/// Everything computed by [`DynamicBacklash::eval`].
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct BacklashEval {
+    /// B = b_s + b_dy (m) (Yu Eq. 11). May be negative (interference) with the signed forms;
+    /// [`dead_zone`](crate::dead_zone) treats a negative gap as 0.
+    pub b: f64,
+    /// b_dy = Δb (m) (Yu Eq. 6/10 or the involute form).
+    pub b_dy: f64,
+    /// Actual centre distance a (m) (Eq. 8).
+    pub a: f64,
+    /// Δa = a − a_0 (m) (Eq. 9).
+    pub delta_a: f64,
+    /// Δp (m) (Eq. 7); 0 for the involute form.
+    pub delta_p: f64,
+    /// Δa² − Δp² (m²) (Eq. 6); 0 for the involute form.
+    pub radicand: f64,
+    /// Operating pressure angle α (rad) under the law in use (involute law for the involute form).
+    pub alpha: f64,
+    /// ∂B/∂(x_p, y_p, x_g, y_g) (dimensionless). Where Δb has a kink (r = 0, or a clamped
+    /// branch) the derivative of the clamped branch (0) is returned.
+    pub grad: [f64; 4],
+    /// `true` when the radicand was negative and the policy clamped or signed it.
+    pub radicand_negative: bool,
+}
+
+impl DynamicBacklash {
+    /// Checked constructor: `b_s` finite (it may be negative, see [`crate::ConstantPart`]).
+    pub fn new(
+        geometry: PairGeometry,
+        b_s: f64,
+        form: DynamicForm,
+        law: PressureAngleLaw,
+        policy: RadicandPolicy,
+    ) -> Result<Self, Error> {
+        let geometry = PairGeometry::new(geometry.r_p, geometry.r_g, geometry.alpha0)?;
+        finite("b_s", b_s)?;
+        Ok(Self {
+            geometry,
+            b_s,
+            form,
+            law,
+            policy,
+        })
+    }
+
+    /// Default choices (involute form), constant part `b_s`.
+    pub fn involute(geometry: PairGeometry, b_s: f64) -> Result<Self, Error> {
+        Self::new(
+            geometry,
+            b_s,
+            DynamicForm::Involute,
+            PressureAngleLaw::Involute,
+            RadicandPolicy::ClampZero,
+        )
+    }
+
+    /// B, b_dy and ∂B/∂(x_p, y_p, x_g, y_g) at the displacement `c`.
+    ///
+    /// Errors: non-finite displacement; negative radicand under [`RadicandPolicy::Reject`].
+    /// Inline, allocation-free: meant to be called in every right-hand-side evaluation.
+    #[inline]
+    pub fn eval(&self, c: &CentreDisplacement) -> Result<BacklashEval, Error> {
+        if !(c.x_p.is_finite() && c.y_p.is_finite() && c.x_g.is_finite() && c.y_g.is_finite()) {
+            let bad = c
+                .to_array()
+                .into_iter()
+                .find(|v| !v.is_finite())
+                .unwrap_or(f64::NAN);
+            return Err(Error::InvalidParameter {
+                name: "centre displacement",
+                bound: "finite",
+                value: bad,
+            });
+        }
+        let g = &self.geometry;
+        let (a, delta_a, da) = g.centre_distance(c);
+        let mut out = BacklashEval {
+            a,
+            delta_a,
+            ..BacklashEval::default()
+        };
+        let db_da = match self.form {
+            DynamicForm::Involute => {
+                let cb = g.base_sum();
+                // inv α_0 by the same operations as inv α' below, so that Δb = 0 exactly at rest
+                let a0 = g.a0();
+                let inv0 = ((a0 - cb) * (a0 + cb)).sqrt() / cb - (cb / a0).acos();
+                if a > cb {
+                    // tan α' = √(a² − c²)/c, sin α' = √(a² − c²)/a: one sqrt, one acos
+                    let s = ((a - cb) * (a + cb)).sqrt();
+                    let alpha = (cb / a).acos();
+                    out.alpha = alpha;
+                    out.b_dy = 2.0 * cb * (s / cb - alpha - inv0);
+                    2.0 * s / a
+                } else {
+                    out.b_dy = -2.0 * cb * inv0;
+                    0.0
+                }
+            }
+            DynamicForm::YuEq10 => {
+                let (alpha, _) = g.pressure_angle(a, self.law);
+                let (dp, ddp) = g.delta_p(a, self.law);
+                let r = delta_a * delta_a - dp * dp;
+                let dr = 2.0 * delta_a - 2.0 * dp * ddp;
+                out.alpha = alpha;
+                out.delta_p = dp;
+                out.radicand = r;
+                out.radicand_negative = r < 0.0;
+                match self.policy {
+                    RadicandPolicy::Reject if r < 0.0 => {
+                        return Err(Error::NegativeRadicand {
+                            radicand: r,
+                            delta_a,
+                            delta_p: dp,
+                        });
+                    }
+                    RadicandPolicy::ClampZero | RadicandPolicy::Reject => {
+                        if r > 0.0 {
+                            let s = r.sqrt();
+                            out.b_dy = s;
+                            dr / (2.0 * s)
+                        } else {
+                            0.0
+                        }
+                    }
+                    RadicandPolicy::SignedRoot => {
+                        if r != 0.0 {
+                            let s = r.abs().sqrt();
+                            out.b_dy = s.copysign(r);
+                            dr / (2.0 * s)
+                        } else {
+                            0.0
+                        }
+                    }
+                }
+            }
+        };
+        out.b = self.b_s + out.b_dy;
+        out.grad = [db_da * da[0], db_da * da[1], db_da * da[2], db_da * da[3]];
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rest_gives_zero_change() {
+        let g = PairGeometry::yu2021_table1();
+        for form in [DynamicForm::Involute, DynamicForm::YuEq10] {
+            let d = DynamicBacklash::new(
+                g,
+                5e-5,
+                form,
+                PressureAngleLaw::Involute,
+                RadicandPolicy::Reject,
+            )
+            .unwrap();
+            let e = d.eval(&CentreDisplacement::default()).unwrap();
+            assert!(e.b_dy.abs() < 1e-18, "{form:?}: {}", e.b_dy);
+            assert!((e.b - 5e-5).abs() < 1e-18);
+            assert!((e.alpha - 20f64.to_radians()).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn printed_eq16_is_negative_at_rest() {
+        let g = PairGeometry::yu2021_table1();
+        let d = DynamicBacklash::new(
+            g,
+            5e-5,
+            DynamicForm::YuEq10,
+            PressureAngleLaw::PrintedEq16,
+            RadicandPolicy::Reject,
+        )
+        .unwrap();
+        let e = d.eval(&CentreDisplacement::default());
+        assert!(matches!(e, Err(Error::NegativeRadicand { .. })));
+        let clamp = DynamicBacklash {
+            policy: RadicandPolicy::ClampZero,
+            ..d
+        };
+        let e = clamp.eval(&CentreDisplacement::default()).unwrap();
+        assert!(e.radicand_negative && e.b_dy.abs() < 1e-300 && e.b.is_finite());
+        // Δp at rest = −(R_pb/2) tan²20° = −5.85 mm
+        let expect = -0.5 * 0.094 * 20f64.to_radians().cos() * 20f64.to_radians().tan().powi(2);
+        assert!((e.delta_p - expect).abs() < 1e-12);
+    }
+
+    #[test]
+    fn involute_matches_textbook_linearisation() {
+        let g = PairGeometry::yu2021_table1();
+        let d = DynamicBacklash::involute(g, 0.0).unwrap();
+        let da = 1e-6;
+        let e = d.eval(&CentreDisplacement::new(da, 0.0, 0.0, 0.0)).unwrap();
+        let lin = 2.0 * g.alpha0.sin() * da;
+        assert!((e.b_dy - lin).abs() < 1e-4 * lin, "{} vs {}", e.b_dy, lin);
+        // moving the centres together reduces the backlash
+        let e = d.eval(&CentreDisplacement::new(0.0, 0.0, da, 0.0)).unwrap();
+        assert!(e.b_dy < 0.0);
+        assert!(
+            d.eval(&CentreDisplacement::new(f64::NAN, 0.0, 0.0, 0.0))
+                .is_err()
+        );
+    }
+
+    #[test]
+    fn far_inside_base_circles_stays_finite() {
+        let g = PairGeometry::yu2021_table1();
+        for form in [DynamicForm::Involute, DynamicForm::YuEq10] {
+            for law in [PressureAngleLaw::Involute, PressureAngleLaw::PrintedEq16] {
+                for policy in [RadicandPolicy::ClampZero, RadicandPolicy::SignedRoot] {
+                    let d = DynamicBacklash::new(g, 1e-4, form, law, policy).unwrap();
+                    for x in [-0.2, -0.05, 0.0, 0.05, 1.0] {
+                        let e = d.eval(&CentreDisplacement::new(x, 0.0, 0.0, 0.0)).unwrap();
+                        assert!(e.b.is_finite() && e.grad.iter().all(|v| v.is_finite()));
+                    }
+                }
+            }
+        }
+    }
+}

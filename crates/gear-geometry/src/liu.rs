@@ -1,0 +1,421 @@
+//! Noncircular face gear (NFG) pair of Liu, Lv, Zhao 2021 (Eq. 1, 8, 10, 18, 20, 22; Table 1;
+//! the test rig of Section 3.8 and Table 2).
+
+use std::f64::consts::{PI, TAU};
+
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::error::positive;
+
+/// Unvalidated serde form of [`NfgPair`] (SI units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct NfgPairParams {
+    /// `m`, module of the pinion (Table 1), m.
+    pub module: f64,
+    /// `Z1`, teeth of the pinion (Table 1), `≥ 1`.
+    pub z1: u32,
+    /// `i_j`, mean reduction ratio (Eq. 18, Table 1 "reduction ratio"), `> 0`.
+    pub ratio: f64,
+    /// `ε`, eccentric ratio (Eq. 18), in `[0, 1)`.
+    pub eccentricity: f64,
+    /// `α`, pressure angle of the pinion (Fig. 4, Table 1), rad, in `(0, π/2)`.
+    pub pressure_angle: f64,
+}
+
+/// Which expression of the NFG rigid-body angular acceleration `d²θ2/dτ²` to use
+/// (reading `R-LIU-EQ20`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum RigidAccelerationForm {
+    /// Differentiated from Eq. (18): `d²θ2/dτ² = 2ε(1 − ε²) ω̄c² sin θ/(1 + 2ε cos θ + ε²)²`,
+    /// `θ = ω̄c τ`. Default.
+    #[default]
+    Derived,
+    /// Eq. (20) exactly as printed: `2ω̄c ε(1 − ε²) sin θ/(1 + 2ε cos θ + ε²)` (one power of
+    /// `ω̄c` and one power of the denominator short).
+    PrintedEq20,
+}
+
+/// A validated NFG pair (pinion + noncircular face gear, orthogonal axes).
+///
+/// Transmission ratio (Eq. 18) with `θc = ωc t`, `ωc = ω1/i_j`:
+/// `i12 = ω1/ω2 = i_j (1 + 2ε cos θc + ε²)/(1 − ε²)`, and `r2 = r1·i12` (Eq. 1),
+/// `r_b2 = r2 cos α` (Section 2.3).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "NfgPairParams", into = "NfgPairParams")]
+pub struct NfgPair {
+    p: NfgPairParams,
+}
+
+impl TryFrom<NfgPairParams> for NfgPair {
+    type Error = Error;
+    fn try_from(p: NfgPairParams) -> Result<Self, Error> {
+        Self::new(p)
+    }
+}
+
+impl From<NfgPair> for NfgPairParams {
+    fn from(n: NfgPair) -> Self {
+        n.p
+    }
+}
+
+impl NfgPair {
+    /// Validate and build: `module > 0`, `z1 ≥ 1`, `ratio > 0`, `0 ≤ ε < 1`, `0 < α < π/2`.
+    pub fn new(p: NfgPairParams) -> Result<Self, Error> {
+        positive("module", p.module)?;
+        if p.z1 < 1 {
+            return Err(Error::invalid("z1", ">= 1", f64::from(p.z1)));
+        }
+        positive("ratio", p.ratio)?;
+        if !(p.eccentricity.is_finite() && (0.0..1.0).contains(&p.eccentricity)) {
+            return Err(Error::invalid("eccentricity", "in [0, 1)", p.eccentricity));
+        }
+        if !(p.pressure_angle > 0.0 && p.pressure_angle < 0.5 * PI) {
+            return Err(Error::invalid(
+                "pressure_angle",
+                "in (0, pi/2) rad",
+                p.pressure_angle,
+            ));
+        }
+        Ok(Self { p })
+    }
+
+    /// Liu et al. 2021, Table 1 (p. 366): `m = 2.5 mm`, `Z1 = 18`, `i = 3.5`, `ε = 0.2`,
+    /// `α = 20°`.
+    pub fn liu2021_table1() -> Self {
+        Self::new(NfgPairParams {
+            module: 2.5e-3,
+            z1: 18,
+            ratio: 3.5,
+            eccentricity: 0.2,
+            pressure_angle: 20f64.to_radians(),
+        })
+        .expect("Table 1 parameters are valid")
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> NfgPairParams {
+        self.p
+    }
+
+    /// Same pair with another eccentricity (validated).
+    pub fn with_eccentricity(&self, eccentricity: f64) -> Result<Self, Error> {
+        Self::new(NfgPairParams {
+            eccentricity,
+            ..self.p
+        })
+    }
+
+    /// Pinion pitch radius `r1 = m Z1/2`, m.
+    pub fn pinion_pitch_radius(&self) -> f64 {
+        0.5 * self.p.module * f64::from(self.p.z1)
+    }
+
+    /// Pinion base radius `r_b1 = r1 cos α`, m.
+    pub fn pinion_base_radius(&self) -> f64 {
+        self.pinion_pitch_radius() * self.p.pressure_angle.cos()
+    }
+
+    /// Transmission ratio `i12(θc)` of Eq. (18), `θc = ωc t` (rad).
+    #[inline]
+    pub fn ratio(&self, theta_c: f64) -> f64 {
+        let e = self.p.eccentricity;
+        self.p.ratio * (1.0 + 2.0 * e * theta_c.cos() + e * e) / (1.0 - e * e)
+    }
+
+    /// The same ratio as a function of the NFG polar angle `φ2` (Eq. 1, `r2(φ2)`), derived by
+    /// integrating `dφ2/dθc = i_j/i12`: `i12(φ2) = i_j(1 − ε²)/(1 − 2ε cos φ2 + ε²)`.
+    #[inline]
+    pub fn ratio_at_nfg_angle(&self, phi2: f64) -> f64 {
+        let e = self.p.eccentricity;
+        self.p.ratio * (1.0 - e * e) / (1.0 - 2.0 * e * phi2.cos() + e * e)
+    }
+
+    /// NFG rigid angle `φ2(θc) = 2 atan(((1 − ε)/(1 + ε)) tan(θc/2))`, continuous (one NFG
+    /// revolution per period of `θc`).
+    pub fn nfg_angle(&self, theta_c: f64) -> f64 {
+        let e = self.p.eccentricity;
+        let n = (theta_c / TAU).round();
+        let t = theta_c - n * TAU;
+        n * TAU + 2.0 * ((1.0 - e) / (1.0 + e) * (0.5 * t).tan()).atan()
+    }
+
+    /// NFG pitch radius `r2 = r1 i12` (Eq. 1), m.
+    #[inline]
+    pub fn nfg_pitch_radius(&self, theta_c: f64) -> f64 {
+        self.pinion_pitch_radius() * self.ratio(theta_c)
+    }
+
+    /// Equivalent base radius of the NFG, exact: `r_b2 = r2 cos α = r1 cos α · i12(θc)`, m.
+    #[inline]
+    pub fn base_radius(&self, theta_c: f64) -> f64 {
+        self.pinion_base_radius() * self.ratio(theta_c)
+    }
+
+    /// `L` of Eq. (8): time mean of `r_b2`, `r1 cos α · i_j (1 + ε²)/(1 − ε²)`, m.
+    pub fn base_radius_mean(&self) -> f64 {
+        let e = self.p.eccentricity;
+        self.pinion_base_radius() * self.p.ratio * (1.0 + e * e) / (1.0 - e * e)
+    }
+
+    /// `β` of Eq. (8): relative variation of `r_b2`, `2ε/(1 + ε²)`.
+    pub fn base_radius_variation(&self) -> f64 {
+        let e = self.p.eccentricity;
+        2.0 * e / (1.0 + e * e)
+    }
+
+    /// Eq. (8), `r_b2 ≈ L(1 + β cos θc)`. With Eq. (18) in time this is not an approximation:
+    /// it equals [`NfgPair::base_radius`] identically (tested).
+    #[inline]
+    pub fn base_radius_eq8(&self, theta_c: f64) -> f64 {
+        self.base_radius_mean() * (1.0 + self.base_radius_variation() * theta_c.cos())
+    }
+
+    /// Time mean of `r_b2²`, `L²(1 + β²/2)`, the factor in `ωn` of Eq. (10), m².
+    pub fn base_radius_mean_square(&self) -> f64 {
+        let l = self.base_radius_mean();
+        let b = self.base_radius_variation();
+        l * l * (1.0 + 0.5 * b * b)
+    }
+
+    /// First harmonic of `r_b2` over the NFG polar angle `φ2` (the pitch curve itself), `(L', β')`
+    /// with `r_b2(φ2) = L'[1 + 2Σ εⁿ cos nφ2]`: `L' = r1 cos α · i_j`, `β' = 2ε`.
+    pub fn base_radius_first_harmonic_in_nfg_angle(&self) -> (f64, f64) {
+        (
+            self.pinion_base_radius() * self.p.ratio,
+            2.0 * self.p.eccentricity,
+        )
+    }
+
+    /// Angular frequency of the instantaneous-centre excitation, `ωc = ω1/i_j` (rad/s), for pinion
+    /// speed `ω1` (rad/s).
+    pub fn centre_angular_frequency(&self, omega1: f64) -> f64 {
+        omega1 / self.p.ratio
+    }
+
+    /// Angular mesh frequency `ωe = Z1 ω1` (rad/s).
+    pub fn mesh_angular_frequency(&self, omega1: f64) -> f64 {
+        f64::from(self.p.z1) * omega1
+    }
+
+    /// `f_c = ω1/(2π i_j)`, Hz (Section 2.2, `f1`).
+    pub fn centre_frequency(&self, omega1: f64) -> f64 {
+        self.centre_angular_frequency(omega1) / TAU
+    }
+
+    /// `f_e = ω1 Z1/(2π)`, Hz (Section 2.2, `f2`).
+    pub fn mesh_frequency(&self, omega1: f64) -> f64 {
+        self.mesh_angular_frequency(omega1) / TAU
+    }
+
+    /// Rigid-body angular acceleration of the NFG `d²θ2/dτ²` at dimensionless time `τ` for the
+    /// dimensionless centre frequency `ω̄c = ωc/ωn` (Eq. 20 / derived, see
+    /// [`RigidAccelerationForm`]).
+    #[inline]
+    pub fn rigid_acceleration(&self, form: RigidAccelerationForm, wc_bar: f64, tau: f64) -> f64 {
+        let e = self.p.eccentricity;
+        let (s, c) = (wc_bar * tau).sin_cos();
+        let den = 1.0 + 2.0 * e * c + e * e;
+        match form {
+            RigidAccelerationForm::Derived => {
+                2.0 * e * (1.0 - e * e) * wc_bar * wc_bar * s / (den * den)
+            }
+            RigidAccelerationForm::PrintedEq20 => 2.0 * wc_bar * e * (1.0 - e * e) * s / den,
+        }
+    }
+
+    /// Fourier sine coefficient `Bn` of `d²θ2/dτ² = Σ Bn sin(n ω̄c τ)` in closed form
+    /// (`B1`, `B2` of Eq. 22 for `n = 1, 2`; the cosine coefficients vanish):
+    /// derived `Bn = 2n(−1)ⁿ⁺¹ εⁿ ω̄c²`; printed Eq. (20) `Bn = 2(1 − ε²)(−1)ⁿ⁺¹ εⁿ ω̄c`.
+    pub fn rigid_acceleration_coefficient(
+        &self,
+        form: RigidAccelerationForm,
+        n: u32,
+        wc_bar: f64,
+    ) -> f64 {
+        if n == 0 {
+            return 0.0;
+        }
+        let e = self.p.eccentricity;
+        let sign = if n % 2 == 1 { 1.0 } else { -1.0 };
+        let en = e.powi(n as i32);
+        match form {
+            RigidAccelerationForm::Derived => 2.0 * f64::from(n) * sign * en * wc_bar * wc_bar,
+            RigidAccelerationForm::PrintedEq20 => 2.0 * (1.0 - e * e) * sign * en * wc_bar,
+        }
+    }
+
+    /// The same coefficient computed numerically: trapezoidal rule with `samples` points over one
+    /// period of the exact expression (spectrally accurate for this analytic periodic function;
+    /// 64 samples reach ~1e-16 relative at `ε = 0.2`).
+    pub fn rigid_acceleration_coefficient_numeric(
+        &self,
+        form: RigidAccelerationForm,
+        n: u32,
+        wc_bar: f64,
+        samples: usize,
+    ) -> f64 {
+        let m = samples.max(4);
+        let mut s = 0.0;
+        for k in 0..m {
+            let theta = TAU * k as f64 / m as f64;
+            // τ with ω̄c τ = θ (ω̄c ≠ 0 assumed; for ω̄c = 0 the acceleration is 0 anyway).
+            let v = if wc_bar == 0.0 {
+                0.0
+            } else {
+                self.rigid_acceleration(form, wc_bar, theta / wc_bar)
+            };
+            s += v * (f64::from(n) * theta).sin();
+        }
+        2.0 * s / m as f64
+    }
+
+    /// `B1` from the first-harmonic route: Eq. (8) linearised, `ω2 ≈ (ω1 r_b1/L)(1 − β cos θ)`,
+    /// gives `B1 ≈ ω̄c² β (1 − ε²)/(1 + ε²) = 2ε(1 − ε²)ω̄c²/(1 + ε²)²` and `B2 = 0`
+    /// (relative error `O(ε²)` against the exact `2εω̄c²`).
+    pub fn rigid_acceleration_b1_first_harmonic(&self, wc_bar: f64) -> f64 {
+        let e = self.p.eccentricity;
+        self.base_radius_variation() * (1.0 - e * e) / (1.0 + e * e) * wc_bar * wc_bar
+    }
+}
+
+/// The vibration test rig of Liu et al. 2021, Section 3.8: a variable-frequency motor drives the
+/// pinion through a synchronous belt drive of ratio `belt_ratio` (motor speed / pinion speed).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LiuRig {
+    /// Belt reduction ratio, motor speed / pinion speed (text: "1.3").
+    pub belt_ratio: f64,
+    /// Pinion teeth `Z1`.
+    pub z1: u32,
+    /// NFG teeth `Z2` (mesh periods per NFG revolution).
+    pub z2: u32,
+    /// Instantaneous-centre cycles per NFG revolution (1 for Eq. 18).
+    pub lobes: u32,
+}
+
+/// Liu et al. 2021, Table 2 (p. 371), theoretical columns: motor speed `n` (rpm), `f_c` (Hz),
+/// `f_e` (Hz), exactly as printed.
+pub const LIU2021_TABLE2_THEORETICAL: [(f64, f64, f64); 9] = [
+    (280.0, 1.0, 64.0),
+    (392.0, 1.4, 89.6),
+    (504.0, 1.8, 115.2),
+    (616.0, 2.2, 140.8),
+    (728.0, 2.6, 166.4),
+    (840.0, 3.0, 192.0),
+    (952.0, 3.4, 217.6),
+    (1064.0, 3.8, 243.2),
+    (1176.0, 4.2, 268.8),
+];
+
+impl LiuRig {
+    /// Validated rig: `belt_ratio > 0`, `z1, z2, lobes ≥ 1`.
+    pub fn new(belt_ratio: f64, z1: u32, z2: u32, lobes: u32) -> Result<Self, Error> {
+        positive("belt_ratio", belt_ratio)?;
+        for (name, v) in [("z1", z1), ("z2", z2), ("lobes", lobes)] {
+            if v < 1 {
+                return Err(Error::invalid(name, ">= 1", f64::from(v)));
+            }
+        }
+        Ok(Self {
+            belt_ratio,
+            z1,
+            z2,
+            lobes,
+        })
+    }
+
+    /// The constants that reproduce both theoretical columns of Table 2 exactly (reading
+    /// `R-LIU-TABLE2`): belt ratio `21/16 = 1.3125` (printed "1.3"), `Z1 = 18`, `Z2 = 64`
+    /// (`i_j = 32/9 ≈ 3.556`, printed "3.5"), one lobe. Then `f_e = 8n/35` and `f_c = n/280`
+    /// Hz, exact decimals at every printed motor speed.
+    pub fn liu2021_table2() -> Self {
+        Self {
+            belt_ratio: 21.0 / 16.0,
+            z1: 18,
+            z2: 64,
+            lobes: 1,
+        }
+    }
+
+    /// The rig as the text states it: belt ratio 1.3, `Z1 = 18`, `Z2 = i_j Z1 = 63`. Does not
+    /// reproduce Table 2 (its `f_e` at 280 rpm is 64.6 Hz, not 64.0).
+    pub fn as_printed() -> Self {
+        Self {
+            belt_ratio: 1.3,
+            z1: 18,
+            z2: 63,
+            lobes: 1,
+        }
+    }
+
+    /// Pinion speed for motor speed `n` (rpm), rpm.
+    pub fn pinion_rpm(&self, motor_rpm: f64) -> f64 {
+        motor_rpm / self.belt_ratio
+    }
+
+    /// Pinion angular speed `ω1` for motor speed `n` (rpm), rad/s.
+    pub fn pinion_angular_speed(&self, motor_rpm: f64) -> f64 {
+        self.pinion_rpm(motor_rpm) * TAU / 60.0
+    }
+
+    /// Mesh excitation frequency `f_e = Z1 · n_pinion/60`, Hz.
+    pub fn mesh_frequency(&self, motor_rpm: f64) -> f64 {
+        f64::from(self.z1) * self.pinion_rpm(motor_rpm) / 60.0
+    }
+
+    /// Instantaneous-centre frequency `f_c = lobes · f_e/Z2`, Hz.
+    pub fn centre_frequency(&self, motor_rpm: f64) -> f64 {
+        f64::from(self.lobes) * self.mesh_frequency(motor_rpm) / f64::from(self.z2)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validation() {
+        let ok = NfgPair::liu2021_table1().params();
+        let e = |p| NfgPair::new(p).unwrap_err().to_string();
+        assert!(
+            e(NfgPairParams {
+                eccentricity: 1.0,
+                ..ok
+            })
+            .starts_with("eccentricity")
+        );
+        assert!(
+            e(NfgPairParams {
+                eccentricity: f64::NAN,
+                ..ok
+            })
+            .starts_with("eccentricity")
+        );
+        assert!(e(NfgPairParams { module: 0.0, ..ok }).starts_with("module"));
+        assert!(e(NfgPairParams { z1: 0, ..ok }).starts_with("z1"));
+        assert!(
+            e(NfgPairParams {
+                pressure_angle: 2.0,
+                ..ok
+            })
+            .starts_with("pressure_angle")
+        );
+        assert!(LiuRig::new(0.0, 18, 64, 1).is_err());
+        assert!(LiuRig::new(1.3, 18, 0, 1).is_err());
+    }
+
+    #[test]
+    fn nfg_angle_closes_and_matches_ratio() {
+        let p = NfgPair::liu2021_table1();
+        assert!((p.nfg_angle(TAU) - TAU).abs() < 1e-14);
+        // dφ2/dθc = i_j/i12(θc)
+        let h = 1e-5;
+        for t in [0.3, 2.0, 4.0] {
+            let d = (p.nfg_angle(t + h) - p.nfg_angle(t - h)) / (2.0 * h);
+            assert!((d - p.params().ratio / p.ratio(t)).abs() < 1e-9);
+            // the two parametrisations of the same ratio agree
+            assert!((p.ratio_at_nfg_angle(p.nfg_angle(t)) - p.ratio(t)).abs() < 1e-12);
+        }
+    }
+}

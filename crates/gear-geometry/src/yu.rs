@@ -1,0 +1,205 @@
+//! Spur pair geometry of Yu, Sun, Li, Wu 2021 (Section 2.2, Eq. 7–9, 16; Tables 1–2).
+
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use crate::error::positive;
+
+/// Which operating-pressure-angle formula to use (reading `R-YU-EQ16`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum PressureAngleForm {
+    /// `α = arccos(a0 cos α0/a)`: base radii fixed, `α = α0` at the nominal distance `a0`.
+    /// Default.
+    #[default]
+    Consistent,
+    /// Eq. (16) as printed, `α = arccos((Rp + Rg)/a)`: `0°` at `a = a0`, undefined for `a < a0`.
+    PrintedEq16,
+}
+
+/// Unvalidated serde form of [`SpurPair`] (SI units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SpurPairParams {
+    /// `R_p`, reference (pitch) radius of the pinion (Eq. 8, Table 1), m.
+    pub rp: f64,
+    /// `R_g`, reference radius of the gear, m.
+    pub rg: f64,
+    /// `α0`, standard pressure angle (Section 3, "ideal meshing angle α0 = 20"), rad.
+    pub pressure_angle: f64,
+}
+
+/// A validated involute spur pair.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "SpurPairParams", into = "SpurPairParams")]
+pub struct SpurPair {
+    p: SpurPairParams,
+}
+
+impl TryFrom<SpurPairParams> for SpurPair {
+    type Error = Error;
+    fn try_from(p: SpurPairParams) -> Result<Self, Error> {
+        Self::new(p)
+    }
+}
+
+impl From<SpurPair> for SpurPairParams {
+    fn from(s: SpurPair) -> Self {
+        s.p
+    }
+}
+
+impl SpurPair {
+    /// Validate: radii `> 0`, `0 < α0 < π/2`.
+    pub fn new(p: SpurPairParams) -> Result<Self, Error> {
+        positive("rp", p.rp)?;
+        positive("rg", p.rg)?;
+        if !(p.pressure_angle > 0.0 && p.pressure_angle < 0.5 * std::f64::consts::PI) {
+            return Err(Error::invalid(
+                "pressure_angle",
+                "in (0, pi/2) rad",
+                p.pressure_angle,
+            ));
+        }
+        Ok(Self { p })
+    }
+
+    /// From module `m` (m) and teeth: `R = m z/2`.
+    pub fn from_module(module: f64, zp: u32, zg: u32, pressure_angle: f64) -> Result<Self, Error> {
+        positive("module", module)?;
+        if zp < 1 {
+            return Err(Error::invalid("zp", ">= 1", f64::from(zp)));
+        }
+        if zg < 1 {
+            return Err(Error::invalid("zg", ">= 1", f64::from(zg)));
+        }
+        Self::new(SpurPairParams {
+            rp: 0.5 * module * f64::from(zp),
+            rg: 0.5 * module * f64::from(zg),
+            pressure_angle,
+        })
+    }
+
+    /// Yu et al. 2021, Table 1 (DF rig of its ref. 10): `R_p = R_g = 0.094 m`, 25/25 teeth,
+    /// `α0 = 20°` (stated in Section 3).
+    pub fn yu2021_table1() -> Self {
+        Self::new(SpurPairParams {
+            rp: 0.094,
+            rg: 0.094,
+            pressure_angle: 20f64.to_radians(),
+        })
+        .expect("Table 1 values are valid")
+    }
+
+    /// Yu et al. 2021, Table 2 (RMS rig of its ref. 28): module 3 mm, 50/50 teeth, `α0 = 20°`.
+    pub fn yu2021_table2() -> Self {
+        Self::from_module(3e-3, 50, 50, 20f64.to_radians()).expect("Table 2 values are valid")
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> SpurPairParams {
+        self.p
+    }
+
+    /// Reference radii `(R_p, R_g)`, m.
+    pub fn reference_radii(&self) -> (f64, f64) {
+        (self.p.rp, self.p.rg)
+    }
+
+    /// Base radii `(R_p cos α0, R_g cos α0)`, m (`R_pb` of Eq. 7).
+    pub fn base_radii(&self) -> (f64, f64) {
+        let c = self.p.pressure_angle.cos();
+        (self.p.rp * c, self.p.rg * c)
+    }
+
+    /// Nominal centre distance `a0 = R_p + R_g` (Section 2.2), m.
+    pub fn nominal_centre_distance(&self) -> f64 {
+        self.p.rp + self.p.rg
+    }
+
+    /// Standard pressure angle `α0`, rad.
+    pub fn pressure_angle(&self) -> f64 {
+        self.p.pressure_angle
+    }
+
+    /// Operating pressure angle at centre distance `a` (m), rad.
+    ///
+    /// [`PressureAngleForm::Consistent`] needs `a ≥ a0 cos α0` (base circles apart);
+    /// [`PressureAngleForm::PrintedEq16`] needs `a ≥ a0`. Outside, or for NaN, an error naming
+    /// `a`.
+    #[inline]
+    pub fn operating_pressure_angle(&self, a: f64, form: PressureAngleForm) -> Result<f64, Error> {
+        let a0 = self.nominal_centre_distance();
+        let (num, bound) = match form {
+            PressureAngleForm::Consistent => (
+                a0 * self.p.pressure_angle.cos(),
+                ">= a0 cos(alpha0) (base circles must not overlap)",
+            ),
+            PressureAngleForm::PrintedEq16 => (a0, ">= Rp + Rg (Eq. 16 as printed)"),
+        };
+        if !(a.is_finite() && a >= num) {
+            return Err(Error::invalid("a", bound, a));
+        }
+        Ok((num / a).min(1.0).acos())
+    }
+
+    /// Actual centre distance of Eq. (8), `a = √((a0 + x_p − x_g)² + (y_p − y_g)²)`, for centre
+    /// displacements (m).
+    #[inline]
+    pub fn centre_distance(&self, xp: f64, yp: f64, xg: f64, yg: f64) -> f64 {
+        (self.nominal_centre_distance() + xp - xg).hypot(yp - yg)
+    }
+}
+
+/// Roll angle of an involute point with pressure angle `α`: `β = tan α = inv α + α` (Yu, text
+/// after Eq. 7), rad.
+#[inline]
+pub fn roll_angle(pressure_angle: f64) -> f64 {
+    pressure_angle.tan()
+}
+
+/// Arc length of an involute of base radius `r_b` between roll angles `β0` and `βc` (Yu Eq. 7):
+/// `∫ r_b β dβ = r_b(βc² − β0²)/2`, m.
+#[inline]
+pub fn involute_arc_length(base_radius: f64, beta0: f64, beta_c: f64) -> f64 {
+    0.5 * base_radius * (beta_c * beta_c - beta0 * beta0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nominal_distance_gives_twenty_degrees_only_in_consistent_form() {
+        let s = SpurPair::yu2021_table2();
+        let a0 = s.nominal_centre_distance();
+        assert!((a0 - 0.15).abs() < 1e-15);
+        let c = s
+            .operating_pressure_angle(a0, PressureAngleForm::Consistent)
+            .unwrap();
+        assert!((c.to_degrees() - 20.0).abs() < 1e-12);
+        let p = s
+            .operating_pressure_angle(a0, PressureAngleForm::PrintedEq16)
+            .unwrap();
+        assert!(p.abs() < 1e-12);
+        assert!(
+            s.operating_pressure_angle(0.9 * a0, PressureAngleForm::PrintedEq16)
+                .is_err()
+        );
+        assert!(
+            s.operating_pressure_angle(f64::NAN, PressureAngleForm::Consistent)
+                .is_err()
+        );
+        // a larger centre distance opens the pressure angle (base radii fixed)
+        let c2 = s
+            .operating_pressure_angle(a0 + 1e-4, PressureAngleForm::Consistent)
+            .unwrap();
+        assert!(c2 > c);
+    }
+
+    #[test]
+    fn involute_arc_length_matches_quadrature() {
+        let rb = 0.07;
+        let q = crate::numeric::integrate(|b| rb * b, 0.2, 0.5, 1e-15);
+        assert!((q.value - involute_arc_length(rb, 0.2, 0.5)).abs() < 1e-16);
+        assert!((roll_angle(20f64.to_radians()) - 0.363_970_234_266_202_4).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,162 @@
+//! Criterion benches of the `hbm` engine (figures in `docs/performance/hbm.md`).
+#![allow(missing_docs)]
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use hbm::{
+    Basis, ContinuationOptions, ContinuationParameter, HbmError, HbmProblem, Method,
+    SecondOrderSystem, SolverOptions,
+};
+use nalgebra::DMatrix;
+use std::hint::black_box;
+
+/// Liu-type 1-DOF rattle model: `q'' + 2ζq' + F(t) f(q) = F_m + F_e cos(Z2 ω t)` with
+/// `F(t) = 1 + ε_c cos ωt + ε_e cos Z2ωt` and a dead zone `f`.
+#[derive(Clone)]
+struct Rattle {
+    omega: f64,
+    z2: f64,
+}
+
+impl SecondOrderSystem for Rattle {
+    fn n_dof(&self) -> usize {
+        1
+    }
+    fn mass(&self) -> DMatrix<f64> {
+        DMatrix::identity(1, 1)
+    }
+    fn damping(&self) -> DMatrix<f64> {
+        DMatrix::from_element(1, 1, 0.1)
+    }
+    fn nonlinear_force(&self, t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
+        let k = 1.0 + 0.1 * (self.omega * t).cos() + 0.2 * (self.z2 * self.omega * t).cos();
+        let f = if q[0] > 1.0 {
+            q[0] - 1.0
+        } else if q[0] < -1.0 {
+            q[0] + 1.0
+        } else {
+            0.0
+        };
+        g[0] = k * f;
+    }
+    fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], a: &mut [f64], b: &mut [f64]) {
+        let k = 1.0 + 0.1 * (self.omega * t).cos() + 0.2 * (self.z2 * self.omega * t).cos();
+        a[0] = if q[0].abs() > 1.0 { k } else { 0.0 };
+        b[0] = 0.0;
+    }
+    fn forcing(&self, t: f64, f: &mut [f64]) {
+        f[0] = 0.5 + 0.1 * (self.z2 * self.omega * t).cos();
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), HbmError> {
+        self.omega = omega;
+        Ok(())
+    }
+}
+
+#[derive(Clone)]
+struct Duffing {
+    omega: f64,
+}
+
+impl SecondOrderSystem for Duffing {
+    fn n_dof(&self) -> usize {
+        1
+    }
+    fn mass(&self) -> DMatrix<f64> {
+        DMatrix::identity(1, 1)
+    }
+    fn damping(&self) -> DMatrix<f64> {
+        DMatrix::from_element(1, 1, 0.1)
+    }
+    fn stiffness(&self) -> DMatrix<f64> {
+        DMatrix::identity(1, 1)
+    }
+    fn nonlinear_force(&self, _t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
+        g[0] = q[0].powi(3);
+    }
+    fn force_jacobian(&self, _t: f64, q: &[f64], _qd: &[f64], a: &mut [f64], b: &mut [f64]) {
+        a[0] = 3.0 * q[0] * q[0];
+        b[0] = 0.0;
+    }
+    fn forcing(&self, t: f64, f: &mut [f64]) {
+        f[0] = 0.3 * (self.omega * t).cos();
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), HbmError> {
+        self.omega = omega;
+        Ok(())
+    }
+}
+
+fn benches(c: &mut Criterion) {
+    // 1. Liu basis R = 1 (15 unknowns), dead zone with two-frequency parametric stiffness
+    let omega = 0.12;
+    let basis = Basis::liu_multifrequency(1, 10).expect("basis");
+    let mut p = HbmProblem::new(Rattle { omega, z2: 10.0 }, basis, omega).expect("problem");
+    let mut z0 = p.zero_guess();
+    z0[0] = 1.5;
+    for method in [Method::Newton, Method::Broyden] {
+        let opts = SolverOptions {
+            method,
+            ..SolverOptions::default()
+        };
+        let sol = p.solve(&z0, &opts).expect("solve");
+        assert!(sol.converged, "{}", sol.termination);
+        c.bench_function(&format!("solve_liu_basis_15_unknowns_{method:?}"), |b| {
+            b.iter(|| black_box(p.solve(black_box(&z0), &opts).expect("solve")))
+        });
+    }
+    let mut r = vec![0.0; p.n_unknowns()];
+    c.bench_function("residual_liu_basis_15_unknowns", |b| {
+        b.iter(|| p.residual(black_box(&z0), &mut r).expect("residual"))
+    });
+
+    // 2. full basis H = 200 (401 unknowns, N = 1024), Duffing near resonance, from the H = 1
+    // solution
+    let omega = 1.3;
+    let mut p1 = HbmProblem::new(Duffing { omega }, Basis::full(1).expect("b"), omega).expect("p");
+    let mut g = p1.zero_guess();
+    g[1] = 0.8;
+    let s1 = p1.solve(&g, &SolverOptions::default()).expect("solve");
+    let big = Basis::full(200).expect("basis");
+    let mut p200 = HbmProblem::new(Duffing { omega }, big.clone(), omega).expect("problem");
+    let z200 = s1.embed(&big);
+    let opts = SolverOptions::default();
+    let sol = p200.solve(&z200, &opts).expect("solve");
+    assert!(sol.converged);
+    println!("H=200 Newton iterations: {}", sol.iterations);
+    let mut group = c.benchmark_group("large");
+    group.sample_size(10);
+    group.bench_function("solve_full_basis_h200_401_unknowns", |b| {
+        b.iter(|| black_box(p200.solve(black_box(&z200), &opts).expect("solve")))
+    });
+    let mut jac = DMatrix::zeros(401, 401);
+    let mut r = vec![0.0; 401];
+    group.bench_function("residual_and_jacobian_h200", |b| {
+        b.iter(|| {
+            p200.residual_and_jacobian(black_box(&z200), &mut r, &mut jac)
+                .expect("jacobian")
+        })
+    });
+
+    // 3. 150-point continuation of the Duffing response (H = 5), with Floquet stability
+    let copts = ContinuationOptions {
+        max_points: 150,
+        max_step: 0.03,
+        ..ContinuationOptions::default()
+    };
+    group.bench_function("continuation_150_points_h5_with_stability", |b| {
+        b.iter(|| {
+            let mut p = HbmProblem::new(Duffing { omega: 0.5 }, Basis::full(5).expect("b"), 0.5)
+                .expect("p");
+            let z0 = p.zero_guess();
+            let br = p
+                .continuation(ContinuationParameter::Frequency, &z0, 0.5, 5.0, &copts)
+                .expect("continuation");
+            assert_eq!(br.points.len(), 150);
+            black_box(br)
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(hbm_benches, benches);
+criterion_main!(hbm_benches);

@@ -1,0 +1,343 @@
+//! Solving one periodic response, and what a solution can tell.
+
+use crate::solve::{NonlinearEquations, solve_equations};
+use crate::{Basis, HbmError, HbmProblem, SecondOrderSystem, SolverOptions, Stability};
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// A periodic solution `q(t) = a_0 + Σ a_k cos(kωt) + b_k sin(kωt)` and how its solve ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PeriodicSolution {
+    /// The basis of the coefficients.
+    pub basis: Basis,
+    /// Base frequency `ω` (rad per time unit); the period is `2π/ω`.
+    pub omega: f64,
+    /// Number of degrees of freedom `n`.
+    pub n_dof: usize,
+    /// Coefficients, `coefficients[c·n + i]` (see [`Basis`]).
+    pub coefficients: Vec<f64>,
+    /// Whether the solver reached its tolerance.
+    pub converged: bool,
+    /// Solver iterations.
+    pub iterations: u64,
+    /// Final residual norm `‖r‖₂`.
+    pub residual_norm: f64,
+    /// Termination reason, in words.
+    pub termination: String,
+    /// Floquet stability, when computed.
+    pub stability: Option<Stability>,
+}
+
+/// Amplitude of one harmonic of one degree of freedom.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct HarmonicAmplitude {
+    /// Harmonic index `k` (0 = constant).
+    pub harmonic: usize,
+    /// Angular frequency `kω`.
+    pub frequency: f64,
+    /// Amplitude `√(a_k² + b_k²)` (`|a_0|` for the constant).
+    pub amplitude: f64,
+}
+
+/// A sampled time series over one period.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TimeSeries {
+    /// Sample times `t_m = m T / N`, `m = 0..N`.
+    pub time: Vec<f64>,
+    /// Displacements, `displacement[i][m]` for DOF `i`.
+    pub displacement: Vec<Vec<f64>>,
+    /// Velocities, `velocity[i][m]`.
+    pub velocity: Vec<Vec<f64>>,
+}
+
+/// Change of a solution when the basis is enlarged (harmonic truncation error estimate).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TruncationEstimate {
+    /// Per DOF: `max_t |q_small(t) − q_large(t)|`.
+    pub max_abs_difference: Vec<f64>,
+    /// Per DOF: the same divided by the peak-to-peak value of the larger-basis solution.
+    pub relative_to_peak_to_peak: Vec<f64>,
+    /// The solution in the enlarged basis.
+    pub refined: PeriodicSolution,
+}
+
+impl PeriodicSolution {
+    /// Period `T = 2π/ω`.
+    pub fn period(&self) -> f64 {
+        2.0 * PI / self.omega
+    }
+
+    /// `q(t)` and `q'(t)` for all DOFs.
+    pub fn state_at(&self, t: f64) -> (Vec<f64>, Vec<f64>) {
+        let n = self.n_dof;
+        let (mut q, mut qd) = (vec![0.0; n], vec![0.0; n]);
+        eval_state(
+            &self.basis,
+            n,
+            self.omega,
+            &self.coefficients,
+            t,
+            &mut q,
+            &mut qd,
+        );
+        (q, qd)
+    }
+
+    /// Sample one period at `n_points` equidistant times (`n_points ≥ 2`).
+    pub fn time_series(&self, n_points: usize) -> TimeSeries {
+        let n_points = n_points.max(2);
+        let n = self.n_dof;
+        let mut ts = TimeSeries {
+            time: Vec::with_capacity(n_points),
+            displacement: vec![Vec::with_capacity(n_points); n],
+            velocity: vec![Vec::with_capacity(n_points); n],
+        };
+        let (mut q, mut qd) = (vec![0.0; n], vec![0.0; n]);
+        for m in 0..n_points {
+            let t = self.period() * m as f64 / n_points as f64;
+            eval_state(
+                &self.basis,
+                n,
+                self.omega,
+                &self.coefficients,
+                t,
+                &mut q,
+                &mut qd,
+            );
+            ts.time.push(t);
+            for i in 0..n {
+                ts.displacement[i].push(q[i]);
+                ts.velocity[i].push(qd[i]);
+            }
+        }
+        ts
+    }
+
+    /// Default number of samples for extrema: `max(512, 16 k_max)`.
+    fn default_samples(&self) -> usize {
+        (16 * self.basis.max_harmonic()).max(512)
+    }
+
+    /// Peak-to-peak displacement of DOF `dof` (sampled at `max(512, 16 k_max)` points);
+    /// `None` for an invalid DOF.
+    pub fn peak_to_peak(&self, dof: usize) -> Option<f64> {
+        if dof >= self.n_dof {
+            return None;
+        }
+        let ts = self.time_series(self.default_samples());
+        let d = &ts.displacement[dof];
+        let (lo, hi) = d
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        Some(hi - lo)
+    }
+
+    /// Peak-to-peak velocity of DOF `dof` (the "ppv" of Liu et al.); `None` for an invalid DOF.
+    pub fn peak_to_peak_velocity(&self, dof: usize) -> Option<f64> {
+        if dof >= self.n_dof {
+            return None;
+        }
+        let ts = self.time_series(self.default_samples());
+        let d = &ts.velocity[dof];
+        let (lo, hi) = d
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        Some(hi - lo)
+    }
+
+    /// Amplitude of every retained harmonic of DOF `dof` (constant first); empty for an invalid
+    /// DOF.
+    pub fn harmonic_amplitudes(&self, dof: usize) -> Vec<HarmonicAmplitude> {
+        let n = self.n_dof;
+        if dof >= n {
+            return Vec::new();
+        }
+        let at = |idx: usize| self.coefficients.get(idx).copied().unwrap_or(0.0);
+        let mut out = vec![HarmonicAmplitude {
+            harmonic: 0,
+            frequency: 0.0,
+            amplitude: at(dof).abs(),
+        }];
+        for (j, &k) in self.basis.harmonics().iter().enumerate() {
+            let a = at((2 * j + 1) * n + dof);
+            let b = at((2 * j + 2) * n + dof);
+            out.push(HarmonicAmplitude {
+                harmonic: k,
+                frequency: k as f64 * self.omega,
+                amplitude: a.hypot(b),
+            });
+        }
+        out
+    }
+
+    /// Cheap truncation indicator of DOF `dof`: amplitude of the highest retained harmonic
+    /// divided by the largest non-constant amplitude (0 when all are zero). Values that are not
+    /// small mean the basis is too short; [`HbmProblem::truncation_estimate`] measures it.
+    pub fn spectral_tail(&self, dof: usize) -> f64 {
+        let amps = self.harmonic_amplitudes(dof);
+        let max = amps.iter().skip(1).map(|a| a.amplitude).fold(0.0, f64::max);
+        match amps.last() {
+            Some(last) if max > 0.0 && amps.len() > 1 => last.amplitude / max,
+            _ => 0.0,
+        }
+    }
+
+    /// The coefficients re-expressed in a larger basis (missing harmonics are zero, harmonics
+    /// not in `basis` are dropped).
+    pub fn embed(&self, basis: &Basis) -> Vec<f64> {
+        let n = self.n_dof;
+        let at = |idx: usize| self.coefficients.get(idx).copied().unwrap_or(0.0);
+        let mut z = vec![0.0; n * basis.n_coefficients()];
+        for i in 0..n {
+            z[i] = at(i);
+        }
+        for (j, &k) in self.basis.harmonics().iter().enumerate() {
+            if let Ok(jn) = basis.harmonics().binary_search(&k) {
+                for i in 0..n {
+                    z[(2 * jn + 1) * n + i] = at((2 * j + 1) * n + i);
+                    z[(2 * jn + 2) * n + i] = at((2 * j + 2) * n + i);
+                }
+            }
+        }
+        z
+    }
+}
+
+/// Adapter: a [`HbmProblem`] seen as [`NonlinearEquations`].
+pub(crate) struct HbmEquations<'a, S>(pub(crate) &'a mut HbmProblem<S>);
+
+impl<S: SecondOrderSystem> NonlinearEquations for HbmEquations<'_, S> {
+    fn dim(&self) -> usize {
+        self.0.n_unknowns()
+    }
+    fn residual(&mut self, x: &[f64], r: &mut [f64]) -> Result<(), HbmError> {
+        self.0.residual(x, r)
+    }
+    fn residual_and_jacobian(
+        &mut self,
+        x: &[f64],
+        r: &mut [f64],
+        jac: &mut DMatrix<f64>,
+    ) -> Result<(), HbmError> {
+        self.0.residual_and_jacobian(x, r, jac)
+    }
+}
+
+/// `q(t)`, `q'(t)` of coefficients `z` by direct summation.
+pub(crate) fn eval_state(
+    basis: &Basis,
+    n: usize,
+    omega: f64,
+    z: &[f64],
+    t: f64,
+    q: &mut [f64],
+    qd: &mut [f64],
+) {
+    // `get` so that a hand-built, inconsistent solution gives zeros instead of a panic
+    let at = |idx: usize| z.get(idx).copied().unwrap_or(0.0);
+    for i in 0..n {
+        q[i] = at(i);
+        qd[i] = 0.0;
+    }
+    for (j, &k) in basis.harmonics().iter().enumerate() {
+        let kw = k as f64 * omega;
+        let (s, c) = (kw * t).sin_cos();
+        for i in 0..n {
+            let a = at((2 * j + 1) * n + i);
+            let b = at((2 * j + 2) * n + i);
+            q[i] += a * c + b * s;
+            qd[i] += kw * (b * c - a * s);
+        }
+    }
+}
+
+impl<S: SecondOrderSystem> HbmProblem<S> {
+    /// Solve for the periodic response from the initial coefficients `z0` (length
+    /// [`n_unknowns`](Self::n_unknowns)); the solve runs through argmin's `Executor`.
+    ///
+    /// # Errors
+    /// Wrong `z0` length, invalid options, or a system error at the initial guess.
+    /// Non-convergence is reported in [`PeriodicSolution::converged`].
+    pub fn solve(
+        &mut self,
+        z0: &[f64],
+        options: &SolverOptions,
+    ) -> Result<PeriodicSolution, HbmError> {
+        if z0.len() != self.n_unknowns() {
+            return Err(HbmError::DimensionMismatch {
+                what: "initial coefficients",
+                expected: self.n_unknowns(),
+                got: z0.len(),
+            });
+        }
+        let (report, _) = solve_equations(HbmEquations(self), z0.to_vec(), options)?;
+        Ok(PeriodicSolution {
+            basis: self.basis().clone(),
+            omega: self.omega(),
+            n_dof: self.n_dof(),
+            coefficients: report.x,
+            converged: report.converged,
+            iterations: report.iterations,
+            residual_norm: report.residual_norm,
+            termination: report.termination,
+            stability: None,
+        })
+    }
+
+    /// A zero initial guess of the right length.
+    pub fn zero_guess(&self) -> Vec<f64> {
+        vec![0.0; self.n_unknowns()]
+    }
+
+    /// Harmonic truncation error estimate: re-solve in `larger` (same `ω`, default grid) starting
+    /// from `solution` and report how much the response changes.
+    ///
+    /// # Errors
+    /// As [`HbmProblem::solve`].
+    pub fn truncation_estimate(
+        &self,
+        solution: &PeriodicSolution,
+        larger: Basis,
+        options: &SolverOptions,
+    ) -> Result<TruncationEstimate, HbmError>
+    where
+        S: Clone,
+    {
+        let n_grid = larger
+            .default_grid_size()
+            .max(self.grid_size().next_power_of_two());
+        let mut big = HbmProblem::with_grid_size(
+            self.system().clone(),
+            larger.clone(),
+            self.omega(),
+            n_grid,
+        )?;
+        let z0 = solution.embed(&larger);
+        let refined = big.solve(&z0, options)?;
+        let samples = (16 * larger.max_harmonic()).max(512);
+        let a = solution.time_series(samples);
+        let b = refined.time_series(samples);
+        let mut abs = Vec::new();
+        let mut rel = Vec::new();
+        for i in 0..self.n_dof() {
+            let d = a.displacement[i]
+                .iter()
+                .zip(&b.displacement[i])
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+            let ptp = refined.peak_to_peak(i).unwrap_or(0.0);
+            abs.push(d);
+            rel.push(if ptp > 0.0 { d / ptp } else { d });
+        }
+        Ok(TruncationEstimate {
+            max_abs_difference: abs,
+            relative_to_peak_to_peak: rel,
+            refined,
+        })
+    }
+}

@@ -1,0 +1,497 @@
+//! Newton (with backtracking line search) and Broyden as argmin solvers.
+
+use crate::HbmError;
+use argmin::core::{
+    Executor, IterState, KV, Problem, Solver, State, TerminationReason, TerminationStatus,
+};
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+
+/// A square nonlinear system `r(x) = 0` with a Jacobian, as seen by [`Newton`] and [`Broyden`].
+pub trait NonlinearEquations {
+    /// Number of unknowns (= number of equations).
+    fn dim(&self) -> usize;
+    /// Evaluate `r(x)`.
+    ///
+    /// # Errors
+    /// Implementation-defined (non-finite values, bad parameters).
+    fn residual(&mut self, x: &[f64], r: &mut [f64]) -> Result<(), HbmError>;
+    /// Evaluate `r(x)` and `∂r/∂x`.
+    ///
+    /// # Errors
+    /// Implementation-defined.
+    fn residual_and_jacobian(
+        &mut self,
+        x: &[f64],
+        r: &mut [f64],
+        jac: &mut DMatrix<f64>,
+    ) -> Result<(), HbmError>;
+}
+
+/// The argmin state used by the solvers: parameter and residual vectors, cost = `‖r‖₂`.
+pub type SolverState = IterState<Vec<f64>, (), (), (), Vec<f64>, f64>;
+
+/// Which nonlinear solver to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Method {
+    /// Newton's method with the analytic Jacobian and a backtracking line search.
+    #[default]
+    Newton,
+    /// Broyden's ("good") method with inverse updates, started from the analytic Jacobian
+    /// (Liu et al. 2021, Sect. 2.5). Restarts from a fresh Jacobian when a step fails.
+    Broyden,
+}
+
+/// Options of a nonlinear solve.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SolverOptions {
+    /// Solver.
+    pub method: Method,
+    /// Converged when `‖r‖₂ ≤ tolerance` (absolute, in the units of the equations).
+    pub tolerance: f64,
+    /// Maximum number of iterations.
+    pub max_iters: u64,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        Self {
+            method: Method::Newton,
+            tolerance: 1e-10,
+            max_iters: 50,
+        }
+    }
+}
+
+impl SolverOptions {
+    /// Validate the options.
+    ///
+    /// # Errors
+    /// Non-positive or NaN tolerance, zero iterations.
+    pub fn validate(&self) -> Result<(), HbmError> {
+        crate::error::check_positive("tolerance", self.tolerance)?;
+        if self.max_iters == 0 {
+            return Err(HbmError::InvalidParameter {
+                name: "max_iters",
+                bound: ">= 1",
+                value: 0.0,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// How a nonlinear solve ended.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SolveReport {
+    /// The final iterate.
+    pub x: Vec<f64>,
+    /// Whether `‖r‖₂ ≤ tolerance` was reached.
+    pub converged: bool,
+    /// Iterations taken.
+    pub iterations: u64,
+    /// Final `‖r‖₂`.
+    pub residual_norm: f64,
+    /// argmin's termination reason, in words.
+    pub termination: String,
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+fn op<O>(problem: &mut Problem<O>) -> Result<&mut O, argmin::core::Error> {
+    problem.problem.as_mut().ok_or_else(|| {
+        HbmError::Solver {
+            message: "problem missing".into(),
+        }
+        .into()
+    })
+}
+
+/// Newton's method with backtracking (Armijo) line search, as an argmin [`Solver`].
+#[derive(Debug, Clone)]
+pub struct Newton {
+    tolerance: f64,
+    jac: DMatrix<f64>,
+    r: Vec<f64>,
+    trial: Vec<f64>,
+}
+
+impl Newton {
+    /// A Newton solver that stops when `‖r‖₂ ≤ tolerance`.
+    ///
+    /// # Errors
+    /// Tolerance not finite and > 0.
+    pub fn new(tolerance: f64) -> Result<Self, HbmError> {
+        crate::error::check_positive("tolerance", tolerance)?;
+        Ok(Self {
+            tolerance,
+            jac: DMatrix::zeros(0, 0),
+            r: Vec::new(),
+            trial: Vec::new(),
+        })
+    }
+}
+
+fn init_state<O: NonlinearEquations>(
+    problem: &mut Problem<O>,
+    mut state: SolverState,
+) -> Result<(SolverState, Vec<f64>), argmin::core::Error> {
+    let x = state.take_param().ok_or_else(|| HbmError::Solver {
+        message: "no initial guess".into(),
+    })?;
+    let o = op(problem)?;
+    if x.len() != o.dim() {
+        return Err(HbmError::DimensionMismatch {
+            what: "initial guess",
+            expected: o.dim(),
+            got: x.len(),
+        }
+        .into());
+    }
+    let mut r = vec![0.0; x.len()];
+    o.residual(&x, &mut r)?;
+    let c = norm(&r);
+    Ok((state.param(x).cost(c), r))
+}
+
+/// Backtracking line search along `dx`: returns the accepted step length or `None`.
+fn line_search<O: NonlinearEquations>(
+    o: &mut O,
+    x: &[f64],
+    dx: &[f64],
+    f0: f64,
+    trial: &mut Vec<f64>,
+    r_out: &mut [f64],
+) -> Result<Option<f64>, HbmError> {
+    let mut alpha = 1.0;
+    trial.resize(x.len(), 0.0);
+    for _ in 0..12 {
+        for i in 0..x.len() {
+            trial[i] = x[i] + alpha * dx[i];
+        }
+        match o.residual(trial, r_out) {
+            Ok(()) => {
+                let f = norm(r_out);
+                if f.is_finite() && f <= (1.0 - 1e-4 * alpha) * f0 {
+                    return Ok(Some(alpha));
+                }
+            }
+            // a step into a region where the model is not defined: shorten it
+            Err(HbmError::NonFinite { .. }) => {}
+            Err(e) => return Err(e),
+        }
+        alpha *= 0.5;
+    }
+    Ok(None)
+}
+
+impl<O: NonlinearEquations> Solver<O, SolverState> for Newton {
+    fn name(&self) -> &str {
+        "Newton (backtracking line search)"
+    }
+
+    fn init(
+        &mut self,
+        problem: &mut Problem<O>,
+        state: SolverState,
+    ) -> Result<(SolverState, Option<KV>), argmin::core::Error> {
+        let (state, r) = init_state(problem, state)?;
+        let n = r.len();
+        self.jac = DMatrix::zeros(n, n);
+        self.r = r;
+        Ok((state, None))
+    }
+
+    fn next_iter(
+        &mut self,
+        problem: &mut Problem<O>,
+        mut state: SolverState,
+    ) -> Result<(SolverState, Option<KV>), argmin::core::Error> {
+        let x = state.take_param().ok_or_else(|| HbmError::Solver {
+            message: "no iterate".into(),
+        })?;
+        let o = op(problem)?;
+        o.residual_and_jacobian(&x, &mut self.r, &mut self.jac)?;
+        let f0 = norm(&self.r);
+        let mut dx = DVector::from_iterator(self.r.len(), self.r.iter().map(|v| -v));
+        let lu = self.jac.clone().lu();
+        if !lu.solve_mut(&mut dx) || dx.iter().any(|v| !v.is_finite()) {
+            return Ok((
+                state
+                    .param(x)
+                    .cost(f0)
+                    .terminate_with(TerminationReason::SolverExit("singular Jacobian".into())),
+                None,
+            ));
+        }
+        let mut r_new = vec![0.0; self.r.len()];
+        match line_search(o, &x, dx.as_slice(), f0, &mut self.trial, &mut r_new)? {
+            Some(_) => {
+                let xn = self.trial.clone();
+                let f = norm(&r_new);
+                self.r = r_new;
+                Ok((state.param(xn).cost(f), None))
+            }
+            None => Ok((
+                state
+                    .param(x)
+                    .cost(f0)
+                    .terminate_with(TerminationReason::SolverExit("line search failed".into())),
+                None,
+            )),
+        }
+    }
+
+    fn terminate(&mut self, state: &SolverState) -> TerminationStatus {
+        if state.get_cost() <= self.tolerance {
+            TerminationStatus::Terminated(TerminationReason::SolverConverged)
+        } else {
+            TerminationStatus::NotTerminated
+        }
+    }
+}
+
+/// Broyden's ("good") method with Sherman–Morrison updates of the inverse Jacobian, as an argmin
+/// [`Solver`]; the inverse is initialised (and re-initialised after a failed step) from the
+/// analytic Jacobian.
+#[derive(Debug, Clone)]
+pub struct Broyden {
+    tolerance: f64,
+    inv: DMatrix<f64>,
+    r: Vec<f64>,
+    trial: Vec<f64>,
+    fresh: bool,
+    restarts: u64,
+}
+
+impl Broyden {
+    /// A Broyden solver that stops when `‖r‖₂ ≤ tolerance`.
+    ///
+    /// # Errors
+    /// Tolerance not finite and > 0.
+    pub fn new(tolerance: f64) -> Result<Self, HbmError> {
+        crate::error::check_positive("tolerance", tolerance)?;
+        Ok(Self {
+            tolerance,
+            inv: DMatrix::zeros(0, 0),
+            r: Vec::new(),
+            trial: Vec::new(),
+            fresh: false,
+            restarts: 0,
+        })
+    }
+
+    /// Number of Jacobian (re)initialisations so far.
+    pub fn jacobian_evaluations(&self) -> u64 {
+        self.restarts
+    }
+
+    fn reinit<O: NonlinearEquations>(&mut self, o: &mut O, x: &[f64]) -> Result<bool, HbmError> {
+        let n = x.len();
+        let mut jac = DMatrix::zeros(n, n);
+        o.residual_and_jacobian(x, &mut self.r, &mut jac)?;
+        self.restarts += 1;
+        self.fresh = true;
+        match jac.lu().try_inverse() {
+            Some(inv) if inv.iter().all(|v| v.is_finite()) => {
+                self.inv = inv;
+                Ok(true)
+            }
+            _ => Ok(false),
+        }
+    }
+}
+
+impl<O: NonlinearEquations> Solver<O, SolverState> for Broyden {
+    fn name(&self) -> &str {
+        "Broyden (inverse update)"
+    }
+
+    fn init(
+        &mut self,
+        problem: &mut Problem<O>,
+        state: SolverState,
+    ) -> Result<(SolverState, Option<KV>), argmin::core::Error> {
+        let (mut state, r) = init_state(problem, state)?;
+        self.r = r;
+        if state.get_cost() > self.tolerance {
+            let x = state.take_param().unwrap_or_default();
+            let ok = self.reinit(op(problem)?, &x)?;
+            state = state.param(x);
+            if !ok {
+                state =
+                    state.terminate_with(TerminationReason::SolverExit("singular Jacobian".into()));
+            }
+        }
+        Ok((state, None))
+    }
+
+    fn next_iter(
+        &mut self,
+        problem: &mut Problem<O>,
+        mut state: SolverState,
+    ) -> Result<(SolverState, Option<KV>), argmin::core::Error> {
+        let x = state.take_param().ok_or_else(|| HbmError::Solver {
+            message: "no iterate".into(),
+        })?;
+        let o = op(problem)?;
+        let n = x.len();
+        let f0 = norm(&self.r);
+        let rv = DVector::from_column_slice(&self.r);
+        let dx = -(&self.inv * &rv);
+        let mut r_new = vec![0.0; n];
+        match line_search(o, &x, dx.as_slice(), f0, &mut self.trial, &mut r_new)? {
+            Some(alpha) => {
+                let s = dx * alpha;
+                let y = DVector::from_column_slice(&r_new) - rv;
+                let hy = &self.inv * &y;
+                let st_h = s.transpose() * &self.inv;
+                let denom = s.dot(&hy);
+                if denom.abs() > 1e-300 {
+                    let u = (s - hy) / denom;
+                    self.inv.ger(1.0, &u, &st_h.transpose(), 1.0);
+                }
+                let xn = self.trial.clone();
+                let f = norm(&r_new);
+                self.r = r_new;
+                self.fresh = false;
+                Ok((state.param(xn).cost(f), None))
+            }
+            None if !self.fresh => {
+                // the secant model went stale: start again from the exact Jacobian
+                let ok = self.reinit(o, &x)?;
+                let state = state.param(x).cost(f0);
+                if ok {
+                    Ok((state, None))
+                } else {
+                    Ok((
+                        state.terminate_with(TerminationReason::SolverExit(
+                            "singular Jacobian".into(),
+                        )),
+                        None,
+                    ))
+                }
+            }
+            None => Ok((
+                state
+                    .param(x)
+                    .cost(f0)
+                    .terminate_with(TerminationReason::SolverExit("line search failed".into())),
+                None,
+            )),
+        }
+    }
+
+    fn terminate(&mut self, state: &SolverState) -> TerminationStatus {
+        if state.get_cost() <= self.tolerance {
+            TerminationStatus::Terminated(TerminationReason::SolverConverged)
+        } else {
+            TerminationStatus::NotTerminated
+        }
+    }
+}
+
+/// Solve `r(x) = 0` from `x0` through argmin's [`Executor`]; returns the report and the
+/// equations object (so that its workspace can be reused).
+///
+/// # Errors
+/// Invalid options, wrong `x0` length, or an error raised by the equations themselves at the
+/// initial guess. Non-convergence is reported in [`SolveReport::converged`], not as an error.
+pub fn solve_equations<O: NonlinearEquations>(
+    equations: O,
+    x0: Vec<f64>,
+    options: &SolverOptions,
+) -> Result<(SolveReport, O), HbmError> {
+    options.validate()?;
+    let tol = options.tolerance;
+    let max_iters = options.max_iters;
+    let result = match options.method {
+        Method::Newton => {
+            let res = Executor::new(equations, Newton::new(tol)?)
+                .configure(|s: SolverState| s.param(x0).max_iters(max_iters))
+                .timer(false)
+                .run()
+                .map_err(HbmError::from_argmin)?;
+            (res.problem, res.state)
+        }
+        Method::Broyden => {
+            let res = Executor::new(equations, Broyden::new(tol)?)
+                .configure(|s: SolverState| s.param(x0).max_iters(max_iters))
+                .timer(false)
+                .run()
+                .map_err(HbmError::from_argmin)?;
+            (res.problem, res.state)
+        }
+    };
+    let (mut problem, mut state) = result;
+    let residual_norm = state.get_cost();
+    let iterations = state.get_iter();
+    let termination = state
+        .get_termination_reason()
+        .map_or_else(|| "not terminated".to_string(), |r| r.text().to_string());
+    let x = state.take_param().unwrap_or_default();
+    let equations = problem.problem.take().ok_or_else(|| HbmError::Solver {
+        message: "argmin lost the problem".into(),
+    })?;
+    Ok((
+        SolveReport {
+            x,
+            converged: residual_norm <= tol,
+            iterations,
+            residual_norm,
+            termination,
+        },
+        equations,
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `r = (x² − 2, y − x³)`: root `(√2, 2√2)`.
+    struct Sqrt2;
+    impl NonlinearEquations for Sqrt2 {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn residual(&mut self, x: &[f64], r: &mut [f64]) -> Result<(), HbmError> {
+            r[0] = x[0] * x[0] - 2.0;
+            r[1] = x[1] - x[0].powi(3);
+            Ok(())
+        }
+        fn residual_and_jacobian(
+            &mut self,
+            x: &[f64],
+            r: &mut [f64],
+            jac: &mut DMatrix<f64>,
+        ) -> Result<(), HbmError> {
+            self.residual(x, r)?;
+            jac.copy_from_slice(&[2.0 * x[0], -3.0 * x[0] * x[0], 0.0, 1.0]);
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn both_solvers_find_sqrt2() {
+        for method in [Method::Newton, Method::Broyden] {
+            let opts = SolverOptions {
+                method,
+                tolerance: 1e-12,
+                max_iters: 100,
+            };
+            let (rep, _) = solve_equations(Sqrt2, vec![5.0, 0.0], &opts).unwrap();
+            assert!(rep.converged, "{method:?}: {}", rep.termination);
+            assert!((rep.x[0] - 2f64.sqrt()).abs() < 1e-10);
+            assert!((rep.x[1] - 2.0 * 2f64.sqrt()).abs() < 1e-9);
+        }
+        assert!(solve_equations(Sqrt2, vec![1.0], &SolverOptions::default()).is_err());
+        let opts = SolverOptions {
+            max_iters: 0,
+            ..SolverOptions::default()
+        };
+        assert!(solve_equations(Sqrt2, vec![1.0, 1.0], &opts).is_err());
+    }
+}

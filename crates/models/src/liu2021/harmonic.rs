@@ -1,0 +1,302 @@
+//! Harmonic balance of Eq. (9) through the `hbm` engine, Eq. (13)–(17).
+//!
+//! All frequencies of the response are integer multiples of `ω̄_c` because `ω̄_e = Z₂ ω̄_c`
+//! (Sect. 2.4), so one period `T = 2π/ω̄_c` carries every basis function. The basis is a set of
+//! harmonic indices `k` of `ω̄_c`: the paper's sparse set (Eq. 13) or all `k ≤ K`.
+
+use nalgebra::DMatrix;
+use serde::{Deserialize, Serialize};
+
+use super::model::{Model, Rattle};
+use crate::Error;
+use backlash::dead_zone_dx;
+
+/// Harmonic basis of the periodic response `q(τ)` (multiples of `ω̄_c`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Basis {
+    /// The paper's Eq. (13): `0, ω̄_c, 2ω̄_c` and `rω̄_e, rω̄_e ± ω̄_c, rω̄_e ± 2ω̄_c` for
+    /// `r = 1..=R` (`R = 1` gives 15 unknowns).
+    Sparse {
+        /// Number of mesh harmonics `R` (≥ 1).
+        r: usize,
+    },
+    /// Every harmonic `k ω̄_c`, `k = 0..=K` (`2K + 1` unknowns).
+    Full {
+        /// Highest harmonic index `K` (`R Z₂ + 2` covers the sparse set of the same `R`).
+        max_harmonic: usize,
+    },
+}
+
+impl Basis {
+    /// The paper's basis, `R = 1` (15 unknowns).
+    pub const PAPER: Basis = Basis::Sparse { r: 1 };
+
+    /// The `hbm` basis for an NFG with `z2` teeth.
+    pub fn to_hbm(&self, z2: u32) -> Result<hbm::Basis, Error> {
+        let b = match *self {
+            Basis::Sparse { r } => hbm::Basis::liu_multifrequency(r, z2 as usize),
+            Basis::Full { max_harmonic } => hbm::Basis::full(max_harmonic),
+        };
+        b.map_err(|e| Error::Solver(e.to_string()))
+    }
+}
+
+/// Settings of the harmonic-balance solve.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct HbmOptions {
+    /// Harmonic basis.
+    pub basis: Basis,
+    /// AFT samples per period (Eq. 15, `M`); `None`: the smallest power of two ≥ 8 × the
+    /// highest harmonic (the dead zone is not smooth, so more than the engine's default).
+    pub samples: Option<usize>,
+    /// Convergence: `‖s‖₂ ≤ tol × (B₀ + |B₁| + |B₂| + B₃ + b̄)` (relative to the forcing scale).
+    pub tol: f64,
+    /// Maximum Newton iterations.
+    pub max_iter: u64,
+}
+
+impl Default for HbmOptions {
+    fn default() -> Self {
+        Self {
+            basis: Basis::PAPER,
+            samples: None,
+            tol: 1e-9,
+            max_iter: 60,
+        }
+    }
+}
+
+impl HbmOptions {
+    /// Full basis `K = R Z₂ + 2` covering the paper's basis of the same `R`.
+    pub fn full(model: &Model, r: usize) -> Self {
+        Self {
+            basis: Basis::Full {
+                max_harmonic: r * model.z2 as usize + 2,
+            },
+            ..Self::default()
+        }
+    }
+}
+
+/// A harmonic-balance solution of Eq. (9) with its rattle metrics.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HbmResponse {
+    /// The engine's periodic solution (coefficients, convergence, residual, iterations).
+    pub solution: hbm::PeriodicSolution,
+    /// Rattle state and ppv of `q` sampled at `max(4096, 32 k_max)` points.
+    pub rattle: Rattle,
+}
+
+impl HbmResponse {
+    /// Whether the engine met the tolerance.
+    pub fn converged(&self) -> bool {
+        self.solution.converged
+    }
+
+    /// `q(τ)`.
+    pub fn eval(&self, tau: f64) -> f64 {
+        self.solution.state_at(tau).0[0]
+    }
+
+    /// Amplitude of harmonic `k` of `ω̄_c` (0 if not in the basis).
+    pub fn amplitude(&self, k: usize) -> f64 {
+        self.solution
+            .harmonic_amplitudes(0)
+            .iter()
+            .find(|a| a.harmonic == k)
+            .map_or(0.0, |a| a.amplitude)
+    }
+}
+
+impl hbm::SecondOrderSystem for Model {
+    fn n_dof(&self) -> usize {
+        1
+    }
+    fn mass(&self) -> DMatrix<f64> {
+        DMatrix::identity(1, 1)
+    }
+    fn damping(&self) -> DMatrix<f64> {
+        DMatrix::from_element(1, 1, 2.0 * self.zeta)
+    }
+    fn nonlinear_force(&self, t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
+        g[0] = self.restoring(t, q[0]);
+    }
+    fn forcing(&self, t: f64, f: &mut [f64]) {
+        f[0] = self.forcing(t);
+    }
+    fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], dq: &mut [f64], dv: &mut [f64]) {
+        dq[0] = self.stiffness(t) * dead_zone_dx(q[0], self.backlash_at(t));
+        dv[0] = 0.0;
+    }
+}
+
+/// Rattle metrics of an engine solution.
+fn rattle_of(model: &Model, sol: &hbm::PeriodicSolution) -> Rattle {
+    let n = (32 * sol.basis.max_harmonic()).max(4096);
+    let ts = sol.time_series(n);
+    model.rattle(
+        ts.time
+            .iter()
+            .copied()
+            .zip(ts.displacement[0].iter().copied()),
+    )
+}
+
+fn solve_once(
+    model: &Model,
+    basis: hbm::Basis,
+    samples: Option<usize>,
+    z0: Option<Vec<f64>>,
+    options: &HbmOptions,
+) -> Result<hbm::PeriodicSolution, Error> {
+    let kmax = basis.max_harmonic().max(1);
+    let n_grid = samples.unwrap_or_else(|| (8 * kmax).next_power_of_two());
+    let mut problem = hbm::HbmProblem::with_grid_size(*model, basis, model.omega_c, n_grid)
+        .map_err(|e| Error::Solver(e.to_string()))?;
+    let z0 = z0.unwrap_or_else(|| {
+        let mut z = problem.zero_guess();
+        z[0] = -model.backlash - model.b0;
+        z
+    });
+    let scale = model.b0.abs() + model.b1.abs() + model.b2.abs() + model.b3.abs() + model.backlash;
+    let so = hbm::SolverOptions {
+        method: hbm::Method::Newton,
+        tolerance: options.tol * scale.max(f64::MIN_POSITIVE),
+        max_iters: options.max_iter,
+    };
+    problem
+        .solve(&z0, &so)
+        .map_err(|e| Error::Solver(e.to_string()))
+}
+
+/// Harmonic coefficients of one recorded period of a time response, in the layout of `basis`
+/// (trapezoidal projection over the first whole period of the samples): a start value that
+/// puts harmonic balance on the branch the time integration settled on.
+pub fn coefficients_from_time_response(
+    model: &Model,
+    response: &super::integrate::TimeResponse,
+    basis: &Basis,
+) -> Result<Vec<f64>, Error> {
+    let b = basis.to_hbm(model.z2)?;
+    let mut z = vec![0.0; b.n_coefficients()];
+    let t0 = *response
+        .tau
+        .first()
+        .ok_or_else(|| Error::Solver("liu2021: empty time response".into()))?;
+    let period = model.period();
+    let n = response
+        .tau
+        .iter()
+        .take_while(|&&t| t < t0 + period - 1e-9)
+        .count();
+    if n < 2 * b.max_harmonic() + 1 {
+        return Err(Error::Solver(format!(
+            "liu2021: {n} samples per period cannot resolve harmonic {}",
+            b.max_harmonic()
+        )));
+    }
+    let w = 1.0 / n as f64;
+    for i in 0..n {
+        let (t, q) = (response.tau[i] - t0, response.q[i]);
+        z[0] += w * q;
+        for (j, &k) in b.harmonics().iter().enumerate() {
+            let x = k as f64 * model.omega_c * (t + t0);
+            z[2 * j + 1] += 2.0 * w * q * x.cos();
+            z[2 * j + 2] += 2.0 * w * q * x.sin();
+        }
+    }
+    Ok(z)
+}
+
+/// [`solve_hbm`] started from the harmonics of a time response (see
+/// [`coefficients_from_time_response`]); use it on multivalued (rattling) branches.
+pub fn solve_hbm_from_time_response(
+    model: &Model,
+    options: &HbmOptions,
+    response: &super::integrate::TimeResponse,
+) -> Result<HbmResponse, Error> {
+    if options.tol.is_nan() || options.tol <= 0.0 {
+        return Err(Error::invalid("liu2021.hbm.tol", "> 0", options.tol));
+    }
+    let z0 = coefficients_from_time_response(model, response, &options.basis)?;
+    let basis = options.basis.to_hbm(model.z2)?;
+    let solution = solve_once(model, basis, options.samples, Some(z0), options)?;
+    let rattle = rattle_of(model, &solution);
+    Ok(HbmResponse { solution, rattle })
+}
+
+/// Solve Eq. (9) by harmonic balance (Eq. 13–17) with the `hbm` engine (AFT, Newton with the
+/// exact AFT Jacobian and a line search instead of the paper's Broyden update).
+///
+/// `guess` (e.g. the previous point of a sweep) is embedded into the requested basis. Without
+/// it the solve starts from the quasi-static contact position `q = −b̄ − B₀` (whose first
+/// Newton step is the linear, always-in-contact solution); a full basis is then started from
+/// the converged sparse (`R = 1`) solution, which is much more robust than a cold start.
+///
+/// Non-convergence is reported in [`HbmResponse::converged`], not as an error.
+pub fn solve_hbm(
+    model: &Model,
+    options: &HbmOptions,
+    guess: Option<&HbmResponse>,
+) -> Result<HbmResponse, Error> {
+    if options.tol.is_nan() || options.tol <= 0.0 {
+        return Err(Error::invalid("liu2021.hbm.tol", "> 0", options.tol));
+    }
+    let basis = options.basis.to_hbm(model.z2)?;
+    let z0 = match (guess, options.basis) {
+        (Some(g), _) => Some(g.solution.embed(&basis)),
+        (None, Basis::Full { .. }) => {
+            let sparse = HbmOptions {
+                basis: Basis::PAPER,
+                samples: None,
+                ..*options
+            };
+            let s = solve_once(model, Basis::PAPER.to_hbm(model.z2)?, None, None, &sparse)?;
+            s.converged.then(|| s.embed(&basis))
+        }
+        (None, _) => None,
+    };
+    let solution = solve_once(model, basis, options.samples, z0, options)?;
+    let rattle = rattle_of(model, &solution);
+    Ok(HbmResponse { solution, rattle })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::params::table1;
+    use super::*;
+
+    #[test]
+    fn paper_basis_has_15_unknowns() {
+        let m = table1().model().unwrap();
+        let b = Basis::PAPER.to_hbm(m.z2).unwrap();
+        assert_eq!(b.harmonics(), &[1, 2, 61, 62, 63, 64, 65]);
+        assert_eq!(b.n_coefficients(), 15);
+    }
+
+    #[test]
+    fn no_rattle_point_converges_on_paper_basis() {
+        let mut p = table1();
+        p.omega1 = 120.0;
+        p.readings.base_radius = super::super::params::BaseRadius::Mean;
+        let m = p.model().unwrap();
+        let s = solve_hbm(&m, &HbmOptions::default(), None).unwrap();
+        assert!(s.converged(), "{:?}", s.solution.termination);
+        assert_eq!(s.rattle.state.rsv(), 0);
+        let t = 123.4;
+        let g = m.restoring(t, s.eval(t));
+        assert!(g < 0.0, "in contact on the drive flank");
+    }
+
+    #[test]
+    fn bad_tolerance_is_an_error() {
+        let m = table1().model().unwrap();
+        let o = HbmOptions {
+            tol: f64::NAN,
+            ..HbmOptions::default()
+        };
+        assert!(solve_hbm(&m, &o, None).is_err());
+    }
+}

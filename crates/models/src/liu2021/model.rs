@@ -1,0 +1,338 @@
+//! The dimensionless NFG model of Eq. (9)–(12) and (22), built from [`Parameters`] in one place.
+
+use serde::{Deserialize, Serialize};
+
+use super::params::{BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries};
+use crate::Error;
+use backlash::dead_zone;
+
+/// The dimensionless single-degree-of-freedom NFG model (Eq. 9):
+///
+/// `q'' + 2ζ q' + F(τ) f(q; b̄(τ)) = f_r(τ)`, `τ = ω_n t`,
+///
+/// with `F(τ) = (k_m/k₀)(r_b2/L)² / (1 + β²/2)` and
+/// `f_r = −B₀ − d²θ₂/dτ² + d²ē/dτ²` (Eq. 22). Every field is dimensionless unless stated.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Model {
+    /// Natural frequency `ω_n` \[rad/s\], Eq. (10).
+    pub omega_n: f64,
+    /// `ω̄_c = ω_c/ω_n`, instantaneous-centre frequency.
+    pub omega_c: f64,
+    /// `ω̄_e = ω_e/ω_n = Z₂ ω̄_c`, mesh frequency.
+    pub omega_e: f64,
+    /// Number of NFG teeth `Z₂ = ω̄_e/ω̄_c`.
+    pub z2: u32,
+    /// Damping ratio `ζ`.
+    pub zeta: f64,
+    /// Eccentric ratio `ε` (Eq. 18).
+    pub eccentricity: f64,
+    /// Base-radius change rate `β` (Eq. 8).
+    pub beta: f64,
+    /// Mean base radius `L` \[m\] (Eq. 8), kept to scale back to metres.
+    pub mean_base_radius: f64,
+    /// Stiffness amplitude coefficient `a_k = k_r/k₀` (Sect. 3.6).
+    pub ak: f64,
+    /// Stiffness phase `φ_m` \[rad\].
+    pub phase_stiffness: f64,
+    /// Error phase `φ_e` \[rad\].
+    pub phase_error: f64,
+    /// Mean dimensionless half backlash `b/L`.
+    pub backlash: f64,
+    /// Dimensionless error amplitude `e_r/L`.
+    pub error: f64,
+    /// `B₀ = T₂/(I₂ ω_n²)`, Eq. (22).
+    pub b0: f64,
+    /// `B₁`, first Fourier amplitude of d²θ₂/dτ² (Eq. 22; depends on the Eq. 20 reading).
+    pub b1: f64,
+    /// `B₂`, second Fourier amplitude of d²θ₂/dτ² (Eq. 22).
+    pub b2: f64,
+    /// `B₃ = (e_r/L) ω̄_e²`, amplitude of the error forcing (Eq. 22).
+    pub b3: f64,
+    /// The readings in force.
+    pub readings: Readings,
+}
+
+impl Parameters {
+    /// Build the dimensionless model (the only place where SI becomes dimensionless).
+    pub fn model(&self) -> Result<Model, Error> {
+        Model::new(self)
+    }
+}
+
+impl Model {
+    /// Nondimensionalise validated parameters (Eq. 8, 10, 11, 12, 20–22).
+    pub fn new(p: &Parameters) -> Result<Self, Error> {
+        p.validate()?;
+        let omega_n = p.omega_n()?;
+        let wc = p.omega_c() / omega_n;
+        let z2 = p.z2();
+        let we = f64::from(z2) * wc;
+        let e = p.eccentricity;
+        let l = p.mean_base_radius()?;
+        let pair = p.pair()?;
+        let form = p.readings.rigid_acceleration;
+        // derived: -2 wc^2 sum n(-e)^n sin(nx); printed: (-e)^(n-1)(1-e^2) 2 wc e
+        let b1 = pair.rigid_acceleration_coefficient(form, 1, wc);
+        let b2 = pair.rigid_acceleration_coefficient(form, 2, wc);
+        let model = Self {
+            omega_n,
+            omega_c: wc,
+            omega_e: we,
+            z2,
+            zeta: p.damping_ratio,
+            eccentricity: e,
+            beta: p.base_radius_rate()?,
+            mean_base_radius: l,
+            ak: p.kr / p.k0,
+            phase_stiffness: p.phase_stiffness,
+            phase_error: p.phase_error,
+            backlash: p.half_backlash / l,
+            error: p.er / l,
+            b0: p.load_torque / (p.inertia * omega_n * omega_n),
+            b1,
+            b2,
+            b3: p.er / l * we * we,
+            readings: p.readings,
+        };
+        if !(model.omega_n.is_finite() && model.b0.is_finite() && model.b3.is_finite()) {
+            return Err(Error::invalid("liu2021.omega_n", "finite", model.omega_n));
+        }
+        Ok(model)
+    }
+
+    /// Period of the steady response, `T = 2π/ω̄_c` (Sect. 2.4).
+    pub fn period(&self) -> f64 {
+        2.0 * std::f64::consts::PI / self.omega_c
+    }
+
+    /// Base radius ratio `r_b2(τ)/L = 1 + β cos(ω̄_c τ)` (Eq. 8).
+    #[inline]
+    pub fn radius_ratio(&self, tau: f64) -> f64 {
+        1.0 + self.beta * (self.omega_c * tau).cos()
+    }
+
+    /// Combined parametric function `F(τ) = (k_m/k₀)(r_b2/L)²/(1 + β²/2)` (Eq. 9–10 with 8, 19).
+    /// Its mean is 1 when `k_m` and `r_b2` share no frequency.
+    #[inline]
+    pub fn stiffness(&self, tau: f64) -> f64 {
+        let km = 1.0 + self.ak * (self.omega_e * tau + self.phase_stiffness).sin();
+        let r = self.radius_ratio(tau);
+        km * r * r / (1.0 + 0.5 * self.beta * self.beta)
+    }
+
+    /// Dimensionless half backlash `b̄(τ)` (Eq. 12), per the [`BaseRadius`] reading.
+    #[inline]
+    pub fn backlash_at(&self, tau: f64) -> f64 {
+        match self.readings.base_radius {
+            BaseRadius::TimeVarying => self.backlash / self.radius_ratio(tau),
+            BaseRadius::Mean => self.backlash,
+        }
+    }
+
+    /// Rigid angular acceleration `d²θ₂/dτ²` (Eq. 20) per the readings.
+    pub fn rigid_acceleration(&self, tau: f64) -> f64 {
+        let x = self.omega_c * tau;
+        match self.readings.rigid_series {
+            RigidSeries::TwoTerms => self.b1 * x.sin() + self.b2 * (2.0 * x).sin(),
+            RigidSeries::Exact => {
+                let e = self.eccentricity;
+                let d = 1.0 + 2.0 * e * x.cos() + e * e;
+                let num = 2.0 * e * (1.0 - e * e) * x.sin();
+                match self.readings.rigid_acceleration {
+                    RigidAcceleration::Derived => self.omega_c * self.omega_c * num / (d * d),
+                    RigidAcceleration::PrintedEq20 => self.omega_c * num / d,
+                }
+            }
+        }
+    }
+
+    /// Transmission-error term `d²ē/dτ²` as it enters the right side of Eq. (9).
+    pub fn error_acceleration(&self, tau: f64) -> f64 {
+        let ph = self.omega_e * tau + self.phase_error;
+        match (self.readings.error_term, self.readings.base_radius) {
+            (ErrorTerm::Printed, BaseRadius::Mean) => self.b3 * ph.sin(),
+            (ErrorTerm::Printed, BaseRadius::TimeVarying) => {
+                self.b3 * ph.sin() / self.radius_ratio(tau)
+            }
+            (ErrorTerm::Derived, BaseRadius::Mean) => -self.b3 * ph.sin(),
+            (ErrorTerm::Derived, BaseRadius::TimeVarying) => {
+                // e/L = a sin(ph), r = 1 + beta cos(wc tau): (e/r)'' exactly
+                let a = self.error;
+                let (we, wc, be) = (self.omega_e, self.omega_c, self.beta);
+                let e = a * ph.sin();
+                let de = a * we * ph.cos();
+                let dde = -a * we * we * ph.sin();
+                let x = wc * tau;
+                let r = 1.0 + be * x.cos();
+                let dr = -be * wc * x.sin();
+                let ddr = -be * wc * wc * x.cos();
+                dde / r - 2.0 * de * dr / (r * r)
+                    + e * (2.0 * dr * dr / (r * r * r) - ddr / (r * r))
+            }
+        }
+    }
+
+    /// Right-hand side of Eq. (9): `f_r(τ) = −B₀ − d²θ₂/dτ² + d²ē/dτ²` (Eq. 22).
+    pub fn forcing(&self, tau: f64) -> f64 {
+        -self.b0 - self.rigid_acceleration(tau) + self.error_acceleration(tau)
+    }
+
+    /// Restoring term `F(τ) f(q; b̄(τ))` of Eq. (9).
+    #[inline]
+    pub fn restoring(&self, tau: f64, q: f64) -> f64 {
+        self.stiffness(tau) * dead_zone(q, self.backlash_at(tau))
+    }
+
+    /// Acceleration `q'' = f_r − 2ζ q' − F f(q)`: the plain right-hand side of Eq. (9).
+    #[inline]
+    pub fn acceleration(&self, tau: f64, q: f64, v: f64) -> f64 {
+        self.forcing(tau) - 2.0 * self.zeta * v - self.restoring(tau, q)
+    }
+
+    /// Quasi-static contact position `q = −b̄ − B₀/F` at `τ` (start value for the solvers).
+    pub fn static_position(&self, tau: f64) -> f64 {
+        -self.backlash_at(tau) - self.b0 / self.stiffness(tau)
+    }
+}
+
+/// Rattle state value `rsv` (Sect. 3.2): 0 no rattle, 1 unilateral, 2 bilateral.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RattleState {
+    /// `q < −b̄` throughout: the drive flanks never separate (rsv = 0).
+    NoRattle,
+    /// The flanks separate (`q ≥ −b̄` somewhere) but never reach the back flank (rsv = 1).
+    Unilateral,
+    /// Back-flank contact `q > b̄` occurs (rsv = 2).
+    Bilateral,
+}
+
+impl RattleState {
+    /// The paper's rattle state value rsv (0, 1 or 2).
+    pub fn rsv(self) -> u8 {
+        match self {
+            RattleState::NoRattle => 0,
+            RattleState::Unilateral => 1,
+            RattleState::Bilateral => 2,
+        }
+    }
+}
+
+/// Rattle state and peak-to-peak value of one steady period.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Rattle {
+    /// Rattle state (rsv).
+    pub state: RattleState,
+    /// Peak-to-peak value `ppv = max q − min q` (dimensionless, as in Fig. 11b).
+    pub ppv: f64,
+    /// Minimum of `q`.
+    pub q_min: f64,
+    /// Maximum of `q`.
+    pub q_max: f64,
+}
+
+impl Model {
+    /// Classify samples `(τ, q)` of one steady period (Sect. 3.2).
+    pub fn rattle<I: IntoIterator<Item = (f64, f64)>>(&self, samples: I) -> Rattle {
+        let mut q_min = f64::INFINITY;
+        let mut q_max = f64::NEG_INFINITY;
+        let mut state = RattleState::NoRattle;
+        for (tau, q) in samples {
+            q_min = q_min.min(q);
+            q_max = q_max.max(q);
+            let b = self.backlash_at(tau);
+            let s = if q > b {
+                RattleState::Bilateral
+            } else if q >= -b {
+                RattleState::Unilateral
+            } else {
+                RattleState::NoRattle
+            };
+            state = state.max(s);
+        }
+        Rattle {
+            state,
+            ppv: q_max - q_min,
+            q_min,
+            q_max,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::params::table1;
+    use super::*;
+
+    fn fourier_sin(f: impl Fn(f64) -> f64, k: usize, n: usize) -> f64 {
+        let two_pi = 2.0 * std::f64::consts::PI;
+        (0..n)
+            .map(|i| {
+                let x = two_pi * i as f64 / n as f64;
+                f(x) * (k as f64 * x).sin()
+            })
+            .sum::<f64>()
+            * 2.0
+            / n as f64
+    }
+
+    #[test]
+    fn two_term_amplitudes_are_fourier_coefficients_of_exact_form() {
+        for ra in [RigidAcceleration::Derived, RigidAcceleration::PrintedEq20] {
+            let mut p = table1();
+            p.readings.rigid_acceleration = ra;
+            p.readings.rigid_series = RigidSeries::Exact;
+            let m = p.model().unwrap();
+            let f = |x: f64| m.rigid_acceleration(x / m.omega_c);
+            let s1 = fourier_sin(f, 1, 2048);
+            let s2 = fourier_sin(f, 2, 2048);
+            assert!((s1 / m.b1 - 1.0).abs() < 1e-10, "{ra:?}: {s1} vs {}", m.b1);
+            assert!((s2 / m.b2 - 1.0).abs() < 1e-10, "{ra:?}: {s2} vs {}", m.b2);
+        }
+    }
+
+    #[test]
+    fn derived_rigid_acceleration_is_derivative_of_eq18_speed() {
+        // d(omega2/omega_n)/dtau by central differences against the closed form.
+        let mut p = table1();
+        p.readings.rigid_series = RigidSeries::Exact;
+        let m = p.model().unwrap();
+        let pair = p.pair().unwrap();
+        let w = |tau: f64| p.omega1 / pair.ratio(m.omega_c * tau) / m.omega_n;
+        for tau in [10.0, 333.0, 900.0, 1500.0] {
+            let h = 1e-2;
+            let fd = (w(tau + h) - w(tau - h)) / (2.0 * h);
+            let exact = m.rigid_acceleration(tau);
+            assert!(
+                (fd - exact).abs() < 1e-6 * exact.abs().max(1e-12),
+                "{fd} {exact}"
+            );
+        }
+    }
+
+    #[test]
+    fn derived_error_term_is_second_derivative() {
+        let p = table1();
+        let m = p.model().unwrap();
+        let ebar =
+            |tau: f64| m.error * (m.omega_e * tau + m.phase_error).sin() / m.radius_ratio(tau);
+        for tau in [1.0, 77.0, 401.0] {
+            let h = 1e-3;
+            let fd = (ebar(tau + h) - 2.0 * ebar(tau) + ebar(tau - h)) / (h * h);
+            let exact = m.error_acceleration(tau);
+            assert!((fd - exact).abs() < 1e-5 * m.b3, "{fd} {exact}");
+        }
+    }
+
+    #[test]
+    fn stiffness_has_unit_mean() {
+        let m = table1().model().unwrap();
+        let n = 8192;
+        let t = m.period();
+        let mean: f64 = (0..n)
+            .map(|i| m.stiffness(t * i as f64 / n as f64))
+            .sum::<f64>()
+            / n as f64;
+        assert!((mean - 1.0).abs() < 1e-12);
+    }
+}

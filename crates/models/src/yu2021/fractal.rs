@@ -1,0 +1,198 @@
+//! Fractal pieces of Yu 2021: W-M profile mean height (Eq. 2, 4), Chen's fractal backlash
+//! function (Eq. 3) and the fractal contact stiffness (Eq. 18).
+//!
+//! The W-M mean height and Chen's `z` come from the `backlash` leaf; Eq. (18) is evaluated
+//! here exactly as printed (the `mesh-stiffness` leaf offers corrected forms).
+
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+
+use super::params::check_pos;
+
+/// A rough surface described by the modified Weierstrass–Mandelbrot function, Eq. (2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FractalSurface {
+    /// Fractal dimension `D` (–), in (1, 2).
+    pub dimension: f64,
+    /// Fractal roughness `G` (m).
+    pub roughness: f64,
+    /// Frequency density factor `λ` (–), 1.5 for most surfaces (Sec. 2.1).
+    pub lambda: f64,
+    /// Largest asperity base diameter `l_a` (m): `λ^{k_min} = 1/l_a`.
+    pub l_max: f64,
+    /// Smallest asperity base diameter `l_s` (m): truncates the series at `λ^{k_max} = 1/l_s`.
+    pub l_min: f64,
+    /// Sampling length `L` (m) of Eq. (4) (length of the contact region).
+    pub length: f64,
+}
+
+impl FractalSurface {
+    fn validate(&self) -> Result<(), Error> {
+        let d = self.dimension;
+        if !(d > 1.0 && d < 2.0) {
+            return Err(Error::invalid("yu2021.surface.dimension", "in (1, 2)", d));
+        }
+        check_pos("yu2021.surface.roughness", self.roughness)?;
+        if !(self.lambda > 1.0 && self.lambda.is_finite()) {
+            return Err(Error::invalid("yu2021.surface.lambda", "> 1", self.lambda));
+        }
+        check_pos("yu2021.surface.l_max", self.l_max)?;
+        check_pos("yu2021.surface.l_min", self.l_min)?;
+        if self.l_min >= self.l_max {
+            return Err(Error::invalid(
+                "yu2021.surface.l_min",
+                "< l_max",
+                self.l_min,
+            ));
+        }
+        check_pos("yu2021.surface.length", self.length)?;
+        Ok(())
+    }
+}
+
+/// Effective mean asperity height `b_i` (m) of Eq. (4): `(1/L) ∫_0^L |z(l)| dl` with `z` of
+/// Eq. (2), `k` from `λ^{k_min} ≈ 1/l_a` to `λ^{k_max} ≤ 1/l_s`. Computed by the `backlash`
+/// leaf ([`backlash::mean_asperity_height`], midpoint rule, 8 points per shortest wavelength).
+pub fn fractal_mean_height(s: &FractalSurface) -> Result<f64, Error> {
+    s.validate()?;
+    let leaf = |e: backlash::Error| Error::Leaf(format!("yu2021 fractal backlash: {e}"));
+    let surface = backlash::SurfaceFractal::new(s.dimension, s.roughness).map_err(leaf)?;
+    let profile = backlash::WmProfile::new(surface, s.lambda, s.l_max, s.l_min).map_err(leaf)?;
+    let h = backlash::mean_asperity_height(&profile, s.length, backlash::Quadrature::default())
+        .map_err(leaf)?;
+    Ok(h.value)
+}
+
+/// Chen's fractal backlash function, Eq. (3): `z(t) = Σ_{k=0}^{K-1} λ^{(D-2)k} sin(λ^k t)`,
+/// truncated at `K = 12` terms with `λ = 1.5` (the `backlash` leaf's [`backlash::ChenFractal`]).
+pub fn chen_z(dimension: f64, t: f64) -> f64 {
+    backlash::ChenFractal {
+        d: dimension,
+        gamma: 1.5,
+        n_terms: 12,
+    }
+    .value(t)
+}
+
+/// Inputs of the fractal contact stiffness of Eq. (18) (Yu et al. 2021, from their ref. [26]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FractalContact {
+    /// Fractal dimension `D` (–).
+    pub dimension: f64,
+    /// Fractal roughness `G` (m).
+    pub roughness: f64,
+    /// Elastic modulus `E` (Pa).
+    pub young: f64,
+    /// Hardness `H` (Pa); `φ = H/E`.
+    pub hardness: f64,
+    /// Poisson's ratio `ν`; `q = 0.454 + 0.41 ν`.
+    pub poisson: f64,
+    /// Curved-surface coefficient `λ_c` (–), taken as given (its printed formula has the
+    /// exponent `2/R` with a dimensional `R`, reading R-YU-EQ18).
+    pub lambda_c: f64,
+    /// Largest contact area of a single asperity `a_L` (m²).
+    pub a_large: f64,
+    /// Largest asperity base diameter `l_a` (m).
+    pub l_max: f64,
+    /// Smallest asperity base diameter `l_s` (m).
+    pub l_min: f64,
+}
+
+/// Fractal contact stiffness `k_c` of Eq. (18), evaluated exactly as printed:
+/// `k_c = 2^D D G^{1+D²−2D} / ((D−D²+1)(1−D)) · E λ_c a_L^{D/2} / (π^{(2−D)/2} (φ q)^{D−1})
+///  · (l_a^{D−D²+1} − l_s^{D−D²+1})`.
+///
+/// For every `1 < D < 2` the printed expression is **negative**: for `D < 1.618` the prefactor
+/// `1/((D−D²+1)(1−D))` is negative and `l_a^{D−D²+1} > l_s^{D−D²+1}`; for `D > 1.618` the
+/// prefactor is positive and the bracket negative. It is returned exactly as printed; use its
+/// magnitude as a stiffness (reading R-YU-EQ18).
+pub fn fractal_contact_stiffness(c: &FractalContact) -> Result<f64, Error> {
+    let d = c.dimension;
+    if !(d > 1.0 && d < 2.0) {
+        return Err(Error::invalid("yu2021.contact.dimension", "in (1, 2)", d));
+    }
+    check_pos("yu2021.contact.roughness", c.roughness)?;
+    check_pos("yu2021.contact.young", c.young)?;
+    check_pos("yu2021.contact.hardness", c.hardness)?;
+    if !(c.poisson > -1.0 && c.poisson < 0.5) {
+        return Err(Error::invalid(
+            "yu2021.contact.poisson",
+            "in (-1, 0.5)",
+            c.poisson,
+        ));
+    }
+    check_pos("yu2021.contact.lambda_c", c.lambda_c)?;
+    check_pos("yu2021.contact.a_large", c.a_large)?;
+    check_pos("yu2021.contact.l_max", c.l_max)?;
+    check_pos("yu2021.contact.l_min", c.l_min)?;
+    let e3 = d - d * d + 1.0;
+    if e3.abs() < 1e-9 {
+        return Err(Error::invalid(
+            "yu2021.contact.dimension",
+            "!= golden ratio (D - D^2 + 1 = 0)",
+            d,
+        ));
+    }
+    let phi = c.hardness / c.young;
+    let q = 0.454 + 0.41 * c.poisson;
+    let pre = 2f64.powf(d) * d * c.roughness.powf(1.0 + d * d - 2.0 * d) / (e3 * (1.0 - d));
+    let mid = c.young * c.lambda_c * c.a_large.powf(d / 2.0)
+        / (std::f64::consts::PI.powf((2.0 - d) / 2.0) * (phi * q).powf(d - 1.0));
+    Ok(pre * mid * (c.l_max.powf(e3) - c.l_min.powf(e3)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn surface(d: f64, g: f64) -> FractalSurface {
+        FractalSurface {
+            dimension: d,
+            roughness: g,
+            lambda: 1.5,
+            l_max: 1e-3,
+            l_min: 1e-5,
+            length: 1e-3,
+        }
+    }
+
+    #[test]
+    fn mean_height_decreases_with_d_and_increases_with_g() {
+        let h12 = fractal_mean_height(&surface(1.2, 1e-11)).unwrap();
+        let h14 = fractal_mean_height(&surface(1.4, 1e-11)).unwrap();
+        let h16 = fractal_mean_height(&surface(1.6, 1e-11)).unwrap();
+        assert!(h12 > h14 && h14 > h16, "{h12} {h14} {h16}");
+        let hg = fractal_mean_height(&surface(1.4, 1e-10)).unwrap();
+        assert!(hg > h14);
+    }
+
+    #[test]
+    fn mean_height_rejects_bad_d() {
+        let e = fractal_mean_height(&surface(2.3, 1e-11)).unwrap_err();
+        assert!(e.to_string().contains("dimension"), "{e}");
+    }
+
+    #[test]
+    fn eq18_as_printed_is_negative() {
+        for d in [1.2, 1.4, 1.8] {
+            let c = FractalContact {
+                dimension: d,
+                roughness: 1e-11,
+                young: 2.06e11,
+                hardness: 6e9,
+                poisson: 0.3,
+                lambda_c: 1.0,
+                a_large: 1e-8,
+                l_max: 1e-4,
+                l_min: 1e-7,
+            };
+            assert!(fractal_contact_stiffness(&c).unwrap() < 0.0, "D = {d}");
+        }
+    }
+
+    #[test]
+    fn chen_z_is_odd() {
+        assert!((chen_z(1.5, 0.7) + chen_z(1.5, -0.7)).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,660 @@
+//! Dimensionless Yu 2021 models, their right-hand sides and the closed-loop time integration.
+
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+
+use super::fractal::chen_z;
+use super::params::Yu2021Params;
+
+/// Which of the three spur-pair models of Yu's comparison (Sec. 4.4) to solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum ModelKind {
+    /// Kahraman & Singh 1991: 1-DOF torsional DTE, constant backlash `b_s`.
+    KahramanSingh,
+    /// Chen et al.: 1-DOF torsional DTE with time-varying fractal backlash
+    /// `B(t) = b_s + a_z z(ω_h t)`, `z` of Eq. (3).
+    ChenFractal,
+    /// Yu et al. 2021: 6-DOF transverse-torsional pair, Eq. (12)–(16), dynamic backlash Eq. (11).
+    #[default]
+    Yu,
+}
+
+/// Which dimensionless equations to integrate (reading R-YU-EQ19).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum EquationForm {
+    /// Derived from Eq. (12)–(15): the state is the relative torsional displacement
+    /// `u = R_p θ_p − R_g θ_g` plus the four centre coordinates, `δ` of Eq. (15) is evaluated
+    /// algebraically, so the bearing forces, the `m_e(1/m_p+1/m_g)` mesh-force term, `α̇` and
+    /// `ë = −ω*² e` all enter. For the torsional models the STE forcing is `ω*² ē cos(ω* τ + φ_0)`.
+    #[default]
+    Consistent,
+    /// Eq. (19) as printed: `δ*` is a state and obeys a 1-DOF equation with right-hand side
+    /// `T* + T_ah`, `T_ah = e/b_n` (no `ω*²`), uncoupled from the centre motion.
+    Printed,
+}
+
+/// When the dynamic backlash `B(t)` of Eq. (11) is evaluated (Fig. 8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum BacklashUpdate {
+    /// Fig. 8 as printed: `B` is computed from the centre displacements at the start of each
+    /// step ("obtained by past step") and held over the step.
+    PreviousStep,
+    /// `B(x_p, y_p, x_g, y_g)` is a function of the state, evaluated inside every right-hand
+    /// side call.
+    #[default]
+    InRhs,
+}
+
+/// Law for the operating pressure angle `α` (Eq. 16, reading R-YU-EQ16).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum PressureAngleLaw {
+    /// `cos α = a_0 cos α_0 / a` (base-circle involute geometry): `α = α_0` at `a = a_0`.
+    #[default]
+    Operating,
+    /// Eq. (16) as printed, `cos α = (R_p + R_g)/a`: `α = 0` at `a = a_0`, undefined for
+    /// `a < a_0` (clamped to 0 there).
+    PrintedEq16,
+    /// `α = α_0` always.
+    Constant,
+}
+
+/// Law for the dynamic part `b_dy` of the backlash (reading R-YU-EQ6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum DynamicBacklashLaw {
+    /// Eq. (10): `b_dy = sqrt(Δa² − Δp²)` with `Δp = R_pb/2 (β_c² − β_0²)`, `β = tan α`
+    /// (never negative; clamped to 0 when `Δp² > Δa²`).
+    #[default]
+    Eq10,
+    /// Signed involute geometry, `b_dy = Δa sin α`: the play along the line of action grows
+    /// when the centres separate and shrinks when they approach.
+    Involute,
+    /// `b_dy = 0`: constant backlash with the 6-DOF dynamics.
+    Off,
+}
+
+/// Sign of the centre separation in the centre distance, Eq. (8)–(9) (reading R-YU-EQ8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum CentreDistanceForm {
+    /// `a = sqrt((a_0 − x_p + x_g)² + (y_p − y_g)²)`: the frame of Eq. (12) and (15), in which
+    /// a growing `x_p − x_g` compresses the mesh (moves the centres together), so the radial
+    /// mesh-force component separates the gears.
+    #[default]
+    Consistent,
+    /// Eq. (8) as printed, `a = sqrt((a_0 + x_p − x_g)² + (y_p − y_g)²)`: with the force signs of
+    /// Eq. (12) the separating mesh force then reads as an approach of the centres.
+    PrintedEq8,
+}
+
+/// Model options. `Options::default()` is Yu's 6-DOF model in the consistent form.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub struct Options {
+    /// Which model.
+    pub kind: ModelKind,
+    /// Consistent (derived) or printed Eq. (19).
+    pub form: EquationForm,
+    /// Fig. 8 as printed or state-dependent backlash.
+    pub update: BacklashUpdate,
+    /// Pressure-angle law.
+    pub pressure_angle: PressureAngleLaw,
+    /// Dynamic-backlash law.
+    pub dynamic_backlash: DynamicBacklashLaw,
+    /// Sign convention of the centre distance, Eq. (8).
+    pub centre_distance: CentreDistanceForm,
+    /// Lock the four centre coordinates (infinitely stiff bearings): the 6-DOF model reduces
+    /// to the torsional one and `B = b_s`.
+    pub lock_centres: bool,
+}
+
+impl Options {
+    /// The Kahraman–Singh reference model (consistent forcing).
+    pub fn kahraman_singh() -> Self {
+        Options {
+            kind: ModelKind::KahramanSingh,
+            ..Options::default()
+        }
+    }
+    /// Chen's fractal-backlash model (consistent forcing).
+    pub fn chen() -> Self {
+        Options {
+            kind: ModelKind::ChenFractal,
+            ..Options::default()
+        }
+    }
+    /// Yu's model exactly as printed: Eq. (19), Eq. (16), Eq. (10), Fig. 8 update.
+    pub fn yu_as_printed() -> Self {
+        Options {
+            kind: ModelKind::Yu,
+            form: EquationForm::Printed,
+            update: BacklashUpdate::PreviousStep,
+            pressure_angle: PressureAngleLaw::PrintedEq16,
+            dynamic_backlash: DynamicBacklashLaw::Eq10,
+            centre_distance: CentreDistanceForm::PrintedEq8,
+            lock_centres: false,
+        }
+    }
+}
+
+/// The dimensionless Yu 2021 parameters, built from [`Yu2021Params`] in one place
+/// ([`Yu2021Dimensionless::from_params`]). Time `τ = ω_n t`, lengths over `b_n`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Yu2021Dimensionless {
+    /// `ω_n = sqrt(k_am/m_e)` (rad/s).
+    pub omega_n: f64,
+    /// `m_e` (kg).
+    pub m_e: f64,
+    /// `b_n` (m).
+    pub b_n: f64,
+    /// `F_s = T_p/R_p` (N).
+    pub f_s: f64,
+    /// `T* = F_s/(k_am b_n)`.
+    pub load: f64,
+    /// `ζ = c_m/(ω_n m_e) = 2 ξ_c`.
+    pub zeta: f64,
+    /// `ε`.
+    pub epsilon: f64,
+    /// `ē = e_r/b_n`.
+    pub ste: f64,
+    /// `φ_0` (rad).
+    pub phase: f64,
+    /// `[m_e/m_p, m_e/m_g]`.
+    pub mass_ratio: [f64; 2],
+    /// `[κ_px, κ_py, κ_gx, κ_gy]`, `κ_ij = k_ij/(m_i ω_n²)`.
+    pub kappa: [f64; 4],
+    /// `[ζ_px, ζ_py, ζ_gx, ζ_gy]`, `ζ_ij = c_ij/(m_i ω_n) = 2 ξ_b sqrt(κ_ij)`.
+    pub zeta_bearing: [f64; 4],
+    /// `a_0/b_n`, `a_0 = R_p + R_g`.
+    pub centre_distance: f64,
+    /// `R_pb/b_n`, `R_pb = R_p cos α_0`.
+    pub base_radius_p: f64,
+    /// `α_0` (rad).
+    pub alpha0: f64,
+    /// `b_s/b_n`.
+    pub backlash: f64,
+    /// `a_z/b_n` (Chen).
+    pub chen_amplitude: f64,
+    /// `D` of Chen's Eq. (3).
+    pub chen_dimension: f64,
+}
+
+impl Yu2021Dimensionless {
+    /// Dimensional → dimensionless (validates the parameters first).
+    pub fn from_params(p: &Yu2021Params) -> Result<Self, Error> {
+        p.validate()?;
+        let m_e = p.equivalent_mass();
+        let omega_n = p.natural_frequency();
+        let b_n = p.nominal_length;
+        let f_s = p.static_force();
+        let masses = [p.mass_p, p.mass_p, p.mass_g, p.mass_g];
+        let mut kappa = [0.0; 4];
+        let mut zeta_bearing = [0.0; 4];
+        for i in 0..4 {
+            kappa[i] = p.bearing_stiffness[i] / (masses[i] * omega_n * omega_n);
+            zeta_bearing[i] = 2.0 * p.bearing_damping_ratio * kappa[i].sqrt();
+        }
+        Ok(Yu2021Dimensionless {
+            omega_n,
+            m_e,
+            b_n,
+            f_s,
+            load: f_s / (p.mesh_stiffness * b_n),
+            zeta: 2.0 * p.mesh_damping_ratio,
+            epsilon: p.stiffness_ratio,
+            ste: p.ste_amplitude / b_n,
+            phase: p.phase,
+            mass_ratio: [m_e / p.mass_p, m_e / p.mass_g],
+            kappa,
+            zeta_bearing,
+            centre_distance: (p.radius_p + p.radius_g) / b_n,
+            base_radius_p: p.radius_p * p.pressure_angle.cos() / b_n,
+            alpha0: p.pressure_angle,
+            backlash: p.backlash.constant_part()? / b_n,
+            chen_amplitude: p.chen_amplitude / b_n,
+            chen_dimension: p.chen_dimension,
+        })
+    }
+}
+
+/// Number of state entries: `[q, x_p, y_p, x_g, y_g, q', x_p', y_p', x_g', y_g']`, `q = u`
+/// (consistent 6-DOF) or `q = δ*` (printed and torsional models).
+pub const STATE_LEN: usize = 10;
+
+/// The dead zone of Eq. (14): `f(δ) = δ − B` above `B`, `δ + B` below `−B`, 0 between.
+/// (Re-export of [`backlash::dead_zone`]; a negative `b` is treated as 0.)
+pub fn dead_zone(delta: f64, b: f64) -> f64 {
+    backlash::dead_zone(delta, b)
+}
+
+/// Geometry of the current state: pressure angle, its rate and the dynamic backlash.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MeshGeometry {
+    /// Operating pressure angle `α` (rad).
+    pub alpha: f64,
+    /// `dα/dτ`.
+    pub alpha_rate: f64,
+    /// Centre-distance change `Δa/b_n`, Eq. (9).
+    pub centre_change: f64,
+    /// Dynamic part `b_dy/b_n`, Eq. (10).
+    pub dynamic_part: f64,
+    /// Complete backlash `B/b_n = max(b_s + b_dy, 0)`, Eq. (11).
+    pub backlash: f64,
+}
+
+/// A dimensionless Yu 2021 model: parameters plus options. `Send + Sync + Copy`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Yu2021Model {
+    /// Dimensionless parameters.
+    pub params: Yu2021Dimensionless,
+    /// Model options.
+    pub options: Options,
+}
+
+/// Settings of one steady-state run at the dimensionless mesh frequency `ω* = ω_h/ω_n`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RunSettings {
+    /// `ω*` (–).
+    pub omega: f64,
+    /// Mesh periods discarded as transient.
+    pub transient_periods: usize,
+    /// Mesh periods recorded.
+    pub record_periods: usize,
+    /// Minimum RK4 steps per mesh period (raised automatically so that `Δτ ≤ 0.2/ω_max`).
+    pub steps_per_period: usize,
+}
+
+impl RunSettings {
+    /// 200 transient + 20 recorded periods, 256 steps per period.
+    pub fn new(omega: f64) -> Self {
+        RunSettings {
+            omega,
+            transient_periods: 200,
+            record_periods: 20,
+            steps_per_period: 256,
+        }
+    }
+}
+
+/// A recorded steady-state response (dimensionless; multiply lengths by `b_n`, forces by
+/// `k_am b_n`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Response {
+    /// `ω*` of the run.
+    pub omega: f64,
+    /// Samples per mesh period.
+    pub steps_per_period: usize,
+    /// `T*`, for the dynamic factor.
+    pub load: f64,
+    /// Dimensionless time of each sample.
+    pub tau: Vec<f64>,
+    /// DTE `δ*` of Eq. (15).
+    pub dte: Vec<f64>,
+    /// Mesh force `F_m/(k_am b_n)`, Eq. (13).
+    pub force: Vec<f64>,
+    /// Backlash `B/b_n`, Eq. (11).
+    pub backlash: Vec<f64>,
+    /// Pressure angle `α` (rad).
+    pub alpha: Vec<f64>,
+    /// State at the end of the run.
+    pub final_state: [f64; STATE_LEN],
+}
+
+impl Response {
+    /// Dynamic factor, Eq. (20): `max F_m / F_s`.
+    pub fn dynamic_factor(&self) -> f64 {
+        self.force.iter().copied().fold(f64::NEG_INFINITY, f64::max) / self.load
+    }
+
+    /// Amplitudes `A_i` (units of `b_n`) of the first `n` mesh harmonics of the DTE, from a
+    /// discrete Fourier projection over the recorded whole periods.
+    pub fn harmonic_amplitudes(&self, n: usize) -> Vec<f64> {
+        let len = self.dte.len();
+        if len == 0 {
+            return vec![0.0; n];
+        }
+        (1..=n)
+            .map(|h| {
+                let (mut c, mut s) = (0.0, 0.0);
+                for (t, d) in self.tau.iter().zip(&self.dte) {
+                    let ph = h as f64 * self.omega * t;
+                    c += d * ph.cos();
+                    s += d * ph.sin();
+                }
+                2.0 * (c * c + s * s).sqrt() / len as f64
+            })
+            .collect()
+    }
+
+    /// Fourier coefficients `[c_0, a_1, b_1, …, a_h, b_h]` of the DTE over the recorded
+    /// whole periods (the layout of [`super::HbmSolution::coefficients`]; a harmonic-balance
+    /// starting guess).
+    pub fn fourier_coefficients(&self, h: usize) -> Vec<f64> {
+        let len = self.dte.len().max(1) as f64;
+        let mut c = vec![0.0; 2 * h + 1];
+        for (t, d) in self.tau.iter().zip(&self.dte) {
+            c[0] += d / len;
+            for j in 1..=h {
+                let ph = j as f64 * self.omega * t;
+                c[2 * j - 1] += 2.0 * d * ph.cos() / len;
+                c[2 * j] += 2.0 * d * ph.sin() / len;
+            }
+        }
+        c
+    }
+
+    /// RMS of Eq. (21): `sqrt(Σ A_i²/n)` over the first `n` mesh harmonics (units of `b_n`).
+    pub fn rms(&self, n: usize) -> f64 {
+        if n == 0 {
+            return 0.0;
+        }
+        let a = self.harmonic_amplitudes(n);
+        (a.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt()
+    }
+
+    /// Mean of a series.
+    fn mean(v: &[f64]) -> f64 {
+        if v.is_empty() {
+            0.0
+        } else {
+            v.iter().sum::<f64>() / v.len() as f64
+        }
+    }
+
+    /// Mean DTE `δ*`.
+    pub fn mean_dte(&self) -> f64 {
+        Self::mean(&self.dte)
+    }
+
+    /// Mean backlash `B/b_n` (Fig. 9).
+    pub fn mean_backlash(&self) -> f64 {
+        Self::mean(&self.backlash)
+    }
+
+    /// Peak-to-peak DTE.
+    pub fn dte_peak_to_peak(&self) -> f64 {
+        let max = self.dte.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let min = self.dte.iter().copied().fold(f64::INFINITY, f64::min);
+        max - min
+    }
+}
+
+impl Yu2021Model {
+    /// Build from dimensional parameters (validated) and options.
+    pub fn new(params: &Yu2021Params, options: Options) -> Result<Self, Error> {
+        Ok(Yu2021Model {
+            params: Yu2021Dimensionless::from_params(params)?,
+            options,
+        })
+    }
+
+    fn six_dof(&self) -> bool {
+        self.options.kind == ModelKind::Yu && !self.options.lock_centres
+    }
+
+    fn alpha_at(&self, a: f64) -> (f64, f64) {
+        // returns (alpha, c) with cos(alpha) = c / a for the laws that depend on a
+        let p = &self.params;
+        match self.options.pressure_angle {
+            PressureAngleLaw::Constant => (p.alpha0, 0.0),
+            PressureAngleLaw::Operating => {
+                let c = p.centre_distance * p.alpha0.cos();
+                ((c / a).clamp(-1.0, 1.0).acos(), c)
+            }
+            PressureAngleLaw::PrintedEq16 => {
+                let c = p.centre_distance;
+                ((c / a).clamp(-1.0, 1.0).acos(), c)
+            }
+        }
+    }
+
+    /// Pressure angle and backlash of a state (Eq. 9–11, 16). For the torsional models and
+    /// locked centres the centre terms vanish.
+    pub fn geometry(&self, omega: f64, tau: f64, s: &[f64; STATE_LEN]) -> MeshGeometry {
+        let p = &self.params;
+        match self.options.kind {
+            ModelKind::KahramanSingh => MeshGeometry {
+                alpha: p.alpha0,
+                alpha_rate: 0.0,
+                centre_change: 0.0,
+                dynamic_part: 0.0,
+                backlash: p.backlash,
+            },
+            ModelKind::ChenFractal => {
+                let z = chen_z(p.chen_dimension, tau * omega);
+                MeshGeometry {
+                    alpha: p.alpha0,
+                    alpha_rate: 0.0,
+                    centre_change: 0.0,
+                    dynamic_part: p.chen_amplitude * z,
+                    backlash: (p.backlash + p.chen_amplitude * z).max(0.0),
+                }
+            }
+            ModelKind::Yu => {
+                let a0 = p.centre_distance;
+                let (dx, dy) = (s[1] - s[3], s[2] - s[4]);
+                let (dvx, dvy) = (s[6] - s[8], s[7] - s[9]);
+                let sign = match self.options.centre_distance {
+                    CentreDistanceForm::Consistent => -1.0,
+                    CentreDistanceForm::PrintedEq8 => 1.0,
+                };
+                let (dx, dvx) = (sign * dx, sign * dvx);
+                let ax = a0 + dx;
+                let a = (ax * ax + dy * dy).sqrt();
+                let a_rate = (ax * dvx + dy * dvy) / a;
+                let (alpha, c) = self.alpha_at(a);
+                let alpha_rate = if c > 0.0 && alpha.sin() > 1e-12 {
+                    c * a_rate / (a * a * alpha.sin())
+                } else {
+                    0.0
+                };
+                let da = a - a0;
+                let dyn_part = match self.options.dynamic_backlash {
+                    DynamicBacklashLaw::Off => 0.0,
+                    DynamicBacklashLaw::Involute => da * alpha.sin(),
+                    DynamicBacklashLaw::Eq10 => {
+                        let (alpha_ref, _) = self.alpha_at(a0);
+                        let beta_c = alpha.tan();
+                        let beta_0 = alpha_ref.tan();
+                        let dp = 0.5 * p.base_radius_p * (beta_c * beta_c - beta_0 * beta_0);
+                        (da * da - dp * dp).max(0.0).sqrt()
+                    }
+                };
+                MeshGeometry {
+                    alpha,
+                    alpha_rate,
+                    centre_change: da,
+                    dynamic_part: dyn_part,
+                    backlash: (p.backlash + dyn_part).max(0.0),
+                }
+            }
+        }
+    }
+
+    /// DTE `δ*`, its rate, and the mesh force `F*` for a state and a backlash `b` (Eq. 13–15).
+    pub fn mesh(
+        &self,
+        omega: f64,
+        tau: f64,
+        s: &[f64; STATE_LEN],
+        g: &MeshGeometry,
+        b: f64,
+    ) -> (f64, f64, f64) {
+        let p = &self.params;
+        let w = omega;
+        let ph = w * tau + p.phase;
+        let (delta, delta_rate) = if self.options.kind == ModelKind::Yu
+            && self.options.form == EquationForm::Consistent
+        {
+            let (dx, dy) = (s[1] - s[3], s[2] - s[4]);
+            let (dvx, dvy) = (s[6] - s[8], s[7] - s[9]);
+            let (sa, ca) = g.alpha.sin_cos();
+            let e = p.ste * ph.cos();
+            let e_rate = -p.ste * w * ph.sin();
+            (
+                dx * sa + dy * ca + s[0] - e,
+                dvx * sa + dvy * ca + g.alpha_rate * (dx * ca - dy * sa) + s[5] - e_rate,
+            )
+        } else {
+            (s[0], s[5])
+        };
+        let k = 1.0 + p.epsilon * ph.sin();
+        (
+            delta,
+            delta_rate,
+            k * dead_zone(delta, b) + p.zeta * delta_rate,
+        )
+    }
+
+    /// Right-hand side `ds/dτ`. `held` is the backlash held over a step (Fig. 8 as printed);
+    /// `None` evaluates `B` from the state.
+    pub fn rhs(
+        &self,
+        omega: f64,
+        tau: f64,
+        s: &[f64; STATE_LEN],
+        held: Option<f64>,
+    ) -> [f64; STATE_LEN] {
+        let p = &self.params;
+        let g = self.geometry(omega, tau, s);
+        let b = held.unwrap_or(g.backlash);
+        let (_, _, force) = self.mesh(omega, tau, s, &g, b);
+        let w = omega;
+        let ph = w * tau + p.phase;
+        let mut d = [0.0; STATE_LEN];
+        d[..5].copy_from_slice(&s[5..]);
+        let consistent = self.options.form == EquationForm::Consistent;
+        d[5] = match (self.options.kind, consistent) {
+            (ModelKind::Yu, true) => p.load - force,
+            (_, true) => p.load + w * w * p.ste * ph.cos() - force,
+            (_, false) => p.load + p.ste * ph.cos() - force,
+        };
+        if self.six_dof() {
+            let (sa, ca) = g.alpha.sin_cos();
+            let dirs = [sa, ca, -sa, -ca];
+            let mu = [
+                p.mass_ratio[0],
+                p.mass_ratio[0],
+                p.mass_ratio[1],
+                p.mass_ratio[1],
+            ];
+            for i in 0..4 {
+                d[6 + i] =
+                    -p.zeta_bearing[i] * s[6 + i] - p.kappa[i] * s[1 + i] - mu[i] * force * dirs[i];
+            }
+        } else {
+            d[1..5].fill(0.0);
+            d[6..].fill(0.0);
+        }
+        d
+    }
+
+    /// Static-contact initial state: `q = b_s + T*`, centres at rest at the origin.
+    pub fn initial_state(&self) -> [f64; STATE_LEN] {
+        let mut s = [0.0; STATE_LEN];
+        s[0] = self.params.backlash + self.params.load;
+        s
+    }
+
+    /// Largest natural frequency estimate (Gershgorin bound) used to limit the step.
+    fn omega_max(&self) -> f64 {
+        let p = &self.params;
+        let mut m = 1.0 + 2.0 * p.zeta;
+        if self.six_dof() {
+            m += p.mass_ratio[0] + p.mass_ratio[1];
+            for i in 0..4 {
+                m = m.max(p.kappa[i] + p.zeta_bearing[i] + p.mass_ratio[i / 2] * (1.0 + p.zeta));
+            }
+        }
+        m.sqrt()
+    }
+
+    /// Integrate to steady state with fixed-step RK4 and record the response.
+    ///
+    /// Errors on a non-positive or non-finite `ω*`, zero recorded periods, or a non-finite
+    /// state (reported as [`Error::Solver`]).
+    pub fn simulate(
+        &self,
+        settings: &RunSettings,
+        initial: Option<[f64; STATE_LEN]>,
+    ) -> Result<Response, Error> {
+        let w = settings.omega;
+        if !(w > 0.0 && w.is_finite()) {
+            return Err(Error::invalid("yu2021.omega", "> 0 and finite", w));
+        }
+        if settings.record_periods == 0 {
+            return Err(Error::invalid("yu2021.record_periods", ">= 1", 0.0));
+        }
+        let model = self;
+        let period = std::f64::consts::TAU / w;
+        let dt_max = 0.2 / model.omega_max();
+        let n = settings
+            .steps_per_period
+            .max(8)
+            .max((period / dt_max).ceil() as usize);
+        let h = period / n as f64;
+        let mut s = initial.unwrap_or_else(|| model.initial_state());
+        let total = (settings.transient_periods + settings.record_periods) * n;
+        let start_rec = settings.transient_periods * n;
+        let cap = settings.record_periods * n;
+        let mut out = Response {
+            omega: w,
+            steps_per_period: n,
+            load: model.params.load,
+            tau: Vec::with_capacity(cap),
+            dte: Vec::with_capacity(cap),
+            force: Vec::with_capacity(cap),
+            backlash: Vec::with_capacity(cap),
+            alpha: Vec::with_capacity(cap),
+            final_state: s,
+        };
+        for step in 0..total {
+            let tau = step as f64 * h;
+            let g = model.geometry(w, tau, &s);
+            if step >= start_rec {
+                let (delta, _, force) = model.mesh(w, tau, &s, &g, g.backlash);
+                out.tau.push(tau);
+                out.dte.push(delta);
+                out.force.push(force);
+                out.backlash.push(g.backlash);
+                out.alpha.push(g.alpha);
+            }
+            let held = match self.options.update {
+                BacklashUpdate::PreviousStep => Some(g.backlash),
+                BacklashUpdate::InRhs => None,
+            };
+            s = model.rk4(w, tau, &s, h, held);
+            if !s.iter().all(|v| v.is_finite()) {
+                return Err(Error::Solver(format!(
+                    "yu2021: non-finite state at tau = {tau}"
+                )));
+            }
+        }
+        out.final_state = s;
+        Ok(out)
+    }
+
+    fn rk4(
+        &self,
+        w: f64,
+        t: f64,
+        s: &[f64; STATE_LEN],
+        h: f64,
+        held: Option<f64>,
+    ) -> [f64; STATE_LEN] {
+        let add = |a: &[f64; STATE_LEN], k: &[f64; STATE_LEN], f: f64| {
+            let mut r = *a;
+            for i in 0..STATE_LEN {
+                r[i] += f * k[i];
+            }
+            r
+        };
+        let k1 = self.rhs(w, t, s, held);
+        let k2 = self.rhs(w, t + 0.5 * h, &add(s, &k1, 0.5 * h), held);
+        let k3 = self.rhs(w, t + 0.5 * h, &add(s, &k2, 0.5 * h), held);
+        let k4 = self.rhs(w, t + h, &add(s, &k3, h), held);
+        let mut r = *s;
+        for i in 0..STATE_LEN {
+            r[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+        r
+    }
+}

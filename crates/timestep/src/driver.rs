@@ -1,0 +1,593 @@
+//! The integration driver: step-size control, event location, step restart and output.
+
+use crate::error::{Error, Result, check_finite, check_finite_slice};
+use crate::options::{Method, Options, Output};
+use crate::solution::{Event, Solution, Stats, Status};
+use crate::stepper::{ClassicRk4, DormandPrince, Stepper};
+use crate::system::{Direction, EventAction, OdeSystem};
+
+/// Integrates `y' = F(t, y)` from `(t0, y0)` to `t_end` (`t_end >= t0`) with event location.
+///
+/// Event functions of `sys` are monitored after every accepted step. When one changes sign
+/// (in a direction its filter accepts), the crossing is located on the step's dense output by
+/// the Illinois variant of regula falsi to `opts.event_tol` in time, the step is *recomputed*
+/// from its start with the shortened step size so that it ends just past the surface, the event
+/// is recorded, [`OdeSystem::on_event`] is called (it may reset the state or stop), and
+/// integration restarts from there. The right-hand side is therefore never integrated across a
+/// switching surface within one step, which keeps the full order of the method for
+/// piecewise-smooth systems (see the crate docs for the measured gain).
+///
+/// Limitation: two sign changes of the same event function within one accepted step (a
+/// grazing excursion shorter than a step) are not seen; bound the step with `Options::h_max`
+/// if such excursions matter.
+///
+/// Errors only for invalid input; how the run ended is [`Solution::status`].
+pub fn integrate<S: OdeSystem + ?Sized>(
+    sys: &S,
+    t0: f64,
+    y0: &[f64],
+    t_end: f64,
+    opts: &Options,
+) -> Result<Solution> {
+    opts.validate()?;
+    check_finite("t0", t0)?;
+    check_finite("t_end", t_end)?;
+    if t_end < t0 {
+        return Err(Error::InvalidParameter {
+            name: "t_end",
+            bound: ">= t0 (forward integration only)",
+            value: t_end,
+        });
+    }
+    let n = sys.dim();
+    if y0.len() != n {
+        return Err(Error::DimensionMismatch {
+            name: "y0",
+            expected: n,
+            got: y0.len(),
+        });
+    }
+    check_finite_slice("y0", y0)?;
+    match opts.method {
+        Method::DormandPrince54 => Ok(run(sys, t0, y0, t_end, opts, DormandPrince::new(n), None)),
+        Method::Rk4 { h } => Ok(run(sys, t0, y0, t_end, opts, ClassicRk4::new(n), Some(h))),
+        Method::OdeSolversDopri5 | Method::OdeSolversDop853 => {
+            Ok(crate::odesolvers::run(sys, t0, y0, t_end, opts))
+        }
+    }
+}
+
+/// Stores the requested samples.
+pub(crate) struct Recorder {
+    dim: usize,
+    output: Output,
+    t0: f64,
+    t_end: f64,
+    next: usize,
+    pub(crate) t: Vec<f64>,
+    pub(crate) y: Vec<f64>,
+}
+
+impl Recorder {
+    pub(crate) fn new(dim: usize, output: &Output, t0: f64, t_end: f64) -> Self {
+        Self {
+            dim,
+            output: output.clone(),
+            t0,
+            t_end,
+            next: 0,
+            t: Vec::new(),
+            y: Vec::new(),
+        }
+    }
+
+    fn next_time(&self) -> Option<f64> {
+        match &self.output {
+            Output::Uniform { dt } => {
+                let tg = self.t0 + self.next as f64 * dt;
+                (tg <= self.t_end + 1e-9 * dt).then_some(tg)
+            }
+            Output::Times(ts) => {
+                let mut i = self.next;
+                while i < ts.len() && ts[i] < self.t0 {
+                    i += 1;
+                }
+                ts.get(i).copied().filter(|&tg| tg <= self.t_end)
+            }
+            _ => None,
+        }
+    }
+
+    fn skip_before_start(&mut self) {
+        if let Output::Times(ts) = &self.output {
+            while self.next < ts.len() && ts[self.next] < self.t0 {
+                self.next += 1;
+            }
+        }
+    }
+
+    pub(crate) fn initial(&mut self, t0: f64, y0: &[f64]) {
+        self.skip_before_start();
+        match self.output {
+            Output::Steps => self.push(t0, y0),
+            Output::Uniform { .. } | Output::Times(_) => {
+                while let Some(tg) = self.next_time() {
+                    if tg > t0 {
+                        break;
+                    }
+                    self.push(t0, y0);
+                    self.next += 1;
+                }
+            }
+            Output::Final => {}
+        }
+    }
+
+    /// Records the samples of a step `[t, t + h]`; `dense(theta, out)` interpolates it.
+    pub(crate) fn step(
+        &mut self,
+        t: f64,
+        h: f64,
+        y_end: &[f64],
+        buf: &mut [f64],
+        dense: &mut dyn FnMut(f64, &mut [f64]),
+    ) {
+        let t_next = t + h;
+        match self.output {
+            Output::Steps => self.push(t_next, y_end),
+            Output::Final => {}
+            Output::Uniform { .. } | Output::Times(_) => {
+                let slack = match self.output {
+                    Output::Uniform { dt } => 1e-9 * dt,
+                    _ => 0.0,
+                };
+                while let Some(tg) = self.next_time() {
+                    if tg > t_next + slack {
+                        break;
+                    }
+                    let theta = if h > 0.0 {
+                        ((tg - t) / h).clamp(0.0, 1.0 + 1e-9)
+                    } else {
+                        1.0
+                    };
+                    dense(theta, buf);
+                    self.t.push(tg);
+                    self.y.extend_from_slice(&buf[..self.dim]);
+                    self.next += 1;
+                }
+            }
+        }
+    }
+
+    fn push(&mut self, t: f64, y: &[f64]) {
+        self.t.push(t);
+        self.y.extend_from_slice(y);
+    }
+}
+
+/// Event bookkeeping shared by all methods.
+pub(crate) struct EventMonitor {
+    pub(crate) ne: usize,
+    pub(crate) g_prev: Vec<f64>,
+    pub(crate) g_new: Vec<f64>,
+    gtmp: Vec<f64>,
+    /// Sign of each event function on the current side (+1, -1, or 0 if unknown).
+    side: Vec<f64>,
+    /// Crossings of the last step: (index, theta, direction).
+    crossings: Vec<(usize, f64, Direction)>,
+    recorded: Vec<bool>,
+    just_fired: Vec<bool>,
+}
+
+impl EventMonitor {
+    pub(crate) fn new(ne: usize) -> Self {
+        Self {
+            ne,
+            g_prev: vec![0.0; ne],
+            g_new: vec![0.0; ne],
+            gtmp: vec![0.0; ne],
+            side: vec![0.0; ne],
+            crossings: Vec::with_capacity(ne),
+            recorded: vec![false; ne],
+            just_fired: vec![false; ne],
+        }
+    }
+
+    pub(crate) fn start<S: OdeSystem + ?Sized>(&mut self, sys: &S, t: f64, y: &[f64]) {
+        if self.ne == 0 {
+            return;
+        }
+        sys.events(t, y, &mut self.g_prev);
+        for i in 0..self.ne {
+            self.side[i] = sgn(self.g_prev[i]);
+        }
+    }
+
+    /// Re-evaluates the event functions after a state reset at `t`. The side of each function
+    /// is taken from a probe `delta` ahead along the new motion (`y + delta·F(t, y)`), so that a
+    /// reset on the surface (impact law) is followed by the right crossing and not its echo.
+    pub(crate) fn refresh<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &S,
+        t: f64,
+        y: &[f64],
+        delta: f64,
+        work: &mut [f64],
+        fbuf: &mut [f64],
+    ) {
+        if self.ne == 0 {
+            return;
+        }
+        sys.events(t, y, &mut self.g_prev);
+        sys.rhs(t, y, fbuf);
+        for i in 0..y.len() {
+            work[i] = y[i] + delta * fbuf[i];
+        }
+        sys.events(t + delta, work, &mut self.gtmp);
+        for i in 0..self.ne {
+            let s = sgn(self.gtmp[i]);
+            if s != 0.0 {
+                self.side[i] = s;
+            }
+        }
+    }
+
+    /// With `g_new` evaluated at the end of a step `[t, t+h]`, finds and locates accepted
+    /// crossings. Returns the earliest `theta` (post-crossing end of the final bracket).
+    pub(crate) fn locate<S: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &S,
+        t: f64,
+        h: f64,
+        tol: f64,
+        ybuf: &mut [f64],
+        dense: &mut dyn FnMut(f64, &mut [f64]),
+        stats: &mut Stats,
+    ) -> Option<f64> {
+        self.crossings.clear();
+        let mut best: Option<f64> = None;
+        for i in 0..self.ne {
+            let s = self.side[i];
+            let gb = self.g_new[i];
+            if s == 0.0 || gb * s > 0.0 || gb.is_nan() {
+                continue;
+            }
+            let dir = if s > 0.0 {
+                Direction::Falling
+            } else {
+                Direction::Rising
+            };
+            if !sys.event_direction(i).accepts(dir) {
+                continue;
+            }
+            // bracket [a, b] in theta; fa has sign s, fb has sign -s or is zero
+            let mut a = 0.0;
+            let mut fa = if self.g_prev[i] * s > 0.0 {
+                self.g_prev[i]
+            } else {
+                s * f64::MIN_POSITIVE
+            };
+            let mut b = 1.0;
+            let mut fb = gb;
+            let mut retained = 0i8;
+            let mut iter = 0;
+            while (b - a) * h > tol && fb != 0.0 && iter < 200 {
+                iter += 1;
+                let mut c = (a * fb - b * fa) / (fb - fa);
+                if !(c > a && c < b) {
+                    c = 0.5 * (a + b);
+                }
+                dense(c, ybuf);
+                sys.events(t + c * h, ybuf, &mut self.gtmp);
+                let fc = self.gtmp[i];
+                if fc.is_nan() {
+                    break;
+                }
+                if fc * s > 0.0 {
+                    a = c;
+                    fa = fc;
+                    if retained == 1 {
+                        fb *= 0.5;
+                    }
+                    retained = 1;
+                } else {
+                    b = c;
+                    fb = fc;
+                    if retained == -1 {
+                        fa *= 0.5;
+                    }
+                    retained = -1;
+                }
+            }
+            stats.n_event_iterations += iter;
+            // the echo of the event just handled at the step start (restart point on the
+            // surface to round-off, trajectory grazing back) is not a new event
+            if self.just_fired[i] && b * h <= tol {
+                continue;
+            }
+            self.crossings.push((i, b, dir));
+            best = Some(best.map_or(b, |x: f64| x.min(b)));
+        }
+        best
+    }
+
+    /// After the (possibly restarted) step ending at `t_new` with `g_new` evaluated there:
+    /// records events whose crossing lies within `tol` of the restart point and updates sides.
+    pub(crate) fn commit(
+        &mut self,
+        h_orig: f64,
+        theta_star: Option<f64>,
+        t_new: f64,
+        tol: f64,
+        events: &mut Vec<Event>,
+        first_new: &mut usize,
+    ) {
+        *first_new = events.len();
+        self.recorded.iter_mut().for_each(|r| *r = false);
+        self.just_fired.iter_mut().for_each(|r| *r = false);
+        if let Some(th) = theta_star {
+            for &(i, theta, dir) in &self.crossings {
+                if (theta - th) * h_orig.abs() <= tol {
+                    events.push(Event {
+                        t: t_new,
+                        index: i,
+                        direction: dir,
+                    });
+                    self.side[i] = if dir == Direction::Rising { 1.0 } else { -1.0 };
+                    self.recorded[i] = true;
+                    self.just_fired[i] = true;
+                }
+            }
+        }
+        for i in 0..self.ne {
+            if !self.recorded[i] && self.g_new[i] != 0.0 && !self.g_new[i].is_nan() {
+                self.side[i] = sgn(self.g_new[i]);
+            }
+        }
+        std::mem::swap(&mut self.g_prev, &mut self.g_new);
+    }
+}
+
+fn sgn(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// Hairer's starting step size (`hinit` of DOPRI5), `order` = order of the method.
+pub(crate) fn initial_step<S: OdeSystem + ?Sized>(
+    sys: &S,
+    t: f64,
+    y: &[f64],
+    f0: &[f64],
+    order: f64,
+    opts: &Options,
+    h_max: f64,
+    work: &mut [f64],
+    f1: &mut [f64],
+) -> f64 {
+    let n = y.len();
+    let (mut dny, mut dnf) = (0.0, 0.0);
+    for i in 0..n {
+        let sk = opts.atol + opts.rtol * y[i].abs();
+        dny += (y[i] / sk).powi(2);
+        dnf += (f0[i] / sk).powi(2);
+    }
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+        1e-6
+    } else {
+        0.01 * (dny / dnf).sqrt()
+    };
+    h = h.min(h_max);
+    for i in 0..n {
+        work[i] = y[i] + h * f0[i];
+    }
+    sys.rhs(t + h, work, f1);
+    let mut der2 = 0.0;
+    for i in 0..n {
+        let sk = opts.atol + opts.rtol * y[i].abs();
+        der2 += ((f1[i] - f0[i]) / sk).powi(2);
+    }
+    let der2 = der2.sqrt() / h;
+    let der12 = der2.abs().max(dnf.sqrt());
+    let h1 = if der12 <= 1e-15 {
+        1e-6_f64.max(h * 1e-3)
+    } else {
+        (0.01 / der12).powf(1.0 / order)
+    };
+    (100.0 * h).min(h1).min(h_max)
+}
+
+fn run<S: OdeSystem + ?Sized, St: Stepper>(
+    sys: &S,
+    t0: f64,
+    y0: &[f64],
+    t_end: f64,
+    opts: &Options,
+    mut st: St,
+    fixed_h: Option<f64>,
+) -> Solution {
+    let n = y0.len();
+    let ne = if opts.events { sys.n_events() } else { 0 };
+    let mut stats = Stats::default();
+    let mut rec = Recorder::new(n, &opts.output, t0, t_end);
+    let mut mon = EventMonitor::new(ne);
+    let mut events = Vec::new();
+    let mut y = y0.to_vec();
+    let mut ybuf = vec![0.0; n];
+    let mut ysave = vec![0.0; n];
+    let mut fbuf = vec![0.0; n];
+    let mut t = t0;
+    rec.initial(t0, y0);
+    mon.start(sys, t, &y);
+    st.init(sys, t, &y);
+
+    let h_max = opts.h_max.min((t_end - t0).max(f64::MIN_POSITIVE));
+    let mut h = match (fixed_h, opts.h_init) {
+        (Some(hf), _) => hf,
+        (None, Some(h0)) => h0,
+        (None, None) => {
+            let mut f0 = vec![0.0; n];
+            let mut f1 = vec![0.0; n];
+            sys.rhs(t, &y, &mut f0);
+            let h0 = initial_step(sys, t, &y, &f0, 5.0, opts, h_max, &mut ybuf, &mut f1);
+            stats.n_rhs += 2;
+            h0
+        }
+    }
+    .min(h_max);
+
+    // PI controller constants (Hairer's DOPRI5 defaults)
+    let beta = 0.04;
+    let expo1 = 0.2 - 0.75 * beta;
+    let safe = 0.9;
+    let facc1: f64 = 1.0 / 0.2;
+    let facc2: f64 = 1.0 / 10.0;
+    let mut facold: f64 = 1e-4;
+    let mut last_rejected = false;
+    let mut n_bad = 0u32;
+    let mut first_new = 0usize;
+    let mut status = Status::Completed;
+
+    while t < t_end {
+        if stats.n_accepted + stats.n_rejected >= opts.max_steps {
+            status = Status::MaxSteps { t };
+            break;
+        }
+        let mut last = false;
+        if t + 1.01 * h >= t_end || (fixed_h.is_some() && t + h * (1.0 + 1e-12) >= t_end) {
+            h = t_end - t;
+            last = true;
+        }
+        if h <= 16.0 * f64::EPSILON * t.abs().max(f64::MIN_POSITIVE) {
+            status = Status::StepSizeUnderflow { t };
+            break;
+        }
+        let err = st.attempt(sys, t, &y, h, opts.rtol, opts.atol);
+        if !err.is_finite() {
+            stats.n_rejected += 1;
+            n_bad += 1;
+            if n_bad > 40 || fixed_h.is_some() {
+                status = Status::NonFinite { t };
+                break;
+            }
+            h *= 0.25;
+            last_rejected = true;
+            continue;
+        }
+        n_bad = 0;
+        let mut h_new = h;
+        if fixed_h.is_none() {
+            let fac11 = err.powf(expo1);
+            let fac = facc2.max(facc1.min(fac11 / facold.powf(beta) / safe));
+            h_new = h / fac;
+            if err > 1.0 {
+                h /= facc1.min(fac11 / safe);
+                stats.n_rejected += 1;
+                last_rejected = true;
+                continue;
+            }
+            facold = err.max(1e-4);
+            if last_rejected {
+                h_new = h_new.min(h);
+            }
+            last_rejected = false;
+        }
+        stats.n_accepted += 1;
+        st.prepare_dense(&y, h);
+        let mut h_used = h;
+        let mut theta_star = None;
+        if ne > 0 {
+            sys.events(t + h, st.y_new(), &mut mon.g_new);
+            let mut dense = |th: f64, out: &mut [f64]| st.dense(th, out);
+            let mut found =
+                mon.locate(sys, t, h, opts.event_tol, &mut ybuf, &mut dense, &mut stats);
+            // Restart loop: the accepted step that straddles a switching surface has a dense
+            // output polluted by the kink; recompute the step to end at the located crossing,
+            // re-locate on the new (clean) dense output, and repeat until the step end agrees
+            // with the crossing to `event_tol`. If the recomputed step ends short of the
+            // surface, it is accepted as an ordinary step and the next one finds the crossing.
+            for pass in 0..8 {
+                let Some(th) = found else {
+                    break;
+                };
+                if (1.0 - th) * h_used <= opts.event_tol || pass == 7 {
+                    theta_star = Some(th);
+                    break;
+                }
+                h_used *= th;
+                st.attempt(sys, t, &y, h_used, opts.rtol, opts.atol);
+                st.prepare_dense(&y, h_used);
+                sys.events(t + h_used, st.y_new(), &mut mon.g_new);
+                last = false;
+                let mut dense = |th: f64, out: &mut [f64]| st.dense(th, out);
+                found = mon.locate(
+                    sys,
+                    t,
+                    h_used,
+                    opts.event_tol,
+                    &mut ybuf,
+                    &mut dense,
+                    &mut stats,
+                );
+            }
+        }
+        {
+            let (stref, ye) = (&st, st.y_new());
+            let mut dense = |th: f64, out: &mut [f64]| stref.dense(th, out);
+            rec.step(t, h_used, ye, &mut ybuf, &mut dense);
+        }
+        y.copy_from_slice(st.y_new());
+        st.advance();
+        t = if last { t_end } else { t + h_used };
+        if ne > 0 {
+            mon.commit(
+                h_used,
+                theta_star,
+                t,
+                opts.event_tol,
+                &mut events,
+                &mut first_new,
+            );
+            let mut stop = false;
+            let mut changed = false;
+            for k in first_new..events.len() {
+                stats.n_events += 1;
+                ysave.copy_from_slice(&y);
+                if sys.on_event(&events[k], &mut y) == EventAction::Stop {
+                    stop = true;
+                }
+                changed |= ysave != y;
+            }
+            if changed {
+                st.init(sys, t, &y);
+                mon.refresh(sys, t, &y, 1e-6 * h_used, &mut ybuf, &mut fbuf);
+                stats.n_rhs += 1;
+            }
+            if stop {
+                status = Status::StoppedByEvent;
+                break;
+            }
+        }
+        h = h_new.min(h_max);
+        if let Some(hf) = fixed_h {
+            h = hf;
+        }
+    }
+    stats.n_rhs += st.n_rhs();
+    Solution {
+        dim: n,
+        t: rec.t,
+        y: rec.y,
+        events,
+        t_final: t,
+        y_final: y,
+        h_last: h,
+        status,
+        stats,
+    }
+}

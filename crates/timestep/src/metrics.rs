@@ -1,0 +1,170 @@
+//! Response metrics used by the papers: peak-to-peak (Liu ppv), rattle state (Liu rsv),
+//! dynamic factor (Yu Eq. 20) and RMS over harmonics (Yu Eq. 21).
+
+use crate::error::{Error, Result, check_finite, check_finite_slice};
+
+fn nonempty(name: &'static str, x: &[f64]) -> Result<()> {
+    if x.is_empty() {
+        return Err(Error::TooFewSamples {
+            name,
+            needed: 1,
+            got: 0,
+        });
+    }
+    check_finite_slice(name, x)
+}
+
+/// Peak-to-peak value `max x − min x` (Liu et al. 2021 "ppv", of the steady-state response).
+pub fn peak_to_peak(x: &[f64]) -> Result<f64> {
+    nonempty("signal", x)?;
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    Ok(hi - lo)
+}
+
+/// Rattle state of a backlash coordinate (Liu et al. 2021, §4, "rsv").
+///
+/// With relative displacement `x` and gap edges `±b` (dead zone `|x| ≤ b`), contact on the
+/// upper flank means `x > b`, on the lower flank `x < −b`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum RattleState {
+    /// Permanent contact on one flank, never separating (rsv = 0).
+    NoRattle,
+    /// Contact on one flank only, with separations into the gap (rsv = 1).
+    Unilateral,
+    /// Contact on both flanks (rsv = 2).
+    Bilateral,
+    /// Never in contact (pure free flight); not among Liu's three states.
+    NoContact,
+}
+
+impl RattleState {
+    /// Liu's rattle-state value: 0, 1, 2; `None` for [`RattleState::NoContact`].
+    pub fn rsv(self) -> Option<u8> {
+        match self {
+            RattleState::NoRattle => Some(0),
+            RattleState::Unilateral => Some(1),
+            RattleState::Bilateral => Some(2),
+            RattleState::NoContact => None,
+        }
+    }
+}
+
+/// Rattle state of the steady-state samples `x` for a constant gap half-width `b`;
+/// `tol` (≥ 0) is a margin: separation means going more than `tol` into the gap.
+pub fn rattle_state(x: &[f64], b: f64, tol: f64) -> Result<RattleState> {
+    check_finite("b", b)?;
+    rattle_state_with_gap(x, &vec![b; x.len()], tol)
+}
+
+/// As [`rattle_state`] with a time-varying gap `b[i]` at each sample (dynamic backlash).
+pub fn rattle_state_with_gap(x: &[f64], b: &[f64], tol: f64) -> Result<RattleState> {
+    nonempty("signal", x)?;
+    check_finite_slice("gap", b)?;
+    if b.len() != x.len() {
+        return Err(Error::DimensionMismatch {
+            name: "gap",
+            expected: x.len(),
+            got: b.len(),
+        });
+    }
+    if !(tol >= 0.0 && tol.is_finite()) {
+        return Err(Error::InvalidParameter {
+            name: "tol",
+            bound: "finite and >= 0",
+            value: tol,
+        });
+    }
+    if let Some(i) = b.iter().position(|&v| v < 0.0) {
+        return Err(Error::InvalidParameter {
+            name: "gap",
+            bound: ">= 0",
+            value: b[i],
+        });
+    }
+    let upper = x.iter().zip(b).any(|(&v, &g)| v > g);
+    let lower = x.iter().zip(b).any(|(&v, &g)| v < -g);
+    Ok(match (upper, lower) {
+        (true, true) => RattleState::Bilateral,
+        (false, false) => RattleState::NoContact,
+        (true, false) => {
+            if x.iter().zip(b).all(|(&v, &g)| v >= g - tol) {
+                RattleState::NoRattle
+            } else {
+                RattleState::Unilateral
+            }
+        }
+        (false, true) => {
+            if x.iter().zip(b).all(|(&v, &g)| v <= -g + tol) {
+                RattleState::NoRattle
+            } else {
+                RattleState::Unilateral
+            }
+        }
+    })
+}
+
+/// Dynamic factor `DF = max F_m / F_s` (Yu et al. 2021, Eq. 20): maximum dynamic mesh force
+/// over the static force.
+pub fn dynamic_factor(mesh_force: &[f64], static_force: f64) -> Result<f64> {
+    nonempty("mesh force", mesh_force)?;
+    if !(static_force.is_finite() && static_force != 0.0) {
+        return Err(Error::InvalidParameter {
+            name: "static force",
+            bound: "finite and nonzero",
+            value: static_force,
+        });
+    }
+    let max = mesh_force.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    Ok(max / static_force)
+}
+
+/// RMS over harmonic amplitudes `A_1..A_n` (Yu et al. 2021, Eq. 21):
+/// `RMS = sqrt(Σ A_i² / n)`. Use [`crate::harmonic_amplitudes`] for the `A_i`.
+pub fn rms_of_harmonics(amplitudes: &[f64]) -> Result<f64> {
+    nonempty("harmonic amplitudes", amplitudes)?;
+    let s: f64 = amplitudes.iter().map(|a| a * a).sum();
+    Ok((s / amplitudes.len() as f64).sqrt())
+}
+
+/// Plain RMS of a signal, `sqrt(mean x²)`.
+pub fn rms(x: &[f64]) -> Result<f64> {
+    nonempty("signal", x)?;
+    Ok((x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rattle_states() {
+        let b = 1.0;
+        let contact = [1.5, 2.0, 1.2];
+        assert_eq!(rattle_state(&contact, b, 0.0).unwrap().rsv(), Some(0));
+        let neg = [-1.5, -2.0, -1.2];
+        assert_eq!(rattle_state(&neg, b, 0.0).unwrap(), RattleState::NoRattle);
+        let uni = [1.5, 0.0, 1.2];
+        assert_eq!(rattle_state(&uni, b, 0.0).unwrap().rsv(), Some(1));
+        let bi = [1.5, 0.0, -1.2];
+        assert_eq!(rattle_state(&bi, b, 0.0).unwrap().rsv(), Some(2));
+        assert_eq!(
+            rattle_state(&[0.0, 0.5], b, 0.0).unwrap(),
+            RattleState::NoContact
+        );
+        assert!(rattle_state(&[], b, 0.0).is_err());
+        assert!(rattle_state(&[1.0], f64::NAN, 0.0).is_err());
+    }
+
+    #[test]
+    fn df_rms_ppv() {
+        assert!((dynamic_factor(&[1.0, 3.0, 2.0], 2.0).unwrap() - 1.5).abs() < 1e-15);
+        assert!(dynamic_factor(&[1.0], 0.0).is_err());
+        assert!((rms_of_harmonics(&[3.0, 4.0]).unwrap() - (12.5f64).sqrt()).abs() < 1e-15);
+        assert!((peak_to_peak(&[-1.0, 2.0, 0.5]).unwrap() - 3.0).abs() < 1e-15);
+        assert!((rms(&[1.0, -1.0]).unwrap() - 1.0).abs() < 1e-15);
+    }
+}

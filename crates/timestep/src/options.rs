@@ -1,0 +1,154 @@
+//! Integration options.
+
+use crate::error::{Error, Result, check_positive};
+
+/// Integration method.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[non_exhaustive]
+pub enum Method {
+    /// This crate's own embedded Dormand–Prince 5(4) with 4th-order dense output (Hairer,
+    /// Nørsett & Wanner 1993, §II.5/II.6). Adaptive, allocation-free per step; events are
+    /// located on its dense output and the step is recomputed to end on the surface.
+    /// The default and the fastest choice.
+    DormandPrince54,
+    /// Classical fixed-step Runge–Kutta 4 with step `h` (the last step is shortened to hit
+    /// the end time). Dense output: cubic Hermite. Events as for the adaptive methods.
+    Rk4 {
+        /// Step size (same unit as `t`).
+        h: f64,
+    },
+    /// `ode_solvers::Dopri5` (adaptive 5(4)). Events: detected per accepted step, located on a
+    /// cubic Hermite interpolant of the step, the step re-integrated up to the event.
+    OdeSolversDopri5,
+    /// `ode_solvers::Dop853` (adaptive 8(5,3)); events as for [`Method::OdeSolversDopri5`].
+    OdeSolversDop853,
+}
+
+/// Which states are stored in the [`crate::Solution`].
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Output {
+    /// Only the final state (always available as `Solution::y_final`).
+    Final,
+    /// The initial state and every accepted step (event points included).
+    Steps,
+    /// Uniform samples `t0 + k dt`, `k = 0, 1, ...` up to the end, from dense output.
+    Uniform {
+        /// Sampling interval (> 0).
+        dt: f64,
+    },
+    /// Samples at the given times (ascending, within the integration interval), from dense output.
+    Times(Vec<f64>),
+}
+
+/// Options of [`crate::integrate`]. Build with [`Options::default`] and the `with_*` setters.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Options {
+    /// Method (default [`Method::DormandPrince54`]).
+    pub method: Method,
+    /// Relative tolerance of the adaptive methods (default 1e-8).
+    pub rtol: f64,
+    /// Absolute tolerance of the adaptive methods (default 1e-10).
+    pub atol: f64,
+    /// Maximum step size (default: infinity, i.e. the whole interval).
+    pub h_max: f64,
+    /// Initial step size; `None` selects it automatically (Hairer's `hinit`).
+    pub h_init: Option<f64>,
+    /// Maximum number of accepted plus rejected steps (default 10,000,000).
+    pub max_steps: u64,
+    /// Absolute time tolerance to which events are located (default 1e-12).
+    pub event_tol: f64,
+    /// Whether event functions are monitored at all (default true).
+    pub events: bool,
+    /// What to store (default [`Output::Steps`]).
+    pub output: Output,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            method: Method::DormandPrince54,
+            rtol: 1e-8,
+            atol: 1e-10,
+            h_max: f64::INFINITY,
+            h_init: None,
+            max_steps: 10_000_000,
+            event_tol: 1e-12,
+            events: true,
+            output: Output::Steps,
+        }
+    }
+}
+
+impl Options {
+    /// Sets the method.
+    pub fn with_method(mut self, method: Method) -> Self {
+        self.method = method;
+        self
+    }
+    /// Sets relative and absolute tolerances.
+    pub fn with_tol(mut self, rtol: f64, atol: f64) -> Self {
+        self.rtol = rtol;
+        self.atol = atol;
+        self
+    }
+    /// Sets the output mode.
+    pub fn with_output(mut self, output: Output) -> Self {
+        self.output = output;
+        self
+    }
+    /// Enables or disables event location.
+    pub fn with_events(mut self, on: bool) -> Self {
+        self.events = on;
+        self
+    }
+    /// Sets the maximum step size.
+    pub fn with_h_max(mut self, h_max: f64) -> Self {
+        self.h_max = h_max;
+        self
+    }
+    /// Sets the initial step size.
+    pub fn with_h_init(mut self, h: f64) -> Self {
+        self.h_init = Some(h);
+        self
+    }
+    /// Sets the step limit.
+    pub fn with_max_steps(mut self, n: u64) -> Self {
+        self.max_steps = n;
+        self
+    }
+
+    /// Checks all values; called by [`crate::integrate`].
+    pub fn validate(&self) -> Result<()> {
+        check_positive("rtol", self.rtol)?;
+        check_positive("atol", self.atol)?;
+        check_positive("event_tol", self.event_tol)?;
+        if self.h_max.is_nan() || self.h_max <= 0.0 {
+            return Err(Error::InvalidParameter {
+                name: "h_max",
+                bound: "> 0",
+                value: self.h_max,
+            });
+        }
+        if let Some(h) = self.h_init {
+            check_positive("h_init", h)?;
+        }
+        if let Method::Rk4 { h } = self.method {
+            check_positive("Rk4 step h", h)?;
+        }
+        match &self.output {
+            Output::Uniform { dt } => check_positive("output dt", *dt)?,
+            Output::Times(ts) => {
+                crate::error::check_finite_slice("output times", ts)?;
+                if let Some(i) = ts.windows(2).position(|w| w[1] < w[0]) {
+                    return Err(Error::InvalidParameter {
+                        name: "output times (must be ascending)",
+                        bound: ">= previous time",
+                        value: ts[i + 1],
+                    });
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}

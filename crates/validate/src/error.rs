@@ -1,0 +1,118 @@
+//! The error type of the validation harness.
+
+/// Everything that can go wrong while running a study or writing its outputs.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A published-data file could not be parsed.
+    #[error("published data {file}: {reason}")]
+    PublishedParse {
+        /// The file (as passed to [`crate::Published::parse`]).
+        file: String,
+        /// What the parser reported.
+        reason: String,
+    },
+    /// A published value or claim was looked up by an id the file does not contain.
+    #[error("published data {file}: no {kind} with id `{id}`")]
+    PublishedMissing {
+        /// The file searched.
+        file: String,
+        /// `"value"` or `"claim"`.
+        kind: &'static str,
+        /// The id looked up.
+        id: String,
+    },
+    /// A printed number could not be read (it must look like `12`, `-0.0125` or `1.5e-3`).
+    #[error("printed number `{printed}` is not a decimal number")]
+    PrintedNumber {
+        /// The text as transcribed.
+        printed: String,
+    },
+    /// A table row had the wrong number of cells.
+    #[error("table `{table}`: row has {got} cells, the header has {expected}")]
+    RowLength {
+        /// The table's name.
+        table: String,
+        /// Number of columns in the header.
+        expected: usize,
+        /// Number of cells in the row.
+        got: usize,
+    },
+    /// An output name is not usable as a file-name part (allowed: `a-z`, `0-9`, `-`, `_`, `.`).
+    #[error("name `{name}` must be non-empty and use only a-z, 0-9, '-', '_', '.'")]
+    InvalidName {
+        /// The offending name.
+        name: String,
+    },
+    /// Rendering a figure failed.
+    #[error("figure `{figure}`: {reason}")]
+    Plot {
+        /// The figure's name.
+        figure: String,
+        /// What plotters reported.
+        reason: String,
+    },
+    /// A model, solver or geometry computation failed inside a study.
+    #[error("{context}: {source}")]
+    Upstream {
+        /// What the study was doing.
+        context: String,
+        /// The underlying error.
+        source: Box<dyn std::error::Error + Send + Sync + 'static>,
+    },
+    /// A study-specific failure described in words (e.g. a solver that did not converge).
+    #[error("{0}")]
+    Study(String),
+    /// A user study file (see `docs/studies.md`) is invalid.
+    #[error("study file: {0}")]
+    StudyFile(String),
+    /// Reading or writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or directory.
+        path: String,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+}
+
+/// Attach context to any error from another crate, turning it into [`Error::Upstream`].
+///
+/// ```
+/// use validate::ResultExt;
+/// fn parse(s: &str) -> Result<f64, validate::Error> {
+///     s.parse::<f64>().context("reading the input")
+/// }
+/// assert!(parse("x").is_err());
+/// ```
+pub trait ResultExt<T> {
+    /// Wrap the error with a description of what was being done.
+    fn context(self, what: &str) -> Result<T, Error>;
+}
+
+impl<T, E> ResultExt<T> for Result<T, E>
+where
+    E: std::error::Error + Send + Sync + 'static,
+{
+    fn context(self, what: &str) -> Result<T, Error> {
+        self.map_err(|e| Error::Upstream {
+            context: what.to_owned(),
+            source: Box::new(e),
+        })
+    }
+}
+
+/// Check that `name` is usable in a file name.
+pub(crate) fn check_name(name: &str) -> Result<(), Error> {
+    let ok = !name.is_empty()
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || matches!(c, '-' | '_' | '.'));
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::InvalidName {
+            name: name.to_owned(),
+        })
+    }
+}

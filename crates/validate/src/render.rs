@@ -1,0 +1,478 @@
+//! Running studies and turning their outputs into files: CSV, SVG, snapshots, `REPORT.md`.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use rayon::prelude::*;
+
+use crate::error::Error;
+use crate::format::{SIGNIFICANT_DIGITS, csv_field, fmt6, md_cell};
+use crate::study::{Paper, Study, StudyOutput};
+
+/// The result of running one study.
+#[derive(Debug)]
+pub struct StudyResult {
+    /// The study.
+    pub study: Study,
+    /// Its output, or why it failed.
+    pub output: Result<StudyOutput, Error>,
+}
+
+/// Run studies in parallel (rayon), results in input order; `on_done` is called as each finishes
+/// (e.g. to advance a progress bar). Deterministic: each study runs on one task and the results
+/// are collected in order.
+pub fn run_studies(studies: &[Study], on_done: impl Fn(&Study) + Sync) -> Vec<StudyResult> {
+    studies
+        .par_iter()
+        .map(|s| {
+            let output = s.execute();
+            on_done(s);
+            StudyResult { study: *s, output }
+        })
+        .collect()
+}
+
+/// Relative path (under `validation/`) of an output file of `study`.
+fn out_path(study: &Study, suffix: &str) -> String {
+    format!("{}/{}{}", study.paper.dir(), study.id, suffix)
+}
+
+/// The comparisons and claims of a study as one CSV.
+pub fn comparisons_csv(out: &StudyOutput) -> String {
+    let mut s = String::from(
+        "kind,quantity,unit,paper,model,deviation_abs,deviation_rel,tolerance,tolerance_basis,\
+         verdict,source,readings\n",
+    );
+    for c in &out.comparisons {
+        let row = [
+            "comparison".to_owned(),
+            c.quantity.clone(),
+            c.unit.clone(),
+            c.reference.printed.clone(),
+            fmt6(c.model),
+            fmt6(c.deviation_abs()),
+            fmt6(c.deviation_rel()),
+            c.tolerance.label(),
+            c.tolerance.basis.label(),
+            c.verdict().label().to_owned(),
+            c.reference.source.clone(),
+            c.readings.join(" "),
+        ];
+        let row: Vec<String> = row.iter().map(|f| csv_field(f)).collect();
+        s.push_str(&row.join(","));
+        s.push('\n');
+    }
+    for c in &out.claims {
+        let row = [
+            "claim".to_owned(),
+            c.text.clone(),
+            String::new(),
+            String::new(),
+            c.evidence.clone(),
+            String::new(),
+            String::new(),
+            String::new(),
+            String::new(),
+            c.verdict.label().to_owned(),
+            c.source.clone(),
+            c.readings.join(" "),
+        ];
+        let row: Vec<String> = row.iter().map(|f| csv_field(f)).collect();
+        s.push_str(&row.join(","));
+        s.push('\n');
+    }
+    s
+}
+
+/// The snapshot body of one study: every number at [`SIGNIFICANT_DIGITS`] significant digits,
+/// in a stable plain-text layout (what `validation/snapshots/<id>.snap` holds under insta's
+/// header).
+pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "study: {}", study.id);
+    let _ = writeln!(s, "source: {}", study.source);
+    let _ = writeln!(s, "significant_digits: {SIGNIFICANT_DIGITS}");
+    let out = match output {
+        Ok(o) => o,
+        Err(e) => {
+            let _ = writeln!(s, "error: {e}");
+            return s;
+        }
+    };
+    if !out.comparisons.is_empty() {
+        s.push_str("comparisons:\n");
+        for c in &out.comparisons {
+            let _ = writeln!(
+                s,
+                "  - {} [{}]: paper {} | model {} | dev {} | tol {} | {}",
+                c.quantity,
+                c.unit,
+                c.reference.printed,
+                fmt6(c.model),
+                fmt6(c.deviation_abs()),
+                c.tolerance.label(),
+                c.verdict().label()
+            );
+        }
+    }
+    if !out.claims.is_empty() {
+        s.push_str("claims:\n");
+        for c in &out.claims {
+            let _ = writeln!(s, "  - [{}] {} ({})", c.verdict.label(), c.text, c.source);
+            let _ = writeln!(s, "    evidence: {}", c.evidence);
+        }
+    }
+    for t in &out.tables {
+        let _ = writeln!(s, "table {}:", t.name);
+        for line in t.to_csv().lines() {
+            let _ = writeln!(s, "  {line}");
+        }
+    }
+    for f in &out.figures {
+        let _ = writeln!(s, "figure {}:", f.name);
+        for line in f.to_table().to_csv().lines() {
+            let _ = writeln!(s, "  {line}");
+        }
+    }
+    s
+}
+
+/// Wrap a snapshot body in insta's `.snap` format, so `cargo insta` tools and the
+/// `assert_snapshot!` test in this crate read the same file.
+pub fn insta_snap(study: &Study, body: &str) -> String {
+    format!(
+        "---\nsource: xtask validate\nexpression: \"{} at {} significant digits\"\n---\n{}",
+        study.id, SIGNIFICANT_DIGITS, body
+    )
+}
+
+/// Where each reading id is documented: id → link relative to `validation/`.
+#[derive(Debug, Clone, Default)]
+pub struct ReadingsIndex {
+    links: BTreeMap<String, String>,
+}
+
+impl ReadingsIndex {
+    /// Scan `docs/readings.md` and `docs/readings/*.md` under the repository root for headings
+    /// whose first word is a reading id (`### R-LIU-EQ20 — title`).
+    pub fn scan(repo_root: &Path) -> Result<Self, Error> {
+        let mut files = Vec::new();
+        let single = repo_root.join("docs/readings.md");
+        if single.is_file() {
+            files.push(("../docs/readings.md".to_owned(), single));
+        }
+        let dir = repo_root.join("docs/readings");
+        if dir.is_dir() {
+            let rd = std::fs::read_dir(&dir).map_err(|e| Error::Io {
+                path: dir.display().to_string(),
+                source: e,
+            })?;
+            let mut names: Vec<String> = rd
+                .filter_map(|e| e.ok())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .filter(|n| n.ends_with(".md"))
+                .collect();
+            names.sort();
+            for n in names {
+                files.push((format!("../docs/readings/{n}"), dir.join(&n)));
+            }
+        }
+        let mut idx = ReadingsIndex::default();
+        for (rel, path) in files {
+            let text = std::fs::read_to_string(&path).map_err(|e| Error::Io {
+                path: path.display().to_string(),
+                source: e,
+            })?;
+            idx.add_markdown(&rel, &text);
+        }
+        Ok(idx)
+    }
+
+    /// Index the headings of one Markdown file, linked as `rel#anchor`.
+    pub fn add_markdown(&mut self, rel: &str, text: &str) {
+        for line in text.lines() {
+            let Some(heading) = line.strip_prefix('#') else {
+                continue;
+            };
+            let heading = heading.trim_start_matches('#').trim();
+            let Some(first) = heading.split_whitespace().next() else {
+                continue;
+            };
+            if first.starts_with("R-") && first.len() > 2 {
+                self.links
+                    .entry(first.to_owned())
+                    .or_insert_with(|| format!("{rel}#{}", github_anchor(heading)));
+            }
+        }
+    }
+
+    /// Markdown link for a reading id (plain text marked `(undocumented)` if unknown).
+    pub fn link(&self, id: &str) -> String {
+        match self.links.get(id) {
+            Some(l) => format!("[{id}]({l})"),
+            None => format!("{id} (undocumented)"),
+        }
+    }
+
+    /// Whether the id is documented.
+    pub fn contains(&self, id: &str) -> bool {
+        self.links.contains_key(id)
+    }
+}
+
+/// GitHub's heading anchor: lower case, spaces to `-`, punctuation other than `-`/`_` dropped.
+fn github_anchor(heading: &str) -> String {
+    heading
+        .chars()
+        .filter_map(|c| {
+            if c == ' ' {
+                Some('-')
+            } else if c.is_alphanumeric() || c == '-' || c == '_' {
+                Some(c.to_lowercase().next().unwrap_or(c))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+fn readings_cell(ids: &[String], idx: &ReadingsIndex) -> String {
+    ids.iter()
+        .map(|r| idx.link(r))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// `validation/REPORT.md`.
+pub fn report(results: &[StudyResult], idx: &ReadingsIndex) -> String {
+    let mut s = String::new();
+    s.push_str("# geardyn validation report\n\n");
+    s.push_str(
+        "Generated by `cargo xtask validate` — do not edit. Every study holds a model against a \
+         published table, figure, equation or claim. Numbers are shown to 6 significant digits \
+         (paper values as printed). A tolerance is set from the paper's printed precision (half a \
+         unit in the last printed digit), the digitising uncertainty, or the word \"about\" in \
+         the text — before looking at the model. `DEVIATION` rows stay in, with the reading \
+         (`docs/readings/`) that explains them.\n\n",
+    );
+    let (mut p, mut d, mut i, mut errs) = (0, 0, 0, 0);
+    for r in results {
+        match &r.output {
+            Ok(o) => {
+                let t = o.tally();
+                p += t.0;
+                d += t.1;
+                i += t.2;
+            }
+            Err(_) => errs += 1,
+        }
+    }
+    let _ = writeln!(
+        s,
+        "**{} studies**: {p} pass, {d} deviation, {i} inconclusive; {errs} studies failed to run.\n",
+        results.len()
+    );
+    s.push_str("| study | source | title | pass | deviation | inconclusive |\n");
+    s.push_str("| --- | --- | --- | ---: | ---: | ---: |\n");
+    for r in results {
+        let (a, b, c) = match &r.output {
+            Ok(o) => {
+                let t = o.tally();
+                (t.0.to_string(), t.1.to_string(), t.2.to_string())
+            }
+            Err(_) => ("error".to_owned(), String::new(), String::new()),
+        };
+        let _ = writeln!(
+            s,
+            "| [{id}](#{anchor}) | {} | {} | {a} | {b} | {c} |",
+            md_cell(r.study.source),
+            md_cell(r.study.title),
+            id = r.study.id,
+            anchor = github_anchor(r.study.id),
+        );
+    }
+    for paper in Paper::ALL {
+        let of_paper: Vec<&StudyResult> =
+            results.iter().filter(|r| r.study.paper == paper).collect();
+        if of_paper.is_empty() {
+            continue;
+        }
+        let _ = writeln!(s, "\n## {}\n", paper.citation());
+        for r in of_paper {
+            study_section(&mut s, r, idx);
+        }
+    }
+    s
+}
+
+fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
+    let st = &r.study;
+    let _ = writeln!(s, "### {}\n", st.id);
+    let _ = writeln!(s, "**{}** — {}\n", md_cell(st.title), st.source);
+    if !st.description.is_empty() {
+        let _ = writeln!(s, "{}\n", st.description.trim());
+    }
+    let out = match &r.output {
+        Ok(o) => o,
+        Err(e) => {
+            let _ = writeln!(
+                s,
+                "**The study failed to run:** {}\n",
+                md_cell(&e.to_string())
+            );
+            return;
+        }
+    };
+    let mut files = vec![format!("[{0}.csv]({1})", st.id, out_path(st, ".csv"))];
+    for t in &out.tables {
+        files.push(format!(
+            "[{n}.csv]({p})",
+            n = t.name,
+            p = out_path(st, &format!("_{}.csv", t.name))
+        ));
+    }
+    for f in &out.figures {
+        files.push(format!(
+            "[{n}.svg]({p})",
+            n = f.name,
+            p = out_path(st, &format!("_{}.svg", f.name))
+        ));
+    }
+    let _ = writeln!(s, "Outputs: {}\n", files.join(", "));
+    if !out.comparisons.is_empty() {
+        s.push_str("| quantity | unit | paper | model | deviation (abs / rel) | tolerance | verdict | readings |\n");
+        s.push_str("| --- | --- | ---: | ---: | ---: | --- | --- | --- |\n");
+        for c in &out.comparisons {
+            let rel = c.deviation_rel();
+            let rel = if rel.is_finite() {
+                format!("{}%", crate::fmt_sig(100.0 * rel, 3))
+            } else {
+                "—".to_owned()
+            };
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} / {} | {} ({}) | {} | {} |",
+                md_cell(&c.quantity),
+                md_cell(&c.unit),
+                md_cell(&c.reference.printed),
+                fmt6(c.model),
+                crate::fmt_sig(c.deviation_abs(), 3),
+                rel,
+                c.tolerance.label(),
+                md_cell(&c.tolerance.basis.label()),
+                if c.verdict() == crate::Verdict::Pass {
+                    "pass".to_owned()
+                } else {
+                    format!("**{}**", c.verdict().label())
+                },
+                readings_cell(&c.readings, idx),
+            );
+        }
+        s.push('\n');
+        let notes: Vec<String> = out
+            .comparisons
+            .iter()
+            .filter(|c| !c.note.is_empty())
+            .map(|c| format!("- *{}*: {}", md_cell(&c.quantity), c.note))
+            .collect();
+        if !notes.is_empty() {
+            s.push_str(&notes.join("\n"));
+            s.push_str("\n\n");
+        }
+    }
+    if !out.claims.is_empty() {
+        s.push_str("| claim (quoted) | source | model evidence | verdict | readings |\n");
+        s.push_str("| --- | --- | --- | --- | --- |\n");
+        for c in &out.claims {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} |",
+                md_cell(&c.text),
+                md_cell(&c.source),
+                md_cell(&c.evidence),
+                if c.verdict == crate::Verdict::Pass {
+                    "pass".to_owned()
+                } else {
+                    format!("**{}**", c.verdict.label())
+                },
+                readings_cell(&c.readings, idx),
+            );
+        }
+        s.push('\n');
+    }
+    for n in &out.notes {
+        let _ = writeln!(s, "> {}\n", n.trim().replace('\n', "\n> "));
+    }
+}
+
+/// Every generated file, path relative to `validation/` → contents. Deterministic.
+///
+/// Layout: `<paper>/<id>.csv` (comparisons and claims), `<paper>/<id>_<table>.csv`,
+/// `<paper>/<id>_<figure>.svg` and `.csv`, `snapshots/<id>.snap`, `REPORT.md`.
+/// A figure that fails to render is reported as an error in the study's snapshot.
+pub fn render_all(results: &[StudyResult], idx: &ReadingsIndex) -> BTreeMap<String, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    for r in results {
+        let st = &r.study;
+        let mut body = snapshot_body(st, &r.output);
+        if let Ok(out) = &r.output {
+            files.insert(out_path(st, ".csv"), comparisons_csv(out).into_bytes());
+            for t in &out.tables {
+                files.insert(
+                    out_path(st, &format!("_{}.csv", t.name)),
+                    t.to_csv().into_bytes(),
+                );
+            }
+            for f in &out.figures {
+                files.insert(
+                    out_path(st, &format!("_{}.csv", f.name)),
+                    f.to_table().to_csv().into_bytes(),
+                );
+                match f.to_svg() {
+                    Ok(svg) => {
+                        files.insert(out_path(st, &format!("_{}.svg", f.name)), svg.into_bytes());
+                    }
+                    Err(e) => {
+                        let _ = writeln!(body, "render error: {e}");
+                    }
+                }
+            }
+        }
+        files.insert(
+            format!("snapshots/{}.snap", st.id),
+            insta_snap(st, &body).into_bytes(),
+        );
+    }
+    files.insert("REPORT.md".to_owned(), report(results, idx).into_bytes());
+    files
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn anchors_match_github() {
+        assert_eq!(
+            github_anchor("R-LIU-EQ20 — Eq. 20 as printed"),
+            "r-liu-eq20--eq-20-as-printed"
+        );
+        assert_eq!(github_anchor("karpov2017-fig4"), "karpov2017-fig4");
+    }
+
+    #[test]
+    fn readings_index() {
+        let mut idx = ReadingsIndex::default();
+        idx.add_markdown(
+            "../docs/readings/x.md",
+            "# Title\n\n### R-YU-EQ16 — pressure angle\ntext\n",
+        );
+        assert!(idx.contains("R-YU-EQ16"));
+        assert_eq!(
+            idx.link("R-YU-EQ16"),
+            "[R-YU-EQ16](../docs/readings/x.md#r-yu-eq16--pressure-angle)"
+        );
+        assert_eq!(idx.link("R-X"), "R-X (undocumented)");
+    }
+}

@@ -1,0 +1,534 @@
+//! Studies and what they produce: comparisons, claims, tables, figures.
+
+use serde::Serialize;
+
+use crate::error::{Error, check_name};
+use crate::figure::Figure;
+use crate::published::{PublishedClaim, PublishedValue};
+use crate::table::Table;
+
+/// The source papers (and user studies, which belong to no paper).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[non_exhaustive]
+pub enum Paper {
+    /// Karpov, Nosko, Fil, Nosko, Olofsson 2017, *Prevention of resonance oscillations in gear
+    /// mechanisms using non-circular gears*, Mech. Mach. Theory 114:1.
+    Karpov2017,
+    /// Liu, Lv, Zhao 2021, *Rattle dynamics of noncircular face gear under multifrequency
+    /// parametric excitation*, Mech. Sci. 12:361.
+    Liu2021,
+    /// Yu, Sun, Li, Wu 2021, *Nonlinear response of gear system based on a novel backlash model
+    /// with coupling dynamic change and surface topography* (preprint).
+    Yu2021,
+}
+
+impl Paper {
+    /// All papers, in report order.
+    pub const ALL: [Paper; 3] = [Paper::Karpov2017, Paper::Liu2021, Paper::Yu2021];
+
+    /// Directory name under `validation/` (`liu2021`, `karpov2017`, `yu2021`).
+    pub fn dir(self) -> &'static str {
+        match self {
+            Paper::Liu2021 => "liu2021",
+            Paper::Karpov2017 => "karpov2017",
+            Paper::Yu2021 => "yu2021",
+        }
+    }
+
+    /// Short citation for headings.
+    pub fn citation(self) -> &'static str {
+        match self {
+            Paper::Liu2021 => {
+                "Liu, Lv, Zhao 2021 — Rattle dynamics of noncircular face gear (Mech. Sci. 12:361)"
+            }
+            Paper::Karpov2017 => {
+                "Karpov, Nosko, Fil, Nosko, Olofsson 2017 — Prevention of resonance oscillations \
+                 using non-circular gears (MMT 114:1)"
+            }
+            Paper::Yu2021 => {
+                "Yu, Sun, Li, Wu 2021 — Novel backlash model with coupling dynamic change and \
+                 surface topography (preprint)"
+            }
+        }
+    }
+}
+
+/// How expensive a study is; `cargo test -p validate` runs (and snapshot-tests) only
+/// [`Cost::Fast`] studies, `cargo xtask validate` runs all.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum Cost {
+    /// Well under a second in a debug build (closed forms, geometry, small quadratures).
+    Fast,
+    /// Anything that integrates or continues a dynamic model.
+    Heavy,
+}
+
+/// One published item (a table, a figure, an equation, a textual claim) and the code that holds a
+/// model against it.
+///
+/// Studies are plain data plus a function pointer, so they are `Send + Sync` and cheap to list.
+/// `id` must be unique, and is the file-name stem of every output (`a-z`, `0-9`, `-`, `_`, `.`);
+/// by convention it starts with the paper, e.g. `karpov2017-fig4`, `liu2021-table2`.
+#[derive(Debug, Clone, Copy)]
+pub struct Study {
+    /// Unique id and file-name stem, e.g. `liu2021-fig11-rsv-omega`.
+    pub id: &'static str,
+    /// The paper the study reproduces.
+    pub paper: Paper,
+    /// Where in the paper: `"Table 2, p. 12"`, `"Fig. 4, p. 6"`, `"Eq. (4), p. 3"`.
+    pub source: &'static str,
+    /// One-line title for the report.
+    pub title: &'static str,
+    /// What is compared and how the paper is read (Markdown, one paragraph).
+    pub description: &'static str,
+    /// Fast (run in unit tests) or heavy (only in `cargo xtask validate`).
+    pub cost: Cost,
+    /// The computation. Must be deterministic: same output bits for any rayon thread count
+    /// (collect parallel sweeps in input order; no parallel float reductions).
+    pub run: fn() -> Result<StudyOutput, Error>,
+}
+
+impl Study {
+    /// Run the study, checking the output's names.
+    pub fn execute(&self) -> Result<StudyOutput, Error> {
+        check_name(self.id)?;
+        let out = (self.run)()?;
+        for t in &out.tables {
+            check_name(&t.name)?;
+        }
+        for f in &out.figures {
+            check_name(&f.name)?;
+        }
+        Ok(out)
+    }
+}
+
+/// The verdict on one comparison or claim.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub enum Verdict {
+    /// The model reproduces the paper within the tolerance (or the claim holds for the model).
+    Pass,
+    /// The model disagrees with the paper; the row should name a reading that explains why.
+    Deviation,
+    /// The claim cannot be decided from the model's output (e.g. too vague); says why in the
+    /// evidence.
+    Inconclusive,
+}
+
+impl Verdict {
+    /// `pass`, `DEVIATION`, `inconclusive` (upper case makes deviations stand out in tables).
+    pub fn label(self) -> &'static str {
+        match self {
+            Verdict::Pass => "pass",
+            Verdict::Deviation => "DEVIATION",
+            Verdict::Inconclusive => "inconclusive",
+        }
+    }
+
+    /// [`Verdict::Pass`] if `holds`, else [`Verdict::Deviation`].
+    pub fn from_bool(holds: bool) -> Self {
+        if holds {
+            Verdict::Pass
+        } else {
+            Verdict::Deviation
+        }
+    }
+}
+
+/// Why a tolerance has the size it has. Chosen before looking at the model's number.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
+pub enum ToleranceBasis {
+    /// Half a unit in the last digit the paper prints (`38.67` → ±0.005).
+    PrintedPrecision,
+    /// Uncertainty of reading a value off a published figure.
+    Digitising,
+    /// The text says "about"/"approximately"; the stated relative band.
+    ApproximateText,
+    /// Model against an exact or reference computation: numerical error only.
+    Numerical,
+    /// Anything else, explained in words.
+    Stated(String),
+}
+
+impl ToleranceBasis {
+    /// Short label for tables.
+    pub fn label(&self) -> String {
+        match self {
+            ToleranceBasis::PrintedPrecision => "printed precision".to_owned(),
+            ToleranceBasis::Digitising => "digitising".to_owned(),
+            ToleranceBasis::ApproximateText => "\"about\" in text".to_owned(),
+            ToleranceBasis::Numerical => "numerical".to_owned(),
+            ToleranceBasis::Stated(s) => s.clone(),
+        }
+    }
+}
+
+/// Size of a tolerance band.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum ToleranceBand {
+    /// |model − paper| ≤ value (in the quantity's unit).
+    Absolute(f64),
+    /// |model − paper| ≤ value·|paper|.
+    Relative(f64),
+}
+
+/// A tolerance: its band and its basis.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Tolerance {
+    /// Size of the band.
+    pub band: ToleranceBand,
+    /// Why this size.
+    pub basis: ToleranceBasis,
+}
+
+impl Tolerance {
+    /// Half a unit in the last printed digit of `printed` (`"38.67"` → ±0.005, `"150"` → ±0.5,
+    /// `"1.5e-3"` → ±0.5e-4), basis [`ToleranceBasis::PrintedPrecision`].
+    ///
+    /// ```
+    /// use validate::{Tolerance, ToleranceBand};
+    /// let t = Tolerance::printed("38.67").unwrap();
+    /// assert_eq!(t.band, ToleranceBand::Absolute(0.005));
+    /// ```
+    pub fn printed(printed: &str) -> Result<Self, Error> {
+        Ok(Tolerance {
+            band: ToleranceBand::Absolute(half_last_digit(printed)?),
+            basis: ToleranceBasis::PrintedPrecision,
+        })
+    }
+
+    /// An absolute band read off a figure.
+    pub fn digitising(abs: f64) -> Self {
+        Tolerance {
+            band: ToleranceBand::Absolute(abs),
+            basis: ToleranceBasis::Digitising,
+        }
+    }
+
+    /// A relative band for numbers the text gives as "about …".
+    pub fn approximate(rel: f64) -> Self {
+        Tolerance {
+            band: ToleranceBand::Relative(rel),
+            basis: ToleranceBasis::ApproximateText,
+        }
+    }
+
+    /// A relative band for model-against-exact comparisons (numerical error only).
+    pub fn numerical(rel: f64) -> Self {
+        Tolerance {
+            band: ToleranceBand::Relative(rel),
+            basis: ToleranceBasis::Numerical,
+        }
+    }
+
+    /// Any band with a basis explained in words.
+    pub fn stated(band: ToleranceBand, why: &str) -> Self {
+        Tolerance {
+            band,
+            basis: ToleranceBasis::Stated(why.to_owned()),
+        }
+    }
+
+    /// The allowed absolute deviation around `reference`.
+    pub fn allowed(&self, reference: f64) -> f64 {
+        match self.band {
+            ToleranceBand::Absolute(a) => a.abs(),
+            ToleranceBand::Relative(r) => r.abs() * reference.abs(),
+        }
+    }
+
+    /// Human-readable band, e.g. `±0.005` or `±2%`.
+    pub fn label(&self) -> String {
+        match self.band {
+            ToleranceBand::Absolute(a) => format!("±{}", crate::fmt_sig(a, 3)),
+            ToleranceBand::Relative(r) => format!("±{}%", crate::fmt_sig(100.0 * r, 3)),
+        }
+    }
+}
+
+/// Half a unit in the last digit of a printed decimal number.
+pub(crate) fn half_last_digit(printed: &str) -> Result<f64, Error> {
+    let bad = || Error::PrintedNumber {
+        printed: printed.to_owned(),
+    };
+    let t = printed.trim();
+    let (mant, exp) = match t.split_once(['e', 'E']) {
+        Some((m, e)) => (m, e.parse::<i32>().map_err(|_| bad())?),
+        None => (t, 0),
+    };
+    let m = mant.trim_start_matches(['+', '-']);
+    if m.is_empty()
+        || !m.chars().all(|c| c.is_ascii_digit() || c == '.')
+        || m.matches('.').count() > 1
+    {
+        return Err(bad());
+    }
+    let decimals = m.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
+    Ok(0.5 * 10f64.powi(exp - decimals))
+}
+
+/// The reference side of a comparison: the paper's number (or an exact value) and where it is.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Reference {
+    /// Value used for the deviation.
+    pub value: f64,
+    /// The number as printed (keeps the printed precision), or the value formatted.
+    pub printed: String,
+    /// Where it comes from: `"Table 2, p. 12"`, `"Eq. (4) evaluated"`, ….
+    pub source: String,
+}
+
+impl Reference {
+    /// A reference computed rather than printed (e.g. an exact formula), with its source.
+    pub fn computed(value: f64, source: &str) -> Self {
+        Reference {
+            value,
+            printed: crate::fmt6(value),
+            source: source.to_owned(),
+        }
+    }
+}
+
+impl From<&PublishedValue> for Reference {
+    fn from(p: &PublishedValue) -> Self {
+        Reference {
+            value: p.value,
+            printed: p.printed.clone(),
+            source: p.source.clone(),
+        }
+    }
+}
+
+/// One numeric comparison row: quantity, paper value, model value, deviation, tolerance, verdict.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Comparison {
+    /// What is compared, e.g. `f_c at ω1 = 160 rad/s`.
+    pub quantity: String,
+    /// Unit (`rad/s`, `Hz`, `1` for dimensionless).
+    pub unit: String,
+    /// The paper's (or exact) value.
+    pub reference: Reference,
+    /// The model's value.
+    pub model: f64,
+    /// The tolerance (set from the paper's precision before looking at `model`).
+    pub tolerance: Tolerance,
+    /// Reading ids (`R-LIU-EQ20`, …; headings in `docs/readings/*.md`) explaining a deviation or
+    /// the reading chosen.
+    pub readings: Vec<String>,
+    /// Free remark (Markdown, short).
+    pub note: String,
+}
+
+impl Comparison {
+    /// Compare `model` against `reference` within `tolerance`.
+    ///
+    /// ```
+    /// use validate::{Comparison, Reference, Tolerance, Verdict};
+    /// let c = Comparison::new("δ", "1", Reference::computed(0.1, "exact"), 0.1004,
+    ///     Tolerance::numerical(1e-2));
+    /// assert_eq!(c.verdict(), Verdict::Pass);
+    /// ```
+    pub fn new(
+        quantity: &str,
+        unit: &str,
+        reference: impl Into<Reference>,
+        model: f64,
+        tolerance: Tolerance,
+    ) -> Self {
+        Comparison {
+            quantity: quantity.to_owned(),
+            unit: unit.to_owned(),
+            reference: reference.into(),
+            model,
+            tolerance,
+            readings: Vec::new(),
+            note: String::new(),
+        }
+    }
+
+    /// Compare against a published value; quantity, unit and source come from it, the tolerance
+    /// from its printed precision.
+    pub fn published(p: &PublishedValue, model: f64) -> Result<Self, Error> {
+        let tol = Tolerance::printed(&p.printed)?;
+        Ok(Comparison::new(&p.quantity, &p.unit, p, model, tol))
+    }
+
+    /// Add a reading id.
+    pub fn reading(mut self, id: &str) -> Self {
+        self.readings.push(id.to_owned());
+        self
+    }
+
+    /// Set the note.
+    pub fn note(mut self, note: &str) -> Self {
+        self.note = note.to_owned();
+        self
+    }
+
+    /// Replace the tolerance.
+    pub fn with_tolerance(mut self, tolerance: Tolerance) -> Self {
+        self.tolerance = tolerance;
+        self
+    }
+
+    /// model − paper.
+    pub fn deviation_abs(&self) -> f64 {
+        self.model - self.reference.value
+    }
+
+    /// (model − paper)/|paper| (NaN when the paper value is 0).
+    pub fn deviation_rel(&self) -> f64 {
+        if self.reference.value == 0.0 {
+            f64::NAN
+        } else {
+            self.deviation_abs() / self.reference.value.abs()
+        }
+    }
+
+    /// Pass when |model − paper| ≤ allowed (with a 1e-12 relative slack for the decimal
+    /// representation of printed bounds); a non-finite model value is a deviation.
+    pub fn verdict(&self) -> Verdict {
+        let allowed = self.tolerance.allowed(self.reference.value);
+        let slack = 1e-12 * self.reference.value.abs().max(allowed);
+        Verdict::from_bool(self.model.is_finite() && self.deviation_abs().abs() <= allowed + slack)
+    }
+}
+
+/// A textual claim of the paper held against the model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Claim {
+    /// The claim, quoted (or closely paraphrased, then say so).
+    pub text: String,
+    /// Where: `"Sect. 3.3, p. 9"`.
+    pub source: String,
+    /// What the model shows (numbers!).
+    pub evidence: String,
+    /// The verdict.
+    pub verdict: Verdict,
+    /// Reading ids explaining a deviation.
+    pub readings: Vec<String>,
+}
+
+impl Claim {
+    /// A claim with its quote, source, the model's evidence and the verdict.
+    pub fn new(text: &str, source: &str, evidence: impl Into<String>, verdict: Verdict) -> Self {
+        Claim {
+            text: text.to_owned(),
+            source: source.to_owned(),
+            evidence: evidence.into(),
+            verdict,
+            readings: Vec::new(),
+        }
+    }
+
+    /// A claim from the published data file (text and source transcribed there).
+    pub fn published(p: &PublishedClaim, evidence: impl Into<String>, verdict: Verdict) -> Self {
+        Claim::new(&p.text, &p.source, evidence, verdict)
+    }
+
+    /// Add a reading id.
+    pub fn reading(mut self, id: &str) -> Self {
+        self.readings.push(id.to_owned());
+        self
+    }
+}
+
+/// Everything a study produces. Build it with the chaining methods.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct StudyOutput {
+    /// Numeric comparisons (written to `<id>.csv` and the report).
+    pub comparisons: Vec<Comparison>,
+    /// Claims (report and snapshot).
+    pub claims: Vec<Claim>,
+    /// Data tables (each written to `<id>_<table>.csv`).
+    pub tables: Vec<Table>,
+    /// Figures (each written to `<id>_<figure>.svg` and, as data, `<id>_<figure>.csv`).
+    pub figures: Vec<Figure>,
+    /// Remarks shown under the study in the report (Markdown).
+    pub notes: Vec<String>,
+}
+
+impl StudyOutput {
+    /// An empty output.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Add a comparison.
+    pub fn compare(&mut self, c: Comparison) -> &mut Self {
+        self.comparisons.push(c);
+        self
+    }
+
+    /// Add a claim.
+    pub fn claim(&mut self, c: Claim) -> &mut Self {
+        self.claims.push(c);
+        self
+    }
+
+    /// Add a data table.
+    pub fn table(&mut self, t: Table) -> &mut Self {
+        self.tables.push(t);
+        self
+    }
+
+    /// Add a figure.
+    pub fn figure(&mut self, f: Figure) -> &mut Self {
+        self.figures.push(f);
+        self
+    }
+
+    /// Add a remark.
+    pub fn note(&mut self, n: impl Into<String>) -> &mut Self {
+        self.notes.push(n.into());
+        self
+    }
+
+    /// Count of (pass, deviation, inconclusive) over comparisons and claims.
+    pub fn tally(&self) -> (usize, usize, usize) {
+        let mut t = (0, 0, 0);
+        let verdicts = self
+            .comparisons
+            .iter()
+            .map(Comparison::verdict)
+            .chain(self.claims.iter().map(|c| c.verdict));
+        for v in verdicts {
+            match v {
+                Verdict::Pass => t.0 += 1,
+                Verdict::Deviation => t.1 += 1,
+                Verdict::Inconclusive => t.2 += 1,
+            }
+        }
+        t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn printed_precision() {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * b.abs();
+        assert!(close(half_last_digit("38.67").unwrap(), 0.005));
+        assert!(close(half_last_digit("150").unwrap(), 0.5));
+        assert!(close(half_last_digit("-0.0125").unwrap(), 0.00005));
+        assert!(close(half_last_digit("1.5e-3").unwrap(), 0.5e-4));
+        assert!(half_last_digit("abc").is_err());
+        assert!(half_last_digit("1.2.3").is_err());
+        assert!(half_last_digit("").is_err());
+    }
+
+    #[test]
+    fn verdicts() {
+        let r = Reference::computed(38.67, "t");
+        let tol = Tolerance::printed("38.67").unwrap();
+        let c = Comparison::new("f", "Hz", r.clone(), 38.675, tol.clone());
+        assert_eq!(c.verdict(), Verdict::Pass, "boundary is inclusive");
+        let c = Comparison::new("f", "Hz", r.clone(), 38.676, tol.clone());
+        assert_eq!(c.verdict(), Verdict::Deviation);
+        let c = Comparison::new("f", "Hz", r, f64::NAN, tol);
+        assert_eq!(c.verdict(), Verdict::Deviation);
+    }
+}

@@ -1,0 +1,142 @@
+//! Data tables, written as CSV with units in the header.
+
+use serde::Serialize;
+
+use crate::error::Error;
+use crate::format::{csv_field, fmt6};
+
+/// One cell: a number (formatted to [`crate::SIGNIFICANT_DIGITS`]) or text (e.g. a rattle state).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum Cell {
+    /// A number.
+    Num(f64),
+    /// A label.
+    Text(String),
+}
+
+impl From<f64> for Cell {
+    fn from(x: f64) -> Self {
+        Cell::Num(x)
+    }
+}
+
+impl From<&str> for Cell {
+    fn from(s: &str) -> Self {
+        Cell::Text(s.to_owned())
+    }
+}
+
+impl From<String> for Cell {
+    fn from(s: String) -> Self {
+        Cell::Text(s)
+    }
+}
+
+impl Cell {
+    /// The cell as it appears in CSV and snapshots.
+    pub fn render(&self) -> String {
+        match self {
+            Cell::Num(x) => fmt6(*x),
+            Cell::Text(s) => s.clone(),
+        }
+    }
+}
+
+/// A column: name and unit (`1` for dimensionless, empty for labels).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Column {
+    /// Name, e.g. `omega1`.
+    pub name: String,
+    /// Unit, e.g. `rad/s`.
+    pub unit: String,
+}
+
+/// A data table; written to `validation/<paper>/<study-id>_<name>.csv`, header `name [unit]`.
+///
+/// ```
+/// use validate::Table;
+/// let mut t = Table::new("sweep", &[("omega1", "rad/s"), ("rsv", "1")]);
+/// t.push_nums(&[150.0, 0.25]).unwrap();
+/// assert_eq!(t.to_csv(), "omega1 [rad/s],rsv [1]\n150,0.25\n");
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Table {
+    /// File-name part (`a-z`, `0-9`, `-`, `_`, `.`).
+    pub name: String,
+    /// Header.
+    pub columns: Vec<Column>,
+    /// Rows, each as long as the header.
+    pub rows: Vec<Vec<Cell>>,
+}
+
+impl Table {
+    /// An empty table with `(name, unit)` columns.
+    pub fn new(name: &str, columns: &[(&str, &str)]) -> Self {
+        Table {
+            name: name.to_owned(),
+            columns: columns
+                .iter()
+                .map(|(n, u)| Column {
+                    name: (*n).to_owned(),
+                    unit: (*u).to_owned(),
+                })
+                .collect(),
+            rows: Vec::new(),
+        }
+    }
+
+    /// Append a row of cells.
+    pub fn push(&mut self, row: Vec<Cell>) -> Result<(), Error> {
+        if row.len() != self.columns.len() {
+            return Err(Error::RowLength {
+                table: self.name.clone(),
+                expected: self.columns.len(),
+                got: row.len(),
+            });
+        }
+        self.rows.push(row);
+        Ok(())
+    }
+
+    /// Append a row of numbers.
+    pub fn push_nums(&mut self, row: &[f64]) -> Result<(), Error> {
+        self.push(row.iter().map(|&x| Cell::Num(x)).collect())
+    }
+
+    /// The CSV text (RFC 4180 quoting, `\n` line ends, numbers at 6 significant digits).
+    pub fn to_csv(&self) -> String {
+        let mut s = String::new();
+        let header: Vec<String> = self
+            .columns
+            .iter()
+            .map(|c| {
+                if c.unit.is_empty() {
+                    csv_field(&c.name)
+                } else {
+                    csv_field(&format!("{} [{}]", c.name, c.unit))
+                }
+            })
+            .collect();
+        s.push_str(&header.join(","));
+        s.push('\n');
+        for row in &self.rows {
+            let cells: Vec<String> = row.iter().map(|c| csv_field(&c.render())).collect();
+            s.push_str(&cells.join(","));
+            s.push('\n');
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn row_length_checked() {
+        let mut t = Table::new("t", &[("a", "m"), ("state", "")]);
+        assert!(t.push_nums(&[1.0]).is_err());
+        t.push(vec![1.0.into(), "bilateral".into()]).unwrap();
+        assert_eq!(t.to_csv(), "a [m],state\n1,bilateral\n");
+    }
+}
