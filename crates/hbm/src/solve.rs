@@ -187,6 +187,45 @@ fn line_search<O: NonlinearEquations>(
     Ok(None)
 }
 
+/// The current iterate, taken out of the state.
+fn take_iterate(state: &mut SolverState) -> Result<Vec<f64>, argmin::core::Error> {
+    state.take_param().ok_or_else(|| {
+        HbmError::Solver {
+            message: "no iterate".into(),
+        }
+        .into()
+    })
+}
+
+/// Stay at `x` (residual norm `f0`) and stop with `reason`.
+fn stop_at(state: SolverState, x: Vec<f64>, f0: f64, reason: &str) -> SolverState {
+    state
+        .param(x)
+        .cost(f0)
+        .terminate_with(TerminationReason::SolverExit(reason.into()))
+}
+
+/// Accept the line-search trial point: it becomes the iterate and `r_new` the stored residual.
+fn accept_trial(
+    state: SolverState,
+    trial: &[f64],
+    r_new: Vec<f64>,
+    r: &mut Vec<f64>,
+) -> SolverState {
+    let f = norm(&r_new);
+    *r = r_new;
+    state.param(trial.to_vec()).cost(f)
+}
+
+/// Converged when the cost `‖r‖₂` is within the tolerance.
+fn status(state: &SolverState, tolerance: f64) -> TerminationStatus {
+    if state.get_cost() <= tolerance {
+        TerminationStatus::Terminated(TerminationReason::SolverConverged)
+    } else {
+        TerminationStatus::NotTerminated
+    }
+}
+
 impl<O: NonlinearEquations> Solver<O, SolverState> for Newton {
     fn name(&self) -> &str {
         "Newton (backtracking line search)"
@@ -209,47 +248,24 @@ impl<O: NonlinearEquations> Solver<O, SolverState> for Newton {
         problem: &mut Problem<O>,
         mut state: SolverState,
     ) -> Result<(SolverState, Option<KV>), argmin::core::Error> {
-        let x = state.take_param().ok_or_else(|| HbmError::Solver {
-            message: "no iterate".into(),
-        })?;
+        let x = take_iterate(&mut state)?;
         let o = op(problem)?;
         o.residual_and_jacobian(&x, &mut self.r, &mut self.jac)?;
         let f0 = norm(&self.r);
         let mut dx = DVector::from_iterator(self.r.len(), self.r.iter().map(|v| -v));
         let lu = self.jac.clone().lu();
         if !lu.solve_mut(&mut dx) || dx.iter().any(|v| !v.is_finite()) {
-            return Ok((
-                state
-                    .param(x)
-                    .cost(f0)
-                    .terminate_with(TerminationReason::SolverExit("singular Jacobian".into())),
-                None,
-            ));
+            return Ok((stop_at(state, x, f0, "singular Jacobian"), None));
         }
         let mut r_new = vec![0.0; self.r.len()];
         match line_search(o, &x, dx.as_slice(), f0, &mut self.trial, &mut r_new)? {
-            Some(_) => {
-                let xn = self.trial.clone();
-                let f = norm(&r_new);
-                self.r = r_new;
-                Ok((state.param(xn).cost(f), None))
-            }
-            None => Ok((
-                state
-                    .param(x)
-                    .cost(f0)
-                    .terminate_with(TerminationReason::SolverExit("line search failed".into())),
-                None,
-            )),
+            Some(_) => Ok((accept_trial(state, &self.trial, r_new, &mut self.r), None)),
+            None => Ok((stop_at(state, x, f0, "line search failed"), None)),
         }
     }
 
     fn terminate(&mut self, state: &SolverState) -> TerminationStatus {
-        if state.get_cost() <= self.tolerance {
-            TerminationStatus::Terminated(TerminationReason::SolverConverged)
-        } else {
-            TerminationStatus::NotTerminated
-        }
+        status(state, self.tolerance)
     }
 }
 
@@ -333,9 +349,7 @@ impl<O: NonlinearEquations> Solver<O, SolverState> for Broyden {
         problem: &mut Problem<O>,
         mut state: SolverState,
     ) -> Result<(SolverState, Option<KV>), argmin::core::Error> {
-        let x = state.take_param().ok_or_else(|| HbmError::Solver {
-            message: "no iterate".into(),
-        })?;
+        let x = take_iterate(&mut state)?;
         let o = op(problem)?;
         let n = x.len();
         let f0 = norm(&self.r);
@@ -353,44 +367,43 @@ impl<O: NonlinearEquations> Solver<O, SolverState> for Broyden {
                     let u = (s - hy) / denom;
                     self.inv.ger(1.0, &u, &st_h.transpose(), 1.0);
                 }
-                let xn = self.trial.clone();
-                let f = norm(&r_new);
-                self.r = r_new;
                 self.fresh = false;
-                Ok((state.param(xn).cost(f), None))
+                Ok((accept_trial(state, &self.trial, r_new, &mut self.r), None))
             }
             None if !self.fresh => {
                 // the secant model went stale: start again from the exact Jacobian
-                let ok = self.reinit(o, &x)?;
-                let state = state.param(x).cost(f0);
-                if ok {
-                    Ok((state, None))
+                if self.reinit(o, &x)? {
+                    Ok((state.param(x).cost(f0), None))
                 } else {
-                    Ok((
-                        state.terminate_with(TerminationReason::SolverExit(
-                            "singular Jacobian".into(),
-                        )),
-                        None,
-                    ))
+                    Ok((stop_at(state, x, f0, "singular Jacobian"), None))
                 }
             }
-            None => Ok((
-                state
-                    .param(x)
-                    .cost(f0)
-                    .terminate_with(TerminationReason::SolverExit("line search failed".into())),
-                None,
-            )),
+            None => Ok((stop_at(state, x, f0, "line search failed"), None)),
         }
     }
 
     fn terminate(&mut self, state: &SolverState) -> TerminationStatus {
-        if state.get_cost() <= self.tolerance {
-            TerminationStatus::Terminated(TerminationReason::SolverConverged)
-        } else {
-            TerminationStatus::NotTerminated
-        }
+        status(state, self.tolerance)
     }
+}
+
+/// Run one solver from `x0` for at most `max_iters` iterations through argmin's [`Executor`].
+fn run<O, S>(
+    equations: O,
+    solver: S,
+    x0: Vec<f64>,
+    max_iters: u64,
+) -> Result<(Problem<O>, SolverState), HbmError>
+where
+    O: NonlinearEquations,
+    S: Solver<O, SolverState>,
+{
+    let res = Executor::new(equations, solver)
+        .configure(|s: SolverState| s.param(x0).max_iters(max_iters))
+        .timer(false)
+        .run()
+        .map_err(HbmError::from_argmin)?;
+    Ok((res.problem, res.state))
 }
 
 /// Solve `r(x) = 0` from `x0` through argmin's [`Executor`]; returns the report and the
@@ -407,25 +420,10 @@ pub fn solve_equations<O: NonlinearEquations>(
     options.validate()?;
     let tol = options.tolerance;
     let max_iters = options.max_iters;
-    let result = match options.method {
-        Method::Newton => {
-            let res = Executor::new(equations, Newton::new(tol)?)
-                .configure(|s: SolverState| s.param(x0).max_iters(max_iters))
-                .timer(false)
-                .run()
-                .map_err(HbmError::from_argmin)?;
-            (res.problem, res.state)
-        }
-        Method::Broyden => {
-            let res = Executor::new(equations, Broyden::new(tol)?)
-                .configure(|s: SolverState| s.param(x0).max_iters(max_iters))
-                .timer(false)
-                .run()
-                .map_err(HbmError::from_argmin)?;
-            (res.problem, res.state)
-        }
+    let (mut problem, mut state) = match options.method {
+        Method::Newton => run(equations, Newton::new(tol)?, x0, max_iters)?,
+        Method::Broyden => run(equations, Broyden::new(tol)?, x0, max_iters)?,
     };
-    let (mut problem, mut state) = result;
     let residual_norm = state.get_cost();
     let iterations = state.get_iter();
     let termination = state

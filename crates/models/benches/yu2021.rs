@@ -1,12 +1,14 @@
 //! Criterion benches: one steady-state response of each Yu 2021 model (Table 1, ω* = 0.9,
-//! 100 transient + 10 recorded mesh periods, 256 steps per period) and one period-1 harmonic
-//! balance of the Kahraman–Singh pair.
+//! 100 transient + 10 recorded mesh periods, 256 samples per period) on each engine: the
+//! model's fixed-step RK4, the `timestep` engine (Dormand–Prince 5(4), rtol 1e-8, atol 1e-10,
+//! dead-zone edges as events), and one period-1 harmonic balance of the Kahraman–Singh pair on
+//! the `hbm` engine (H = 16, from the time solution's harmonics).
 
 #![allow(missing_docs)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use models::yu2021::{
-    BacklashUpdate, HbmSettings, Options, RunSettings, Yu2021Model, Yu2021Params,
+    BacklashUpdate, Engine, HbmSettings, Options, RunSettings, Yu2021Model, Yu2021Params,
 };
 
 fn bench(c: &mut Criterion) {
@@ -31,6 +33,16 @@ fn bench(c: &mut Criterion) {
     ] {
         let m = Yu2021Model::new(&p, o).expect("table1 is valid");
         c.bench_function(name, |b| b.iter(|| m.simulate(&set, None).expect("runs")));
+    }
+    for (name, o) in [
+        ("yu2021/kahraman_singh_timestep", Options::kahraman_singh()),
+        ("yu2021/yu6dof_in_rhs_timestep", Options::default()),
+    ] {
+        let m = Yu2021Model::new(&p, o).expect("table1 is valid");
+        let engine = Engine::timestep();
+        c.bench_function(name, |b| {
+            b.iter(|| m.simulate_with(&set, &engine, None).expect("runs"))
+        });
     }
     let ks = Yu2021Model::new(&p, Options::kahraman_singh()).expect("table1 is valid");
     let r = ks

@@ -537,6 +537,26 @@ mod tests {
             .unwrap()
             .duhamel()
         };
+        // A over `values` of one parameter (set by `set`), the others changed by `fixed`.
+        let row = |ex: Excitation,
+                   values: &[f64],
+                   fixed: &dyn Fn(&mut Karpov2017Params),
+                   set: &dyn Fn(&mut Karpov2017Params, f64)| {
+            values
+                .iter()
+                .map(|&v| {
+                    format!(
+                        "{:.3}",
+                        a(ex, &|p| {
+                            fixed(p);
+                            set(p, v)
+                        })
+                        .amplitude
+                    )
+                })
+                .collect::<Vec<String>>()
+                .join(" ")
+        };
         for ex in [Excitation::PrintedPhase, Excitation::AccumulatedPhase] {
             println!("== {ex:?}");
             let t0 = std::time::Instant::now();
@@ -557,54 +577,17 @@ mod tests {
                 );
             }
             for b in [0.0, 0.001, 0.002, 0.005, 0.01, 0.02] {
-                let ks: Vec<String> = [0.01, 0.05, 0.1, 0.2]
-                    .iter()
-                    .map(|&k| {
-                        format!(
-                            "{:.3}",
-                            a(ex, &|p| {
-                                p.b = b;
-                                p.k = k
-                            })
-                            .amplitude
-                        )
-                    })
-                    .collect();
-                println!("fig5 B={b} k=[.01,.05,.1,.2]: {}", ks.join(" "));
+                let ks = row(ex, &[0.01, 0.05, 0.1, 0.2], &|p| p.b = b, &|p, k| p.k = k);
+                println!("fig5 B={b} k=[.01,.05,.1,.2]: {ks}");
             }
             for xi in [1.1, 2.0, 5.0, 10.0, f64::INFINITY] {
-                let bs: Vec<String> = [0.001, 0.005, 0.01]
-                    .iter()
-                    .map(|&b| {
-                        format!(
-                            "{:.3}",
-                            a(ex, &|p| {
-                                p.b = b;
-                                p.xi = xi
-                            })
-                            .amplitude
-                        )
-                    })
-                    .collect();
-                println!("fig6 xi={xi} B=[.001,.005,.01]: {}", bs.join(" "));
+                let bs = row(ex, &[0.001, 0.005, 0.01], &|p| p.xi = xi, &|p, b| p.b = b);
+                println!("fig6 xi={xi} B=[.001,.005,.01]: {bs}");
             }
             for w in [0.8, 0.9, 0.95, 0.99, 1.0, 1.01, 1.05, 1.1, 1.2] {
-                let bs: Vec<String> = [0.001, 0.01]
-                    .iter()
-                    .map(|&b| {
-                        format!(
-                            "{:.3}",
-                            a(ex, &|p| {
-                                p.b = b;
-                                p.omega = w
-                            })
-                            .amplitude
-                        )
-                    })
-                    .collect();
+                let bs = row(ex, &[0.001, 0.01], &|p| p.omega = w, &|p, b| p.b = b);
                 println!(
-                    "fig4 w={w} B=[.001,.01]: {}  (1/|1-w^2| = {:.3})",
-                    bs.join(" "),
+                    "fig4 w={w} B=[.001,.01]: {bs}  (1/|1-w^2| = {:.3})",
                     1.0 / (1.0 - w * w).abs()
                 );
             }

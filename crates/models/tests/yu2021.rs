@@ -278,6 +278,10 @@ fn serde_round_trip() {
         let t = toml::to_string(&p).unwrap();
         assert_eq!(toml::from_str::<Yu2021Params>(&t).unwrap(), p);
     }
+    for e in [Engine::Rk4Fixed, Engine::timestep()] {
+        let j = serde_json::to_string(&e).unwrap();
+        assert_eq!(serde_json::from_str::<Engine>(&j).unwrap(), e);
+    }
     let o = Options::yu_as_printed();
     assert_eq!(
         serde_json::from_str::<Options>(&serde_json::to_string(&o).unwrap()).unwrap(),
@@ -401,4 +405,196 @@ fn static_load_separates_centres_in_consistent_frame() {
     )
     .unwrap();
     assert!(pr.geometry(0.3, 0.0, &r.final_state).centre_change < 0.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Both engines on the same model (issue 6): the `timestep` crate vs the model's RK4, and the
+// `hbm` crate vs time integration.
+
+/// Max |a − b| over two equally sampled series.
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// Tolerances are set from the fixed-step RK4's own error (256 steps per period, no event
+/// location; measured: K-S loaded ΔDF/DF 8e-9, K-S impacting 1.1e-5, Yu 6-DOF 9.5e-7) with a
+/// margin of about 10.
+#[test]
+fn timestep_engine_matches_rk4_on_the_same_model() {
+    // (name, options, params, ω*, tol rel DF, tol |Δ mean δ*|, tol max|Δδ*|/ptp)
+    let cases = [
+        (
+            "K-S loaded (no impact)",
+            Options::kahraman_singh(),
+            loaded(),
+            0.6,
+            1e-6,
+            1e-8,
+            1e-6,
+        ),
+        (
+            "K-S table1 (contact loss)",
+            Options::kahraman_singh(),
+            Yu2021Params::table1(),
+            0.5,
+            1e-4,
+            1e-5,
+            1e-4,
+        ),
+        (
+            "Yu 6-DOF table1",
+            Options::default(),
+            Yu2021Params::table1(),
+            0.9,
+            1e-5,
+            1e-5,
+            5e-4,
+        ),
+    ];
+    for (name, o, p, omega, tol_df, tol_mean, tol_dte) in cases {
+        let m = Yu2021Model::new(&p, o).unwrap();
+        let set = RunSettings {
+            omega,
+            transient_periods: 80,
+            record_periods: 2,
+            steps_per_period: 256,
+        };
+        let rk = m.simulate_with(&set, &Engine::Rk4Fixed, None).unwrap();
+        let ts = m.simulate_with(&set, &Engine::timestep(), None).unwrap();
+        assert_eq!(rk.tau.len(), ts.tau.len());
+        assert!(
+            max_diff(&rk.tau, &ts.tau) < 1e-9,
+            "{name}: sample grids differ"
+        );
+        let df = (rk.dynamic_factor() - ts.dynamic_factor()).abs() / rk.dynamic_factor();
+        let mean = (rk.mean_dte() - ts.mean_dte()).abs();
+        let dte = max_diff(&rk.dte, &ts.dte) / rk.dte_peak_to_peak();
+        assert!(df < tol_df, "{name}: relative DF difference {df:e}");
+        assert!(mean < tol_mean, "{name}: mean DTE difference {mean:e}");
+        assert!(dte < tol_dte, "{name}: max DTE difference / ptp {dte:e}");
+    }
+}
+
+/// Chen's model on Table 1 is irregular (impacts with a backlash that carries frequencies up
+/// to `1.5^11 ω*`; DF varies by several % between tolerances), so only the mean DTE is
+/// compared (measured difference 8e-4 at ω* = 1.2).
+#[test]
+fn timestep_engine_matches_rk4_for_chen_in_the_mean() {
+    let m = Yu2021Model::new(&Yu2021Params::table1(), Options::chen()).unwrap();
+    let set = RunSettings {
+        omega: 1.2,
+        transient_periods: 80,
+        record_periods: 2,
+        steps_per_period: 256,
+    };
+    let rk = m.simulate(&set, None).unwrap();
+    let ts = m.simulate_with(&set, &Engine::timestep(), None).unwrap();
+    let d = (rk.mean_dte() - ts.mean_dte()).abs();
+    assert!(d < 5e-3, "mean DTE difference {d}");
+    // the time-varying backlash is sampled identically
+    assert!(max_diff(&rk.backlash, &ts.backlash) < 1e-9);
+}
+
+#[test]
+fn fixed_centres_give_constant_backlash_on_the_timestep_engine() {
+    let p = Yu2021Params::table1();
+    let locked = Options {
+        lock_centres: true,
+        ..Options::default()
+    };
+    let set = RunSettings {
+        omega: 0.8,
+        transient_periods: 60,
+        record_periods: 2,
+        steps_per_period: 128,
+    };
+    let yu = Yu2021Model::new(&p, locked).unwrap();
+    let ks = Yu2021Model::new(&p, Options::kahraman_singh()).unwrap();
+    let a = yu.simulate_with(&set, &Engine::timestep(), None).unwrap();
+    let b = ks.simulate_with(&set, &Engine::timestep(), None).unwrap();
+    assert!(a.backlash.iter().all(|&x| (x - 1.0).abs() < 1e-15));
+    assert!(a.final_state[1..5].iter().all(|x| x.abs() < 1e-15));
+    // different state variables (u vs δ*) and initial states give different adaptive steps
+    // and a slow transient: agreement to 1.4e-6 of the peak-to-peak after 60 periods
+    let err = max_diff(&a.dte, &b.dte) / a.dte_peak_to_peak();
+    assert!(err < 1e-5, "locked Yu vs K-S: {err}");
+}
+
+/// HBM (engine `hbm`, full basis 0..H) against the `timestep` engine. Non-impacting point:
+/// exact to the integrator's tolerance already at H = 8 (measured 1.1e-8 of the peak-to-peak).
+/// Contact-loss point (min δ* = 0.943 < B = 1): the error falls with H, measured 3.0e-3,
+/// 8.6e-4, 1.7e-4, 3.6e-5 of the peak-to-peak for H = 8, 16, 32, 64.
+#[test]
+fn hbm_engine_matches_timestep_engine() {
+    for (name, p, omega, hs, tol) in [
+        ("loaded", loaded(), 0.6, vec![8], 1e-6),
+        ("table1", Yu2021Params::table1(), 0.5, vec![8, 32], 5e-4),
+    ] {
+        let m = Yu2021Model::new(&p, Options::kahraman_singh()).unwrap();
+        let set = RunSettings {
+            omega,
+            transient_periods: 150,
+            record_periods: 1,
+            steps_per_period: 256,
+        };
+        let r = m.simulate_with(&set, &Engine::timestep(), None).unwrap();
+        let mut last = f64::INFINITY;
+        for h in hs {
+            let settings = HbmSettings {
+                harmonics: h,
+                samples: (8 * h).next_power_of_two(),
+                ..HbmSettings::default()
+            };
+            let guess = r.fourier_coefficients(h);
+            let sol = m.harmonic_balance(omega, &settings, Some(&guess)).unwrap();
+            assert!(
+                sol.converged,
+                "{name} H {h}: residual {}",
+                sol.residual_norm
+            );
+            let err = r
+                .tau
+                .iter()
+                .zip(&r.dte)
+                .map(|(t, d)| (sol.eval(omega, *t) - d).abs())
+                .fold(0.0, f64::max)
+                / r.dte_peak_to_peak();
+            assert!(
+                err < last,
+                "{name} H {h}: error {err} did not fall from {last}"
+            );
+            last = err;
+        }
+        assert!(last < tol, "{name}: relative error {last} at the largest H");
+    }
+}
+
+#[test]
+fn hbm_engine_cold_start_and_locked_yu() {
+    // from the default static-contact guess, and the locked Yu model (q = δ*) equals K-S
+    let p = Yu2021Params::table1();
+    let hs = HbmSettings::default();
+    let ks = Yu2021Model::new(&p, Options::kahraman_singh()).unwrap();
+    let locked = Yu2021Model::new(
+        &p,
+        Options {
+            lock_centres: true,
+            ..Options::default()
+        },
+    )
+    .unwrap();
+    let a = ks.harmonic_balance(1.3, &hs, None).unwrap();
+    let b = locked.harmonic_balance(1.3, &hs, None).unwrap();
+    assert!(a.converged && b.converged);
+    assert!(max_diff(&a.coefficients, &b.coefficients) < 1e-12);
+    let sys = Yu2021Torsional::new(&ks, 1.3).unwrap();
+    assert!((sys.omega() - 1.3).abs() < 1e-15);
+    assert!(
+        ks.hbm_problem(1.3, 4, 8).is_err(),
+        "grid below 2H + 1 is refused"
+    );
 }

@@ -70,33 +70,52 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
+/// Work buffers shared by the explicit Runge–Kutta steppers: `S` stage derivatives (`k[0]` is
+/// `F(t, y)` at the start of a step), a stage state, the new state and the evaluation count.
+#[derive(Debug, Clone)]
+struct Stages<const S: usize> {
+    k: [Vec<f64>; S],
+    ytmp: Vec<f64>,
+    ynew: Vec<f64>,
+    n_rhs: u64,
+}
+
+impl<const S: usize> Stages<S> {
+    fn new(n: usize) -> Self {
+        Self {
+            k: std::array::from_fn(|_| vec![0.0; n]),
+            ytmp: vec![0.0; n],
+            ynew: vec![0.0; n],
+            n_rhs: 0,
+        }
+    }
+
+    /// `k[0] = F(t, y)` ([`Stepper::init`]).
+    fn init<Sys: OdeSystem + ?Sized>(&mut self, sys: &Sys, t: f64, y: &[f64]) {
+        sys.rhs(t, y, &mut self.k[0]);
+        self.n_rhs += 1;
+    }
+}
+
 /// Embedded Dormand–Prince 5(4), FSAL, 4th-order continuous extension.
 #[derive(Debug, Clone)]
 pub(crate) struct DormandPrince {
-    k: [Vec<f64>; 7],
-    ytmp: Vec<f64>,
-    ynew: Vec<f64>,
+    st: Stages<7>,
     r: [Vec<f64>; 5],
-    n_rhs: u64,
 }
 
 impl DormandPrince {
     pub(crate) fn new(n: usize) -> Self {
-        let z = || vec![0.0; n];
         Self {
-            k: [z(), z(), z(), z(), z(), z(), z()],
-            ytmp: z(),
-            ynew: z(),
-            r: [z(), z(), z(), z(), z()],
-            n_rhs: 0,
+            st: Stages::new(n),
+            r: std::array::from_fn(|_| vec![0.0; n]),
         }
     }
 }
 
 impl Stepper for DormandPrince {
     fn init<S: OdeSystem + ?Sized>(&mut self, sys: &S, t: f64, y: &[f64]) {
-        sys.rhs(t, y, &mut self.k[0]);
-        self.n_rhs += 1;
+        self.st.init(sys, t, y);
     }
 
     fn attempt<S: OdeSystem + ?Sized>(
@@ -109,8 +128,8 @@ impl Stepper for DormandPrince {
         atol: f64,
     ) -> f64 {
         let n = y.len();
-        let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
-        let yt = &mut self.ytmp;
+        let [k1, k2, k3, k4, k5, k6, k7] = &mut self.st.k;
+        let yt = &mut self.st.ytmp;
         for i in 0..n {
             yt[i] = y[i] + h * A21 * k1[i];
         }
@@ -132,12 +151,12 @@ impl Stepper for DormandPrince {
                 y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
         }
         sys.rhs(t + h, yt, k6);
-        let yn = &mut self.ynew;
+        let yn = &mut self.st.ynew;
         for i in 0..n {
             yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]);
         }
         sys.rhs(t + h, yn, k7);
-        self.n_rhs += 6;
+        self.st.n_rhs += 6;
         let mut err = 0.0;
         for i in 0..n {
             let e =
@@ -149,14 +168,14 @@ impl Stepper for DormandPrince {
     }
 
     fn y_new(&self) -> &[f64] {
-        &self.ynew
+        &self.st.ynew
     }
 
     fn prepare_dense(&mut self, y: &[f64], h: f64) {
-        let [k1, _k2, k3, k4, k5, k6, k7] = &self.k;
+        let [k1, _k2, k3, k4, k5, k6, k7] = &self.st.k;
         let [r1, r2, r3, r4, r5] = &mut self.r;
         for i in 0..y.len() {
-            let ydiff = self.ynew[i] - y[i];
+            let ydiff = self.st.ynew[i] - y[i];
             let bspl = h * k1[i] - ydiff;
             r1[i] = y[i];
             r2[i] = ydiff;
@@ -176,11 +195,11 @@ impl Stepper for DormandPrince {
     }
 
     fn advance(&mut self) {
-        self.k.swap(0, 6);
+        self.st.k.swap(0, 6);
     }
 
     fn n_rhs(&self) -> u64 {
-        self.n_rhs
+        self.st.n_rhs
     }
 }
 
@@ -188,32 +207,24 @@ impl Stepper for DormandPrince {
 /// derivative is needed for the interpolant and reused as the next step's first stage).
 #[derive(Debug, Clone)]
 pub(crate) struct ClassicRk4 {
-    k: [Vec<f64>; 5],
-    ytmp: Vec<f64>,
-    ynew: Vec<f64>,
+    st: Stages<5>,
     y0: Vec<f64>,
     h: f64,
-    n_rhs: u64,
 }
 
 impl ClassicRk4 {
     pub(crate) fn new(n: usize) -> Self {
-        let z = || vec![0.0; n];
         Self {
-            k: [z(), z(), z(), z(), z()],
-            ytmp: z(),
-            ynew: z(),
-            y0: z(),
+            st: Stages::new(n),
+            y0: vec![0.0; n],
             h: 0.0,
-            n_rhs: 0,
         }
     }
 }
 
 impl Stepper for ClassicRk4 {
     fn init<S: OdeSystem + ?Sized>(&mut self, sys: &S, t: f64, y: &[f64]) {
-        sys.rhs(t, y, &mut self.k[0]);
-        self.n_rhs += 1;
+        self.st.init(sys, t, y);
     }
 
     fn attempt<S: OdeSystem + ?Sized>(
@@ -226,8 +237,8 @@ impl Stepper for ClassicRk4 {
         _atol: f64,
     ) -> f64 {
         let n = y.len();
-        let [k1, k2, k3, k4, k5] = &mut self.k;
-        let yt = &mut self.ytmp;
+        let [k1, k2, k3, k4, k5] = &mut self.st.k;
+        let yt = &mut self.st.ytmp;
         for i in 0..n {
             yt[i] = y[i] + 0.5 * h * k1[i];
         }
@@ -240,12 +251,13 @@ impl Stepper for ClassicRk4 {
             yt[i] = y[i] + h * k3[i];
         }
         sys.rhs(t + h, yt, k4);
+        let yn = &mut self.st.ynew;
         for i in 0..n {
-            self.ynew[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+            yn[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
         }
-        sys.rhs(t + h, &self.ynew, k5);
-        self.n_rhs += 4;
-        if self.ynew.iter().all(|v| v.is_finite()) {
+        sys.rhs(t + h, yn, k5);
+        self.st.n_rhs += 4;
+        if yn.iter().all(|v| v.is_finite()) {
             0.0
         } else {
             f64::NAN
@@ -253,7 +265,7 @@ impl Stepper for ClassicRk4 {
     }
 
     fn y_new(&self) -> &[f64] {
-        &self.ynew
+        &self.st.ynew
     }
 
     fn prepare_dense(&mut self, y: &[f64], h: f64) {
@@ -262,27 +274,16 @@ impl Stepper for ClassicRk4 {
     }
 
     fn dense(&self, theta: f64, out: &mut [f64]) {
-        let t2 = theta * theta;
-        let t3 = t2 * theta;
-        let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
-        let h10 = t3 - 2.0 * t2 + theta;
-        let h01 = -2.0 * t3 + 3.0 * t2;
-        let h11 = t3 - t2;
-        let h = self.h;
-        for i in 0..out.len() {
-            out[i] = h00 * self.y0[i]
-                + h10 * h * self.k[0][i]
-                + h01 * self.ynew[i]
-                + h11 * h * self.k[4][i];
-        }
+        let k = &self.st.k;
+        hermite(theta, self.h, &self.y0, &k[0], &self.st.ynew, &k[4], out);
     }
 
     fn advance(&mut self) {
-        self.k.swap(0, 4);
+        self.st.k.swap(0, 4);
     }
 
     fn n_rhs(&self) -> u64 {
-        self.n_rhs
+        self.st.n_rhs
     }
 }
 

@@ -130,10 +130,20 @@ impl hbm::SecondOrderSystem for Model {
         dq[0] = self.stiffness(t) * dead_zone_dx(q[0], self.backlash_at(t));
         dv[0] = 0.0;
     }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+        *self = self
+            .with_omega_c(omega)
+            .map_err(|_| hbm::HbmError::InvalidParameter {
+                name: "liu2021 omega_c",
+                bound: "> 0",
+                value: omega,
+            })?;
+        Ok(())
+    }
 }
 
 /// Rattle metrics of an engine solution.
-fn rattle_of(model: &Model, sol: &hbm::PeriodicSolution) -> Rattle {
+pub(super) fn rattle_of(model: &Model, sol: &hbm::PeriodicSolution) -> Rattle {
     let n = (32 * sol.basis.max_harmonic()).max(4096);
     let ts = sol.time_series(n);
     model.rattle(
@@ -144,6 +154,24 @@ fn rattle_of(model: &Model, sol: &hbm::PeriodicSolution) -> Rattle {
     )
 }
 
+/// The engine problem of `model` on `basis` (AFT grid per [`HbmOptions::samples`]).
+pub(super) fn problem_of(
+    model: &Model,
+    basis: hbm::Basis,
+    samples: Option<usize>,
+) -> Result<hbm::HbmProblem<Model>, Error> {
+    let kmax = basis.max_harmonic().max(1);
+    let n_grid = samples.unwrap_or_else(|| (8 * kmax).next_power_of_two());
+    hbm::HbmProblem::with_grid_size(*model, basis, model.omega_c, n_grid)
+        .map_err(|e| Error::Solver(e.to_string()))
+}
+
+/// Residual scale of the convergence test: `B₀ + |B₁| + |B₂| + B₃ + b̄`.
+pub(super) fn residual_scale(model: &Model) -> f64 {
+    (model.b0.abs() + model.b1.abs() + model.b2.abs() + model.b3.abs() + model.backlash)
+        .max(f64::MIN_POSITIVE)
+}
+
 fn solve_once(
     model: &Model,
     basis: hbm::Basis,
@@ -151,19 +179,15 @@ fn solve_once(
     z0: Option<Vec<f64>>,
     options: &HbmOptions,
 ) -> Result<hbm::PeriodicSolution, Error> {
-    let kmax = basis.max_harmonic().max(1);
-    let n_grid = samples.unwrap_or_else(|| (8 * kmax).next_power_of_two());
-    let mut problem = hbm::HbmProblem::with_grid_size(*model, basis, model.omega_c, n_grid)
-        .map_err(|e| Error::Solver(e.to_string()))?;
+    let mut problem = problem_of(model, basis, samples)?;
     let z0 = z0.unwrap_or_else(|| {
         let mut z = problem.zero_guess();
         z[0] = -model.backlash - model.b0;
         z
     });
-    let scale = model.b0.abs() + model.b1.abs() + model.b2.abs() + model.b3.abs() + model.backlash;
     let so = hbm::SolverOptions {
         method: hbm::Method::Newton,
-        tolerance: options.tol * scale.max(f64::MIN_POSITIVE),
+        tolerance: options.tol * residual_scale(model),
         max_iters: options.max_iter,
     };
     problem
@@ -210,21 +234,33 @@ pub fn coefficients_from_time_response(
     Ok(z)
 }
 
-/// [`solve_hbm`] started from the harmonics of a time response (see
-/// [`coefficients_from_time_response`]); use it on multivalued (rattling) branches.
+/// Where the harmonic-balance Newton iteration of [`solve_hbm_with`] starts.
+///
+/// Several periodic responses coexist near the onset of bilateral rattle; Newton converges to
+/// the one nearest its start, so the start chooses the branch.
+#[derive(Debug, Clone, Copy)]
+#[non_exhaustive]
+pub enum HbmStart<'a> {
+    /// Quasi-static contact position `q = −b̄ − B₀` (first Newton step: the linear,
+    /// always-in-contact solution); a full basis starts from the converged paper-basis
+    /// solution. Finds the no-rattle/unilateral branch.
+    Cold,
+    /// Warm start: the harmonics of one recorded period of a time integration
+    /// ([`coefficients_from_time_response`]), i.e. the branch the time integration settled on.
+    FromTimeResponse(&'a super::integrate::TimeResponse),
+    /// A previous solution (e.g. the neighbouring point of a sweep: sequential continuation),
+    /// embedded into the requested basis.
+    Given(&'a HbmResponse),
+}
+
+/// [`solve_hbm`] started from the harmonics of a time response
+/// ([`HbmStart::FromTimeResponse`]); use it on multivalued (rattling) branches.
 pub fn solve_hbm_from_time_response(
     model: &Model,
     options: &HbmOptions,
     response: &super::integrate::TimeResponse,
 ) -> Result<HbmResponse, Error> {
-    if options.tol.is_nan() || options.tol <= 0.0 {
-        return Err(Error::invalid("liu2021.hbm.tol", "> 0", options.tol));
-    }
-    let z0 = coefficients_from_time_response(model, response, &options.basis)?;
-    let basis = options.basis.to_hbm(model.z2)?;
-    let solution = solve_once(model, basis, options.samples, Some(z0), options)?;
-    let rattle = rattle_of(model, &solution);
-    Ok(HbmResponse { solution, rattle })
+    solve_hbm_with(model, options, HbmStart::FromTimeResponse(response))
 }
 
 /// Solve Eq. (9) by harmonic balance (Eq. 13–17) with the `hbm` engine (AFT, Newton with the
@@ -234,6 +270,7 @@ pub fn solve_hbm_from_time_response(
 /// it the solve starts from the quasi-static contact position `q = −b̄ − B₀` (whose first
 /// Newton step is the linear, always-in-contact solution); a full basis is then started from
 /// the converged sparse (`R = 1`) solution, which is much more robust than a cold start.
+/// Same as [`solve_hbm_with`] with [`HbmStart::Given`] or [`HbmStart::Cold`].
 ///
 /// Non-convergence is reported in [`HbmResponse::converged`], not as an error.
 pub fn solve_hbm(
@@ -241,13 +278,31 @@ pub fn solve_hbm(
     options: &HbmOptions,
     guess: Option<&HbmResponse>,
 ) -> Result<HbmResponse, Error> {
+    solve_hbm_with(
+        model,
+        options,
+        guess.map_or(HbmStart::Cold, HbmStart::Given),
+    )
+}
+
+/// Solve Eq. (9) by harmonic balance from the chosen [`HbmStart`].
+///
+/// Non-convergence is reported in [`HbmResponse::converged`], not as an error.
+pub fn solve_hbm_with(
+    model: &Model,
+    options: &HbmOptions,
+    start: HbmStart<'_>,
+) -> Result<HbmResponse, Error> {
     if options.tol.is_nan() || options.tol <= 0.0 {
         return Err(Error::invalid("liu2021.hbm.tol", "> 0", options.tol));
     }
     let basis = options.basis.to_hbm(model.z2)?;
-    let z0 = match (guess, options.basis) {
-        (Some(g), _) => Some(g.solution.embed(&basis)),
-        (None, Basis::Full { .. }) => {
+    let z0 = match (start, options.basis) {
+        (HbmStart::Given(g), _) => Some(g.solution.embed(&basis)),
+        (HbmStart::FromTimeResponse(r), _) => {
+            Some(coefficients_from_time_response(model, r, &options.basis)?)
+        }
+        (HbmStart::Cold, Basis::Full { .. }) => {
             let sparse = HbmOptions {
                 basis: Basis::PAPER,
                 samples: None,
@@ -256,7 +311,7 @@ pub fn solve_hbm(
             let s = solve_once(model, Basis::PAPER.to_hbm(model.z2)?, None, None, &sparse)?;
             s.converged.then(|| s.embed(&basis))
         }
-        (None, _) => None,
+        (HbmStart::Cold, _) => None,
     };
     let solution = solve_once(model, basis, options.samples, z0, options)?;
     let rattle = rattle_of(model, &solution);
@@ -298,5 +353,54 @@ mod tests {
             ..HbmOptions::default()
         };
         assert!(solve_hbm(&m, &o, None).is_err());
+    }
+
+    #[test]
+    fn projection_of_a_sampled_solution_recovers_its_coefficients() {
+        // A band-limited periodic signal sampled uniformly over one whole period (offset start)
+        // is projected exactly by the rectangle rule: the warm start of an HBM solution's own
+        // time series is that solution.
+        let mut p = table1();
+        p.omega1 = 120.0;
+        p.readings.base_radius = super::super::params::BaseRadius::Mean;
+        let m = p.model().unwrap();
+        let s = solve_hbm(&m, &HbmOptions::default(), None).unwrap();
+        let (t0, n) = (3.7, 512);
+        let tau: Vec<f64> = (0..=n)
+            .map(|i| t0 + m.period() * i as f64 / n as f64)
+            .collect();
+        let q: Vec<f64> = tau.iter().map(|&t| s.eval(t)).collect();
+        let r = super::super::integrate::TimeResponse {
+            v: vec![0.0; q.len()],
+            rattle: m.rattle(tau.iter().copied().zip(q.iter().copied())),
+            tau,
+            q,
+            contact_events: 0,
+            rhs_evaluations: 0,
+        };
+        let z = coefficients_from_time_response(&m, &r, &Basis::PAPER).unwrap();
+        let scale = s
+            .solution
+            .coefficients
+            .iter()
+            .fold(0.0f64, |a, c| a.max(c.abs()));
+        for (a, b) in z.iter().zip(&s.solution.coefficients) {
+            assert!((a - b).abs() < 1e-10 * scale, "{a} vs {b}");
+        }
+        let warm = solve_hbm_with(&m, &HbmOptions::default(), HbmStart::FromTimeResponse(&r));
+        let warm = warm.unwrap();
+        assert!(warm.converged());
+        assert!(
+            warm.solution.iterations <= 2,
+            "{}",
+            warm.solution.iterations
+        );
+        // too few samples for the basis is an error, not a panic
+        let short = super::super::integrate::TimeResponse {
+            tau: r.tau[..8].to_vec(),
+            q: r.q[..8].to_vec(),
+            ..r
+        };
+        assert!(coefficients_from_time_response(&m, &short, &Basis::PAPER).is_err());
     }
 }

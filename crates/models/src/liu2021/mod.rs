@@ -26,19 +26,27 @@
 //!
 //! # Solvers
 //!
-//! * [`solve_hbm`] — harmonic balance with AFT (Eq. 13–17) through the `hbm` engine, on the
+//! * [`solve_hbm_with`] — harmonic balance with AFT (Eq. 13–17) through the `hbm` engine, on the
 //!   paper's sparse basis ([`Basis::PAPER`], 15 unknowns) or a full basis ([`Basis::Full`],
 //!   [`HbmOptions::full`]); Newton with the exact AFT Jacobian instead of the paper's Broyden.
-//!   [`solve_hbm_from_time_response`] starts it on the branch a time integration found.
+//!   The [`HbmStart`] picks the branch: [`HbmStart::Cold`] (quasi-static contact position, the
+//!   no-rattle/unilateral branch), [`HbmStart::FromTimeResponse`] (warm start: the harmonics of
+//!   a time-integrated period, [`coefficients_from_time_response`]) or [`HbmStart::Given`]
+//!   (a neighbouring solution: sequential continuation). [`solve_hbm`] and
+//!   [`solve_hbm_from_time_response`] are shorthands.
+//! * [`continue_in_speed`] — pseudo-arclength continuation in `ω₁` (the engine's frequency
+//!   continuation with [`Model::with_omega_c`]), reporting folds (the jumps) and stability
+//!   ([`BranchStability`], by default the period map of the ODE: [`shooting_multipliers`]).
 //! * [`integrate`] — the `timestep` engine (adaptive Dormand–Prince with the gap edges
 //!   `q = ±b̄` as located events) over whole periods `T = 2π/ω̄_c`.
 //!
-//! Both give a [`Rattle`] (rsv, ppv). Which when: time integration is the reference for the
-//! rattle state (≈ 30–80 ms per point in release); HBM is fast (≈ 3 ms on the paper basis) and
-//! gives spectra, agrees with time integration without rattle, but from a cold start it stays
-//! on the unilateral branch where time integration finds bilateral rattle, and on bilateral
-//! branches Newton often stalls above tolerance (`converged() == false`, ppv still within
-//! ≈ 10 %).
+//! All give a [`Rattle`] (rsv, ppv). Which when: time integration is the reference for the
+//! rattle state from rest (≈ 20 ms per point in release); HBM is fast (≈ 3 ms on the paper
+//! basis, ≈ 20 ms on K = 65) and gives spectra and branches. From a cold start it stays on the
+//! unilateral branch; warm-started from the time response it converges on bilateral branches
+//! where that response is T-periodic (ω₁ sweep: 61/61 points with neighbour starts, against
+//! 35/61 cold); continuation shows the hysteresis (unilateral-branch fold at 178.8 rad/s,
+//! K = 65, 185.5 on the paper basis) behind the ppv jump.
 //!
 //! # Limitations
 //!
@@ -47,7 +55,10 @@
 //!   quasi-static `1/r_b2(τ)` shape and misreports rattle; use a full basis, or the constant-b̄
 //!   reading the paper's figures follow (`BaseRadius::Mean`).
 //! * Several periodic responses coexist near the onset of bilateral rattle; a sweep from rest
-//!   is not a continuation.
+//!   is not a continuation. Where the time response is not T-periodic no stable HBM solution
+//!   exists.
+//! * The engine's Floquet multipliers are meaningless along truncated impacting orbits
+//!   (`R-LIU-STABILITY`); use [`BranchStability::Shooting`].
 //!
 //! # References
 //!
@@ -65,17 +76,34 @@
 //! let sol = liu2021::solve_hbm(&model, &HbmOptions::default(), None)?;
 //! assert!(sol.converged());
 //! assert_eq!(sol.rattle.state.rsv(), 0);
+//!
+//! // bilateral rattle at 220 rad/s: warm-start HBM from the time-integrated period
+//! p.omega1 = 220.0;
+//! let model = p.model()?;
+//! let ti = liu2021::integrate(&model, &liu2021::IntegrationOptions::default())?;
+//! let warm = liu2021::solve_hbm_with(
+//!     &model,
+//!     &HbmOptions::default(),
+//!     liu2021::HbmStart::FromTimeResponse(&ti),
+//! )?;
+//! assert!(warm.converged());
+//! assert_eq!(warm.rattle.state.rsv(), 2);
 //! # Ok::<(), models::Error>(())
 //! ```
 
+mod continuation;
 mod harmonic;
 mod integrate;
 mod model;
 mod params;
 
+pub use continuation::{
+    BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedFold,
+    continue_in_speed, shooting_multipliers,
+};
 pub use harmonic::{
-    Basis, HbmOptions, HbmResponse, coefficients_from_time_response, solve_hbm,
-    solve_hbm_from_time_response,
+    Basis, HbmOptions, HbmResponse, HbmStart, coefficients_from_time_response, solve_hbm,
+    solve_hbm_from_time_response, solve_hbm_with,
 };
 pub use integrate::{IntegrationOptions, TimeResponse, integrate};
 pub use model::{Model, Rattle, RattleState};

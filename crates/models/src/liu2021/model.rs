@@ -100,6 +100,28 @@ impl Model {
         Ok(model)
     }
 
+    /// The same model at another speed: `ω̄_c → omega_c` with `ω̄_e = Z₂ ω̄_c` and the Eq. (22)
+    /// amplitudes rescaled (`B₁`, `B₂ ∝ ω̄_c²` derived or `∝ ω̄_c` printed Eq. 20; `B₃ ∝ ω̄_e²`).
+    /// `ω₁` scales with `ω̄_c` (`ω̄_c = ω₁/(i_j ω_n)`); used by frequency continuation.
+    pub fn with_omega_c(&self, omega_c: f64) -> Result<Model, Error> {
+        if !(omega_c > 0.0 && omega_c.is_finite()) {
+            return Err(Error::invalid("liu2021.omega_c", "> 0", omega_c));
+        }
+        let r = omega_c / self.omega_c;
+        let rigid = match self.readings.rigid_acceleration {
+            RigidAcceleration::Derived => r * r,
+            RigidAcceleration::PrintedEq20 => r,
+        };
+        Ok(Model {
+            omega_c,
+            omega_e: f64::from(self.z2) * omega_c,
+            b1: self.b1 * rigid,
+            b2: self.b2 * rigid,
+            b3: self.b3 * r * r,
+            ..*self
+        })
+    }
+
     /// Period of the steady response, `T = 2π/ω̄_c` (Sect. 2.4).
     pub fn period(&self) -> f64 {
         2.0 * std::f64::consts::PI / self.omega_c
@@ -334,5 +356,26 @@ mod tests {
             .sum::<f64>()
             / n as f64;
         assert!((mean - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn with_omega_c_matches_a_fresh_model() {
+        for ra in [RigidAcceleration::Derived, RigidAcceleration::PrintedEq20] {
+            let mut p = table1();
+            p.readings.rigid_acceleration = ra;
+            let m = p.model().unwrap();
+            p.omega1 = 217.0;
+            let fresh = p.model().unwrap();
+            let moved = m.with_omega_c(fresh.omega_c).unwrap();
+            for (a, b) in [
+                (moved.omega_e, fresh.omega_e),
+                (moved.b1, fresh.b1),
+                (moved.b2, fresh.b2),
+                (moved.b3, fresh.b3),
+            ] {
+                assert!((a / b - 1.0).abs() < 1e-12, "{ra:?}: {a} vs {b}");
+            }
+        }
+        assert!(table1().model().unwrap().with_omega_c(f64::NAN).is_err());
     }
 }

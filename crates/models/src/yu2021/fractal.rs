@@ -1,14 +1,16 @@
 //! Fractal pieces of Yu 2021: W-M profile mean height (Eq. 2, 4), Chen's fractal backlash
 //! function (Eq. 3) and the fractal contact stiffness (Eq. 18).
 //!
-//! The W-M mean height and Chen's `z` come from the `backlash` leaf; Eq. (18) is evaluated
-//! here exactly as printed (the `mesh-stiffness` leaf offers corrected forms).
+//! The W-M mean height and Chen's `z` come from the `backlash` leaf, Eq. (18) from the
+//! `mesh-stiffness` leaf (with the printed or the sign-consistent form selected explicitly).
 
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
 
 use super::params::check_pos;
+
+pub use mesh_stiffness::{CurvatureCoefficient, FractalContact, FractalForm};
 
 /// A rough surface described by the modified Weierstrass–Mandelbrot function, Eq. (2).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -75,71 +77,19 @@ pub fn chen_z(dimension: f64, t: f64) -> f64 {
     .value(t)
 }
 
-/// Inputs of the fractal contact stiffness of Eq. (18) (Yu et al. 2021, from their ref. [26]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct FractalContact {
-    /// Fractal dimension `D` (–).
-    pub dimension: f64,
-    /// Fractal roughness `G` (m).
-    pub roughness: f64,
-    /// Elastic modulus `E` (Pa).
-    pub young: f64,
-    /// Hardness `H` (Pa); `φ = H/E`.
-    pub hardness: f64,
-    /// Poisson's ratio `ν`; `q = 0.454 + 0.41 ν`.
-    pub poisson: f64,
-    /// Curved-surface coefficient `λ_c` (–), taken as given (its printed formula has the
-    /// exponent `2/R` with a dimensional `R`, reading R-YU-EQ18).
-    pub lambda_c: f64,
-    /// Largest contact area of a single asperity `a_L` (m²).
-    pub a_large: f64,
-    /// Largest asperity base diameter `l_a` (m).
-    pub l_max: f64,
-    /// Smallest asperity base diameter `l_s` (m).
-    pub l_min: f64,
-}
-
-/// Fractal contact stiffness `k_c` of Eq. (18), evaluated exactly as printed:
-/// `k_c = 2^D D G^{1+D²−2D} / ((D−D²+1)(1−D)) · E λ_c a_L^{D/2} / (π^{(2−D)/2} (φ q)^{D−1})
-///  · (l_a^{D−D²+1} − l_s^{D−D²+1})`.
+/// Fractal contact stiffness `k_c` of Eq. (18) (N/m as Yu uses it), from the
+/// `mesh-stiffness` leaf ([`mesh_stiffness::FractalContact::stiffness`]) with the reading
+/// selected explicitly: `form` = [`FractalForm::Printed`] is Eq. (18) exactly as printed
+/// (**negative** for every `1 < D < 2`: the factor `1/((D−D²+1)(1−D))` and the bracket
+/// `l_a^{D−D²+1} − l_s^{D−D²+1}` have opposite signs), [`FractalForm::Consistent`] its
+/// sign-consistent form (positive). `λ_c` follows [`FractalContact::curvature_coefficient`]
+/// (its printed formula has the exponent `2/R` with a dimensional `R`). Reading R-YU-EQ18.
 ///
-/// For every `1 < D < 2` the printed expression is **negative**: for `D < 1.618` the prefactor
-/// `1/((D−D²+1)(1−D))` is negative and `l_a^{D−D²+1} > l_s^{D−D²+1}`; for `D > 1.618` the
-/// prefactor is positive and the bracket negative. It is returned exactly as printed; use its
-/// magnitude as a stiffness (reading R-YU-EQ18).
-pub fn fractal_contact_stiffness(c: &FractalContact) -> Result<f64, Error> {
-    let d = c.dimension;
-    if !(d > 1.0 && d < 2.0) {
-        return Err(Error::invalid("yu2021.contact.dimension", "in (1, 2)", d));
-    }
-    check_pos("yu2021.contact.roughness", c.roughness)?;
-    check_pos("yu2021.contact.young", c.young)?;
-    check_pos("yu2021.contact.hardness", c.hardness)?;
-    if !(c.poisson > -1.0 && c.poisson < 0.5) {
-        return Err(Error::invalid(
-            "yu2021.contact.poisson",
-            "in (-1, 0.5)",
-            c.poisson,
-        ));
-    }
-    check_pos("yu2021.contact.lambda_c", c.lambda_c)?;
-    check_pos("yu2021.contact.a_large", c.a_large)?;
-    check_pos("yu2021.contact.l_max", c.l_max)?;
-    check_pos("yu2021.contact.l_min", c.l_min)?;
-    let e3 = d - d * d + 1.0;
-    if e3.abs() < 1e-9 {
-        return Err(Error::invalid(
-            "yu2021.contact.dimension",
-            "!= golden ratio (D - D^2 + 1 = 0)",
-            d,
-        ));
-    }
-    let phi = c.hardness / c.young;
-    let q = 0.454 + 0.41 * c.poisson;
-    let pre = 2f64.powf(d) * d * c.roughness.powf(1.0 + d * d - 2.0 * d) / (e3 * (1.0 - d));
-    let mid = c.young * c.lambda_c * c.a_large.powf(d / 2.0)
-        / (std::f64::consts::PI.powf((2.0 - d) / 2.0) * (phi * q).powf(d - 1.0));
-    Ok(pre * mid * (c.l_max.powf(e3) - c.l_min.powf(e3)))
+/// The Yu model takes the mean mesh stiffness `k_am` from its parameter sets; this function is
+/// offered for studies of Eq. (18).
+pub fn fractal_contact_stiffness(c: &FractalContact, form: FractalForm) -> Result<f64, Error> {
+    c.stiffness(form)
+        .map_err(|e| Error::Leaf(format!("yu2021 fractal contact stiffness: {e}")))
 }
 
 #[cfg(test)]
@@ -174,20 +124,39 @@ mod tests {
     }
 
     #[test]
-    fn eq18_as_printed_is_negative() {
+    fn eq18_as_printed_is_negative_and_consistent_is_its_magnitude() {
         for d in [1.2, 1.4, 1.8] {
             let c = FractalContact {
-                dimension: d,
-                roughness: 1e-11,
-                young: 2.06e11,
+                fractal_dimension: d,
+                fractal_roughness: 1e-11,
+                elastic_modulus: 2.06e11,
                 hardness: 6e9,
-                poisson: 0.3,
-                lambda_c: 1.0,
-                a_large: 1e-8,
-                l_max: 1e-4,
-                l_min: 1e-7,
+                poisson_ratio: 0.3,
+                largest_contact_area: 1e-8,
+                largest_asperity: 1e-4,
+                smallest_asperity: 1e-7,
+                curvature_coefficient: CurvatureCoefficient::Value(1.0),
+                ..FractalContact::yu2021_default()
             };
-            assert!(fractal_contact_stiffness(&c).unwrap() < 0.0, "D = {d}");
+            let printed = fractal_contact_stiffness(&c, FractalForm::Printed).unwrap();
+            let consistent = fractal_contact_stiffness(&c, FractalForm::Consistent).unwrap();
+            assert!(printed < 0.0, "D = {d}");
+            assert!(
+                (printed + consistent).abs() <= 1e-12 * consistent,
+                "D = {d}"
+            );
+            // the closed form of the printed Eq. (18), evaluated independently
+            let e3 = d - d * d + 1.0;
+            let (phi, q): (f64, f64) = (6e9 / 2.06e11, 0.454 + 0.41 * 0.3);
+            let want = 2f64.powf(d) * d * 1e-11f64.powf(1.0 + d * d - 2.0 * d) / (e3 * (1.0 - d))
+                * 2.06e11
+                * 1e-8f64.powf(d / 2.0)
+                / (std::f64::consts::PI.powf((2.0 - d) / 2.0) * (phi * q).powf(d - 1.0))
+                * (1e-4f64.powf(e3) - 1e-7f64.powf(e3));
+            assert!(
+                (printed - want).abs() <= 1e-9 * want.abs(),
+                "D = {d}: {printed} vs {want}"
+            );
         }
     }
 

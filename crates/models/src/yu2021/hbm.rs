@@ -1,24 +1,38 @@
-//! Harmonic balance for the 1-DOF (torsional) Yu 2021 models: Kahraman–Singh, or Yu with
-//! locked centres. Period-1 response at the mesh frequency, alternating frequency–time
-//! residual, Newton with a finite-difference Jacobian.
+//! Harmonic balance of the periodic 1-DOF (torsional) Yu 2021 models through the `hbm`
+//! engine: Kahraman–Singh, and Yu with locked centres (both forms of Eq. 19).
 //!
-//! A small local solver: the `hbm` engine crate was a placeholder when this was written.
+//! [`Yu2021Torsional`] implements [`hbm::SecondOrderSystem`] for the DTE `q = δ*`:
+//!
+//! ```text
+//! q'' + ζ q' + k(τ) f(q, B) = T* + F_e(τ),   k = 1 + ε sin(ω*τ + φ_0),  f: dead zone (Eq. 14)
+//! F_e = ω*² ē cos(ω*τ + φ_0)  (consistent: −ë of Eq. 15)   or   ē cos(ω*τ + φ_0)  (Eq. 19 printed)
+//! ```
+//!
+//! with the analytic Jacobian `∂g/∂q = k(τ) f'(q, B)` (`backlash::dead_zone_dx`) and the full
+//! basis `0..H` of `ω*`. For the locked Yu model in the consistent form the state of
+//! [`Yu2021Model::rhs`] is `u = δ* + e`; its DTE obeys the equation above, so the harmonic
+//! balance unknowns are always the DTE's Fourier coefficients.
+//!
+//! Chen's model is not offered: its backlash `b_s + a_z z(ω*τ)` with `z = Σ λ^{(D−2)k}
+//! sin(λ^k ω*τ)`, `λ = 1.5`, is not periodic in `2π/ω*` (the common period of `λ^k`,
+//! `k < 12`, is `2^11` mesh periods with harmonics up to `3^11`), so no periodic response of
+//! the mesh frequency exists. The 6-DOF model is left to time integration.
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
 
-use super::model::{ModelKind, STATE_LEN, Yu2021Model};
+use super::model::{EquationForm, ModelKind, STATE_LEN, Yu2021Model};
 
 /// Harmonic-balance settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct HbmSettings {
-    /// Number of harmonics `H` of `ω*` (unknowns `2H + 1`).
+    /// Number of harmonics `H` of `ω*` (full basis `0..H`, unknowns `2H + 1`).
     pub harmonics: usize,
-    /// Time samples per period of the AFT (≥ 4H + 2; a power of two is customary).
+    /// Time samples per period of the AFT (≥ 4H + 2; a power of two is customary and fastest).
     pub samples: usize,
-    /// Residual-norm tolerance.
+    /// Residual-norm tolerance (2-norm of the residual's Fourier coefficients, units of `b_n`).
     pub tolerance: f64,
     /// Maximum Newton iterations.
     pub max_iterations: usize,
@@ -38,7 +52,7 @@ impl Default for HbmSettings {
 /// Result of a harmonic-balance solve; `converged` says how it ended.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct HbmSolution {
-    /// `[c_0, a_1, b_1, …, a_H, b_H]`: `q(τ) = c_0 + Σ a_j cos(jω*τ) + b_j sin(jω*τ)`.
+    /// `[c_0, a_1, b_1, …, a_H, b_H]`: `δ*(τ) = c_0 + Σ a_j cos(jω*τ) + b_j sin(jω*τ)`.
     pub coefficients: Vec<f64>,
     /// Whether the residual norm fell below the tolerance.
     pub converged: bool,
@@ -49,10 +63,13 @@ pub struct HbmSolution {
 }
 
 impl HbmSolution {
-    /// Evaluate `q(τ)` (the DTE `δ*` for the torsional models).
+    /// Evaluate the DTE `δ*(τ)`.
     pub fn eval(&self, omega: f64, tau: f64) -> f64 {
         let c = &self.coefficients;
-        let mut v = c[0];
+        let Some(&c0) = c.first() else {
+            return 0.0;
+        };
+        let mut v = c0;
         for j in 1..=(c.len() - 1) / 2 {
             let ph = j as f64 * omega * tau;
             v += c[2 * j - 1] * ph.cos() + c[2 * j] * ph.sin();
@@ -61,61 +78,130 @@ impl HbmSolution {
     }
 }
 
-fn residual(model: &Yu2021Model, omega: f64, c: &[f64], n: usize) -> Vec<f64> {
-    let h = (c.len() - 1) / 2;
-    let period = std::f64::consts::TAU / omega;
-    let mut r = vec![0.0; c.len()];
-    for i in 0..n {
-        let tau = period * i as f64 / n as f64;
-        let (mut q, mut dq, mut ddq) = (c[0], 0.0, 0.0);
-        for j in 1..=h {
-            let wj = j as f64 * omega;
-            let (s, co) = (wj * tau).sin_cos();
-            let (a, b) = (c[2 * j - 1], c[2 * j]);
-            q += a * co + b * s;
-            dq += wj * (-a * s + b * co);
-            ddq -= wj * wj * (a * co + b * s);
-        }
-        let mut st = [0.0; STATE_LEN];
-        st[0] = q;
-        st[5] = dq;
-        let res = ddq - model.rhs(omega, tau, &st, None)[5];
-        r[0] += res / n as f64;
-        for j in 1..=h {
-            let (s, co) = (j as f64 * omega * tau).sin_cos();
-            r[2 * j - 1] += 2.0 * res * co / n as f64;
-            r[2 * j] += 2.0 * res * s / n as f64;
-        }
-    }
-    r
+/// A periodic torsional Yu 2021 model (Kahraman–Singh, or Yu with locked centres) as an
+/// [`hbm::SecondOrderSystem`] in the DTE `q = δ*` (see the module equations). Build with
+/// [`Yu2021Torsional::new`]; the base frequency of the harmonic balance is `ω*`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Yu2021Torsional {
+    model: Yu2021Model,
+    omega: f64,
+    backlash: f64,
 }
 
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+impl Yu2021Torsional {
+    /// Wrap a periodic 1-DOF model at `ω*`. Errors for Chen's model (not periodic), the
+    /// 6-DOF model, and a non-positive or non-finite `ω*`.
+    pub fn new(model: &Yu2021Model, omega: f64) -> Result<Self, Error> {
+        let torsional = match model.options.kind {
+            ModelKind::KahramanSingh => true,
+            ModelKind::Yu => model.options.lock_centres,
+            ModelKind::ChenFractal => false,
+        };
+        if !torsional {
+            return Err(Error::Solver(
+                "yu2021 harmonic balance needs a periodic 1-DOF model (Kahraman-Singh or \
+                 Yu with locked centres); Chen's fractal backlash is not periodic"
+                    .into(),
+            ));
+        }
+        if !(omega > 0.0 && omega.is_finite()) {
+            return Err(Error::invalid("yu2021.omega", "> 0 and finite", omega));
+        }
+        // centres at rest: B = b_s for every option (Eq. 10 vanishes at Δa = 0)
+        let backlash = model.geometry(omega, 0.0, &[0.0; STATE_LEN]).backlash;
+        Ok(Yu2021Torsional {
+            model: *model,
+            omega,
+            backlash,
+        })
+    }
+
+    /// The wrapped model.
+    pub fn model(&self) -> &Yu2021Model {
+        &self.model
+    }
+
+    /// Current `ω*`.
+    pub fn omega(&self) -> f64 {
+        self.omega
+    }
+
+    fn phase(&self, t: f64) -> f64 {
+        self.omega * t + self.model.params.phase
+    }
+
+    fn stiffness(&self, t: f64) -> f64 {
+        1.0 + self.model.params.epsilon * self.phase(t).sin()
+    }
+}
+
+impl hbm::SecondOrderSystem for Yu2021Torsional {
+    fn n_dof(&self) -> usize {
+        1
+    }
+    fn mass(&self) -> DMatrix<f64> {
+        DMatrix::identity(1, 1)
+    }
+    fn damping(&self) -> DMatrix<f64> {
+        DMatrix::from_element(1, 1, self.model.params.zeta)
+    }
+    fn nonlinear_force(&self, t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
+        g[0] = self.stiffness(t) * backlash::dead_zone(q[0], self.backlash);
+    }
+    fn forcing(&self, t: f64, f: &mut [f64]) {
+        let p = &self.model.params;
+        let e = p.ste * self.phase(t).cos();
+        f[0] = p.load
+            + match self.model.options.form {
+                EquationForm::Consistent => self.omega * self.omega * e,
+                EquationForm::Printed => e,
+            };
+    }
+    fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], dq: &mut [f64], dv: &mut [f64]) {
+        dq[0] = self.stiffness(t) * backlash::dead_zone_dx(q[0], self.backlash);
+        dv[0] = 0.0;
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+        if !(omega > 0.0 && omega.is_finite()) {
+            return Err(hbm::HbmError::InvalidParameter {
+                name: "yu2021 omega*",
+                bound: "> 0 and finite",
+                value: omega,
+            });
+        }
+        self.omega = omega;
+        Ok(())
+    }
+}
+
+fn engine_error(e: hbm::HbmError) -> Error {
+    Error::Solver(format!("yu2021 hbm engine: {e}"))
 }
 
 impl Yu2021Model {
+    /// The `hbm` engine problem of a torsional model at `ω*` on the full basis `0..H` with an
+    /// AFT grid of `samples` points (for continuation, stability, truncation estimates).
+    pub fn hbm_problem(
+        &self,
+        omega: f64,
+        harmonics: usize,
+        samples: usize,
+    ) -> Result<hbm::HbmProblem<Yu2021Torsional>, Error> {
+        let sys = Yu2021Torsional::new(self, omega)?;
+        let basis = hbm::Basis::full(harmonics).map_err(engine_error)?;
+        hbm::HbmProblem::with_grid_size(sys, basis, omega, samples).map_err(engine_error)
+    }
+
     /// Period-1 harmonic balance of a torsional model (Kahraman–Singh, or Yu with
-    /// `lock_centres`). `guess` (length `2H + 1`) defaults to the static contact solution.
+    /// `lock_centres`) by the `hbm` engine (Newton with the analytic AFT Jacobian). `guess`
+    /// (length `2H + 1`) defaults to the static contact solution `δ* = b_s + T*`.
     pub fn harmonic_balance(
         &self,
         omega: f64,
         settings: &HbmSettings,
         guess: Option<&[f64]>,
     ) -> Result<HbmSolution, Error> {
-        let torsional = match self.options.kind {
-            ModelKind::KahramanSingh => true,
-            ModelKind::Yu => self.options.lock_centres,
-            ModelKind::ChenFractal => false,
-        };
-        if !torsional {
-            return Err(Error::Solver(
-                "yu2021 harmonic balance needs a periodic 1-DOF model (Kahraman-Singh or locked centres)".into(),
-            ));
-        }
-        if !(omega > 0.0 && omega.is_finite()) {
-            return Err(Error::invalid("yu2021.omega", "> 0 and finite", omega));
-        }
+        Yu2021Torsional::new(self, omega)?;
         let h = settings.harmonics;
         if h == 0 {
             return Err(Error::invalid("yu2021.hbm.harmonics", ">= 1", 0.0));
@@ -128,7 +214,7 @@ impl Yu2021Model {
             ));
         }
         let m = 2 * h + 1;
-        let mut c = match guess {
+        let z0 = match guess {
             Some(g) if g.len() == m => g.to_vec(),
             Some(g) => {
                 return Err(Error::invalid(
@@ -139,54 +225,55 @@ impl Yu2021Model {
             }
             None => {
                 let mut c = vec![0.0; m];
-                c[0] = self.initial_state()[0];
+                c[0] = self.params.backlash + self.params.load;
                 c
             }
         };
-        let n = settings.samples;
-        let mut r = residual(self, omega, &c, n);
-        let mut rn = norm(&r);
-        let mut it = 0;
-        while rn > settings.tolerance && it < settings.max_iterations {
-            it += 1;
-            let mut jac = DMatrix::zeros(m, m);
-            for k in 0..m {
-                let step = 1e-7 * (1.0 + c[k].abs());
-                let mut cp = c.clone();
-                cp[k] += step;
-                let rp = residual(self, omega, &cp, n);
-                for i in 0..m {
-                    jac[(i, k)] = (rp[i] - r[i]) / step;
-                }
-            }
-            let Some(dx) = jac.lu().solve(&DVector::from_vec(r.clone())) else {
-                return Ok(HbmSolution {
-                    coefficients: c,
-                    converged: false,
-                    iterations: it,
-                    residual_norm: rn,
-                });
-            };
-            // damped Newton: halve the step until the residual decreases
-            let mut lam = 1.0;
-            loop {
-                let trial: Vec<f64> = c.iter().zip(dx.iter()).map(|(a, d)| a - lam * d).collect();
-                let rt = residual(self, omega, &trial, n);
-                let nt = norm(&rt);
-                if nt < rn || lam < 1e-3 {
-                    c = trial;
-                    r = rt;
-                    rn = nt;
-                    break;
-                }
-                lam *= 0.5;
-            }
-        }
+        let mut problem = self.hbm_problem(omega, h, settings.samples)?;
+        let options = hbm::SolverOptions {
+            method: hbm::Method::Newton,
+            tolerance: settings.tolerance,
+            max_iters: settings.max_iterations as u64,
+        };
+        let sol = problem.solve(&z0, &options).map_err(engine_error)?;
         Ok(HbmSolution {
-            coefficients: c,
-            converged: rn <= settings.tolerance,
-            iterations: it,
-            residual_norm: rn,
+            coefficients: sol.coefficients,
+            converged: sol.converged,
+            iterations: usize::try_from(sol.iterations).unwrap_or(usize::MAX),
+            residual_norm: sol.residual_norm,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::yu2021::{Options, Yu2021Params};
+    use hbm::SecondOrderSystem;
+
+    #[test]
+    fn analytic_jacobian_matches_finite_differences() {
+        let m = Yu2021Model::new(&Yu2021Params::table1(), Options::kahraman_singh()).unwrap();
+        let sys = Yu2021Torsional::new(&m, 0.7).unwrap();
+        for q in [-1.7, -0.3, 0.4, 1.3, 2.2] {
+            let (mut a, mut b) = ([0.0], [0.0]);
+            let (mut fa, mut fb) = ([0.0], [0.0]);
+            sys.force_jacobian(0.4, &[q], &[0.1], &mut a, &mut b);
+            hbm::finite_difference_force_jacobian(&sys, 0.4, &[q], &[0.1], &mut fa, &mut fb);
+            assert!((a[0] - fa[0]).abs() < 1e-6, "q {q}: {} vs {}", a[0], fa[0]);
+            assert!((b[0] - fb[0]).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn chen_and_six_dof_are_refused() {
+        let p = Yu2021Params::table1();
+        for o in [Options::chen(), Options::default()] {
+            let m = Yu2021Model::new(&p, o).unwrap();
+            assert!(matches!(
+                Yu2021Torsional::new(&m, 1.0),
+                Err(Error::Solver(_))
+            ));
+        }
     }
 }

@@ -43,28 +43,49 @@
 //!   from the previous step.
 //! * `lock_centres: true` reduces the 6-DOF model to the torsional one (`B = b_s`).
 //!
-//! Solvers: [`Yu2021Model::simulate`] (fixed-step RK4 to steady state, both backlash
-//! updates of Fig. 8) and [`Yu2021Model::harmonic_balance`] (period-1 HBM for the 1-DOF
-//! models). Outputs: DTE, mesh force, backlash, pressure angle, [`Response::dynamic_factor`]
-//! (Eq. 20) and [`Response::rms`] (Eq. 21).
+//! # Solvers (both engines)
+//!
+//! * Time integration, [`Yu2021Model::simulate_with`] with an [`Engine`]:
+//!   [`Engine::Rk4Fixed`] (= [`Yu2021Model::simulate`], the model's own fixed-step RK4, both
+//!   backlash updates of Fig. 8; used by the validation studies) or [`Engine::Timestep`] (the
+//!   `timestep` crate through [`Yu2021Ode`], adaptive Dormand–Prince by default, with the
+//!   dead-zone edges `δ* = ±B` located as events; state-dependent backlash only). Both return
+//!   the same [`Response`] sampled on the same grid.
+//! * Harmonic balance, [`Yu2021Model::harmonic_balance`] / [`Yu2021Model::hbm_problem`]: the
+//!   `hbm` engine through [`Yu2021Torsional`] (`hbm::SecondOrderSystem`, analytic dead-zone
+//!   Jacobian, full basis `0..H` of `ω*`) for the periodic 1-DOF models (Kahraman–Singh, Yu
+//!   with locked centres).
+//!
+//! Outputs: DTE, mesh force, backlash, pressure angle, [`Response::dynamic_factor`] (Eq. 20)
+//! and [`Response::rms`] (Eq. 21). Physics leaves: the dead zone, Chen's `z` and the W-M mean
+//! height come from the `backlash` crate, the contact stiffness of Eq. (18) from
+//! `mesh-stiffness`.
 //!
 //! # Limitations
 //!
-//! Fixed-step RK4 without event location (the dead zone's kinks cost accuracy, about first
-//! order in the step at the switching instants); the harmonic balance is period-1 only;
-//! the parameter sets contain chosen values (documented on [`Yu2021Params::table1`] and
-//! [`Yu2021Params::table2`]); no experimental points of Fig. 13–14 exist in this repository.
+//! The fixed-step RK4 has no event location (the dead zone's kinks cost accuracy, about first
+//! order in the step at the switching instants; the `timestep` engine removes that); the
+//! harmonic balance is period-1 only and not available for Chen's model (its fractal backlash
+//! is not periodic in the mesh period) or the 6-DOF model; the dynamic-backlash geometry of
+//! Eq. (8)–(11), (16) is evaluated in this module (its sign and pressure-angle options differ
+//! from the `backlash` leaf's `DynamicBacklash`); the parameter sets contain chosen values
+//! (documented on [`Yu2021Params::table1`] and [`Yu2021Params::table2`]); no experimental
+//! points of Fig. 13–14 exist in this repository.
 //!
 //! # Example
 //!
 //! ```
-//! use models::yu2021::{Options, RunSettings, Yu2021Model, Yu2021Params};
+//! use models::yu2021::{Engine, Options, RunSettings, Yu2021Model, Yu2021Params};
 //!
 //! let model = Yu2021Model::new(&Yu2021Params::table1(), Options::default())?;
 //! let settings = RunSettings { omega: 0.9, transient_periods: 20, record_periods: 2, steps_per_period: 128 };
 //! let response = model.simulate(&settings, None)?;
 //! assert!(response.dynamic_factor() > 1.0);
 //! assert!(response.mean_backlash() >= 1.0); // Eq. (10) never lowers the backlash
+//!
+//! // the same model on the `timestep` engine (adaptive, contact switches located as events)
+//! let adaptive = model.simulate_with(&settings, &Engine::timestep(), None)?;
+//! assert!((adaptive.dynamic_factor() - response.dynamic_factor()).abs() < 0.05);
 //! # Ok::<(), models::Error>(())
 //! ```
 //!
@@ -74,15 +95,18 @@
 //! model with coupling dynamic change and surface topography*, preprint (2021),
 //! doi:10.21203/rs.3.rs-889901/v1.
 
+mod engines;
 mod fractal;
 mod hbm;
 mod model;
 mod params;
 
+pub use engines::{Engine, Yu2021Ode};
 pub use fractal::{
-    FractalContact, FractalSurface, chen_z, fractal_contact_stiffness, fractal_mean_height,
+    CurvatureCoefficient, FractalContact, FractalForm, FractalSurface, chen_z,
+    fractal_contact_stiffness, fractal_mean_height,
 };
-pub use hbm::{HbmSettings, HbmSolution};
+pub use hbm::{HbmSettings, HbmSolution, Yu2021Torsional};
 pub use model::{
     BacklashUpdate, CentreDistanceForm, DynamicBacklashLaw, EquationForm, MeshGeometry, ModelKind,
     Options, PressureAngleLaw, Response, RunSettings, STATE_LEN, Yu2021Dimensionless, Yu2021Model,

@@ -567,6 +567,24 @@ impl Yu2021Model {
         m.sqrt()
     }
 
+    /// Validates `ω*` and the recorded periods and returns the samples (RK4 steps) per mesh
+    /// period: `steps_per_period`, at least 8, raised so that `Δτ ≤ 0.2/ω_max`.
+    pub(super) fn samples_per_period(&self, settings: &RunSettings) -> Result<usize, Error> {
+        let w = settings.omega;
+        if !(w > 0.0 && w.is_finite()) {
+            return Err(Error::invalid("yu2021.omega", "> 0 and finite", w));
+        }
+        if settings.record_periods == 0 {
+            return Err(Error::invalid("yu2021.record_periods", ">= 1", 0.0));
+        }
+        let period = std::f64::consts::TAU / w;
+        let dt_max = 0.2 / self.omega_max();
+        Ok(settings
+            .steps_per_period
+            .max(8)
+            .max((period / dt_max).ceil() as usize))
+    }
+
     /// Integrate to steady state with fixed-step RK4 and record the response.
     ///
     /// Errors on a non-positive or non-finite `ω*`, zero recorded periods, or a non-finite
@@ -577,19 +595,9 @@ impl Yu2021Model {
         initial: Option<[f64; STATE_LEN]>,
     ) -> Result<Response, Error> {
         let w = settings.omega;
-        if !(w > 0.0 && w.is_finite()) {
-            return Err(Error::invalid("yu2021.omega", "> 0 and finite", w));
-        }
-        if settings.record_periods == 0 {
-            return Err(Error::invalid("yu2021.record_periods", ">= 1", 0.0));
-        }
+        let n = self.samples_per_period(settings)?;
         let model = self;
         let period = std::f64::consts::TAU / w;
-        let dt_max = 0.2 / model.omega_max();
-        let n = settings
-            .steps_per_period
-            .max(8)
-            .max((period / dt_max).ceil() as usize);
         let h = period / n as f64;
         let mut s = initial.unwrap_or_else(|| model.initial_state());
         let total = (settings.transient_periods + settings.record_periods) * n;

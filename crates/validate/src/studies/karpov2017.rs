@@ -125,6 +125,70 @@ fn b_grid() -> Vec<f64> {
         .collect()
 }
 
+/// A claim of the text checked under one reading of Eq. (9) (`R-KARPOV-EQ9`).
+fn eq9_claim(
+    paper: &crate::Published,
+    key: &str,
+    evidence: impl Into<String>,
+    ok: bool,
+) -> Result<Claim, Error> {
+    Ok(
+        Claim::published(paper.claim(key)?, evidence, Verdict::from_bool(ok))
+            .reading("R-KARPOV-EQ9"),
+    )
+}
+
+/// File-name part for a reading.
+fn slug(ex: Excitation) -> &'static str {
+    if ex == Excitation::AccumulatedPhase {
+        "accumulated"
+    } else {
+        "printed"
+    }
+}
+
+/// One curve family of Fig. 5/6: A at ω = 1 over `bs` for each `(value, label)` of `curves`
+/// (`point(value, b)` gives `(ω, B, ξ, k)`), under the reading `(ex, name)` at the paper's
+/// τ_end. Pushes a table row `(name, cell(value), B, A)` per point and returns the figure (one
+/// line per curve, titled `title`, legend `symbol = label`) and the amplitudes, curve-major.
+#[allow(clippy::too_many_arguments)]
+fn a_vs_b(
+    title: &str,
+    symbol: &str,
+    curves: &[(f64, &str)],
+    bs: &[f64],
+    point: impl Fn(f64, f64) -> (f64, f64, f64, f64),
+    cell: impl Fn(f64) -> crate::Cell,
+    (ex, name): (Excitation, &str),
+    t: &mut Table,
+) -> Result<(Figure, Vec<f64>), Error> {
+    let tau_end = TAU_END;
+    let mut fig = Figure::new(
+        &format!("a-vs-b-{}", slug(ex)),
+        &format!("{title}, {name}, τ_end = {}", fmt_sig(tau_end, 3)),
+        ("B", "1"),
+        ("A", "1"),
+    );
+    let grid: Vec<(f64, f64, f64, f64)> = curves
+        .iter()
+        .flat_map(|&(v, _)| bs.iter().map(move |&b| (v, b)))
+        .map(|(v, b)| point(v, b))
+        .collect();
+    let a = amplitudes(&grid, ex, tau_end)?;
+    let n = bs.len();
+    for (i, &(v, label)) in curves.iter().enumerate() {
+        let row = &a[i * n..(i + 1) * n];
+        for (b, aa) in bs.iter().zip(row) {
+            t.push(vec![name.into(), cell(v), (*b).into(), (*aa).into()])?;
+        }
+        fig.push(Series::line(
+            format!("{symbol} = {label}"),
+            bs.iter().copied().zip(row.iter().copied()).collect(),
+        ));
+    }
+    Ok((fig, a))
+}
+
 fn fig3() -> Result<StudyOutput, Error> {
     let paper = published!("karpov2017.toml")?;
     let mut out = StudyOutput::new();
@@ -210,10 +274,7 @@ fn fig3() -> Result<StudyOutput, Error> {
     out.table(t);
     out.figure(fig);
     for (ok, ev) in claims3 {
-        out.claim(
-            Claim::published(paper.claim("fig3.bounded")?, ev, Verdict::from_bool(ok))
-                .reading("R-KARPOV-EQ9"),
-        );
+        out.claim(eq9_claim(&paper, "fig3.bounded", ev, ok)?);
     }
     Ok(out)
 }
@@ -231,14 +292,7 @@ fn fig4() -> Result<StudyOutput, Error> {
         let mut claims_ok = true;
         let mut evidence = Vec::new();
         let mut fig = Figure::new(
-            &format!(
-                "a-vs-omega-{}",
-                if ex == Excitation::AccumulatedPhase {
-                    "accumulated"
-                } else {
-                    "printed"
-                }
-            ),
+            &format!("a-vs-omega-{}", slug(ex)),
             &format!(
                 "Karpov Fig. 4: A vs ω (ξ = 2, k = 1/10), {name}, τ_end = {}",
                 fmt_sig(tau_end, 3)
@@ -281,14 +335,12 @@ fn fig4() -> Result<StudyOutput, Error> {
             .collect();
         fig.push(Series::markers("1/|1 − ω²|", tr));
         out.figure(fig);
-        out.claim(
-            Claim::published(
-                paper.claim("fig4.peak")?,
-                evidence.join("; "),
-                Verdict::from_bool(claims_ok),
-            )
-            .reading("R-KARPOV-EQ9"),
-        );
+        out.claim(eq9_claim(
+            &paper,
+            "fig4.peak",
+            evidence.join("; "),
+            claims_ok,
+        )?);
     }
     out.table(t);
     Ok(out)
@@ -304,50 +356,29 @@ fn fig5() -> Result<StudyOutput, Error> {
         &[("reading", ""), ("k", "1"), ("B", "1"), ("A", "1")],
     );
     for (ex, name, _) in READINGS {
-        let tau_end = TAU_END;
         let mut order_ev = Vec::new();
         let mut k_ev = Vec::new();
         let (mut order_ok, mut k_ok) = (true, true);
         let mut j_ev = Vec::new();
         let mut j_ok = true;
-        let mut fig = Figure::new(
-            &format!(
-                "a-vs-b-{}",
-                if ex == Excitation::AccumulatedPhase {
-                    "accumulated"
-                } else {
-                    "printed"
-                }
-            ),
-            &format!(
-                "Karpov Fig. 5: A vs B (ω = 1, ξ = 2), {name}, τ_end = {}",
-                fmt_sig(tau_end, 3)
-            ),
-            ("B", "1"),
-            ("A", "1"),
-        );
-        let mut grid = Vec::new();
-        for &(k, _) in &ks {
-            for &b in &bs {
-                grid.push((1.0, b, 2.0, k));
-            }
-        }
-        let a = amplitudes(&grid, ex, tau_end)?;
+        let (fig, a) = a_vs_b(
+            "Karpov Fig. 5: A vs B (ω = 1, ξ = 2)",
+            "k",
+            &ks,
+            &bs,
+            |k, b| (1.0, b, 2.0, k),
+            crate::Cell::Num,
+            (ex, name),
+            &mut t,
+        )?;
         let n = bs.len();
-        for (ki, &(k, label)) in ks.iter().enumerate() {
+        for (ki, &(_, label)) in ks.iter().enumerate() {
             let row = &a[ki * n..(ki + 1) * n];
-            for (b, aa) in bs.iter().zip(row) {
-                t.push(vec![name.into(), k.into(), (*b).into(), (*aa).into()])?;
-            }
             let ratio = row[0] / row[n - 1];
             order_ok &= ratio >= 5.0;
             order_ev.push(format!(
                 "{name}, k = {label}: A(0.001)/A(0.01) = {}",
                 fmt_sig(ratio, 3)
-            ));
-            fig.push(Series::line(
-                format!("k = {label}"),
-                bs.iter().copied().zip(row.iter().copied()).collect(),
             ));
         }
         for (bi, &b) in bs.iter().enumerate() {
@@ -375,30 +406,14 @@ fn fig5() -> Result<StudyOutput, Error> {
             fmt_sig(100.0 * rel, 3)
         ));
         out.figure(fig);
-        out.claim(
-            Claim::published(
-                paper.claim("fig5.order")?,
-                order_ev.join("; "),
-                Verdict::from_bool(order_ok),
-            )
-            .reading("R-KARPOV-EQ9"),
-        );
-        out.claim(
-            Claim::published(
-                paper.claim("fig5.k")?,
-                k_ev.join("; "),
-                Verdict::from_bool(k_ok),
-            )
-            .reading("R-KARPOV-EQ9"),
-        );
-        out.claim(
-            Claim::published(
-                paper.claim("sect4.j")?,
-                j_ev.join("; "),
-                Verdict::from_bool(j_ok),
-            )
-            .reading("R-KARPOV-EQ9"),
-        );
+        out.claim(eq9_claim(
+            &paper,
+            "fig5.order",
+            order_ev.join("; "),
+            order_ok,
+        )?);
+        out.claim(eq9_claim(&paper, "fig5.k", k_ev.join("; "), k_ok)?);
+        out.claim(eq9_claim(&paper, "sect4.j", j_ev.join("; "), j_ok)?);
     }
     out.table(t);
     Ok(out)
@@ -420,41 +435,17 @@ fn fig6() -> Result<StudyOutput, Error> {
         &[("reading", ""), ("xi", "1"), ("B", "1"), ("A", "1")],
     );
     for (ex, name, _) in READINGS {
-        let tau_end = TAU_END;
-        let mut fig = Figure::new(
-            &format!(
-                "a-vs-b-{}",
-                if ex == Excitation::AccumulatedPhase {
-                    "accumulated"
-                } else {
-                    "printed"
-                }
-            ),
-            &format!(
-                "Karpov Fig. 6: A vs B (ω = 1, k = 1/10), {name}, τ_end = {}",
-                fmt_sig(tau_end, 3)
-            ),
-            ("B", "1"),
-            ("A", "1"),
-        );
-        let mut grid = Vec::new();
-        for &(xi, _) in &xis {
-            for &b in &bs {
-                grid.push((1.0, b, xi, 0.1));
-            }
-        }
-        let a = amplitudes(&grid, ex, tau_end)?;
+        let (fig, a) = a_vs_b(
+            "Karpov Fig. 6: A vs B (ω = 1, k = 1/10)",
+            "ξ",
+            &xis,
+            &bs,
+            |xi, b| (1.0, b, xi, 0.1),
+            cell_xi,
+            (ex, name),
+            &mut t,
+        )?;
         let n = bs.len();
-        for (xi_i, &(xi, label)) in xis.iter().enumerate() {
-            let row = &a[xi_i * n..(xi_i + 1) * n];
-            for (b, aa) in bs.iter().zip(row) {
-                t.push(vec![name.into(), cell_xi(xi), (*b).into(), (*aa).into()])?;
-            }
-            fig.push(Series::line(
-                format!("ξ = {label}"),
-                bs.iter().copied().zip(row.iter().copied()).collect(),
-            ));
-        }
         // Non-increasing in ξ at every B (ξ = 1.1 … 10; ∞ shown for reference).
         let mut mono = true;
         for bi in 0..n {
@@ -465,18 +456,16 @@ fn fig6() -> Result<StudyOutput, Error> {
         let ratio = a[3 * n + n - 1] / a[n - 1];
         let ok = mono && ratio <= 0.7;
         out.figure(fig);
-        out.claim(
-            Claim::published(
-                paper.claim("fig6.xi")?,
-                format!(
-                    "{name}: A non-increasing in ξ (1.1 → 10) at every B: {mono}; \
+        out.claim(eq9_claim(
+            &paper,
+            "fig6.xi",
+            format!(
+                "{name}: A non-increasing in ξ (1.1 → 10) at every B: {mono}; \
                      A(ξ = 10)/A(ξ = 1.1) at B = 0.01: {}",
-                    fmt_sig(ratio, 3)
-                ),
-                Verdict::from_bool(ok),
-            )
-            .reading("R-KARPOV-EQ9"),
-        );
+                fmt_sig(ratio, 3)
+            ),
+            ok,
+        )?);
     }
     out.table(t);
     Ok(out)

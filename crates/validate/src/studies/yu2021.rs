@@ -146,6 +146,8 @@ fn fig9() -> Result<StudyOutput, Error> {
         out.compare(
             Comparison::published(paper.value(&format!("fig9.constant.{key}"))?, bs)?
                 .with_tolerance(Tolerance::approximate(0.1))
+                .reading("R-YU-FIG9")
+                .reading("R-YU-FIG4")
                 .note("b_n = b0/5 calibrated on the smooth limit; b_s from Eq. (4)-(5)"),
         );
         out.compare(

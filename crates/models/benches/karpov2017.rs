@@ -1,0 +1,49 @@
+//! Criterion benches: the final amplitude of the Karpov 2017 oscillator (Eq. 9–10, Fig. 3 data:
+//! `ω = 1`, `B = 0.01`, `ξ = 2`, `k = 1/10`) by the Duhamel fast path and by time stepping.
+//!
+//! * `duhamel_fig3_*`: the paper's `τ_end = 10⁵`, both readings of the excitation phase
+//!   (`R-KARPOV-EQ9`).
+//! * `*_tau2000`: the same response to `τ_end = 2000` by the Duhamel integral and by
+//!   `timestep` Dormand–Prince 5(4) at `rtol = 1e-8` and `1e-10` (the two agree to ~1e-7 relative), so the
+//!   two methods can be compared on one problem.
+
+#![allow(missing_docs)]
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use models::karpov2017::{Excitation, Karpov2017};
+use timestep::{Method, Options, Output};
+
+fn bench(c: &mut Criterion) {
+    let fig3 = Karpov2017::fig3();
+    let printed = fig3
+        .with(|p| p.excitation = Excitation::PrintedPhase)
+        .expect("valid");
+    c.bench_function("karpov2017/duhamel_fig3_accumulated_tau1e5", |b| {
+        b.iter(|| fig3.duhamel())
+    });
+    c.bench_function("karpov2017/duhamel_fig3_printed_tau1e5", |b| {
+        b.iter(|| printed.duhamel())
+    });
+
+    let short = fig3.with(|p| p.tau_end = 2000.0).expect("valid");
+    c.bench_function("karpov2017/duhamel_tau2000", |b| b.iter(|| short.duhamel()));
+    for (name, rtol, atol) in [
+        ("karpov2017/dopri54_rtol1e-8_tau2000", 1e-8, 1e-10),
+        ("karpov2017/dopri54_rtol1e-10_tau2000", 1e-10, 1e-12),
+    ] {
+        let opts = Options::default()
+            .with_method(Method::DormandPrince54)
+            .with_tol(rtol, atol)
+            .with_output(Output::Final);
+        c.bench_function(name, |b| {
+            b.iter(|| timestep::integrate(&short, 0.0, &[0.0, 0.0], 2000.0, &opts).expect("runs"))
+        });
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10);
+    targets = bench
+}
+criterion_main!(benches);
