@@ -70,3 +70,43 @@ fn unwired_or_misconfigured_models_are_errors() {
     let err = run_user_study(&study, || {}).unwrap_err().to_string();
     assert!(err.contains("omega"), "{err}");
 }
+
+/// Both engines of the Yu model are reachable from a study file and agree on a non-impacting
+/// Kahraman–Singh point (the models crate tests the engines against each other to 1e-8).
+#[test]
+fn yu_engines_selectable_and_agree() {
+    let run = |engine: u32| {
+        let text = format!(
+            "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.3\nvariant = 1\n\
+             [solver]\nmethod = \"time-stepping\"\n[solver.settings]\nengine = {engine}\n\
+             transient_periods = 20\nrecord_periods = 4\nsteps_per_period = 128\n"
+        );
+        let study = UserStudy::parse(&text).unwrap();
+        let out = run_user_study(&study, || {}).unwrap();
+        assert_eq!(
+            out.summary["failed_points"].as_array().map(Vec::len),
+            Some(0)
+        );
+        let col = out
+            .table
+            .columns
+            .iter()
+            .position(|c| c.name == "df")
+            .expect("df column");
+        match &out.table.rows[0][col] {
+            validate::Cell::Num(x) => *x,
+            other => panic!("df is not a number: {other:?}"),
+        }
+    };
+    let (rk4, dp) = (run(0), run(1));
+    assert!(
+        rk4 > 1.0 && (rk4 - dp).abs() < 1e-4 * rk4,
+        "DF {rk4} vs {dp}"
+    );
+
+    let bad = "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.3\n\
+               [solver]\nmethod = \"time-stepping\"\n[solver.settings]\nengine = 7\n";
+    let study = UserStudy::parse(bad).unwrap();
+    let err = run_user_study(&study, || {}).unwrap_err().to_string();
+    assert!(err.contains("engine"), "{err}");
+}

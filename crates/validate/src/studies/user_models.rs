@@ -129,13 +129,17 @@ pub(super) fn yu2021(solver: &Solver) -> Result<Adapter, Error> {
     use models::yu2021::{HbmSettings, RunSettings};
     match solver.method {
         Method::TimeStepping => {
-            let (extra, rest) = take(&solver.settings, &["rms_harmonics"]);
+            let (extra, rest) = take(
+                &solver.settings,
+                &["rms_harmonics", "engine", "rtol", "atol"],
+            );
             let n_rms = extra.get("rms_harmonics").copied().unwrap_or(5.0);
             if n_rms.fract() != 0.0 || n_rms < 1.0 {
                 return Err(Error::StudyFile(format!(
                     "rms_harmonics must be a positive integer, got {n_rms}"
                 )));
             }
+            let engine = yu_engine(&extra)?;
             let base = apply_overrides(&RunSettings::new(1.0), &rest)?;
             Ok((
                 vec![
@@ -149,7 +153,7 @@ pub(super) fn yu2021(solver: &Solver) -> Result<Adapter, Error> {
                     let (model, omega) = yu_model(p)?;
                     let settings = RunSettings { omega, ..base };
                     let r = model
-                        .simulate(&settings, None)
+                        .simulate_with(&settings, &engine, None)
                         .context("yu2021 time integration")?;
                     Ok(vec![
                         r.dynamic_factor(),
@@ -193,6 +197,34 @@ pub(super) fn yu2021(solver: &Solver) -> Result<Adapter, Error> {
         Method::Kinematics => Err(Error::StudyFile(
             "yu2021 needs solver.method = \"time-stepping\" or \"hbm\"".to_owned(),
         )),
+    }
+}
+
+/// `engine` 0 (default): the model's fixed-step RK4; 1: the `timestep` crate (Dormand–Prince
+/// 5(4) with the contact switches located as events), tolerances `rtol` (default 1e-8) and
+/// `atol` (default 1e-10).
+fn yu_engine(extra: &BTreeMap<String, f64>) -> Result<models::yu2021::Engine, Error> {
+    use models::yu2021::Engine;
+    let rtol = extra.get("rtol").copied().unwrap_or(1e-8);
+    let atol = extra.get("atol").copied().unwrap_or(1e-10);
+    for (name, v) in [("rtol", rtol), ("atol", atol)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::StudyFile(format!(
+                "{name} must be finite and > 0, got {v}"
+            )));
+        }
+    }
+    match extra.get("engine").copied().unwrap_or(0.0) {
+        e if e.abs() < f64::EPSILON => Ok(Engine::Rk4Fixed),
+        e if (e - 1.0).abs() < f64::EPSILON => Ok(Engine::Timestep {
+            method: timestep::Method::DormandPrince54,
+            rtol,
+            atol,
+            events: true,
+        }),
+        e => Err(Error::StudyFile(format!(
+            "engine must be 0 (fixed-step RK4) or 1 (timestep Dormand-Prince with events), got {e}"
+        ))),
     }
 }
 
