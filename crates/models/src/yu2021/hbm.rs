@@ -16,14 +16,21 @@
 //! Chen's model is not offered: its backlash `b_s + a_z z(ω*τ)` with `z = Σ λ^{(D−2)k}
 //! sin(λ^k ω*τ)`, `λ = 1.5`, is not periodic in `2π/ω*` (the common period of `λ^k`,
 //! `k < 12`, is `2^11` mesh periods with harmonics up to `3^11`), so no periodic response of
-//! the mesh frequency exists. The 6-DOF model is left to time integration.
+//! the mesh frequency exists.
+//!
+//! [`Yu2021SixDof`] puts the full 6-DOF model (state-dependent dynamic backlash and pressure
+//! angle, [`BacklashUpdate::InRhs`]) on the same engine: five second-order coordinates
+//! `q = [u, x_p, y_p, x_g, y_g]` with `M = I`, `C = 0` and the whole right-hand side of
+//! [`Yu2021Model::rhs`] as the nonlinear force `g = −q''(τ, q, q')`; its Jacobian is the
+//! engine's finite-difference fallback (the dynamic backlash of Eq. 10 has a square root whose
+//! derivative is unbounded where `Δa² = Δp²`, so no analytic form is offered).
 
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
 
-use super::model::{EquationForm, ModelKind, STATE_LEN, Yu2021Model};
+use super::model::{BacklashUpdate, EquationForm, ModelKind, STATE_LEN, Yu2021Model};
 
 /// Harmonic-balance settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -174,6 +181,86 @@ impl hbm::SecondOrderSystem for Yu2021Torsional {
     }
 }
 
+/// Yu's 6-DOF model at `ω*` as an [`hbm::SecondOrderSystem`] in `q = [u, x_p, y_p, x_g, y_g]`
+/// (the first five entries of the [`Yu2021Model::rhs`] state; `M = I`, `C = 0`,
+/// `g(τ, q, q') = −(rhs accelerations)`, `f = 0`). Build with [`Yu2021SixDof::new`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Yu2021SixDof {
+    model: Yu2021Model,
+    omega: f64,
+}
+
+impl Yu2021SixDof {
+    /// Wrap the 6-DOF Yu model (centres free) at `ω*`. Errors for the torsional models, locked
+    /// centres, Fig. 8's previous-step backlash update (not a function of the state) and a
+    /// non-positive or non-finite `ω*`.
+    pub fn new(model: &Yu2021Model, omega: f64) -> Result<Self, Error> {
+        if model.options.kind != ModelKind::Yu || model.options.lock_centres {
+            return Err(Error::Solver(
+                "Yu2021SixDof needs Yu's model with free centres (use Yu2021Torsional for the \
+                 1-DOF models)"
+                    .into(),
+            ));
+        }
+        if model.options.update == BacklashUpdate::PreviousStep {
+            return Err(Error::Solver(
+                "harmonic balance needs the state-dependent backlash (BacklashUpdate::InRhs); \
+                 Fig. 8's previous-step update is a fixed-step algorithm"
+                    .into(),
+            ));
+        }
+        if !(omega > 0.0 && omega.is_finite()) {
+            return Err(Error::invalid("yu2021.omega", "> 0 and finite", omega));
+        }
+        Ok(Yu2021SixDof {
+            model: *model,
+            omega,
+        })
+    }
+
+    /// The full [`Yu2021Model::rhs`] state of the coordinates `q` and rates `qd`.
+    pub fn state(q: &[f64], qd: &[f64]) -> [f64; STATE_LEN] {
+        let mut s = [0.0; STATE_LEN];
+        s[..5].copy_from_slice(&q[..5]);
+        s[5..].copy_from_slice(&qd[..5]);
+        s
+    }
+}
+
+impl hbm::SecondOrderSystem for Yu2021SixDof {
+    fn n_dof(&self) -> usize {
+        5
+    }
+    fn mass(&self) -> DMatrix<f64> {
+        DMatrix::identity(5, 5)
+    }
+    fn damping(&self) -> DMatrix<f64> {
+        DMatrix::zeros(5, 5)
+    }
+    fn nonlinear_force(&self, t: f64, q: &[f64], qd: &[f64], g: &mut [f64]) {
+        let d = self
+            .model
+            .rhs(self.omega, t, &Yu2021SixDof::state(q, qd), None);
+        for (gi, di) in g.iter_mut().zip(&d[5..]) {
+            *gi = -di;
+        }
+    }
+    fn forcing(&self, _t: f64, f: &mut [f64]) {
+        f.fill(0.0);
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+        if !(omega > 0.0 && omega.is_finite()) {
+            return Err(hbm::HbmError::InvalidParameter {
+                name: "yu2021 omega*",
+                bound: "> 0 and finite",
+                value: omega,
+            });
+        }
+        self.omega = omega;
+        Ok(())
+    }
+}
+
 fn engine_error(e: hbm::HbmError) -> Error {
     Error::Solver(format!("yu2021 hbm engine: {e}"))
 }
@@ -188,6 +275,21 @@ impl Yu2021Model {
         samples: usize,
     ) -> Result<hbm::HbmProblem<Yu2021Torsional>, Error> {
         let sys = Yu2021Torsional::new(self, omega)?;
+        let basis = hbm::Basis::full(harmonics).map_err(engine_error)?;
+        hbm::HbmProblem::with_grid_size(sys, basis, omega, samples).map_err(engine_error)
+    }
+
+    /// The `hbm` engine problem of the 6-DOF model at `ω*` ([`Yu2021SixDof`]) on the full basis
+    /// `0..H` with an AFT grid of `samples` points. Solve it with [`hbm::HbmProblem::solve`];
+    /// a start from the static contact state is `[b_s + T*, 0, 0, 0, 0]` in the constant
+    /// coefficients (see the test `six_dof_hbm_matches_time_integration`).
+    pub fn hbm_problem_six_dof(
+        &self,
+        omega: f64,
+        harmonics: usize,
+        samples: usize,
+    ) -> Result<hbm::HbmProblem<Yu2021SixDof>, Error> {
+        let sys = Yu2021SixDof::new(self, omega)?;
         let basis = hbm::Basis::full(harmonics).map_err(engine_error)?;
         hbm::HbmProblem::with_grid_size(sys, basis, omega, samples).map_err(engine_error)
     }

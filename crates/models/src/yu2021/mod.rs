@@ -54,7 +54,10 @@
 //! * Harmonic balance, [`Yu2021Model::harmonic_balance`] / [`Yu2021Model::hbm_problem`]: the
 //!   `hbm` engine through [`Yu2021Torsional`] (`hbm::SecondOrderSystem`, analytic dead-zone
 //!   Jacobian, full basis `0..H` of `ω*`) for the periodic 1-DOF models (Kahraman–Singh, Yu
-//!   with locked centres).
+//!   with locked centres); [`Yu2021Model::hbm_problem_six_dof`] through [`Yu2021SixDof`]
+//!   (five coordinates, state-dependent dynamic backlash, finite-difference Jacobian) for
+//!   Yu's 6-DOF model. Chen's backlash is not periodic in the mesh period: time integration
+//!   only.
 //!
 //! Outputs: DTE, mesh force, backlash, pressure angle, [`Response::dynamic_factor`] (Eq. 20)
 //! and [`Response::rms`] (Eq. 21). Physics leaves: the dead zone, Chen's `z` and the W-M mean
@@ -106,7 +109,7 @@ pub use fractal::{
     CurvatureCoefficient, FractalContact, FractalForm, FractalSurface, chen_z,
     fractal_contact_stiffness, fractal_mean_height,
 };
-pub use hbm::{HbmSettings, HbmSolution, Yu2021Torsional};
+pub use hbm::{HbmSettings, HbmSolution, Yu2021SixDof, Yu2021Torsional};
 pub use model::{
     BacklashUpdate, CentreDistanceForm, DynamicBacklashLaw, EquationForm, MeshGeometry, ModelKind,
     Options, PressureAngleLaw, Response, RunSettings, STATE_LEN, Yu2021Dimensionless, Yu2021Model,
