@@ -119,7 +119,7 @@ pub(crate) fn check_nonneg(field: &str, v: f64) -> Result<(), Error> {
 }
 
 impl Yu2021Params {
-    /// Yu Table 1 (the DF rig of Kahraman & Singh 1991, ref. [10]) with every unstated value
+    /// Yu Table 1 (the DF rig of Kahraman & Singh 1991, ref. \[10\]) with every unstated value
     /// chosen; see `docs/models/yu2021.md`, section "Parameter sets".
     ///
     /// Stated: 25/25 teeth, `I = 1.15e-3 kg·m²`, "equivalent mass" 0.23 kg, `R_p = R_g = 0.094 m`,
@@ -153,7 +153,7 @@ impl Yu2021Params {
         }
     }
 
-    /// Yu Table 2 (the RMS rig of Kahraman & Blankenship 1997, ref. [28]) with every unstated
+    /// Yu Table 2 (the RMS rig of Kahraman & Blankenship 1997, ref. \[28\]) with every unstated
     /// value chosen; see `docs/models/yu2021.md`.
     ///
     /// Stated: module 3 mm, 50/50 teeth (so `R = 75 mm`), `I = 9e-3 kg·m²`, mass 6.57 kg, face
