@@ -341,9 +341,9 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
     }
     let _ = writeln!(s, "Outputs: {}\n", files.join(", "));
     if !out.comparisons.is_empty() {
-        s.push_str("| quantity | unit | paper | model | deviation (abs / rel) | tolerance | verdict | readings |\n");
-        s.push_str("| --- | --- | ---: | ---: | ---: | --- | --- | --- |\n");
-        for c in &out.comparisons {
+        s.push_str("| # | quantity | unit | paper | model | deviation (abs / rel) | tolerance | verdict | readings |\n");
+        s.push_str("| ---: | --- | --- | ---: | ---: | ---: | --- | --- | --- |\n");
+        for (i, c) in out.comparisons.iter().enumerate() {
             let rel = c.deviation_rel();
             let rel = if rel.is_finite() {
                 format!("{}%", crate::fmt_sig(100.0 * rel, 3))
@@ -352,7 +352,8 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
             };
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} / {} | {} ({}) | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} / {} | {} ({}) | {} | {} |",
+                i + 1,
                 md_cell(&c.quantity),
                 md_cell(&c.unit),
                 md_cell(&c.reference.printed),
@@ -373,8 +374,9 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
         let notes: Vec<String> = out
             .comparisons
             .iter()
-            .filter(|c| !c.note.is_empty())
-            .map(|c| format!("- *{}*: {}", md_cell(&c.quantity), c.note))
+            .enumerate()
+            .filter(|(_, c)| !c.note.is_empty())
+            .map(|(i, c)| format!("- #{} *{}*: {}", i + 1, md_cell(&c.quantity), c.note))
             .collect();
         if !notes.is_empty() {
             s.push_str(&notes.join("\n"));

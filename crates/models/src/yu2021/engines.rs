@@ -16,14 +16,15 @@ use super::model::{BacklashUpdate, Response, RunSettings, STATE_LEN, Yu2021Model
 pub enum Engine {
     /// The model's own fixed-step RK4 ([`Yu2021Model::simulate`]): `RunSettings::steps_per_period`
     /// steps per mesh period (raised so that `Δτ ≤ 0.2/ω_max`), no event location, both
-    /// backlash updates of Fig. 8. The engine of the validation studies.
+    /// backlash updates of Fig. 8 (the only engine for [`BacklashUpdate::PreviousStep`]).
     #[default]
     Rk4Fixed,
     /// The `timestep` crate ([`timestep::integrate`]) with the dead-zone edges `δ* = ±B` located
     /// as events (so no step straddles a contact switch). Only the state-dependent backlash
     /// ([`BacklashUpdate::InRhs`]); Fig. 8's previous-step update is a fixed-step algorithm.
     /// The response is sampled from the engine's dense output at the same instants as the RK4
-    /// path (`steps_per_period` per period, raised as for RK4).
+    /// path (`steps_per_period` per period, raised as for RK4). The engine of the validation
+    /// studies.
     Timestep {
         /// Integration method (e.g. [`timestep::Method::DormandPrince54`]).
         method: timestep::Method,

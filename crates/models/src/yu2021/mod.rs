@@ -47,7 +47,8 @@
 //!
 //! * Time integration, [`Yu2021Model::simulate_with`] with an [`Engine`]:
 //!   [`Engine::Rk4Fixed`] (= [`Yu2021Model::simulate`], the model's own fixed-step RK4, both
-//!   backlash updates of Fig. 8; used by the validation studies) or [`Engine::Timestep`] (the
+//!   backlash updates of Fig. 8; needed for Fig. 8's previous-step update) or
+//!   [`Engine::Timestep`] (used by the validation studies; the
 //!   `timestep` crate through [`Yu2021Ode`], adaptive Dormand–Prince by default, with the
 //!   dead-zone edges `δ* = ±B` located as events; state-dependent backlash only). Both return
 //!   the same [`Response`] sampled on the same grid.
