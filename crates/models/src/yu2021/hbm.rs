@@ -169,14 +169,7 @@ impl hbm::SecondOrderSystem for Yu2021Torsional {
         dv[0] = 0.0;
     }
     fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
-        if !(omega > 0.0 && omega.is_finite()) {
-            return Err(hbm::HbmError::InvalidParameter {
-                name: "yu2021 omega*",
-                bound: "> 0 and finite",
-                value: omega,
-            });
-        }
-        self.omega = omega;
+        self.omega = checked_omega(omega)?;
         Ok(())
     }
 }
@@ -249,20 +242,37 @@ impl hbm::SecondOrderSystem for Yu2021SixDof {
         f.fill(0.0);
     }
     fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
-        if !(omega > 0.0 && omega.is_finite()) {
-            return Err(hbm::HbmError::InvalidParameter {
-                name: "yu2021 omega*",
-                bound: "> 0 and finite",
-                value: omega,
-            });
-        }
-        self.omega = omega;
+        self.omega = checked_omega(omega)?;
         Ok(())
     }
 }
 
 fn engine_error(e: hbm::HbmError) -> Error {
     Error::Solver(format!("yu2021 hbm engine: {e}"))
+}
+
+/// `ω*` for the engine's frequency continuation: positive and finite.
+fn checked_omega(omega: f64) -> Result<f64, hbm::HbmError> {
+    if omega > 0.0 && omega.is_finite() {
+        Ok(omega)
+    } else {
+        Err(hbm::HbmError::InvalidParameter {
+            name: "yu2021 omega*",
+            bound: "> 0 and finite",
+            value: omega,
+        })
+    }
+}
+
+/// A full-basis `0..H` engine problem of `sys` at `ω*` with an AFT grid of `samples` points.
+fn full_basis_problem<S: hbm::SecondOrderSystem>(
+    sys: S,
+    omega: f64,
+    harmonics: usize,
+    samples: usize,
+) -> Result<hbm::HbmProblem<S>, Error> {
+    let basis = hbm::Basis::full(harmonics).map_err(engine_error)?;
+    hbm::HbmProblem::with_grid_size(sys, basis, omega, samples).map_err(engine_error)
 }
 
 impl Yu2021Model {
@@ -274,9 +284,12 @@ impl Yu2021Model {
         harmonics: usize,
         samples: usize,
     ) -> Result<hbm::HbmProblem<Yu2021Torsional>, Error> {
-        let sys = Yu2021Torsional::new(self, omega)?;
-        let basis = hbm::Basis::full(harmonics).map_err(engine_error)?;
-        hbm::HbmProblem::with_grid_size(sys, basis, omega, samples).map_err(engine_error)
+        full_basis_problem(
+            Yu2021Torsional::new(self, omega)?,
+            omega,
+            harmonics,
+            samples,
+        )
     }
 
     /// The `hbm` engine problem of the 6-DOF model at `ω*` ([`Yu2021SixDof`]) on the full basis
@@ -289,9 +302,7 @@ impl Yu2021Model {
         harmonics: usize,
         samples: usize,
     ) -> Result<hbm::HbmProblem<Yu2021SixDof>, Error> {
-        let sys = Yu2021SixDof::new(self, omega)?;
-        let basis = hbm::Basis::full(harmonics).map_err(engine_error)?;
-        hbm::HbmProblem::with_grid_size(sys, basis, omega, samples).map_err(engine_error)
+        full_basis_problem(Yu2021SixDof::new(self, omega)?, omega, harmonics, samples)
     }
 
     /// Period-1 harmonic balance of a torsional model (Kahraman–Singh, or Yu with
