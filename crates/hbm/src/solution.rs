@@ -125,14 +125,9 @@ impl PeriodicSolution {
         if dof >= self.n_dof {
             return None;
         }
-        let ts = self.time_series(self.default_samples());
-        let d = &ts.displacement[dof];
-        let (lo, hi) = d
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                (a.min(x), b.max(x))
-            });
-        Some(hi - lo)
+        Some(spread(
+            &self.time_series(self.default_samples()).displacement[dof],
+        ))
     }
 
     /// Peak-to-peak velocity of DOF `dof` (the "ppv" of Liu et al.); `None` for an invalid DOF.
@@ -140,14 +135,9 @@ impl PeriodicSolution {
         if dof >= self.n_dof {
             return None;
         }
-        let ts = self.time_series(self.default_samples());
-        let d = &ts.velocity[dof];
-        let (lo, hi) = d
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                (a.min(x), b.max(x))
-            });
-        Some(hi - lo)
+        Some(spread(
+            &self.time_series(self.default_samples()).velocity[dof],
+        ))
     }
 
     /// Amplitude of every retained harmonic of DOF `dof` (constant first); empty for an invalid
@@ -340,4 +330,14 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             refined,
         })
     }
+}
+
+/// `max − min` of the samples.
+fn spread(values: &[f64]) -> f64 {
+    let (lo, hi) = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    hi - lo
 }

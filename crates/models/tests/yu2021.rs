@@ -239,20 +239,7 @@ fn hbm_matches_time_integration_for_kahraman_singh() {
             samples: 256,
             ..HbmSettings::default()
         };
-        // start from the Fourier coefficients of the time solution
-        let guess = r.fourier_coefficients(hs.harmonics);
-        let sol = m.harmonic_balance(omega, &hs, Some(&guess)).unwrap();
-        assert!(
-            sol.converged,
-            "omega {omega}: residual {}",
-            sol.residual_norm
-        );
-        let err = r
-            .tau
-            .iter()
-            .zip(&r.dte)
-            .map(|(t, d)| (sol.eval(omega, *t) - d).abs())
-            .fold(0.0, f64::max);
+        let err = warm_hbm_error(&m, &r, &hs, &format!("omega {omega}"));
         let tol = 1e-3 * r.dte_peak_to_peak() + 1e-6;
         assert!(
             err < tol,
@@ -464,6 +451,19 @@ fn static_load_separates_centres_in_consistent_frame() {
 // `hbm` crate vs time integration.
 
 /// Max |a − b| over two equally sampled series.
+/// Harmonic balance started from the Fourier coefficients of the time response `r`; asserts
+/// convergence and returns `max |δ*_HBM − δ*_time|` over the recorded samples.
+fn warm_hbm_error(m: &Yu2021Model, r: &Response, settings: &HbmSettings, label: &str) -> f64 {
+    let guess = r.fourier_coefficients(settings.harmonics);
+    let sol = m.harmonic_balance(r.omega, settings, Some(&guess)).unwrap();
+    assert!(sol.converged, "{label}: residual {}", sol.residual_norm);
+    r.tau
+        .iter()
+        .zip(&r.dte)
+        .map(|(t, d)| (sol.eval(r.omega, *t) - d).abs())
+        .fold(0.0, f64::max)
+}
+
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {
     assert_eq!(a.len(), b.len());
     a.iter()
@@ -601,20 +601,8 @@ fn hbm_engine_matches_timestep_engine() {
                 samples: (8 * h).next_power_of_two(),
                 ..HbmSettings::default()
             };
-            let guess = r.fourier_coefficients(h);
-            let sol = m.harmonic_balance(omega, &settings, Some(&guess)).unwrap();
-            assert!(
-                sol.converged,
-                "{name} H {h}: residual {}",
-                sol.residual_norm
-            );
-            let err = r
-                .tau
-                .iter()
-                .zip(&r.dte)
-                .map(|(t, d)| (sol.eval(omega, *t) - d).abs())
-                .fold(0.0, f64::max)
-                / r.dte_peak_to_peak();
+            let err =
+                warm_hbm_error(&m, &r, &settings, &format!("{name} H {h}")) / r.dte_peak_to_peak();
             assert!(
                 err < last,
                 "{name} H {h}: error {err} did not fall from {last}"
