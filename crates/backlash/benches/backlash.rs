@@ -3,7 +3,7 @@
 
 use std::hint::black_box;
 
-use backlash::{
+use geardyn_backlash::{
     CentreDisplacement, ConstantBacklashParams, DeadZone, DynamicBacklash, DynamicForm,
     PairGeometry, PressureAngleLaw, RadicandPolicy, Regularisation, SurfaceFractal, dead_zone,
 };

@@ -2,12 +2,12 @@
 //! claims, and the convergence numbers quoted in the docs. Run in release:
 //! `cargo run -p backlash --release --example fig4`.
 
-use backlash::{
+use geardyn_backlash::{
     ConstantBacklashParams, ConstantPartForm, Quadrature, SurfaceFractal, WmProfile,
     mean_asperity_height, yu2021_fig4,
 };
 
-fn main() -> Result<(), backlash::Error> {
+fn main() -> Result<(), geardyn_backlash::Error> {
     let data = yu2021_fig4()?;
     println!(
         "# Yu Fig. 4 data: b_s in µm (b0 = {} µm)",

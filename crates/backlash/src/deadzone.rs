@@ -45,7 +45,7 @@ fn clamp_gap(b: f64) -> f64 {
 /// (no preload model); for checked evaluation use [`try_dead_zone`] or [`DeadZone::new`].
 ///
 /// ```
-/// use backlash::dead_zone;
+/// use geardyn_backlash::dead_zone;
 /// assert_eq!(dead_zone(0.5, 1.0), 0.0);
 /// assert_eq!(dead_zone(3.0, 1.0), 2.0);
 /// assert_eq!(dead_zone(-3.0, 1.0), -2.0);

@@ -82,7 +82,7 @@
 //! ## Example
 //!
 //! ```
-//! use backlash::{
+//! use geardyn_backlash::{
 //!     ConstantBacklashParams, DeadZone, DynamicBacklash, CentreDisplacement, PairGeometry,
 //!     SurfaceFractal, dead_zone,
 //! };
@@ -103,7 +103,7 @@
 //! let f = DeadZone::EXACT.eval(1e-4, e.b);
 //! assert!((f.f - dead_zone(1e-4, e.b)).abs() < 1e-18);
 //! assert_eq!(f.df_dx, 1.0);
-//! # Ok::<(), backlash::Error>(())
+//! # Ok::<(), geardyn_backlash::Error>(())
 //! ```
 #![deny(missing_docs)]
 

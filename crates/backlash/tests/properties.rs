@@ -1,7 +1,7 @@
 //! Property and reference tests of the public API.
 
 use approx::assert_relative_eq;
-use backlash::{
+use geardyn_backlash::{
     CentreDisplacement, ChenFractal, ConstantBacklashParams, ConstantPartForm, DeadZone,
     DynamicBacklash, DynamicForm, PairGeometry, PressureAngleLaw, Quadrature, RadicandPolicy,
     Regularisation, SurfaceFractal, WmProfile, dead_zone, dead_zone_dx, mean_asperity_height,
@@ -222,7 +222,7 @@ fn fig4_claims_hold() {
     let g: Vec<f64> = (0..5)
         .map(|j| 10f64.powf(-12.0 + 0.25 * f64::from(j)))
         .collect();
-    let data = backlash::fig4_grid(p, &d, &g).unwrap();
+    let data = geardyn_backlash::fig4_grid(p, &d, &g).unwrap();
     let c = data.claims().unwrap();
     assert!(c.all_hold(), "{c:?}");
     assert!(c.min_b_s_at_d12 > 0.0, "{c:?}");

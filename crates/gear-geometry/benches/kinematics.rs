@@ -4,7 +4,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use gear_geometry::{KarpovPair, NfgPair, RigidAccelerationForm};
+use geardyn_gear_geometry::{KarpovPair, NfgPair, RigidAccelerationForm};
 
 fn bench(c: &mut Criterion) {
     let k = KarpovPair::karpov2017_table1();

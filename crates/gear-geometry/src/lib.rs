@@ -76,7 +76,7 @@
 //! ## Example
 //!
 //! ```
-//! use gear_geometry::{KarpovPair, NfgPair, LiuRig, SpurPair, PressureAngleForm};
+//! use geardyn_gear_geometry::{KarpovPair, NfgPair, LiuRig, SpurPair, PressureAngleForm};
 //! use std::f64::consts::{PI, TAU};
 //!
 //! let pair = KarpovPair::karpov2017_table1();
@@ -102,7 +102,7 @@
 //! let a0 = spur.nominal_centre_distance();
 //! let alpha = spur.operating_pressure_angle(a0, PressureAngleForm::Consistent)?;
 //! assert!((alpha.to_degrees() - 20.0).abs() < 1e-12);
-//! # Ok::<(), gear_geometry::Error>(())
+//! # Ok::<(), geardyn_gear_geometry::Error>(())
 //! ```
 #![deny(missing_docs)]
 

@@ -2,7 +2,7 @@
 
 use std::f64::consts::TAU;
 
-use gear_geometry::{CentreDistance, KarpovPair, KarpovPairParams, SpeedFluctuationForm};
+use geardyn_gear_geometry::{CentreDistance, KarpovPair, KarpovPairParams, SpeedFluctuationForm};
 use proptest::prelude::*;
 
 fn pair(b: f64, xi: f64, u: f64, j: u32, c: CentreDistance) -> KarpovPair {

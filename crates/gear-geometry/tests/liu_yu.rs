@@ -2,7 +2,7 @@
 
 use std::f64::consts::TAU;
 
-use gear_geometry::{
+use geardyn_gear_geometry::{
     LIU2021_TABLE2_THEORETICAL, LiuRig, NfgPair, PressureAngleForm, RigidAccelerationForm, SpurPair,
 };
 use proptest::prelude::*;

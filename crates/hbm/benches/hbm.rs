@@ -2,7 +2,7 @@
 #![allow(missing_docs)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use hbm::{
+use geardyn_hbm::{
     Basis, ContinuationOptions, ContinuationParameter, HbmError, HbmProblem, Method,
     SecondOrderSystem, SolverOptions,
 };

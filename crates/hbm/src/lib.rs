@@ -65,7 +65,7 @@
 //! `q + b` for `q < −b` (the 1-DOF backlash model).
 //!
 //! ```
-//! use hbm::{Basis, HbmProblem, SecondOrderSystem, SolverOptions};
+//! use geardyn_hbm::{Basis, HbmProblem, SecondOrderSystem, SolverOptions};
 //! use nalgebra::DMatrix;
 //!
 //! struct DeadZone { zeta: f64, b: f64, f0: f64, f1: f64, omega: f64 }
@@ -85,7 +85,7 @@
 //!         f[0] = self.f0 + self.f1 * (self.omega * t).cos();
 //!     }
 //!     // the excitation follows the HBM base frequency (needed for frequency continuation)
-//!     fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+//!     fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
 //!         self.omega = omega;
 //!         Ok(())
 //!     }
@@ -100,7 +100,7 @@
 //! assert!(sol.converged);
 //! let ptp = sol.peak_to_peak(0).unwrap();
 //! assert!(ptp > 0.0);
-//! # Ok::<(), hbm::HbmError>(())
+//! # Ok::<(), geardyn_hbm::HbmError>(())
 //! ```
 #![deny(missing_docs)]
 

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{DeadZone, steady_ptp};
-use hbm::{Basis, HbmProblem, SolverOptions};
+use geardyn_hbm::{Basis, HbmProblem, SolverOptions};
 
 fn system(omega: f64) -> DeadZone {
     DeadZone {
@@ -22,7 +22,7 @@ fn dead_zone_converges_to_time_integration_as_h_grows() {
     // reference: RK4, 2000 steps per period, 80 periods of transient, ptp over 5 periods
     let reference = steady_ptp(&sys, &[0.2], &[0.0], omega, 80, 5, 2000);
     let mut errors = Vec::new();
-    let mut guess: Option<hbm::PeriodicSolution> = None;
+    let mut guess: Option<geardyn_hbm::PeriodicSolution> = None;
     println!("H  N  ptp  rel.error  spectral_tail  iterations");
     for h in [3usize, 6, 12, 24, 48] {
         let basis = Basis::full(h).unwrap();

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{Duffing, rk4};
-use hbm::{
+use geardyn_hbm::{
     Basis, ContinuationOptions, ContinuationParameter, HbmProblem, SecondOrderSystem, SolverOptions,
 };
 
@@ -74,7 +74,7 @@ fn continuation_goes_round_both_folds_and_flags_middle_branch() {
     let br = p
         .continuation(ContinuationParameter::Frequency, &z0, 0.5, 2.5, &opts)
         .unwrap();
-    assert_eq!(br.end, hbm::ContinuationEnd::ReachedEnd);
+    assert_eq!(br.end, geardyn_hbm::ContinuationEnd::ReachedEnd);
     assert_eq!(br.folds.len(), 2, "{:?}", br.folds);
     let mut found: Vec<f64> = br.folds.iter().map(|f| f.parameter).collect();
     found.sort_by(f64::total_cmp);
@@ -97,7 +97,7 @@ fn continuation_goes_round_both_folds_and_flags_middle_branch() {
     }
 }
 
-fn check_stability_pattern(br: &hbm::Branch) {
+fn check_stability_pattern(br: &geardyn_hbm::Branch) {
     let (a, b) = (br.folds[0].after_index, br.folds[1].after_index);
     for (i, pt) in br.points.iter().enumerate() {
         let st = pt.solution.stability.as_ref().unwrap();

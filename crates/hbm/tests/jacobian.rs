@@ -2,7 +2,7 @@
 mod common;
 
 use common::TwoDof;
-use hbm::{Basis, HbmProblem};
+use geardyn_hbm::{Basis, HbmProblem};
 use nalgebra::DMatrix;
 use proptest::prelude::*;
 

@@ -2,7 +2,7 @@
 mod common;
 
 use common::Linear;
-use hbm::{Basis, HbmProblem, Method, SolverOptions};
+use geardyn_hbm::{Basis, HbmProblem, Method, SolverOptions};
 use num_complex::Complex;
 
 #[test]

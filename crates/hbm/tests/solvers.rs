@@ -2,7 +2,7 @@
 mod common;
 
 use common::TwoDof;
-use hbm::{Basis, HbmProblem, Method, SolverOptions, parallel_sweep};
+use geardyn_hbm::{Basis, HbmProblem, Method, SolverOptions, parallel_sweep};
 
 #[test]
 fn newton_and_broyden_reach_the_same_solution() {
@@ -108,7 +108,7 @@ fn parallel_sweep_is_bit_identical_for_any_thread_count() {
         let (a, b) = (a.as_ref().unwrap(), b.as_ref().unwrap());
         assert!(a.converged);
         assert!((a.omega - w).abs() < 1e-15);
-        let bits = |s: &hbm::PeriodicSolution| -> Vec<u64> {
+        let bits = |s: &geardyn_hbm::PeriodicSolution| -> Vec<u64> {
             s.coefficients.iter().map(|x| x.to_bits()).collect()
         };
         assert_eq!(bits(a), bits(b));

@@ -7,7 +7,7 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use mesh_stiffness::{
+use geardyn_mesh_stiffness::{
     FourierFitter, FourierStiffness, FractalContact, FractalForm, SingleHarmonicStiffness,
     ToothPairStiffness, fit_fourier,
 };

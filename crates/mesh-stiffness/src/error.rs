@@ -67,7 +67,7 @@ pub enum Error {
     },
 }
 
-/// Shorthand for `Result<T, mesh_stiffness::Error>`.
+/// Shorthand for `Result<T, geardyn_mesh_stiffness::Error>`.
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// `value` must be finite and strictly positive.

@@ -172,7 +172,7 @@ impl FourierFitter {
 /// excluded). Plans a fresh FFT; use [`FourierFitter`] to fit many curves of one length.
 ///
 /// ```
-/// use mesh_stiffness::{fit_fourier, FourierStiffness};
+/// use geardyn_mesh_stiffness::{fit_fourier, FourierStiffness};
 /// let k = FourierStiffness::new(3.0e8, 100.0, vec![4.0e7, 1.0e7], vec![-2.0e7, 0.0]).unwrap();
 /// let samples = k.sample(2, 64); // two mesh periods, 64 samples
 /// let fit = fit_fourier(&samples, 2, 2, 100.0).unwrap();

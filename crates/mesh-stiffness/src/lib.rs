@@ -79,7 +79,7 @@
 //! ## Example
 //!
 //! ```
-//! use mesh_stiffness::{fit_fourier, ToothPairStiffness, Waveform};
+//! use geardyn_mesh_stiffness::{fit_fourier, ToothPairStiffness, Waveform};
 //!
 //! // Rectangular single/double-pair wave: contact ratio 1.625, pair stiffness 2e8 N/m.
 //! let wave = ToothPairStiffness::from_pair_stiffness(1.625, 2.0e8, 0.0)?;
@@ -90,7 +90,7 @@
 //! assert!((single.k0 - wave.mean()).abs() < 1e-6 * wave.mean());
 //! let (k, dk) = fit.series.eval_with_derivative(1.0e-4);
 //! assert!(k > 0.0 && dk.is_finite());
-//! # Ok::<(), mesh_stiffness::Error>(())
+//! # Ok::<(), geardyn_mesh_stiffness::Error>(())
 //! ```
 //!
 //! ## References

@@ -1,7 +1,7 @@
 //! Fractal (Yu Eq. 18) and Hertzian contact stiffness: reference values, limits, trends.
 
 use approx::assert_relative_eq;
-use mesh_stiffness::{FractalContact, FractalForm, HertzLineContact};
+use geardyn_mesh_stiffness::{FractalContact, FractalForm, HertzLineContact};
 use proptest::prelude::*;
 
 /// Yang & Lin (1987) line-contact stiffness k = π E b / [4(1 − ν²)], hand-computed for

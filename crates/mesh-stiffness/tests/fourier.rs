@@ -2,7 +2,7 @@
 //! derivatives against finite differences, the NFG path to Liu's (k0, k_r, φ_m).
 
 use approx::assert_relative_eq;
-use mesh_stiffness::{
+use geardyn_mesh_stiffness::{
     FourierFitter, FourierStiffness, NfgToothPairStiffness, SingleHarmonicStiffness,
     ToothPairStiffness, Waveform, fit_fourier, fit_single_harmonic,
 };

@@ -10,7 +10,7 @@
 #![allow(missing_docs)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use models::karpov2017::{Excitation, Karpov2017};
+use geardyn_models::karpov2017::{Excitation, Karpov2017};
 use timestep::{Method, Options, Output};
 
 fn bench(c: &mut Criterion) {

@@ -4,7 +4,7 @@
 #![allow(missing_docs)] // criterion_group! generates an undocumented pub fn
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use models::liu2021::{
+use geardyn_models::liu2021::{
     self, BaseRadius, BranchStability, HbmOptions, HbmStart, IntegrationOptions,
     SpeedContinuationOptions,
 };

@@ -7,7 +7,7 @@
 #![allow(missing_docs)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use models::yu2021::{
+use geardyn_models::yu2021::{
     BacklashUpdate, Engine, HbmSettings, Options, RunSettings, Yu2021Model, Yu2021Params,
 };
 

@@ -1,7 +1,7 @@
 //! Integration tests of the Liu et al. 2021 NFG model: parameters, readings, both engines.
 
-use models::Error;
-use models::liu2021::{
+use geardyn_models::Error;
+use geardyn_models::liu2021::{
     self, BaseRadius, Basis, BranchStability, HbmOptions, HbmStart, IntegrationOptions, Parameters,
     RattleState, Readings, SpeedContinuationOptions, solve_hbm, solve_hbm_from_time_response,
     solve_hbm_with,

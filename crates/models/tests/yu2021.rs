@@ -1,8 +1,8 @@
 //! Integration tests of the Yu 2021 models: limits, invariants, HBM vs time stepping,
 //! serde and validation.
 
-use models::Error;
-use models::yu2021::*;
+use geardyn_models::Error;
+use geardyn_models::yu2021::*;
 
 fn short(omega: f64) -> RunSettings {
     RunSettings {

@@ -4,7 +4,7 @@
 #![allow(missing_docs)]
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
-use timestep::*;
+use geardyn_timestep::*;
 
 fn backlash() -> FirstOrder<DeadZoneOscillator> {
     FirstOrder(DeadZoneOscillator {

@@ -63,7 +63,7 @@
 //!
 //! ## Example
 //! ```
-//! use timestep::*;
+//! use geardyn_timestep::*;
 //! // free dead-zone oscillator, gap ±0.5: the first crossing of x = 0.5 is at t = 0.5
 //! let sys = FirstOrder(DeadZoneOscillator::free(0.5));
 //! let sol = integrate(&sys, 0.0, &[0.0, 1.0], 10.0, &Options::default())?;
@@ -78,7 +78,7 @@
 //! let a1 = harmonic_amplitudes(&st.component(0), 8, 1)?[0];
 //! let exact = 1.0 / ((1.0f64 - 0.25).powi(2) + (2.0f64 * 0.1 * 0.5).powi(2)).sqrt();
 //! assert!((a1 - exact).abs() < 1e-5);
-//! # Ok::<(), timestep::Error>(())
+//! # Ok::<(), geardyn_timestep::Error>(())
 //! ```
 #![deny(missing_docs)]
 

@@ -1,6 +1,6 @@
 //! Integrator accuracy, order, events and interface checks.
 
-use timestep::*;
+use geardyn_timestep::*;
 
 const ALL: [Method; 4] = [
     Method::DormandPrince54,

@@ -2,7 +2,7 @@
 //! free-flight/contact schedule for any gap and impact speed.
 
 use proptest::prelude::*;
-use timestep::*;
+use geardyn_timestep::*;
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]

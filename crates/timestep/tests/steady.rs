@@ -1,7 +1,7 @@
 //! Steady state, spectra, Poincaré classification and sweeps.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-use timestep::*;
+use geardyn_timestep::*;
 
 #[test]
 fn steady_forced_linear_oscillator_has_exact_amplitude() {

@@ -79,8 +79,8 @@ pub enum Error {
 /// Attach context to any error from another crate, turning it into [`Error::Upstream`].
 ///
 /// ```
-/// use validate::ResultExt;
-/// fn parse(s: &str) -> Result<f64, validate::Error> {
+/// use geardyn_validate::ResultExt;
+/// fn parse(s: &str) -> Result<f64, geardyn_validate::Error> {
 ///     s.parse::<f64>().context("reading the input")
 /// }
 /// assert!(parse("x").is_err());

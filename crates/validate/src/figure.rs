@@ -51,7 +51,7 @@ impl Series {
 /// (long format: `series, x, y`).
 ///
 /// ```
-/// use validate::{Figure, Series};
+/// use geardyn_validate::{Figure, Series};
 /// let f = Figure::new("a-vs-omega", "Amplitude vs frequency", ("ω", "1"), ("A", "1"))
 ///     .with(Series::line("B = 0", vec![(0.0, 1.0), (1.0, 2.0)]));
 /// let svg = f.to_svg().unwrap();

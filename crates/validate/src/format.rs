@@ -9,7 +9,7 @@ pub const SIGNIFICANT_DIGITS: usize = 6;
 /// are dropped; zero (either sign) is `0`; non-finite values are `NaN`, `inf`, `-inf`.
 ///
 /// ```
-/// use validate::fmt_sig;
+/// use geardyn_validate::fmt_sig;
 /// assert_eq!(fmt_sig(3.14159265, 6), "3.14159");
 /// assert_eq!(fmt_sig(9.9999996, 6), "10");
 /// assert_eq!(fmt_sig(-0.000_001_234_567, 3), "-1.23e-6");

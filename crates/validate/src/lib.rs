@@ -53,13 +53,13 @@
 //! # Example: a complete study
 //!
 //! ```
-//! use validate::{
+//! use geardyn_validate::{
 //!     Claim, Comparison, Cost, Figure, Paper, Reference, Series, Study, StudyOutput, Table,
 //!     Tolerance, Verdict,
 //! };
 //!
-//! fn run() -> Result<StudyOutput, validate::Error> {
-//!     // In a real study: let paper = validate::published!("karpov2017.toml")?;
+//! fn run() -> Result<StudyOutput, geardyn_validate::Error> {
+//!     // In a real study: let paper = geardyn_validate::published!("karpov2017.toml")?;
 //!     //                  out.compare(Comparison::published(paper.value("table1.delta")?, model)?);
 //!     let exact = 2.0_f64.sqrt();
 //!     let model = 1.414_213;

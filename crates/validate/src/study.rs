@@ -187,7 +187,7 @@ impl Tolerance {
     /// `"1.5e-3"` → ±0.5e-4), basis [`ToleranceBasis::PrintedPrecision`].
     ///
     /// ```
-    /// use validate::{Tolerance, ToleranceBand};
+    /// use geardyn_validate::{Tolerance, ToleranceBand};
     /// let t = Tolerance::printed("38.67").unwrap();
     /// assert_eq!(t.band, ToleranceBand::Absolute(0.005));
     /// ```
@@ -324,7 +324,7 @@ impl Comparison {
     /// Compare `model` against `reference` within `tolerance`.
     ///
     /// ```
-    /// use validate::{Comparison, Reference, Tolerance, Verdict};
+    /// use geardyn_validate::{Comparison, Reference, Tolerance, Verdict};
     /// let c = Comparison::new("δ", "1", Reference::computed(0.1, "exact"), 0.1004,
     ///     Tolerance::numerical(1e-2));
     /// assert_eq!(c.verdict(), Verdict::Pass);

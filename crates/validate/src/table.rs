@@ -54,7 +54,7 @@ pub struct Column {
 /// A data table; written to `validation/<paper>/<study-id>_<name>.csv`, header `name [unit]`.
 ///
 /// ```
-/// use validate::Table;
+/// use geardyn_validate::Table;
 /// let mut t = Table::new("sweep", &[("omega1", "rad/s"), ("rsv", "1")]);
 /// t.push_nums(&[150.0, 0.25]).unwrap();
 /// assert_eq!(t.to_csv(), "omega1 [rad/s],rsv [1]\n150,0.25\n");

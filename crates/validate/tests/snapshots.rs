@@ -6,7 +6,7 @@
 //! mismatch leaves a `.snap.new` next to the snapshot — run `cargo xtask validate` to regenerate
 //! and review the diff.
 
-use validate::{Cost, all_studies, snapshot_body};
+use geardyn_validate::{Cost, all_studies, snapshot_body};
 
 #[test]
 fn fast_studies_match_their_snapshots() {
@@ -43,8 +43,8 @@ fn outputs_are_deterministic() {
         .into_iter()
         .filter(|s| s.cost == Cost::Fast)
         .collect();
-    let idx = validate::ReadingsIndex::default();
-    let a = validate::render_all(&validate::run_studies(&studies, |_| {}), &idx);
-    let b = validate::render_all(&validate::run_studies(&studies, |_| {}), &idx);
+    let idx = geardyn_validate::ReadingsIndex::default();
+    let a = geardyn_validate::render_all(&geardyn_validate::run_studies(&studies, |_| {}), &idx);
+    let b = geardyn_validate::render_all(&geardyn_validate::run_studies(&studies, |_| {}), &idx);
     assert_eq!(a, b);
 }

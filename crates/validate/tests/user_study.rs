@@ -1,6 +1,6 @@
 //! The shipped user-study examples parse and (where fast) run.
 
-use validate::{UserStudy, run_user_study};
+use geardyn_validate::{UserStudy, run_user_study};
 
 #[test]
 fn karpov_kinematics_example_runs() {
@@ -53,7 +53,7 @@ fn every_shipped_example_parses() {
         if path.extension().and_then(|x| x.to_str()) == Some("toml") {
             let text = std::fs::read_to_string(&path).unwrap();
             let s = UserStudy::parse(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-            assert!(validate::MODELS.iter().any(|(m, _)| *m == s.model));
+            assert!(geardyn_validate::MODELS.iter().any(|(m, _)| *m == s.model));
             n += 1;
         }
     }
@@ -94,7 +94,7 @@ fn yu_engines_selectable_and_agree() {
             .position(|c| c.name == "df")
             .expect("df column");
         match &out.table.rows[0][col] {
-            validate::Cell::Num(x) => *x,
+            geardyn_validate::Cell::Num(x) => *x,
             other => panic!("df is not a number: {other:?}"),
         }
     };

@@ -1,7 +1,7 @@
 //! Test systems with reference data, and a small RK4 integrator for long time integration.
 #![allow(dead_code)]
 
-use hbm::SecondOrderSystem;
+use geardyn_hbm::SecondOrderSystem;
 use nalgebra::DMatrix;
 
 /// Linear oscillator `m q'' + c q' + k q = f0 + f1 cos ωt + f2 sin 2ωt` (K given as stiffness).
@@ -17,7 +17,7 @@ pub struct Linear {
 }
 
 impl SecondOrderSystem for Linear {
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
         self.omega = omega;
         Ok(())
     }
@@ -78,16 +78,16 @@ impl SecondOrderSystem for Duffing {
     fn forcing(&self, t: f64, f: &mut [f64]) {
         f[0] = self.force * (self.omega * t).cos();
     }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
         self.omega = omega;
         Ok(())
     }
-    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), hbm::HbmError> {
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), geardyn_hbm::HbmError> {
         match name {
             "force" => self.force = value,
             "gamma" => self.gamma = value,
             _ => {
-                return Err(hbm::HbmError::UnknownParameter {
+                return Err(geardyn_hbm::HbmError::UnknownParameter {
                     name: name.to_string(),
                 });
             }
@@ -119,7 +119,7 @@ impl DeadZone {
 }
 
 impl SecondOrderSystem for DeadZone {
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
         self.omega = omega;
         Ok(())
     }
@@ -153,7 +153,7 @@ pub struct TwoDof {
 }
 
 impl SecondOrderSystem for TwoDof {
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
         self.omega = omega;
         Ok(())
     }
@@ -177,7 +177,7 @@ impl SecondOrderSystem for TwoDof {
     }
     fn force_jacobian(&self, t: f64, q: &[f64], qd: &[f64], a: &mut [f64], b: &mut [f64]) {
         if !self.analytic {
-            hbm::finite_difference_force_jacobian(self, t, q, qd, a, b);
+            geardyn_hbm::finite_difference_force_jacobian(self, t, q, qd, a, b);
             return;
         }
         let kt = 0.3 * (self.omega * t).cos() + 0.1 * (3.0 * self.omega * t).sin();

@@ -68,7 +68,7 @@
 //! # Example
 //!
 //! ```
-//! use models::liu2021::{self, BaseRadius, HbmOptions};
+//! use geardyn_models::liu2021::{self, BaseRadius, HbmOptions};
 //! let mut p = liu2021::table1();
 //! p.omega1 = 120.0; // below the unilateral-rattle threshold
 //! p.readings.base_radius = BaseRadius::Mean; // constant b̄, as the paper's figures (R-LIU-EQ11)
@@ -88,7 +88,7 @@
 //! )?;
 //! assert!(warm.converged());
 //! assert_eq!(warm.rattle.state.rsv(), 2);
-//! # Ok::<(), models::Error>(())
+//! # Ok::<(), geardyn_models::Error>(())
 //! ```
 
 mod continuation;

@@ -79,7 +79,7 @@
 //! # Example
 //!
 //! ```
-//! use models::yu2021::{Engine, Options, RunSettings, Yu2021Model, Yu2021Params};
+//! use geardyn_models::yu2021::{Engine, Options, RunSettings, Yu2021Model, Yu2021Params};
 //!
 //! let model = Yu2021Model::new(&Yu2021Params::table1(), Options::default())?;
 //! let settings = RunSettings { omega: 0.9, transient_periods: 20, record_periods: 2, steps_per_period: 128 };
@@ -90,7 +90,7 @@
 //! // the same model on the `timestep` engine (adaptive, contact switches located as events)
 //! let adaptive = model.simulate_with(&settings, &Engine::timestep(), None)?;
 //! assert!((adaptive.dynamic_factor() - response.dynamic_factor()).abs() < 0.05);
-//! # Ok::<(), models::Error>(())
+//! # Ok::<(), geardyn_models::Error>(())
 //! ```
 //!
 //! # Reference
