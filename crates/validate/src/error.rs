@@ -66,6 +66,10 @@ pub enum Error {
     /// A user study file (see `docs/studies.md`) is invalid.
     #[error("study file: {0}")]
     StudyFile(String),
+    /// A shard specification, partial result or journal is invalid, or partial results do not
+    /// merge (see [`crate::shard`]).
+    #[error("shard: {0}")]
+    Shard(String),
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {

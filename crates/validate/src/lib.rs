@@ -111,6 +111,7 @@ mod figure;
 mod format;
 mod published;
 mod render;
+pub mod shard;
 mod studies;
 mod study;
 mod table;

@@ -1,0 +1,714 @@
+//! Shards, journals and merging: how a large study is cut into pieces that run anywhere (a Slurm
+//! array task, a Dask worker, another terminal) and put back together byte for byte.
+//!
+//! # The model
+//!
+//! A study is a list of `N` points, numbered `0..N` in the order of its output table. Each point
+//! yields one [`PointRecord`]: the output values, or the message of the error that made it fail.
+//! Everything after that — the table, the figures, the summary — is a pure function of the
+//! complete, ordered list of records. So:
+//!
+//! * a **shard** `i/n` ([`ShardSpec`], `1 ≤ i ≤ n`) computes the points `k` with
+//!   `k mod n = i − 1` (round robin, so that the expensive corner of a map is spread over all
+//!   shards) and writes them as a **partial result**: a [`JournalHeader`] line followed by one
+//!   line per point;
+//! * [`merge`] checks that the partial results belong to the same study (the [`fingerprint`] of
+//!   its canonical description), the same grid and the same shard count, that no point is given
+//!   twice with different values and that every point is present, and returns the ordered list —
+//!   from which the same rendering code produces outputs identical to an unsharded run;
+//! * an unsharded run keeps the same kind of file as a **journal** while it runs
+//!   ([`Journal`]): every finished point is appended and flushed at once, so a run stopped by
+//!   SIGINT or SIGKILL resumes from the points already done ([`Journal::open`] returns them)
+//!   instead of computing them again.
+//!
+//! Values are stored as the hexadecimal bits of the `f64`, so that a number read back is the
+//! number written, bit for bit; NaN payloads included.
+//!
+//! # Format (`geardyn-points/1`, JSON lines)
+//!
+//! ```text
+//! {"format":"geardyn-points/1","study":"map","fingerprint":"9c1d…","points":1200,"outputs":["rsv","ppv"],"shard":[2,3]}
+//! {"i":1,"v":["3ff0000000000000","3fe8000000000000"]}
+//! {"i":4,"e":"liu2021: HBM did not converge"}
+//! ```
+//!
+//! A torn last line (the writer was killed in the middle of it) is ignored on reading; a torn line
+//! anywhere else is an error.
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::fs::{File, OpenOptions};
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::sync::Mutex;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::Error;
+
+/// The format tag written in every header.
+pub const FORMAT: &str = "geardyn-points/1";
+
+/// The largest number of shards accepted (one per point of a 10⁶-point map, with room to spare).
+pub const MAX_SHARDS: usize = 10_000_000;
+
+/// One shard `index/count` of a study, `1 ≤ index ≤ count ≤` [`MAX_SHARDS`].
+///
+/// ```
+/// use geardyn_validate::shard::ShardSpec;
+/// let s: ShardSpec = "2/3".parse().unwrap();
+/// assert!(s.owns(1) && s.owns(4) && !s.owns(0));
+/// assert!("0/3".parse::<ShardSpec>().is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ShardSpec {
+    index: usize,
+    count: usize,
+}
+
+impl ShardSpec {
+    /// Shard `index` of `count` (1-based), checked.
+    pub fn new(index: usize, count: usize) -> Result<Self, Error> {
+        if count == 0 || count > MAX_SHARDS {
+            return Err(shard_error(format!(
+                "shard count must be in 1..={MAX_SHARDS}, got {count}"
+            )));
+        }
+        if index == 0 || index > count {
+            return Err(shard_error(format!(
+                "shard index must be in 1..={count}, got {index}"
+            )));
+        }
+        Ok(Self { index, count })
+    }
+
+    /// The whole study as one shard (`1/1`).
+    pub fn whole() -> Self {
+        Self { index: 1, count: 1 }
+    }
+
+    /// The 1-based shard number.
+    pub fn index(&self) -> usize {
+        self.index
+    }
+
+    /// The number of shards.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// Whether point `k` (0-based, in table order) belongs to this shard: `k mod count =
+    /// index − 1`.
+    pub fn owns(&self, point: usize) -> bool {
+        point % self.count == self.index - 1
+    }
+
+    /// The points of a study of `n` points that this shard computes, in order.
+    pub fn points(&self, n: usize) -> impl Iterator<Item = usize> + '_ {
+        (self.index - 1..n).step_by(self.count)
+    }
+}
+
+impl fmt::Display for ShardSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+impl FromStr for ShardSpec {
+    type Err = Error;
+
+    /// Parse `i/n`, e.g. `3/8`.
+    fn from_str(s: &str) -> Result<Self, Error> {
+        let (a, b) = s
+            .split_once('/')
+            .ok_or_else(|| shard_error(format!("shard must be written `i/n`, got `{s}`")))?;
+        let parse = |t: &str, what: &str| {
+            t.trim().parse::<usize>().map_err(|_| {
+                shard_error(format!(
+                    "shard {what} must be a whole number, got `{t}` in `{s}`"
+                ))
+            })
+        };
+        Self::new(parse(a, "index")?, parse(b, "count")?)
+    }
+}
+
+fn shard_error(msg: String) -> Error {
+    Error::Shard(msg)
+}
+
+/// The outcome of one point: its output values, or the message of the error that made it fail.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointRecord {
+    /// The point's 0-based index in table order.
+    pub index: usize,
+    /// The outputs (empty when the point failed).
+    pub values: Vec<f64>,
+    /// The error message of a failed point.
+    pub error: Option<String>,
+}
+
+impl PointRecord {
+    /// A point that produced `values`.
+    pub fn ok(index: usize, values: Vec<f64>) -> Self {
+        Self {
+            index,
+            values,
+            error: None,
+        }
+    }
+
+    /// A point that failed with `message`.
+    pub fn failed(index: usize, message: impl Into<String>) -> Self {
+        Self {
+            index,
+            values: Vec::new(),
+            error: Some(message.into()),
+        }
+    }
+
+    /// Bitwise equality (NaN equals NaN with the same bits): the test of "the same result".
+    pub fn same_as(&self, other: &Self) -> bool {
+        self.index == other.index
+            && self.error == other.error
+            && self.values.len() == other.values.len()
+            && self
+                .values
+                .iter()
+                .zip(&other.values)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+    }
+}
+
+/// First line of a journal or partial result: what study and grid the records belong to.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JournalHeader {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// The study's name.
+    pub study: String,
+    /// [`fingerprint`] of the study's canonical description (model, parameters, grid, solver).
+    pub fingerprint: String,
+    /// Number of points of the whole study.
+    pub points: usize,
+    /// Output names, in value order.
+    pub outputs: Vec<String>,
+    /// `[index, count]` of the shard, absent for a journal of a whole run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<[usize; 2]>,
+}
+
+impl JournalHeader {
+    /// A header for `study` with `points` points and the given outputs.
+    pub fn new(
+        study: &str,
+        fingerprint: String,
+        points: usize,
+        outputs: Vec<String>,
+        shard: Option<ShardSpec>,
+    ) -> Self {
+        Self {
+            format: FORMAT.to_owned(),
+            study: study.to_owned(),
+            fingerprint,
+            points,
+            outputs,
+            shard: shard.map(|s| [s.index, s.count]),
+        }
+    }
+
+    /// The same study and grid (shard aside).
+    fn same_study(&self, other: &Self) -> bool {
+        self.format == other.format
+            && self.study == other.study
+            && self.fingerprint == other.fingerprint
+            && self.points == other.points
+            && self.outputs == other.outputs
+    }
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Line {
+    i: usize,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    v: Option<Vec<String>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    e: Option<String>,
+}
+
+/// One record as a JSON line (with the trailing newline).
+pub fn record_line(r: &PointRecord) -> String {
+    let line = match &r.error {
+        Some(e) => Line {
+            i: r.index,
+            v: None,
+            e: Some(e.clone()),
+        },
+        None => Line {
+            i: r.index,
+            v: Some(
+                r.values
+                    .iter()
+                    .map(|x| format!("{:016x}", x.to_bits()))
+                    .collect(),
+            ),
+            e: None,
+        },
+    };
+    // A struct of a usize, strings and an Option: serialisation cannot fail.
+    let mut s = serde_json::to_string(&line).unwrap_or_default();
+    s.push('\n');
+    s
+}
+
+/// The header as a JSON line (with the trailing newline).
+pub fn header_line(h: &JournalHeader) -> String {
+    let mut s = serde_json::to_string(h).unwrap_or_default();
+    s.push('\n');
+    s
+}
+
+fn parse_record(text: &str, header: &JournalHeader) -> Result<PointRecord, String> {
+    let line: Line = serde_json::from_str(text).map_err(|e| e.to_string())?;
+    if line.i >= header.points {
+        return Err(format!(
+            "point {} is outside the study's {} points",
+            line.i, header.points
+        ));
+    }
+    match (line.v, line.e) {
+        (Some(v), None) => {
+            if v.len() != header.outputs.len() {
+                return Err(format!(
+                    "point {} has {} values, the study has {} outputs",
+                    line.i,
+                    v.len(),
+                    header.outputs.len()
+                ));
+            }
+            let values = v
+                .iter()
+                .map(|h| {
+                    if h.len() != 16 {
+                        return Err(format!("value `{h}` is not 16 hexadecimal digits"));
+                    }
+                    u64::from_str_radix(h, 16)
+                        .map(f64::from_bits)
+                        .map_err(|_| format!("value `{h}` is not hexadecimal"))
+                })
+                .collect::<Result<Vec<f64>, String>>()?;
+            Ok(PointRecord::ok(line.i, values))
+        }
+        (None, Some(e)) => Ok(PointRecord::failed(line.i, e)),
+        _ => Err(format!(
+            "point {}: a record has either values `v` or an error `e`",
+            line.i
+        )),
+    }
+}
+
+/// Read a journal or partial result. `source` names it in errors. The records come back in
+/// file order; a torn last line (no newline, or not valid JSON, at the very end) is dropped,
+/// because a writer killed in the middle of a line leaves exactly that.
+pub fn read_points(text: &str, source: &str) -> Result<(JournalHeader, Vec<PointRecord>), Error> {
+    let bad = |line: usize, msg: String| Error::Shard(format!("{source}, line {line}: {msg}"));
+    let mut lines = text.split_inclusive('\n').enumerate().peekable();
+    let (_, first) = lines
+        .next()
+        .ok_or_else(|| Error::Shard(format!("{source}: empty file")))?;
+    let header: JournalHeader =
+        serde_json::from_str(first.trim_end()).map_err(|e| bad(1, format!("header: {e}")))?;
+    if header.format != FORMAT {
+        return Err(bad(
+            1,
+            format!("format `{}` is not `{FORMAT}`", header.format),
+        ));
+    }
+    if let Some([i, n]) = header.shard {
+        ShardSpec::new(i, n).map_err(|e| bad(1, e.to_string()))?;
+    }
+    let mut out = Vec::new();
+    while let Some((k, l)) = lines.next() {
+        if lines.peek().is_none() && !l.ends_with('\n') {
+            break; // torn tail: the writer was stopped inside this line
+        }
+        out.push(parse_record(l.trim_end(), &header).map_err(|m| bad(k + 1, m))?);
+    }
+    Ok((header, out))
+}
+
+/// Write `bytes` to `path` atomically: into a temporary file beside it, synced, then renamed
+/// over `path`, so that a reader sees the old file or the new one, never a part.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    let io = |p: &Path, e: std::io::Error| Error::Io {
+        path: p.display().to_string(),
+        source: e,
+    };
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(format!(".tmp-{}", std::process::id()));
+    let tmp = PathBuf::from(tmp);
+    let mut f = File::create(&tmp).map_err(|e| io(&tmp, e))?;
+    f.write_all(bytes).map_err(|e| io(&tmp, e))?;
+    f.sync_all().map_err(|e| io(&tmp, e))?;
+    drop(f);
+    std::fs::rename(&tmp, path).map_err(|e| io(path, e))
+}
+
+/// FNV-1a (64 bit) of `bytes`, as 16 hexadecimal digits: the fingerprint that ties a partial
+/// result to the study that made it. It detects changed study files, it is not a security hash.
+pub fn fingerprint(bytes: &[u8]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// Merge partial results into the ordered, complete list of records of the whole study.
+///
+/// Errors (naming the part): an empty list; parts of different studies, grids or shard counts;
+/// a point given twice with different results; a point that no part gives.
+pub fn merge(
+    parts: &[(String, JournalHeader, Vec<PointRecord>)],
+) -> Result<(JournalHeader, Vec<PointRecord>), Error> {
+    let (first_name, first, _) = parts
+        .first()
+        .ok_or_else(|| Error::Shard("merge: no partial results given".to_owned()))?;
+    let mut by_index: BTreeMap<usize, &PointRecord> = BTreeMap::new();
+    let mut seen_shards = BTreeMap::new();
+    for (name, h, recs) in parts {
+        if !h.same_study(first) {
+            return Err(Error::Shard(format!(
+                "merge: {name} is from another study or grid than {first_name} \
+                 (study `{}` fingerprint {} with {} points, vs `{}` {} with {})",
+                h.study, h.fingerprint, h.points, first.study, first.fingerprint, first.points
+            )));
+        }
+        if let (Some([_, n]), Some([_, n0])) = (h.shard, first.shard) {
+            if n != n0 {
+                return Err(Error::Shard(format!(
+                    "merge: {name} is one of {n} shards, {first_name} one of {n0}"
+                )));
+            }
+        }
+        if let Some([i, _]) = h.shard {
+            if let Some(other) = seen_shards.insert(i, name) {
+                return Err(Error::Shard(format!(
+                    "merge: shard {i} is given twice ({other} and {name})"
+                )));
+            }
+        }
+        for r in recs {
+            match by_index.get(&r.index) {
+                Some(prev) if !prev.same_as(r) => {
+                    return Err(Error::Shard(format!(
+                        "merge: point {} has two different results (in {name})",
+                        r.index
+                    )));
+                }
+                _ => {
+                    by_index.insert(r.index, r);
+                }
+            }
+        }
+    }
+    if let Some(missing) = (0..first.points).find(|k| !by_index.contains_key(k)) {
+        let count = first.points - by_index.len();
+        return Err(Error::Shard(format!(
+            "merge: {count} of {} points are missing (first: point {missing}); \
+             run the missing shards and merge again",
+            first.points
+        )));
+    }
+    let mut header = first.clone();
+    header.shard = None;
+    Ok((header, by_index.into_values().cloned().collect()))
+}
+
+/// An append-only record of finished points, flushed after every point so that a killed run
+/// loses at most the point it was writing.
+#[derive(Debug)]
+pub struct Journal {
+    path: PathBuf,
+    file: Mutex<File>,
+}
+
+impl Journal {
+    /// Open the journal at `path` for the study described by `header`: if a journal of the same
+    /// study and grid is there, its records are returned (the run resumes from them) and new
+    /// records are appended; if the file is absent, or belongs to another study or grid (the study
+    /// file changed), a new journal is started. A torn last line is cut off before appending.
+    pub fn open(path: &Path, header: &JournalHeader) -> Result<(Self, Vec<PointRecord>), Error> {
+        let io = |e: std::io::Error| Error::Io {
+            path: path.display().to_string(),
+            source: e,
+        };
+        let mut done = Vec::new();
+        let mut keep = false;
+        if path.exists() {
+            let text = std::fs::read_to_string(path).map_err(io)?;
+            if let Ok((h, recs)) = read_points(&text, &path.display().to_string()) {
+                if h.same_study(header) && h.shard == header.shard {
+                    keep = true;
+                    done = recs;
+                }
+            }
+        }
+        let file = if keep {
+            // Rewrite the good part (drops a torn tail), then append.
+            let mut body = header_line(header);
+            for r in &done {
+                body.push_str(&record_line(r));
+            }
+            write_atomic(path, body.as_bytes())?;
+            OpenOptions::new().append(true).open(path).map_err(io)?
+        } else {
+            let mut f = File::create(path).map_err(io)?;
+            f.write_all(header_line(header).as_bytes()).map_err(io)?;
+            f.sync_data().map_err(io)?;
+            f
+        };
+        Ok((
+            Self {
+                path: path.to_path_buf(),
+                file: Mutex::new(file),
+            },
+            done,
+        ))
+    }
+
+    /// Append one record and flush it to the file.
+    pub fn record(&self, r: &PointRecord) -> Result<(), Error> {
+        let io = |e: std::io::Error| Error::Io {
+            path: self.path.display().to_string(),
+            source: e,
+        };
+        let mut f = self
+            .file
+            .lock()
+            .map_err(|_| Error::Shard("journal lock poisoned".to_owned()))?;
+        f.write_all(record_line(r).as_bytes()).map_err(io)?;
+        f.flush().map_err(io)
+    }
+
+    /// The journal's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Remove the journal (after the outputs it fed were written).
+    pub fn finish(self) -> Result<(), Error> {
+        drop(self.file);
+        match std::fs::remove_file(&self.path) {
+            Ok(()) => Ok(()),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+            Err(e) => Err(Error::Io {
+                path: self.path.display().to_string(),
+                source: e,
+            }),
+        }
+    }
+}
+
+/// Read every partial result in `files`, merge them, and return the complete ordered records.
+pub fn merge_files(files: &[PathBuf]) -> Result<(JournalHeader, Vec<PointRecord>), Error> {
+    let mut parts = Vec::with_capacity(files.len());
+    for f in files {
+        let name = f.display().to_string();
+        let file = File::open(f).map_err(|e| Error::Io {
+            path: name.clone(),
+            source: e,
+        })?;
+        let mut text = String::new();
+        for line in BufReader::new(file).lines() {
+            let line = line.map_err(|e| Error::Io {
+                path: name.clone(),
+                source: e,
+            })?;
+            text.push_str(&line);
+            text.push('\n');
+        }
+        let (h, recs) = read_points(&text, &name)?;
+        if h.shard.is_none() {
+            return Err(Error::Shard(format!(
+                "{name} is a journal of an unfinished whole run, not a shard's partial result"
+            )));
+        }
+        parts.push((name, h, recs));
+    }
+    merge(&parts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn header(shard: Option<ShardSpec>) -> JournalHeader {
+        JournalHeader::new(
+            "map",
+            fingerprint(b"study"),
+            7,
+            vec!["a".into(), "b".into()],
+            shard,
+        )
+    }
+
+    fn record(k: usize) -> PointRecord {
+        if k == 3 {
+            PointRecord::failed(k, "did not converge")
+        } else {
+            PointRecord::ok(k, vec![k as f64 * 0.1, f64::NAN])
+        }
+    }
+
+    fn partial(s: ShardSpec) -> String {
+        let mut t = header_line(&header(Some(s)));
+        for k in s.points(7) {
+            t.push_str(&record_line(&record(k)));
+        }
+        t
+    }
+
+    #[test]
+    fn shard_spec_parses_and_partitions() {
+        for bad in ["", "3", "0/2", "3/2", "a/2", "1/0", "1/-1", "1/99999999999"] {
+            assert!(bad.parse::<ShardSpec>().is_err(), "{bad}");
+        }
+        let n = 10;
+        let mut seen = vec![0; n];
+        for i in 1..=3 {
+            let s: ShardSpec = format!("{i}/3").parse().unwrap();
+            for k in s.points(n) {
+                assert!(s.owns(k));
+                seen[k] += 1;
+            }
+        }
+        assert!(seen.iter().all(|&c| c == 1), "every point in exactly one shard");
+    }
+
+    #[test]
+    fn records_round_trip_bit_for_bit() {
+        let h = header(None);
+        let recs = [
+            PointRecord::ok(0, vec![0.1, -0.0]),
+            PointRecord::ok(1, vec![f64::MIN_POSITIVE, f64::from_bits(0x7ff8_0000_0000_0001)]),
+            PointRecord::failed(2, "boom \"quoted\"\nnewline"),
+        ];
+        let mut t = header_line(&h);
+        for r in &recs {
+            t.push_str(&record_line(r));
+        }
+        let (h2, back) = read_points(&t, "t").unwrap();
+        assert_eq!(h2, h);
+        assert_eq!(back.len(), 3);
+        for (a, b) in recs.iter().zip(&back) {
+            assert!(a.same_as(b), "{a:?} vs {b:?}");
+        }
+    }
+
+    #[test]
+    fn torn_tail_is_dropped_but_torn_middle_is_an_error() {
+        let mut t = header_line(&header(None));
+        t.push_str(&record_line(&record(0)));
+        t.push_str(&record_line(&record(1))[..10]);
+        let (_, recs) = read_points(&t, "t").unwrap();
+        assert_eq!(recs.len(), 1);
+        let mut t = header_line(&header(None));
+        t.push_str("{\"i\":0,\"v\":[\"zz\n");
+        t.push_str(&record_line(&record(1)));
+        assert!(read_points(&t, "t").is_err());
+        // values out of range or of the wrong length
+        let mut t = header_line(&header(None));
+        t.push_str("{\"i\":9,\"e\":\"x\"}\n");
+        assert!(read_points(&t, "t").is_err());
+        let mut t = header_line(&header(None));
+        t.push_str("{\"i\":0,\"v\":[\"3ff0000000000000\"]}\n");
+        assert!(read_points(&t, "t").is_err());
+    }
+
+    #[test]
+    fn merge_of_three_shards_is_the_whole_study_in_order() {
+        let parts: Vec<_> = [3, 1, 2]
+            .iter()
+            .map(|&i| {
+                let s = ShardSpec::new(i, 3).unwrap();
+                let (h, r) = read_points(&partial(s), "p").unwrap();
+                (format!("part{i}"), h, r)
+            })
+            .collect();
+        let (h, recs) = merge(&parts).unwrap();
+        assert_eq!(h.shard, None);
+        assert_eq!(recs.len(), 7);
+        for (k, r) in recs.iter().enumerate() {
+            assert!(r.same_as(&record(k)));
+        }
+    }
+
+    #[test]
+    fn merge_refuses_missing_mixed_and_conflicting_parts() {
+        let p = |i, n| {
+            let s = ShardSpec::new(i, n).unwrap();
+            let (h, r) = read_points(&partial(s), "p").unwrap();
+            (format!("{i}/{n}"), h, r)
+        };
+        let e = merge(&[p(1, 3), p(2, 3)]).unwrap_err().to_string();
+        assert!(e.contains("missing"), "{e}");
+        assert!(merge(&[p(1, 3), p(1, 3), p(2, 3), p(3, 3)]).is_err());
+        assert!(merge(&[p(1, 2), p(2, 3)]).is_err());
+        assert!(merge(&[]).is_err());
+        let mut other = p(3, 3);
+        other.1.fingerprint = fingerprint(b"another study");
+        assert!(merge(&[p(1, 3), p(2, 3), other]).is_err());
+        let mut conflict = p(3, 3);
+        conflict.2[0].values[0] += 1.0;
+        let mut dup = p(3, 3);
+        dup.1.shard = None;
+        assert!(merge(&[p(1, 3), p(2, 3), conflict, dup]).is_err());
+    }
+
+    #[test]
+    fn journal_resumes_from_finished_points_and_restarts_on_a_new_study() {
+        let dir = std::env::temp_dir().join(format!("geardyn-journal-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("map.journal");
+        let _ = std::fs::remove_file(&path);
+        let h = header(None);
+        let (j, done) = Journal::open(&path, &h).unwrap();
+        assert!(done.is_empty());
+        j.record(&record(0)).unwrap();
+        j.record(&record(3)).unwrap();
+        drop(j);
+        // a torn write, as SIGKILL leaves it
+        let mut f = OpenOptions::new().append(true).open(&path).unwrap();
+        f.write_all(b"{\"i\":5,\"v\":[\"3ff").unwrap();
+        drop(f);
+        let (j, done) = Journal::open(&path, &h).unwrap();
+        assert_eq!(done.len(), 2);
+        assert!(done[1].same_as(&record(3)));
+        j.record(&record(5)).unwrap();
+        drop(j);
+        let (j, done) = Journal::open(&path, &h).unwrap();
+        assert_eq!(done.len(), 3);
+        // the study changed: start again
+        let mut h2 = h.clone();
+        h2.fingerprint = fingerprint(b"changed");
+        drop(j);
+        let (j, done) = Journal::open(&path, &h2).unwrap();
+        assert!(done.is_empty());
+        j.finish().unwrap();
+        assert!(!path.exists());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn fingerprint_is_stable() {
+        // FNV-1a 64 reference values (the algorithm's published test vectors).
+        assert_eq!(fingerprint(b""), "cbf29ce484222325");
+        assert_eq!(fingerprint(b"a"), "af63dc4c8601ec8c");
+    }
+}
