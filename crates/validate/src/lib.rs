@@ -109,6 +109,7 @@
 mod error;
 mod figure;
 mod format;
+pub mod heatmap;
 mod published;
 mod render;
 pub mod shard;

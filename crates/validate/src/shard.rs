@@ -588,7 +588,10 @@ mod tests {
                 seen[k] += 1;
             }
         }
-        assert!(seen.iter().all(|&c| c == 1), "every point in exactly one shard");
+        assert!(
+            seen.iter().all(|&c| c == 1),
+            "every point in exactly one shard"
+        );
     }
 
     #[test]
@@ -596,7 +599,10 @@ mod tests {
         let h = header(None);
         let recs = [
             PointRecord::ok(0, vec![0.1, -0.0]),
-            PointRecord::ok(1, vec![f64::MIN_POSITIVE, f64::from_bits(0x7ff8_0000_0000_0001)]),
+            PointRecord::ok(
+                1,
+                vec![f64::MIN_POSITIVE, f64::from_bits(0x7ff8_0000_0000_0001)],
+            ),
             PointRecord::failed(2, "boom \"quoted\"\nnewline"),
         ];
         let mut t = header_line(&h);
