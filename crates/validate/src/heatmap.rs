@@ -111,7 +111,7 @@ impl Heatmap {
                 return Err(bad(format!("{axis} axis values must be strictly monotone")));
             }
         }
-        let n = xs.len().checked_mul(ys.len()).unwrap_or(usize::MAX);
+        let n = xs.len().saturating_mul(ys.len());
         if values.len() != n {
             return Err(bad(format!(
                 "{} values for a {}×{} grid",
