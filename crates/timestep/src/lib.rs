@@ -112,5 +112,6 @@ pub use steady::{
 };
 pub use sweep::{sweep, sweep_with_threads};
 pub use system::{
-    Direction, EventAction, FirstOrder, FnSystem, OdeSystem, SecondOrderSystem, gap_edges,
+    Direction, EventAction, FirstOrder, FnSystem, Mechanical, OdeSystem, SecondOrderSystem,
+    gap_edges,
 };
