@@ -71,8 +71,8 @@
 //! order in the step at the switching instants; the `timestep` engine removes that); the
 //! harmonic balance is period-1 only and not available for Chen's model (its fractal backlash
 //! is not periodic in the mesh period) or the 6-DOF model; the dynamic-backlash geometry of
-//! Eq. (8)–(11), (16) is evaluated in this module (its sign and pressure-angle options differ
-//! from the `backlash` leaf's `DynamicBacklash`); the parameter sets contain chosen values
+//! Eq. (8)–(11), (16) is the `backlash` leaf's `DynamicBacklash`
+//! ([`Yu2021Model::dynamic_backlash_law`] maps the options onto it); the parameter sets contain chosen values
 //! (documented on [`Yu2021Params::table1`] and [`Yu2021Params::table2`]); no experimental
 //! points of Fig. 13–14 exist in this repository.
 //!
