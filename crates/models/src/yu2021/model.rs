@@ -299,55 +299,38 @@ pub struct Response {
 }
 
 impl Response {
-    /// Dynamic factor, Eq. (20): `max F_m / F_s`.
+    /// Dynamic factor, Eq. (20): `max F_m / F_s` ([`timestep::dynamic_factor`]; NaN for an
+    /// empty or non-finite record).
     pub fn dynamic_factor(&self) -> f64 {
-        self.force.iter().copied().fold(f64::NEG_INFINITY, f64::max) / self.load
+        timestep::dynamic_factor(&self.force, self.load).unwrap_or(f64::NAN)
     }
 
-    /// Amplitudes `A_i` (units of `b_n`) of the first `n` mesh harmonics of the DTE, from a
-    /// discrete Fourier projection over the recorded whole periods.
+    /// Amplitudes `A_i` (units of `b_n`) of the first `n` mesh harmonics of the DTE, from the
+    /// Fourier projection over the recorded whole periods
+    /// ([`timestep::fourier_projection`]; zeros for an empty record).
     pub fn harmonic_amplitudes(&self, n: usize) -> Vec<f64> {
-        let len = self.dte.len();
-        if len == 0 {
-            return vec![0.0; n];
-        }
-        (1..=n)
-            .map(|h| {
-                let (mut c, mut s) = (0.0, 0.0);
-                for (t, d) in self.tau.iter().zip(&self.dte) {
-                    let ph = h as f64 * self.omega * t;
-                    c += d * ph.cos();
-                    s += d * ph.sin();
-                }
-                2.0 * (c * c + s * s).sqrt() / len as f64
-            })
-            .collect()
+        timestep::harmonic_amplitudes_of_projection(&self.fourier_coefficients(n))
     }
 
     /// Fourier coefficients `[c_0, a_1, b_1, …, a_h, b_h]` of the DTE over the recorded
     /// whole periods (the layout of [`super::HbmSolution::coefficients`]; a harmonic-balance
-    /// starting guess).
+    /// starting guess), by [`timestep::fourier_projection`]; zeros for an empty record, NaN
+    /// for a non-finite one.
     pub fn fourier_coefficients(&self, h: usize) -> Vec<f64> {
-        let len = self.dte.len().max(1) as f64;
-        let mut c = vec![0.0; 2 * h + 1];
-        for (t, d) in self.tau.iter().zip(&self.dte) {
-            c[0] += d / len;
-            for j in 1..=h {
-                let ph = j as f64 * self.omega * t;
-                c[2 * j - 1] += 2.0 * d * ph.cos() / len;
-                c[2 * j] += 2.0 * d * ph.sin() / len;
-            }
+        if self.dte.is_empty() {
+            return vec![0.0; 2 * h + 1];
         }
-        c
+        timestep::fourier_projection(&self.tau, &self.dte, self.omega, h)
+            .unwrap_or_else(|_| vec![f64::NAN; 2 * h + 1])
     }
 
-    /// RMS of Eq. (21): `sqrt(Σ A_i²/n)` over the first `n` mesh harmonics (units of `b_n`).
+    /// RMS of Eq. (21): `sqrt(Σ A_i²/n)` over the first `n` mesh harmonics (units of `b_n`),
+    /// [`timestep::rms_of_harmonics`]; 0 for `n = 0`, NaN for a non-finite record.
     pub fn rms(&self, n: usize) -> f64 {
         if n == 0 {
             return 0.0;
         }
-        let a = self.harmonic_amplitudes(n);
-        (a.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt()
+        timestep::rms_of_harmonics(&self.harmonic_amplitudes(n)).unwrap_or(f64::NAN)
     }
 
     /// Mean of a series.
@@ -742,5 +725,48 @@ mod tests {
             assert!((g.dynamic_part - lin).abs() <= bound, "{x}");
             assert!((e.b_dy - lin).abs() <= bound, "{x}: {} vs {lin}", e.b_dy);
         }
+    }
+
+    /// The response metrics are the `timestep` metrics on the same samples (one
+    /// implementation), and exact on a trigonometric polynomial sampled over whole periods.
+    #[test]
+    fn response_metrics_are_the_timestep_metrics() {
+        let (w, n) = (1.3, 128);
+        let tau: Vec<f64> = (0..3 * n)
+            .map(|i| i as f64 * std::f64::consts::TAU / (w * n as f64))
+            .collect();
+        let dte: Vec<f64> = tau
+            .iter()
+            .map(|t| 0.5 + 0.2 * (w * t).cos() + 0.1 * (2.0 * w * t).sin())
+            .collect();
+        let force: Vec<f64> = dte.iter().map(|d| 2.0 * d).collect();
+        let r = Response {
+            omega: w,
+            steps_per_period: n,
+            load: 0.8,
+            tau: tau.clone(),
+            dte: dte.clone(),
+            force: force.clone(),
+            backlash: vec![1.0; tau.len()],
+            alpha: vec![0.3; tau.len()],
+            final_state: [0.0; STATE_LEN],
+        };
+        let c = timestep::fourier_projection(&tau, &dte, w, 2).unwrap();
+        assert_eq!(r.fourier_coefficients(2), c);
+        let a = timestep::harmonic_amplitudes_of_projection(&c);
+        assert_eq!(r.harmonic_amplitudes(2), a);
+        assert_eq!(r.rms(2), timestep::rms_of_harmonics(&a).unwrap());
+        assert_eq!(
+            r.dynamic_factor(),
+            timestep::dynamic_factor(&force, 0.8).unwrap()
+        );
+        assert!((a[0] - 0.2).abs() < 1e-13 && (a[1] - 0.1).abs() < 1e-13);
+        assert!((r.rms(2) - (0.05f64 / 2.0).sqrt()).abs() < 1e-13);
+        let nan = Response {
+            dte: vec![f64::NAN; tau.len()],
+            ..r.clone()
+        };
+        assert!(nan.rms(2).is_nan());
+        assert_eq!(r.rms(0), 0.0);
     }
 }
