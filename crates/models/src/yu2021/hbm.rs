@@ -141,7 +141,7 @@ impl Yu2021Torsional {
     }
 
     fn stiffness(&self, t: f64) -> f64 {
-        1.0 + self.model.params.epsilon * self.phase(t).sin()
+        mesh_stiffness::StiffnessLaw::stiffness(&self.model.mesh_stiffness_law(self.omega), t)
     }
 }
 

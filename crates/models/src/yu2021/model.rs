@@ -1,5 +1,6 @@
 //! Dimensionless Yu 2021 models, their right-hand sides and the closed-loop time integration.
 
+use mesh_stiffness::StiffnessLaw;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
@@ -373,6 +374,19 @@ impl Yu2021Model {
         self.options.kind == ModelKind::Yu && !self.options.lock_centres
     }
 
+    /// The mesh stiffness of Eq. (17), `k/k_am = 1 + ε sin(ω*τ + φ_0)`, as the `mesh-stiffness`
+    /// leaf's law at `ω*` (dimensionless: `k_0 = 1`, `k_r = ε`).
+    #[inline]
+    pub fn mesh_stiffness_law(&self, omega: f64) -> mesh_stiffness::SingleHarmonicStiffness {
+        mesh_stiffness::SingleHarmonicStiffness {
+            k0: 1.0,
+            k_r: self.params.epsilon,
+            omega_e: omega,
+            phi_m: self.params.phase,
+            waveform: mesh_stiffness::Waveform::Sine,
+        }
+    }
+
     /// The dynamic-backlash law of this model as the `backlash` leaf's [`backlash::DynamicBacklash`]
     /// (lengths over `b_n`): pair radii from `a_0` and `R_pb`, the pressure-angle law, the
     /// Eq. (8) sign and the dynamic form of [`Options`]. `Eq10` takes β_0 from the law at rest
@@ -482,7 +496,7 @@ impl Yu2021Model {
         } else {
             (s[0], s[5])
         };
-        let k = 1.0 + p.epsilon * ph.sin();
+        let k = self.mesh_stiffness_law(w).stiffness(tau);
         (
             delta,
             delta_rate,
@@ -768,5 +782,31 @@ mod tests {
         };
         assert!(nan.rms(2).is_nan());
         assert_eq!(r.rms(0), 0.0);
+    }
+
+    /// The mesh force uses the `mesh-stiffness` leaf's Eq. (17) law (Yu's `k_am` form) and the
+    /// `backlash` leaf's dead zone: the same number as the leaves.
+    #[test]
+    fn leaf_and_model_mesh_stiffness_are_the_same_number() {
+        let m = Yu2021Model::new(&Yu2021Params::table1(), Options::kahraman_singh()).unwrap();
+        let p = m.params;
+        let w = 0.9;
+        let k_am = 3.0e8;
+        let leaf =
+            mesh_stiffness::SingleHarmonicStiffness::yu2021(k_am, p.epsilon, w, p.phase).unwrap();
+        let mut s = [0.0; STATE_LEN];
+        s[0] = p.backlash + 0.7;
+        s[5] = 0.2;
+        for tau in [0.0, 0.4, 2.3] {
+            let g = m.geometry(w, tau, &s);
+            let (delta, rate, force) = m.mesh(w, tau, &s, &g, g.backlash);
+            let k = leaf.eval(tau) / k_am;
+            assert!((m.mesh_stiffness_law(w).stiffness(tau) - k).abs() < 1e-15);
+            let want = k * backlash::dead_zone(delta, g.backlash) + p.zeta * rate;
+            assert!(
+                (force - want).abs() < 1e-14 * (1.0 + want.abs()),
+                "{force} vs {want}"
+            );
+        }
     }
 }
