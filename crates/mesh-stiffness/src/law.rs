@@ -65,7 +65,7 @@ mod tests {
             check_rate(&f, t);
             check_rate(&2.5, t);
         }
-        assert_eq!(2.5.stiffness(3.0), 2.5);
-        assert_eq!(s.stiffness(0.3), s.eval(0.3));
+        assert_eq!(2.5.stiffness(3.0).to_bits(), 2.5f64.to_bits());
+        assert_eq!(s.stiffness(0.3).to_bits(), s.eval(0.3).to_bits());
     }
 }

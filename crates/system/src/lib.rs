@@ -316,7 +316,7 @@ mod tests {
         let (mut g1, mut g2) = ([0.0], [0.0]);
         c.nonlinear_force(0.3, &[1.5], &[0.5], &mut g1);
         c.nonlinear_force_tabulated(&[], 0.3, &[1.5], &[0.5], &mut g2);
-        assert_eq!(g1, g2);
+        assert_eq!(g1[0].to_bits(), g2[0].to_bits());
         assert_eq!(Cubic.event_direction(0), Direction::Both);
     }
 
@@ -324,9 +324,9 @@ mod tests {
     fn gap_edges_vanish_on_the_edges_and_directions_filter() {
         let mut e = [0.0; 2];
         gap_edges(1.0, 1.0, &mut e);
-        assert_eq!(e, [0.0, 2.0]);
+        assert!(e[0].abs() < 1e-15 && (e[1] - 2.0).abs() < 1e-15);
         gap_edges(-1.0, 1.0, &mut e);
-        assert_eq!(e, [-2.0, 0.0]);
+        assert!((e[0] + 2.0).abs() < 1e-15 && e[1].abs() < 1e-15);
         assert!(Direction::Both.accepts(Direction::Rising));
         assert!(Direction::Rising.accepts(Direction::Rising));
         assert!(!Direction::Rising.accepts(Direction::Falling));

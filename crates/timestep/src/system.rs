@@ -363,7 +363,10 @@ mod tests {
         }
         let mut e = [0.0; 2];
         m.events(t, &q, &v, &mut e);
-        assert_eq!(e, [-0.2 - 0.25, -0.2 + 0.25]);
+        assert!(
+            (e[0] + 0.45).abs() < 1e-15 && (e[1] - 0.05).abs() < 1e-15,
+            "{e:?}"
+        );
         assert_eq!(m.n_events(), 2);
         assert_eq!(m.ndof(), 2);
     }
