@@ -57,25 +57,45 @@ impl PairGeometry {
         self.a0() * self.alpha0.cos()
     }
 
-    /// Actual centre distance a (Yu Eq. 8) and Δa = a − a_0 (Eq. 9), with ∂a/∂(x_p, y_p, x_g, y_g).
-    /// Δa is computed as (a² − a_0²)/(a + a_0), free of cancellation for tiny displacements.
+    /// Actual centre distance a (Yu Eq. 8, printed sign) and Δa = a − a_0 (Eq. 9), with
+    /// ∂a/∂(x_p, y_p, x_g, y_g). Δa is computed as (a² − a_0²)/(a + a_0), free of cancellation
+    /// for tiny displacements. [`PairGeometry::centre_distance_with`] takes the sign option.
     #[inline]
     pub fn centre_distance(&self, c: &CentreDisplacement) -> (f64, f64, [f64; 4]) {
+        self.centre_distance_with(c, CentreDistanceForm::PrintedEq8)
+    }
+
+    /// As [`PairGeometry::centre_distance`] under the sign convention `form` (Yu Eq. 8 as
+    /// printed, `a_0 + x_p − x_g`, or the frame of Eq. 12/15, `a_0 − x_p + x_g`).
+    #[inline]
+    pub fn centre_distance_with(
+        &self,
+        c: &CentreDisplacement,
+        form: CentreDistanceForm,
+    ) -> (f64, f64, [f64; 4]) {
         let a0 = self.a0();
-        let dx = c.x_p - c.x_g;
+        let dx = form.sign() * (c.x_p - c.x_g);
         let y = c.y_p - c.y_g;
         let x = a0 + dx;
         let a = x.hypot(y);
         let delta_a = (dx * (2.0 * a0 + dx) + y * y) / (a + a0);
-        let (ux, uy) = if a > 0.0 { (x / a, y / a) } else { (0.0, 0.0) };
+        let (ux, uy) = if a > 0.0 {
+            (form.sign() * x / a, y / a)
+        } else {
+            (0.0, 0.0)
+        };
         (a, delta_a, [ux, uy, -ux, -uy])
     }
 
     /// Operating pressure angle α at centre distance `a` (rad) and dα/da, for the given law.
     /// `cos α = c/a` with c = R_pb + R_gb (involute) or c = R_p + R_g (printed Eq. 16); for
     /// a ≤ c the angle is clamped to 0 (and dα/da = 0): no NaN.
+    /// [`PressureAngleLaw::Constant`] gives `(α_0, 0)`.
     #[inline]
     pub fn pressure_angle(&self, a: f64, law: PressureAngleLaw) -> (f64, f64) {
+        if law == PressureAngleLaw::Constant {
+            return (self.alpha0, 0.0);
+        }
         let c = self.law_constant(law);
         if a > c {
             let alpha = (c / a).acos();
@@ -88,18 +108,33 @@ impl PairGeometry {
     #[inline]
     fn law_constant(&self, law: PressureAngleLaw) -> f64 {
         match law {
-            PressureAngleLaw::Involute => self.base_sum(),
+            PressureAngleLaw::Involute | PressureAngleLaw::Constant => self.base_sum(),
             PressureAngleLaw::PrintedEq16 => self.a0(),
         }
     }
 
     /// Δp of Yu Eq. (7): (R_pb/2)(β_c² − β_0²), β = tan α, β_0 = tan α_0, β_c from the law at
     /// centre distance `a`; returns (Δp, dΔp/da). Uses tan²α = a²/c² − 1 (no trigonometry).
+    /// [`PairGeometry::delta_p_with`] takes the reference angle option.
     #[inline]
     pub fn delta_p(&self, a: f64, law: PressureAngleLaw) -> (f64, f64) {
+        self.delta_p_with(a, law, Beta0::Nominal)
+    }
+
+    /// Δp of Yu Eq. (7) with β_0 per `beta0`: `tan α_0` ([`Beta0::Nominal`]) or the law's own
+    /// angle at `a_0` ([`Beta0::LawAtRest`], zero under the printed Eq. 16, so that Δp = 0 at
+    /// rest under every law).
+    #[inline]
+    pub fn delta_p_with(&self, a: f64, law: PressureAngleLaw, beta0: Beta0) -> (f64, f64) {
+        if law == PressureAngleLaw::Constant {
+            return (0.0, 0.0);
+        }
         let c = self.law_constant(law);
         let r_pb = self.r_pb();
-        let t0 = self.alpha0.tan();
+        let t0 = match beta0 {
+            Beta0::Nominal => self.alpha0.tan(),
+            Beta0::LawAtRest => self.pressure_angle(self.a0(), law).0.tan(),
+        };
         let (beta_c_sq, d) = if a > c {
             (a * a / (c * c) - 1.0, 2.0 * a / (c * c))
         } else {
@@ -158,17 +193,60 @@ pub enum PressureAngleLaw {
     /// Yu Eq. (16) as printed: cos α = (R_p + R_g)/a; gives α = 0 at a = a_0 and is clamped to 0
     /// for a < a_0 (reading R-YU-EQ16).
     PrintedEq16,
+    /// α = α_0 whatever the centre distance.
+    Constant,
+}
+
+/// Sign of the centre separation in the centre distance, Yu Eq. (8)–(9) (reading R-YU-EQ8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub enum CentreDistanceForm {
+    /// Eq. (8) as printed, `a = √((a_0 + x_p − x_g)² + (y_p − y_g)²)` (default of the leaf:
+    /// `x_p > 0` or `x_g < 0` moves the centres apart).
+    #[default]
+    PrintedEq8,
+    /// `a = √((a_0 − x_p + x_g)² + (y_p − y_g)²)`: the frame of Yu Eq. (12) and (15), in which a
+    /// growing `x_p − x_g` moves the centres together (the `models::yu2021` default).
+    Consistent,
+}
+
+impl CentreDistanceForm {
+    /// `+1` (printed) or `−1` (consistent): the factor of `x_p − x_g` in `a`.
+    #[inline]
+    pub fn sign(self) -> f64 {
+        match self {
+            CentreDistanceForm::PrintedEq8 => 1.0,
+            CentreDistanceForm::Consistent => -1.0,
+        }
+    }
+}
+
+/// Reference angle β_0 = tan α of Yu Eq. (7) (reading R-YU-EQ16).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+pub enum Beta0 {
+    /// β_0 = tan α_0, the nominal pressure angle (default).
+    #[default]
+    Nominal,
+    /// β_0 from the pressure-angle law at the nominal centre distance (0 under the printed
+    /// Eq. 16): Δp vanishes at rest under every law.
+    LawAtRest,
 }
 
 /// Which relation turns centre motion into a backlash change b_dy.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 pub enum DynamicForm {
-    /// Involute geometry (default): change of the normal backlash (along the line of action)
-    /// Δb = 2(R_pb + R_gb)(inv α' − inv α_0), inv α = tan α − α, cos α' = (R_pb + R_gb)/a.
-    /// Signed (centres apart → more backlash); linearisation Δb ≈ 2 sin α_0 Δa
-    /// (= 2 tan α_0 Δa circumferentially). Reading R-YU-EQ6.
+    /// Involute geometry (default): change of the *half* gap along the line of action,
+    /// b_dy = (R_pb + R_gb)(inv α' − inv α_0), inv α = tan α − α, cos α' = (R_pb + R_gb)/a —
+    /// half the change of the normal backlash `Δj_n = 2(R_pb + R_gb)(inv α' − inv α_0)`, because
+    /// the dead zone takes a half gap (derivation in `docs/readings/backlash.md`,
+    /// R-BACKLASH-HALF-GAP). Signed (centres apart → more backlash); linearisation
+    /// b_dy ≈ sin α_0 Δa. Reading R-YU-EQ6.
     #[default]
     Involute,
+    /// The line-of-action projection of the centre-distance change with the current angle,
+    /// b_dy = Δa sin α(a), α from the [`PressureAngleLaw`]: the first-order form of
+    /// [`DynamicForm::Involute`] (same half gap, same slope sin α_0 at rest; `models::yu2021`'s
+    /// `DynamicBacklashLaw::Involute`).
+    LineOfAction,
     /// Yu Eq. (6)/(10) as printed: Δb = (Δa² − Δp²)^{1/2} with Δp from Eq. (7); always ≥ 0
     /// (sign-blind) under the default radicand policy.
     YuEq10,
@@ -200,6 +278,12 @@ pub struct DynamicBacklash {
     pub law: PressureAngleLaw,
     /// Policy for a negative radicand (only for [`DynamicForm::YuEq10`]).
     pub policy: RadicandPolicy,
+    /// Sign convention of Eq. (8) for the centre distance.
+    #[serde(default)]
+    pub centre_distance: CentreDistanceForm,
+    /// Reference angle β_0 of Eq. (7) (only for [`DynamicForm::YuEq10`]).
+    #[serde(default)]
+    pub beta0: Beta0,
 }
 
 /// Everything computed by [`DynamicBacklash::eval`].
@@ -244,7 +328,22 @@ impl DynamicBacklash {
             form,
             law,
             policy,
+            centre_distance: CentreDistanceForm::default(),
+            beta0: Beta0::default(),
         })
+    }
+
+    /// The same law under the centre-distance sign convention `form` (Yu Eq. 8).
+    pub fn with_centre_distance(self, form: CentreDistanceForm) -> Self {
+        Self {
+            centre_distance: form,
+            ..self
+        }
+    }
+
+    /// The same law with the β_0 reference `beta0` of Eq. (7).
+    pub fn with_beta0(self, beta0: Beta0) -> Self {
+        Self { beta0, ..self }
     }
 
     /// Default choices (involute form), constant part `b_s`.
@@ -277,7 +376,7 @@ impl DynamicBacklash {
             });
         }
         let g = &self.geometry;
-        let (a, delta_a, da) = g.centre_distance(c);
+        let (a, delta_a, da) = g.centre_distance_with(c, self.centre_distance);
         let mut out = BacklashEval {
             a,
             delta_a,
@@ -294,16 +393,23 @@ impl DynamicBacklash {
                     let s = ((a - cb) * (a + cb)).sqrt();
                     let alpha = (cb / a).acos();
                     out.alpha = alpha;
-                    out.b_dy = 2.0 * cb * (s / cb - alpha - inv0);
-                    2.0 * s / a
+                    out.b_dy = cb * (s / cb - alpha - inv0);
+                    s / a
                 } else {
-                    out.b_dy = -2.0 * cb * inv0;
+                    out.b_dy = -cb * inv0;
                     0.0
                 }
             }
+            DynamicForm::LineOfAction => {
+                let (alpha, dalpha) = g.pressure_angle(a, self.law);
+                let (sa, ca) = alpha.sin_cos();
+                out.alpha = alpha;
+                out.b_dy = delta_a * sa;
+                sa + delta_a * ca * dalpha
+            }
             DynamicForm::YuEq10 => {
                 let (alpha, _) = g.pressure_angle(a, self.law);
-                let (dp, ddp) = g.delta_p(a, self.law);
+                let (dp, ddp) = g.delta_p_with(a, self.law, self.beta0);
                 let r = delta_a * delta_a - dp * dp;
                 let dr = 2.0 * delta_a - 2.0 * dp * ddp;
                 out.alpha = alpha;
@@ -398,7 +504,8 @@ mod tests {
         let d = DynamicBacklash::involute(g, 0.0).unwrap();
         let da = 1e-6;
         let e = d.eval(&CentreDisplacement::new(da, 0.0, 0.0, 0.0)).unwrap();
-        let lin = 2.0 * g.alpha0.sin() * da;
+        // half gap: half the textbook change 2 sin α_0 Δa of the normal backlash
+        let lin = g.alpha0.sin() * da;
         assert!((e.b_dy - lin).abs() < 1e-4 * lin, "{} vs {}", e.b_dy, lin);
         // moving the centres together reduces the backlash
         let e = d.eval(&CentreDisplacement::new(0.0, 0.0, da, 0.0)).unwrap();
@@ -423,5 +530,68 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn gradients_match_finite_differences_for_every_option() {
+        let g = PairGeometry::yu2021_table1();
+        let c0 = [3e-6, -2e-6, -1e-6, 4e-6];
+        for form in [
+            DynamicForm::Involute,
+            DynamicForm::LineOfAction,
+            DynamicForm::YuEq10,
+        ] {
+            for law in [PressureAngleLaw::Involute, PressureAngleLaw::Constant] {
+                for sign in [
+                    CentreDistanceForm::PrintedEq8,
+                    CentreDistanceForm::Consistent,
+                ] {
+                    let d = DynamicBacklash::new(g, 1e-4, form, law, RadicandPolicy::ClampZero)
+                        .unwrap()
+                        .with_centre_distance(sign);
+                    let e = d.eval(&CentreDisplacement::from_array(c0)).unwrap();
+                    for i in 0..4 {
+                        let h = 1e-9;
+                        let (mut p, mut m) = (c0, c0);
+                        p[i] += h;
+                        m[i] -= h;
+                        let bp = d.eval(&CentreDisplacement::from_array(p)).unwrap().b;
+                        let bm = d.eval(&CentreDisplacement::from_array(m)).unwrap().b;
+                        let fd = (bp - bm) / (2.0 * h);
+                        assert!(
+                            (fd - e.grad[i]).abs() < 1e-5,
+                            "{form:?} {law:?} {sign:?} {i}: {fd} vs {}",
+                            e.grad[i]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn consistent_sign_mirrors_the_printed_one() {
+        let g = PairGeometry::yu2021_table1();
+        let d = DynamicBacklash::involute(g, 0.0).unwrap();
+        let c = CentreDisplacement::new(2e-6, 1e-6, -1e-6, 0.0);
+        let mirrored = CentreDisplacement::new(-2e-6, 1e-6, 1e-6, 0.0);
+        let a = d.eval(&c).unwrap();
+        let b = d
+            .with_centre_distance(CentreDistanceForm::Consistent)
+            .eval(&mirrored)
+            .unwrap();
+        assert!((a.b_dy - b.b_dy).abs() < 1e-20);
+        // β_0 from the printed law at rest makes Δp vanish at rest
+        let p = DynamicBacklash::new(
+            g,
+            1e-4,
+            DynamicForm::YuEq10,
+            PressureAngleLaw::PrintedEq16,
+            RadicandPolicy::Reject,
+        )
+        .unwrap()
+        .with_beta0(Beta0::LawAtRest);
+        let e = p.eval(&CentreDisplacement::default()).unwrap();
+        assert!(e.delta_p.abs() < 1e-300 && e.b_dy.abs() < 1e-300);
     }
 }

@@ -56,9 +56,12 @@
 //! B  = b_s + b_dy,  b_dy = Δb                                                 (11)
 //! ```
 //!
-//! [`DynamicBacklash::eval`] returns B, its parts and `∂B/∂(x_p, y_p, x_g, y_g)`. Two forms
-//! ([`DynamicForm`]): the involute-geometry change of normal backlash
-//! `Δb = 2(R_pb + R_gb)(inv α' − inv α_0) ≈ 2 sin α_0 Δa` (default) and Yu's Eq. (10) as printed.
+//! [`DynamicBacklash::eval`] returns the half gap B, its parts and `∂B/∂(x_p, y_p, x_g, y_g)`.
+//! Three forms ([`DynamicForm`]): the involute-geometry change of the half gap
+//! `b_dy = (R_pb + R_gb)(inv α' − inv α_0) ≈ sin α_0 Δa` (default; half the change
+//! `2 sin α_0 Δa` of the normal backlash), its line-of-action form `Δa sin α(a)`, and Yu's
+//! Eq. (10) as printed. The sign of Eq. (8) ([`CentreDistanceForm`]), the pressure-angle law
+//! ([`PressureAngleLaw`]) and β_0 of Eq. (7) ([`Beta0`]) are options.
 //! A negative radicand in Eq. (6) is handled by a [`RadicandPolicy`] (default: clamp to 0);
 //! no NaN leaves the crate for finite inputs.
 //!
@@ -117,8 +120,8 @@ pub use deadzone::{
     dead_zone, dead_zone_db, dead_zone_dx, switching_functions, try_dead_zone,
 };
 pub use dynamic::{
-    BacklashEval, CentreDisplacement, DynamicBacklash, DynamicForm, PairGeometry, PressureAngleLaw,
-    RadicandPolicy,
+    BacklashEval, Beta0, CentreDisplacement, CentreDistanceForm, DynamicBacklash, DynamicForm,
+    PairGeometry, PressureAngleLaw, RadicandPolicy,
 };
 pub use error::Error;
 pub use fractal::{

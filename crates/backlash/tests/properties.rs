@@ -112,7 +112,8 @@ proptest! {
     }
 }
 
-/// Involute form: exact against small-displacement theory Δb ≈ 2 sin α0 Δa and second order.
+/// Involute form: exact against small-displacement theory — the half gap changes by
+/// b_dy ≈ sin α0 Δa (half the textbook normal-backlash change 2 sin α0 Δa) — and second order.
 #[test]
 fn involute_second_order() {
     let g = PairGeometry::yu2021_table1();
@@ -121,7 +122,7 @@ fn involute_second_order() {
     for k in 0..4 {
         let da = 1e-4 / 10f64.powi(k);
         let e = d.eval(&CentreDisplacement::new(da, 0.0, 0.0, 0.0)).unwrap();
-        let err = (e.b_dy - 2.0 * g.alpha0.sin() * da).abs();
+        let err = (e.b_dy - g.alpha0.sin() * da).abs();
         // error is O(Δa²): drops by ~100 per decade
         assert!(err < prev_err / 50.0 || err < 1e-20, "k={k} err={err}");
         prev_err = err;

@@ -3,8 +3,8 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use geardyn_hbm::{
-    Basis, ContinuationOptions, ContinuationParameter, HbmError, HbmProblem, Method,
-    SecondOrderSystem, SolverOptions,
+    Basis, ContinuationOptions, ContinuationParameter, HbmProblem, Method, SecondOrderSystem,
+    SolverOptions, SystemError,
 };
 use nalgebra::DMatrix;
 use std::hint::black_box;
@@ -46,7 +46,7 @@ impl SecondOrderSystem for Rattle {
     fn forcing(&self, t: f64, f: &mut [f64]) {
         f[0] = 0.5 + 0.1 * (self.z2 * self.omega * t).cos();
     }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
         self.omega = omega;
         Ok(())
     }
@@ -80,7 +80,7 @@ impl SecondOrderSystem for Duffing {
     fn forcing(&self, t: f64, f: &mut [f64]) {
         f[0] = 0.3 * (self.omega * t).cos();
     }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
         self.omega = omega;
         Ok(())
     }

@@ -59,6 +59,10 @@ pub enum HbmError {
         /// The message of the underlying error.
         message: String,
     },
+    /// The system rejected a base frequency or parameter value (see
+    /// [`SystemError`](crate::SystemError)).
+    #[error("system: {0}")]
+    System(#[source] system::SystemError),
 }
 
 impl HbmError {

@@ -85,7 +85,7 @@
 //!         f[0] = self.f0 + self.f1 * (self.omega * t).cos();
 //!     }
 //!     // the excitation follows the HBM base frequency (needed for frequency continuation)
-//!     fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
+//!     fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::SystemError> {
 //!         self.omega = omega;
 //!         Ok(())
 //!     }
@@ -127,7 +127,7 @@ pub use solve::{
 };
 pub use stability::{STABILITY_TOLERANCE, Stability};
 pub use sweep::parallel_sweep;
-pub use system::{SecondOrderSystem, finite_difference_force_jacobian};
+pub use system::{SecondOrderSystem, SystemError, finite_difference_force_jacobian};
 
 #[cfg(test)]
 mod tests {

@@ -107,11 +107,13 @@
 mod contact;
 mod error;
 mod fit;
+mod law;
 mod series;
 mod tooth_pair;
 
 pub use contact::{CurvatureCoefficient, FractalContact, FractalForm, HertzLineContact};
 pub use error::{Error, Result};
 pub use fit::{FourierFit, FourierFitter, fit_fourier, fit_single_harmonic};
+pub use law::StiffnessLaw;
 pub use series::{FourierStiffness, FourierStiffnessData, SingleHarmonicStiffness, Waveform};
 pub use tooth_pair::{NfgToothPairStiffness, ToothPairStiffness};

@@ -34,8 +34,9 @@
 //! `C = ∫₀^τ cos s sin Φ(s) ds`, `S = ∫₀^τ sin s sin Φ(s) ds`, computed by 10-point
 //! Gauss–Legendre panels whose length adapts to the local frequency (`≤ 2/(1 + |Φ'|)`):
 //! [`Karpov2017::duhamel`] (fast path, ~10⁵ panels for `τ_end = 10⁵` in the accumulated
-//! reading). The model also implements [`timestep::OdeSystem`] (states `[X, X']`) so the same
-//! response can be integrated step by step; the two agree to ~1e-8 (tests).
+//! reading). The model also implements the shared system description `system::SecondOrderSystem`
+//! ([`Karpov2017::time_stepping`] wraps it for the `timestep` engine, states `[X, X']`) so the
+//! same response can be integrated step by step; the two agree to ~1e-8 (tests).
 
 use std::f64::consts::TAU;
 
@@ -331,14 +332,39 @@ impl Karpov2017 {
     }
 }
 
-impl timestep::OdeSystem for Karpov2017 {
-    fn dim(&self) -> usize {
-        2
+/// Eq. (8) as the shared system description: `M = 1`, `C = 0`, `K = 1`, `g = 0`,
+/// `f = forcing(τ)` (so `X'' = f(τ) − X`).
+impl system::SecondOrderSystem for Karpov2017 {
+    fn n_dof(&self) -> usize {
+        1
     }
+    fn mass(&self) -> nalgebra::DMatrix<f64> {
+        nalgebra::DMatrix::identity(1, 1)
+    }
+    fn damping(&self) -> nalgebra::DMatrix<f64> {
+        nalgebra::DMatrix::zeros(1, 1)
+    }
+    fn stiffness(&self) -> nalgebra::DMatrix<f64> {
+        nalgebra::DMatrix::identity(1, 1)
+    }
+    fn nonlinear_force(&self, _t: f64, _q: &[f64], _qd: &[f64], g: &mut [f64]) {
+        g[0] = 0.0;
+    }
+    fn forcing(&self, t: f64, f: &mut [f64]) {
+        f[0] = self.forcing(t);
+    }
+}
 
-    fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]) {
-        dydt[0] = y[1];
-        dydt[1] = self.forcing(t) - y[0];
+impl Karpov2017 {
+    /// The model as a first-order system for [`timestep::integrate`] (states `[X, X']`): its
+    /// system description through [`timestep::Mechanical`].
+    ///
+    /// # Errors
+    /// None in practice (`M = 1`); a [`timestep::Error`] would arrive as [`Error::Solver`].
+    pub fn time_stepping(&self) -> Result<timestep::FirstOrder<timestep::Mechanical<Self>>, Error> {
+        timestep::Mechanical::new(*self)
+            .map(timestep::FirstOrder)
+            .map_err(|e| Error::Solver(format!("karpov2017: {e}")))
     }
 }
 
@@ -457,7 +483,14 @@ mod tests {
                 .with_method(Method::DormandPrince54)
                 .with_tol(1e-11, 1e-12)
                 .with_output(Output::Final);
-            let sol = timestep::integrate(&m, 0.0, &[0.0, 0.0], tau_end, &opts).unwrap();
+            let sol = timestep::integrate(
+                &m.time_stepping().unwrap(),
+                0.0,
+                &[0.0, 0.0],
+                tau_end,
+                &opts,
+            )
+            .unwrap();
             let y = sol.y_final.clone();
             let tol = 1e-6 * r.envelope;
             assert!(

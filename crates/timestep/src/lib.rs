@@ -3,7 +3,9 @@
 //! A generic engine (no gear knowledge) for the long, accurate time integrations that check
 //! harmonic balance, reveal rattle and chaos, and give the resonance amplitudes of
 //! Karpov et al. 2017. A model implements [`OdeSystem`] (or [`SecondOrderSystem`] wrapped in
-//! [`FirstOrder`]) and gets:
+//! [`FirstOrder`]), or — the way the geardyn models do it — the shared system description
+//! `geardyn_system::SecondOrderSystem` (`M q'' + C q' + K q + g = f`, the trait the harmonic
+//! balance engine solves too) wrapped in [`Mechanical`] and then [`FirstOrder`], and gets:
 //!
 //! * **Integration** of `y' = F(t, y)`, `y ∈ ℝⁿ` as slices (2 states for a 1-DOF pair, 12 for
 //!   the 6-DOF model of Yu et al. 2021, Eq. 12–19; no allocation per step) by [`integrate`]
@@ -98,8 +100,8 @@ mod system;
 pub use driver::integrate;
 pub use error::{Error, Result};
 pub use metrics::{
-    RattleState, dynamic_factor, peak_to_peak, rattle_state, rattle_state_with_gap, rms,
-    rms_of_harmonics,
+    RattleState, dynamic_factor, fourier_projection, harmonic_amplitudes_of_projection,
+    peak_to_peak, rattle_state, rattle_state_with_gap, rms, rms_of_harmonics,
 };
 pub use options::{Method, Options, Output};
 pub use problems::{BouncingBall, DeadZoneOscillator, Duffing, LinearOscillator};
@@ -112,5 +114,6 @@ pub use steady::{
 };
 pub use sweep::{sweep, sweep_with_threads};
 pub use system::{
-    Direction, EventAction, FirstOrder, FnSystem, OdeSystem, SecondOrderSystem, gap_edges,
+    Direction, EventAction, FirstOrder, FnSystem, Mechanical, OdeSystem, SecondOrderSystem,
+    gap_edges,
 };

@@ -130,6 +130,49 @@ pub fn rms_of_harmonics(amplitudes: &[f64]) -> Result<f64> {
     Ok((s / amplitudes.len() as f64).sqrt())
 }
 
+/// Fourier projection of samples `x(t_i)` onto the harmonics of `omega`:
+/// `[c_0, a_1, b_1, …, a_h, b_h]` with `c_0 = Σ x_i / N`, `a_j = (2/N) Σ x_i cos(jωt_i)`,
+/// `b_j = (2/N) Σ x_i sin(jωt_i)`, so that `x(t) ≈ c_0 + Σ a_j cos(jωt) + b_j sin(jωt)`.
+/// Exact (the discrete orthogonality of the rectangle rule) when the `N` samples are uniform
+/// over whole periods of `2π/ω` and `N > 2h`; the amplitude of harmonic `j` is
+/// `hypot(a_j, b_j)` ([`harmonic_amplitudes_of_projection`]).
+pub fn fourier_projection(t: &[f64], x: &[f64], omega: f64, h: usize) -> Result<Vec<f64>> {
+    nonempty("signal", x)?;
+    check_finite_slice("time", t)?;
+    check_finite("omega", omega)?;
+    if t.len() != x.len() {
+        return Err(Error::DimensionMismatch {
+            name: "time",
+            expected: x.len(),
+            got: t.len(),
+        });
+    }
+    let n = x.len() as f64;
+    let mut c = vec![0.0; 2 * h + 1];
+    c[0] = x.iter().sum::<f64>() / n;
+    for j in 1..=h {
+        let (mut a, mut b) = (0.0, 0.0);
+        for (ti, xi) in t.iter().zip(x) {
+            let (s, co) = (j as f64 * omega * ti).sin_cos();
+            a += xi * co;
+            b += xi * s;
+        }
+        c[2 * j - 1] = 2.0 * a / n;
+        c[2 * j] = 2.0 * b / n;
+    }
+    Ok(c)
+}
+
+/// Amplitudes `A_j = hypot(a_j, b_j)`, `j = 1..=h`, of a [`fourier_projection`].
+pub fn harmonic_amplitudes_of_projection(coefficients: &[f64]) -> Vec<f64> {
+    coefficients
+        .get(1..)
+        .unwrap_or(&[])
+        .chunks_exact(2)
+        .map(|ab| ab[0].hypot(ab[1]))
+        .collect()
+}
+
 /// Plain RMS of a signal, `sqrt(mean x²)`.
 pub fn rms(x: &[f64]) -> Result<f64> {
     nonempty("signal", x)?;
@@ -157,6 +200,28 @@ mod tests {
         );
         assert!(rattle_state(&[], b, 0.0).is_err());
         assert!(rattle_state(&[1.0], f64::NAN, 0.0).is_err());
+    }
+
+    #[test]
+    fn projection_recovers_a_trigonometric_polynomial() {
+        let w = 1.7;
+        let n = 64;
+        let period = std::f64::consts::TAU / w;
+        let t: Vec<f64> = (0..2 * n).map(|i| i as f64 * period / n as f64).collect();
+        let x: Vec<f64> = t
+            .iter()
+            .map(|&ti| 0.3 + 1.2 * (w * ti).cos() - 0.4 * (3.0 * w * ti).sin())
+            .collect();
+        let c = fourier_projection(&t, &x, w, 3).unwrap();
+        let want = [0.3, 1.2, 0.0, 0.0, 0.0, 0.0, -0.4];
+        for (a, b) in c.iter().zip(want) {
+            assert!((a - b).abs() < 1e-13, "{c:?}");
+        }
+        let amp = harmonic_amplitudes_of_projection(&c);
+        assert!((amp[0] - 1.2).abs() < 1e-13 && amp[1].abs() < 1e-13);
+        assert!((amp[2] - 0.4).abs() < 1e-13);
+        assert!(fourier_projection(&t[1..], &x, w, 3).is_err());
+        assert!(fourier_projection(&[], &[], w, 3).is_err());
     }
 
     #[test]

@@ -1,22 +1,9 @@
-//! The problem traits: first-order systems with event functions, and second-order systems.
+//! The problem traits: first-order systems with event functions, and second-order systems in
+//! explicit form `q'' = a(t, q, q')`; and [`Mechanical`], the adapter that integrates the shared
+//! system description `M q'' + C q' + K q + g(t, q, q') = f(t)` of `geardyn-system` (the same
+//! model value the harmonic balance engine solves).
 
-/// Direction of a zero crossing of an event function `g(t, y)`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-pub enum Direction {
-    /// `g` goes from negative to positive.
-    Rising,
-    /// `g` goes from positive to negative.
-    Falling,
-    /// Either direction (used as a filter only).
-    Both,
-}
-
-impl Direction {
-    /// True if a crossing in direction `actual` passes this filter.
-    pub fn accepts(self, actual: Direction) -> bool {
-        matches!(self, Direction::Both) || self == actual
-    }
-}
+pub use ::system::Direction;
 
 /// What the integrator does after an event has been located and the step restarted there.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -150,15 +137,7 @@ impl<S: SecondOrderSystem> OdeSystem for FirstOrder<S> {
     }
 }
 
-/// Event functions of a symmetric gap (backlash, dead zone) of half-width `b` in the
-/// coordinate `x`: `g[0] = x - b` (upper edge) and `g[1] = x + b` (lower edge).
-///
-/// A model with a backlash coordinate calls this from [`OdeSystem::events`] so that the
-/// switching surfaces `x = ±b` of the dead-zone function are located exactly.
-pub fn gap_edges(x: f64, b: f64, g: &mut [f64]) {
-    g[0] = x - b;
-    g[1] = x + b;
-}
+pub use ::system::gap_edges;
 
 /// A closure-based [`OdeSystem`] without events: `FnSystem::new(dim, |t, y, dy| ...)`.
 #[derive(Debug, Clone, Copy)]
@@ -180,5 +159,253 @@ impl<F: Fn(f64, &[f64], &mut [f64])> OdeSystem for FnSystem<F> {
     }
     fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]) {
         (self.f)(t, y, dydt)
+    }
+}
+
+/// Entries up to which [`Mechanical`] keeps its work vectors on the stack.
+const STACK_DOF: usize = 16;
+
+/// Adapter that integrates a model written once for the shared system description
+/// [`system::SecondOrderSystem`](::system::SecondOrderSystem),
+/// `M q'' + C q' + K q + g(t, q, q') = f(t)`, as an explicit [`SecondOrderSystem`]
+///
+/// ```text
+/// q'' = M⁻¹ (f(t) − C q' − K q − g(t, q, q'))
+/// ```
+///
+/// with the system's contact-event functions and directions passed through. `M⁻¹`, `C` and `K`
+/// are read once in [`Mechanical::new`]; an identity `M` and zero `C`, `K` are recognised and
+/// skipped, so a model with `M = I`, `C = K = 0` gets `q'' = f − g` exactly. Wrap the result in
+/// [`FirstOrder`] to integrate: `integrate(&FirstOrder(Mechanical::new(model)?), …)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mechanical<S> {
+    system: S,
+    n: usize,
+    m_inv: Option<Vec<f64>>,
+    c: Option<Vec<f64>>,
+    k: Option<Vec<f64>>,
+}
+
+impl<S: ::system::SecondOrderSystem> Mechanical<S> {
+    /// Reads `M`, `C`, `K` of `system` and inverts `M`.
+    ///
+    /// # Errors
+    /// [`Error::DimensionMismatch`](crate::Error::DimensionMismatch) for a matrix that is not
+    /// `n × n`, [`Error::NonFinite`](crate::Error::NonFinite) for a NaN or infinite entry, and
+    /// [`Error::InvalidParameter`](crate::Error::InvalidParameter) (name `mass matrix`, value
+    /// its determinant) for a singular `M`.
+    pub fn new(system: S) -> Result<Self, crate::Error> {
+        let n = system.n_dof();
+        let read = |name: &'static str, m: nalgebra::DMatrix<f64>| {
+            if m.nrows() != n || m.ncols() != n {
+                return Err(crate::Error::DimensionMismatch {
+                    name,
+                    expected: n * n,
+                    got: m.nrows() * m.ncols(),
+                });
+            }
+            if let Some(index) = m.iter().position(|x| !x.is_finite()) {
+                return Err(crate::Error::NonFinite { name, index });
+            }
+            Ok(m)
+        };
+        let m = read("mass matrix", system.mass())?;
+        let c = read("damping matrix", system.damping())?;
+        let k = read("stiffness matrix", system.stiffness())?;
+        let m_inv = if m == nalgebra::DMatrix::identity(n, n) {
+            None
+        } else {
+            let inv = m
+                .clone()
+                .try_inverse()
+                .filter(|i| i.iter().all(|x| x.is_finite()));
+            let Some(inv) = inv else {
+                return Err(crate::Error::InvalidParameter {
+                    name: "mass matrix",
+                    bound: "invertible",
+                    value: m.determinant(),
+                });
+            };
+            Some(row_major(&inv))
+        };
+        let nonzero = |m: &nalgebra::DMatrix<f64>| m.iter().any(|&x| x != 0.0);
+        Ok(Mechanical {
+            n,
+            m_inv,
+            c: nonzero(&c).then(|| row_major(&c)),
+            k: nonzero(&k).then(|| row_major(&k)),
+            system,
+        })
+    }
+
+    /// The wrapped system.
+    pub fn system(&self) -> &S {
+        &self.system
+    }
+
+    /// The wrapped system, by value.
+    pub fn into_inner(self) -> S {
+        self.system
+    }
+
+    fn accelerate(&self, t: f64, q: &[f64], v: &[f64], g: &mut [f64], acc: &mut [f64]) {
+        let n = self.n;
+        // r = f − C v − K q − g, accumulated in `acc` (in this order), then acc = M⁻¹ r
+        self.system.forcing(t, acc);
+        self.system.nonlinear_force(t, q, v, g);
+        for (matrix, x) in [(&self.c, v), (&self.k, q)] {
+            if let Some(m) = matrix {
+                for (i, a) in acc.iter_mut().enumerate() {
+                    let row = &m[i * n..(i + 1) * n];
+                    *a -= row.iter().zip(x).map(|(mij, xj)| mij * xj).sum::<f64>();
+                }
+            }
+        }
+        for (a, gi) in acc.iter_mut().zip(g.iter()) {
+            *a -= gi;
+        }
+        if let Some(m_inv) = &self.m_inv {
+            g.copy_from_slice(acc);
+            for (i, a) in acc.iter_mut().enumerate() {
+                let row = &m_inv[i * n..(i + 1) * n];
+                *a = row.iter().zip(g.iter()).map(|(mij, rj)| mij * rj).sum();
+            }
+        }
+    }
+}
+
+fn row_major(m: &nalgebra::DMatrix<f64>) -> Vec<f64> {
+    let (r, c) = m.shape();
+    (0..r)
+        .flat_map(|i| (0..c).map(move |j| m[(i, j)]))
+        .collect()
+}
+
+impl<S: ::system::SecondOrderSystem> SecondOrderSystem for Mechanical<S> {
+    fn ndof(&self) -> usize {
+        self.n
+    }
+    fn acceleration(&self, t: f64, q: &[f64], v: &[f64], acc: &mut [f64]) {
+        if self.n <= STACK_DOF {
+            let mut g = [0.0; STACK_DOF];
+            self.accelerate(t, q, v, &mut g[..self.n], acc);
+        } else {
+            let mut g = vec![0.0; self.n];
+            self.accelerate(t, q, v, &mut g, acc);
+        }
+    }
+    fn n_events(&self) -> usize {
+        self.system.n_events()
+    }
+    fn events(&self, t: f64, q: &[f64], v: &[f64], g: &mut [f64]) {
+        self.system.events(t, q, v, g)
+    }
+    fn event_direction(&self, index: usize) -> Direction {
+        self.system.event_direction(index)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    /// `M q'' + C q' + K q + g = f` with full 2 × 2 matrices and a cubic `g`.
+    struct TwoDof;
+    impl ::system::SecondOrderSystem for TwoDof {
+        fn n_dof(&self) -> usize {
+            2
+        }
+        fn mass(&self) -> DMatrix<f64> {
+            DMatrix::from_row_slice(2, 2, &[2.0, 0.5, 0.5, 1.0])
+        }
+        fn damping(&self) -> DMatrix<f64> {
+            DMatrix::from_row_slice(2, 2, &[0.1, -0.1, -0.1, 0.2])
+        }
+        fn stiffness(&self) -> DMatrix<f64> {
+            DMatrix::from_row_slice(2, 2, &[3.0, -1.0, -1.0, 2.0])
+        }
+        fn nonlinear_force(&self, _t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
+            g[0] = q[0].powi(3);
+            g[1] = 0.0;
+        }
+        fn forcing(&self, t: f64, f: &mut [f64]) {
+            f[0] = t.cos();
+            f[1] = 0.5;
+        }
+        fn n_events(&self) -> usize {
+            2
+        }
+        fn events(&self, _t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) {
+            gap_edges(q[1], 0.25, e)
+        }
+    }
+
+    #[test]
+    fn mechanical_solves_the_balance_for_the_accelerations() {
+        let m = Mechanical::new(TwoDof).unwrap();
+        let (t, q, v) = (0.7, [0.3, -0.2], [1.1, 0.4]);
+        let mut a = [0.0; 2];
+        m.acceleration(t, &q, &v, &mut a);
+        // residual of M a + C v + K q + g − f must vanish
+        let s = TwoDof;
+        let (mm, c, k) = (
+            ::system::SecondOrderSystem::mass(&s),
+            ::system::SecondOrderSystem::damping(&s),
+            ::system::SecondOrderSystem::stiffness(&s),
+        );
+        let r = &mm * nalgebra::DVector::from_row_slice(&a)
+            + &c * nalgebra::DVector::from_row_slice(&v)
+            + &k * nalgebra::DVector::from_row_slice(&q);
+        let expected = [t.cos() - q[0].powi(3), 0.5];
+        for i in 0..2 {
+            assert!((r[i] - expected[i]).abs() < 1e-14, "row {i}: {}", r[i]);
+        }
+        let mut e = [0.0; 2];
+        m.events(t, &q, &v, &mut e);
+        assert!(
+            (e[0] + 0.45).abs() < 1e-15 && (e[1] - 0.05).abs() < 1e-15,
+            "{e:?}"
+        );
+        assert_eq!(m.n_events(), 2);
+        assert_eq!(m.ndof(), 2);
+    }
+
+    struct Singular(usize);
+    impl ::system::SecondOrderSystem for Singular {
+        fn n_dof(&self) -> usize {
+            2
+        }
+        fn mass(&self) -> DMatrix<f64> {
+            DMatrix::from_row_slice(2, 2, &[1.0, 1.0, 1.0, 1.0])
+        }
+        fn damping(&self) -> DMatrix<f64> {
+            DMatrix::zeros(self.0, self.0)
+        }
+        fn nonlinear_force(&self, _t: f64, _q: &[f64], _qd: &[f64], g: &mut [f64]) {
+            g.fill(0.0);
+        }
+        fn forcing(&self, _t: f64, f: &mut [f64]) {
+            f.fill(0.0);
+        }
+    }
+
+    #[test]
+    fn mechanical_rejects_bad_matrices() {
+        // shapes are checked before M is inverted
+        assert!(matches!(
+            Mechanical::new(Singular(1)),
+            Err(crate::Error::DimensionMismatch {
+                name: "damping matrix",
+                ..
+            })
+        ));
+        assert!(matches!(
+            Mechanical::new(Singular(2)),
+            Err(crate::Error::InvalidParameter {
+                name: "mass matrix",
+                ..
+            })
+        ));
     }
 }

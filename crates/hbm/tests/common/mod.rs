@@ -17,7 +17,7 @@ pub struct Linear {
 }
 
 impl SecondOrderSystem for Linear {
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::SystemError> {
         self.omega = omega;
         Ok(())
     }
@@ -78,16 +78,16 @@ impl SecondOrderSystem for Duffing {
     fn forcing(&self, t: f64, f: &mut [f64]) {
         f[0] = self.force * (self.omega * t).cos();
     }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::SystemError> {
         self.omega = omega;
         Ok(())
     }
-    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), geardyn_hbm::HbmError> {
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), geardyn_hbm::SystemError> {
         match name {
             "force" => self.force = value,
             "gamma" => self.gamma = value,
             _ => {
-                return Err(geardyn_hbm::HbmError::UnknownParameter {
+                return Err(geardyn_hbm::SystemError::UnknownParameter {
                     name: name.to_string(),
                 });
             }
@@ -119,7 +119,7 @@ impl DeadZone {
 }
 
 impl SecondOrderSystem for DeadZone {
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::SystemError> {
         self.omega = omega;
         Ok(())
     }
@@ -153,7 +153,7 @@ pub struct TwoDof {
 }
 
 impl SecondOrderSystem for TwoDof {
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::SystemError> {
         self.omega = omega;
         Ok(())
     }

@@ -110,7 +110,10 @@ impl HbmResponse {
     }
 }
 
-impl hbm::SecondOrderSystem for Model {
+/// Eq. (9) as the shared system description, solved by both engines (`hbm` directly, `timestep`
+/// through [`timestep::Mechanical`]): `M = 1`, `C = 2ζ`, `g = F(τ) f(q, b̄(τ))`, the forcing
+/// of Eq. (9), and the gap edges `q = ±b̄(τ)` as events.
+impl system::SecondOrderSystem for Model {
     fn n_dof(&self) -> usize {
         1
     }
@@ -130,14 +133,16 @@ impl hbm::SecondOrderSystem for Model {
         dq[0] = self.stiffness(t) * dead_zone_dx(q[0], self.backlash_at(t));
         dv[0] = 0.0;
     }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+    fn n_events(&self) -> usize {
+        2
+    }
+    fn events(&self, t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) {
+        system::gap_edges(q[0], self.backlash_at(t), e);
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), system::SystemError> {
         *self = self
             .with_omega_c(omega)
-            .map_err(|_| hbm::HbmError::InvalidParameter {
-                name: "liu2021 omega_c",
-                bound: "> 0",
-                value: omega,
-            })?;
+            .map_err(|_| system::SystemError::invalid("liu2021.omega_c", "> 0", omega))?;
         Ok(())
     }
 }

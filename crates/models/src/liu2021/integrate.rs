@@ -53,21 +53,6 @@ pub struct TimeResponse {
     pub rhs_evaluations: u64,
 }
 
-impl timestep::SecondOrderSystem for Model {
-    fn ndof(&self) -> usize {
-        1
-    }
-    fn acceleration(&self, t: f64, q: &[f64], v: &[f64], acc: &mut [f64]) {
-        acc[0] = Model::acceleration(self, t, q[0], v[0]);
-    }
-    fn n_events(&self) -> usize {
-        2
-    }
-    fn events(&self, t: f64, q: &[f64], _v: &[f64], g: &mut [f64]) {
-        timestep::gap_edges(q[0], self.backlash_at(t), g);
-    }
-}
-
 fn run(
     model: &Model,
     t0: f64,
@@ -75,7 +60,9 @@ fn run(
     t1: f64,
     opts: timestep::Options,
 ) -> Result<timestep::Solution, Error> {
-    let sol = timestep::integrate(&timestep::FirstOrder(*model), t0, y0, t1, &opts)
+    // the model's one system description (`system::SecondOrderSystem`), made explicit
+    let ode = timestep::Mechanical::new(*model).map_err(|e| Error::Solver(e.to_string()))?;
+    let sol = timestep::integrate(&timestep::FirstOrder(ode), t0, y0, t1, &opts)
         .map_err(|e| Error::Solver(e.to_string()))?;
     if !sol.status.is_success() {
         return Err(Error::Solver(format!(

@@ -1,5 +1,6 @@
 //! The dimensionless NFG model of Eq. (9)–(12) and (22), built from [`Parameters`] in one place.
 
+use mesh_stiffness::StiffnessLaw;
 use serde::{Deserialize, Serialize};
 
 use super::params::{BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries};
@@ -127,6 +128,19 @@ impl Model {
         2.0 * std::f64::consts::PI / self.omega_c
     }
 
+    /// The mesh stiffness `k_m/k₀ = 1 + a_k sin(ω̄_e τ + φ_m)` of Eq. (19) as the
+    /// `mesh-stiffness` leaf's law (dimensionless: `k₀ = 1`, `k_r = a_k`).
+    #[inline]
+    pub fn mesh_stiffness_law(&self) -> mesh_stiffness::SingleHarmonicStiffness {
+        mesh_stiffness::SingleHarmonicStiffness {
+            k0: 1.0,
+            k_r: self.ak,
+            omega_e: self.omega_e,
+            phi_m: self.phase_stiffness,
+            waveform: mesh_stiffness::Waveform::Sine,
+        }
+    }
+
     /// Base radius ratio `r_b2(τ)/L = 1 + β cos(ω̄_c τ)` (Eq. 8).
     #[inline]
     pub fn radius_ratio(&self, tau: f64) -> f64 {
@@ -137,7 +151,7 @@ impl Model {
     /// Its mean is 1 when `k_m` and `r_b2` share no frequency.
     #[inline]
     pub fn stiffness(&self, tau: f64) -> f64 {
-        let km = 1.0 + self.ak * (self.omega_e * tau + self.phase_stiffness).sin();
+        let km = self.mesh_stiffness_law().stiffness(tau);
         let r = self.radius_ratio(tau);
         km * r * r / (1.0 + 0.5 * self.beta * self.beta)
     }
@@ -343,6 +357,24 @@ mod tests {
             let fd = (ebar(tau + h) - 2.0 * ebar(tau) + ebar(tau - h)) / (h * h);
             let exact = m.error_acceleration(tau);
             assert!((fd - exact).abs() < 1e-5 * m.b3, "{fd} {exact}");
+        }
+    }
+
+    #[test]
+    fn stiffness_is_the_leaf_law_times_the_radius_term() {
+        let m = table1().model().unwrap();
+        let leaf = mesh_stiffness::SingleHarmonicStiffness::new(
+            1.0,
+            m.ak,
+            m.omega_e,
+            m.phase_stiffness,
+            mesh_stiffness::Waveform::Sine,
+        )
+        .unwrap();
+        for tau in [0.0, 0.37, 5.1] {
+            let r = m.radius_ratio(tau);
+            let want = leaf.eval(tau) * r * r / (1.0 + 0.5 * m.beta * m.beta);
+            assert_eq!(m.stiffness(tau).to_bits(), want.to_bits());
         }
     }
 

@@ -1,6 +1,6 @@
-//! The Yu 2021 models exposed to the `timestep` engine: [`Yu2021Ode`] implements
-//! [`timestep::OdeSystem`] (with the dead-zone switching surfaces `δ* = ±B` as events), and
-//! [`Yu2021Model::simulate_with`] runs a steady-state response on the engine chosen by
+//! The Yu 2021 models on the `timestep` engine: the model's one system description
+//! ([`Yu2021SixDof`], five coordinates, with the dead-zone switching surfaces `δ* = ±B` as
+//! events) integrated through `timestep::Mechanical`, and [`Yu2021Model::simulate_with`] runs a steady-state response on the engine chosen by
 //! [`Engine`], returning the same [`Response`] as the fixed-step RK4 of
 //! [`Yu2021Model::simulate`].
 
@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 
+use super::hbm::Yu2021SixDof;
 use super::model::{BacklashUpdate, Response, RunSettings, STATE_LEN, Yu2021Model};
 
 /// Which engine integrates a [`RunSettings`] run.
@@ -49,53 +50,13 @@ impl Engine {
     }
 }
 
-/// A Yu 2021 model at a fixed dimensionless mesh frequency `ω*`, as a first-order system for
-/// the `timestep` engine. State: `[q, x_p, y_p, x_g, y_g, q', x_p', y_p', x_g', y_g']`
-/// ([`STATE_LEN`] entries, the layout of [`Yu2021Model::rhs`]; the centre entries stay constant
-/// for the torsional models). The backlash is evaluated from the state inside every right-hand
-/// side call ([`BacklashUpdate::InRhs`]).
-///
-/// Events: `g_0 = δ* − B` and `g_1 = δ* + B` (upper and lower edges of the dead zone of Eq. 14,
-/// via [`timestep::gap_edges`]), both continuous along a trajectory. Further kinks (the clamps
-/// `max(·, 0)` of Eq. 10–11) are not located.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Yu2021Ode {
-    /// The model.
-    pub model: Yu2021Model,
-    /// `ω*` (–).
-    pub omega: f64,
-}
-
-impl Yu2021Ode {
-    fn state(y: &[f64]) -> [f64; STATE_LEN] {
-        let mut s = [0.0; STATE_LEN];
-        for (a, b) in s.iter_mut().zip(y) {
-            *a = *b;
-        }
-        s
+/// The [`Yu2021Model::rhs`] state from an engine state of the same layout.
+fn full_state(y: &[f64]) -> [f64; STATE_LEN] {
+    let mut s = [0.0; STATE_LEN];
+    for (a, b) in s.iter_mut().zip(y) {
+        *a = *b;
     }
-}
-
-impl timestep::OdeSystem for Yu2021Ode {
-    fn dim(&self) -> usize {
-        STATE_LEN
-    }
-
-    fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]) {
-        let d = self.model.rhs(self.omega, t, &Self::state(y), None);
-        dydt.copy_from_slice(&d[..dydt.len()]);
-    }
-
-    fn n_events(&self) -> usize {
-        2
-    }
-
-    fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
-        let s = Self::state(y);
-        let geo = self.model.geometry(self.omega, t, &s);
-        let (delta, _, _) = self.model.mesh(self.omega, t, &s, &geo, geo.backlash);
-        timestep::gap_edges(delta, geo.backlash, g);
-    }
+    s
 }
 
 fn engine_error(e: timestep::Error) -> Error {
@@ -137,10 +98,12 @@ impl Yu2021Model {
             .with_events(events)
             .with_h_max(period / 4.0)
             .with_output(timestep::Output::Final);
-        let sys = Yu2021Ode {
-            model: *self,
-            omega: w,
-        };
+        // the model's one system description, made explicit for the engine: the state is
+        // `[q, x_p, y_p, x_g, y_g, q', …]` as in `Yu2021Model::rhs`
+        let sys = timestep::FirstOrder(
+            timestep::Mechanical::new(Yu2021SixDof::for_time_stepping(self, w))
+                .map_err(engine_error)?,
+        );
         let y0 = initial.unwrap_or_else(|| self.initial_state());
         let h = period / n as f64;
         // the RK4 grid: sample k at τ = k h, k = transient·n … (transient + record)·n − 1
@@ -179,11 +142,11 @@ impl Yu2021Model {
             force: Vec::with_capacity(m),
             backlash: Vec::with_capacity(m),
             alpha: Vec::with_capacity(m),
-            final_state: Yu2021Ode::state(&rec.y_final),
+            final_state: full_state(&rec.y_final),
         };
         for i in 0..rec.len() {
             let tau = rec.t[i];
-            let s = Yu2021Ode::state(rec.state(i));
+            let s = full_state(rec.state(i));
             let g = self.geometry(w, tau, &s);
             let (delta, _, force) = self.mesh(w, tau, &s, &g, g.backlash);
             out.tau.push(tau);
@@ -210,10 +173,9 @@ mod tests {
     #[test]
     fn ode_rhs_is_the_model_rhs_and_events_are_gap_edges() {
         let m = Yu2021Model::new(&Yu2021Params::table1(), Options::default()).unwrap();
-        let sys = Yu2021Ode {
-            model: m,
-            omega: 0.9,
-        };
+        let sys = timestep::FirstOrder(
+            timestep::Mechanical::new(Yu2021SixDof::for_time_stepping(&m, 0.9)).unwrap(),
+        );
         let mut y = m.initial_state();
         y[1] = 0.01;
         y[6] = -0.02;

@@ -1,7 +1,7 @@
 //! Harmonic balance of the periodic 1-DOF (torsional) Yu 2021 models through the `hbm`
 //! engine: Kahraman–Singh, and Yu with locked centres (both forms of Eq. 19).
 //!
-//! [`Yu2021Torsional`] implements [`hbm::SecondOrderSystem`] for the DTE `q = δ*`:
+//! [`Yu2021Torsional`] implements [`system::SecondOrderSystem`] for the DTE `q = δ*`:
 //!
 //! ```text
 //! q'' + ζ q' + k(τ) f(q, B) = T* + F_e(τ),   k = 1 + ε sin(ω*τ + φ_0),  f: dead zone (Eq. 14)
@@ -17,6 +17,9 @@
 //! sin(λ^k ω*τ)`, `λ = 1.5`, is not periodic in `2π/ω*` (the common period of `λ^k`,
 //! `k < 12`, is `2^11` mesh periods with harmonics up to `3^11`), so no periodic response of
 //! the mesh frequency exists.
+//!
+//! Both implement the shared system description `system::SecondOrderSystem` once; the
+//! `timestep` engine integrates the same values through `timestep::Mechanical`.
 //!
 //! [`Yu2021SixDof`] puts the full 6-DOF model (state-dependent dynamic backlash and pressure
 //! angle, [`BacklashUpdate::InRhs`]) on the same engine: five second-order coordinates
@@ -86,7 +89,7 @@ impl HbmSolution {
 }
 
 /// A periodic torsional Yu 2021 model (Kahraman–Singh, or Yu with locked centres) as an
-/// [`hbm::SecondOrderSystem`] in the DTE `q = δ*` (see the module equations). Build with
+/// [`system::SecondOrderSystem`] in the DTE `q = δ*` (see the module equations). Build with
 /// [`Yu2021Torsional::new`]; the base frequency of the harmonic balance is `ω*`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Yu2021Torsional {
@@ -138,11 +141,13 @@ impl Yu2021Torsional {
     }
 
     fn stiffness(&self, t: f64) -> f64 {
-        1.0 + self.model.params.epsilon * self.phase(t).sin()
+        mesh_stiffness::StiffnessLaw::stiffness(&self.model.mesh_stiffness_law(self.omega), t)
     }
 }
 
-impl hbm::SecondOrderSystem for Yu2021Torsional {
+/// The shared system description (solved by `hbm` directly and by `timestep` through
+/// [`timestep::Mechanical`]), with the dead-zone edges `q = ±B` as events.
+impl system::SecondOrderSystem for Yu2021Torsional {
     fn n_dof(&self) -> usize {
         1
     }
@@ -168,13 +173,19 @@ impl hbm::SecondOrderSystem for Yu2021Torsional {
         dq[0] = self.stiffness(t) * backlash::dead_zone_dx(q[0], self.backlash);
         dv[0] = 0.0;
     }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+    fn n_events(&self) -> usize {
+        2
+    }
+    fn events(&self, _t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) {
+        system::gap_edges(q[0], self.backlash, e);
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), system::SystemError> {
         self.omega = checked_omega(omega)?;
         Ok(())
     }
 }
 
-/// Yu's 6-DOF model at `ω*` as an [`hbm::SecondOrderSystem`] in `q = [u, x_p, y_p, x_g, y_g]`
+/// Yu's 6-DOF model at `ω*` as an [`system::SecondOrderSystem`] in `q = [u, x_p, y_p, x_g, y_g]`
 /// (the first five entries of the [`Yu2021Model::rhs`] state; `M = I`, `C = 0`,
 /// `g(τ, q, q') = −(rhs accelerations)`, `f = 0`). Build with [`Yu2021SixDof::new`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -211,6 +222,16 @@ impl Yu2021SixDof {
         })
     }
 
+    /// Any Yu 2021 model at `ω*` without the harmonic-balance restrictions of
+    /// [`Yu2021SixDof::new`], for time stepping (locked centres stay at rest: their
+    /// accelerations are zero). The caller checks `ω*` and the backlash update.
+    pub(super) fn for_time_stepping(model: &Yu2021Model, omega: f64) -> Self {
+        Yu2021SixDof {
+            model: *model,
+            omega,
+        }
+    }
+
     /// The full [`Yu2021Model::rhs`] state of the coordinates `q` and rates `qd`.
     pub fn state(q: &[f64], qd: &[f64]) -> [f64; STATE_LEN] {
         let mut s = [0.0; STATE_LEN];
@@ -220,7 +241,10 @@ impl Yu2021SixDof {
     }
 }
 
-impl hbm::SecondOrderSystem for Yu2021SixDof {
+/// The shared system description (solved by `hbm` directly and by `timestep` through
+/// [`timestep::Mechanical`]), with the dead-zone edges `δ* = ±B` as events (`B` and `δ*` from
+/// the state, Eq. 10–11 and 14).
+impl system::SecondOrderSystem for Yu2021SixDof {
     fn n_dof(&self) -> usize {
         5
     }
@@ -241,7 +265,16 @@ impl hbm::SecondOrderSystem for Yu2021SixDof {
     fn forcing(&self, _t: f64, f: &mut [f64]) {
         f.fill(0.0);
     }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), hbm::HbmError> {
+    fn n_events(&self) -> usize {
+        2
+    }
+    fn events(&self, t: f64, q: &[f64], qd: &[f64], e: &mut [f64]) {
+        let s = Yu2021SixDof::state(q, qd);
+        let geo = self.model.geometry(self.omega, t, &s);
+        let (delta, _, _) = self.model.mesh(self.omega, t, &s, &geo, geo.backlash);
+        system::gap_edges(delta, geo.backlash, e);
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), system::SystemError> {
         self.omega = checked_omega(omega)?;
         Ok(())
     }
@@ -252,15 +285,15 @@ fn engine_error(e: hbm::HbmError) -> Error {
 }
 
 /// `ω*` for the engine's frequency continuation: positive and finite.
-fn checked_omega(omega: f64) -> Result<f64, hbm::HbmError> {
+fn checked_omega(omega: f64) -> Result<f64, system::SystemError> {
     if omega > 0.0 && omega.is_finite() {
         Ok(omega)
     } else {
-        Err(hbm::HbmError::InvalidParameter {
-            name: "yu2021 omega*",
-            bound: "> 0 and finite",
-            value: omega,
-        })
+        Err(system::SystemError::invalid(
+            "yu2021.omega",
+            "> 0 and finite",
+            omega,
+        ))
     }
 }
 

@@ -49,11 +49,11 @@
 //!   [`Engine::Rk4Fixed`] (= [`Yu2021Model::simulate`], the model's own fixed-step RK4, both
 //!   backlash updates of Fig. 8; needed for Fig. 8's previous-step update) or
 //!   [`Engine::Timestep`] (used by the validation studies; the
-//!   `timestep` crate through [`Yu2021Ode`], adaptive Dormand–Prince by default, with the
+//!   `timestep` crate through `timestep::Mechanical` on [`Yu2021SixDof`], adaptive Dormand–Prince by default, with the
 //!   dead-zone edges `δ* = ±B` located as events; state-dependent backlash only). Both return
 //!   the same [`Response`] sampled on the same grid.
 //! * Harmonic balance, [`Yu2021Model::harmonic_balance`] / [`Yu2021Model::hbm_problem`]: the
-//!   `hbm` engine through [`Yu2021Torsional`] (`hbm::SecondOrderSystem`, analytic dead-zone
+//!   `hbm` engine through [`Yu2021Torsional`] (`system::SecondOrderSystem`, analytic dead-zone
 //!   Jacobian, full basis `0..H` of `ω*`) for the periodic 1-DOF models (Kahraman–Singh, Yu
 //!   with locked centres); [`Yu2021Model::hbm_problem_six_dof`] through [`Yu2021SixDof`]
 //!   (five coordinates, state-dependent dynamic backlash, finite-difference Jacobian) for
@@ -71,8 +71,8 @@
 //! order in the step at the switching instants; the `timestep` engine removes that); the
 //! harmonic balance is period-1 only and not available for Chen's model (its fractal backlash
 //! is not periodic in the mesh period) or the 6-DOF model; the dynamic-backlash geometry of
-//! Eq. (8)–(11), (16) is evaluated in this module (its sign and pressure-angle options differ
-//! from the `backlash` leaf's `DynamicBacklash`); the parameter sets contain chosen values
+//! Eq. (8)–(11), (16) is the `backlash` leaf's `DynamicBacklash`
+//! ([`Yu2021Model::dynamic_backlash_law`] maps the options onto it); the parameter sets contain chosen values
 //! (documented on [`Yu2021Params::table1`] and [`Yu2021Params::table2`]); no experimental
 //! points of Fig. 13–14 exist in this repository.
 //!
@@ -105,7 +105,7 @@ mod hbm;
 mod model;
 mod params;
 
-pub use engines::{Engine, Yu2021Ode};
+pub use engines::Engine;
 pub use fractal::{
     CurvatureCoefficient, FractalContact, FractalForm, FractalSurface, chen_z,
     fractal_contact_stiffness, fractal_mean_height,

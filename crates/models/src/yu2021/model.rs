@@ -1,5 +1,6 @@
 //! Dimensionless Yu 2021 models, their right-hand sides and the closed-loop time integration.
 
+use mesh_stiffness::StiffnessLaw;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
@@ -299,55 +300,38 @@ pub struct Response {
 }
 
 impl Response {
-    /// Dynamic factor, Eq. (20): `max F_m / F_s`.
+    /// Dynamic factor, Eq. (20): `max F_m / F_s` ([`timestep::dynamic_factor`]; NaN for an
+    /// empty or non-finite record).
     pub fn dynamic_factor(&self) -> f64 {
-        self.force.iter().copied().fold(f64::NEG_INFINITY, f64::max) / self.load
+        timestep::dynamic_factor(&self.force, self.load).unwrap_or(f64::NAN)
     }
 
-    /// Amplitudes `A_i` (units of `b_n`) of the first `n` mesh harmonics of the DTE, from a
-    /// discrete Fourier projection over the recorded whole periods.
+    /// Amplitudes `A_i` (units of `b_n`) of the first `n` mesh harmonics of the DTE, from the
+    /// Fourier projection over the recorded whole periods
+    /// ([`timestep::fourier_projection`]; zeros for an empty record).
     pub fn harmonic_amplitudes(&self, n: usize) -> Vec<f64> {
-        let len = self.dte.len();
-        if len == 0 {
-            return vec![0.0; n];
-        }
-        (1..=n)
-            .map(|h| {
-                let (mut c, mut s) = (0.0, 0.0);
-                for (t, d) in self.tau.iter().zip(&self.dte) {
-                    let ph = h as f64 * self.omega * t;
-                    c += d * ph.cos();
-                    s += d * ph.sin();
-                }
-                2.0 * (c * c + s * s).sqrt() / len as f64
-            })
-            .collect()
+        timestep::harmonic_amplitudes_of_projection(&self.fourier_coefficients(n))
     }
 
     /// Fourier coefficients `[c_0, a_1, b_1, …, a_h, b_h]` of the DTE over the recorded
     /// whole periods (the layout of [`super::HbmSolution::coefficients`]; a harmonic-balance
-    /// starting guess).
+    /// starting guess), by [`timestep::fourier_projection`]; zeros for an empty record, NaN
+    /// for a non-finite one.
     pub fn fourier_coefficients(&self, h: usize) -> Vec<f64> {
-        let len = self.dte.len().max(1) as f64;
-        let mut c = vec![0.0; 2 * h + 1];
-        for (t, d) in self.tau.iter().zip(&self.dte) {
-            c[0] += d / len;
-            for j in 1..=h {
-                let ph = j as f64 * self.omega * t;
-                c[2 * j - 1] += 2.0 * d * ph.cos() / len;
-                c[2 * j] += 2.0 * d * ph.sin() / len;
-            }
+        if self.dte.is_empty() {
+            return vec![0.0; 2 * h + 1];
         }
-        c
+        timestep::fourier_projection(&self.tau, &self.dte, self.omega, h)
+            .unwrap_or_else(|_| vec![f64::NAN; 2 * h + 1])
     }
 
-    /// RMS of Eq. (21): `sqrt(Σ A_i²/n)` over the first `n` mesh harmonics (units of `b_n`).
+    /// RMS of Eq. (21): `sqrt(Σ A_i²/n)` over the first `n` mesh harmonics (units of `b_n`),
+    /// [`timestep::rms_of_harmonics`]; 0 for `n = 0`, NaN for a non-finite record.
     pub fn rms(&self, n: usize) -> f64 {
         if n == 0 {
             return 0.0;
         }
-        let a = self.harmonic_amplitudes(n);
-        (a.iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt()
+        timestep::rms_of_harmonics(&self.harmonic_amplitudes(n)).unwrap_or(f64::NAN)
     }
 
     /// Mean of a series.
@@ -390,19 +374,53 @@ impl Yu2021Model {
         self.options.kind == ModelKind::Yu && !self.options.lock_centres
     }
 
-    fn alpha_at(&self, a: f64) -> (f64, f64) {
-        // returns (alpha, c) with cos(alpha) = c / a for the laws that depend on a
+    /// The mesh stiffness of Eq. (17), `k/k_am = 1 + ε sin(ω*τ + φ_0)`, as the `mesh-stiffness`
+    /// leaf's law at `ω*` (dimensionless: `k_0 = 1`, `k_r = ε`).
+    #[inline]
+    pub fn mesh_stiffness_law(&self, omega: f64) -> mesh_stiffness::SingleHarmonicStiffness {
+        mesh_stiffness::SingleHarmonicStiffness {
+            k0: 1.0,
+            k_r: self.params.epsilon,
+            omega_e: omega,
+            phi_m: self.params.phase,
+            waveform: mesh_stiffness::Waveform::Sine,
+        }
+    }
+
+    /// The dynamic-backlash law of this model as the `backlash` leaf's [`backlash::DynamicBacklash`]
+    /// (lengths over `b_n`): pair radii from `a_0` and `R_pb`, the pressure-angle law, the
+    /// Eq. (8) sign and the dynamic form of [`Options`]. `Eq10` takes β_0 from the law at rest
+    /// ([`backlash::Beta0::LawAtRest`]) and clamps a negative radicand to 0; `Involute` is the
+    /// leaf's [`backlash::DynamicForm::LineOfAction`] (`Δa sin α`, a half-gap change); `Off`
+    /// is never evaluated. The same numbers as the leaf by construction (test
+    /// `leaf_and_model_dynamic_backlash_are_the_same_number`).
+    pub fn dynamic_backlash_law(&self) -> backlash::DynamicBacklash {
         let p = &self.params;
-        match self.options.pressure_angle {
-            PressureAngleLaw::Constant => (p.alpha0, 0.0),
-            PressureAngleLaw::Operating => {
-                let c = p.centre_distance * p.alpha0.cos();
-                ((c / a).clamp(-1.0, 1.0).acos(), c)
-            }
-            PressureAngleLaw::PrintedEq16 => {
-                let c = p.centre_distance;
-                ((c / a).clamp(-1.0, 1.0).acos(), c)
-            }
+        let r_p = p.base_radius_p / p.alpha0.cos();
+        backlash::DynamicBacklash {
+            geometry: backlash::PairGeometry {
+                r_p,
+                r_g: p.centre_distance - r_p,
+                alpha0: p.alpha0,
+            },
+            b_s: p.backlash,
+            form: match self.options.dynamic_backlash {
+                DynamicBacklashLaw::Eq10 => backlash::DynamicForm::YuEq10,
+                DynamicBacklashLaw::Involute | DynamicBacklashLaw::Off => {
+                    backlash::DynamicForm::LineOfAction
+                }
+            },
+            law: match self.options.pressure_angle {
+                PressureAngleLaw::Operating => backlash::PressureAngleLaw::Involute,
+                PressureAngleLaw::PrintedEq16 => backlash::PressureAngleLaw::PrintedEq16,
+                PressureAngleLaw::Constant => backlash::PressureAngleLaw::Constant,
+            },
+            policy: backlash::RadicandPolicy::ClampZero,
+            centre_distance: match self.options.centre_distance {
+                CentreDistanceForm::Consistent => backlash::CentreDistanceForm::Consistent,
+                CentreDistanceForm::PrintedEq8 => backlash::CentreDistanceForm::PrintedEq8,
+            },
+            beta0: backlash::Beta0::LawAtRest,
         }
     }
 
@@ -429,38 +447,20 @@ impl Yu2021Model {
                 }
             }
             ModelKind::Yu => {
-                let a0 = p.centre_distance;
-                let (dx, dy) = (s[1] - s[3], s[2] - s[4]);
-                let (dvx, dvy) = (s[6] - s[8], s[7] - s[9]);
-                let sign = match self.options.centre_distance {
-                    CentreDistanceForm::Consistent => -1.0,
-                    CentreDistanceForm::PrintedEq8 => 1.0,
-                };
-                let (dx, dvx) = (sign * dx, sign * dvx);
-                let ax = a0 + dx;
-                let a = (ax * ax + dy * dy).sqrt();
-                let a_rate = (ax * dvx + dy * dvy) / a;
-                let (alpha, c) = self.alpha_at(a);
-                let alpha_rate = if c > 0.0 && alpha.sin() > 1e-12 {
-                    c * a_rate / (a * a * alpha.sin())
-                } else {
-                    0.0
-                };
-                let da = a - a0;
+                // Eq. (8)–(11), (16) from the `backlash` leaf
+                let law = self.dynamic_backlash_law();
+                let c = backlash::CentreDisplacement::new(s[1], s[2], s[3], s[4]);
+                let (a, da, grad_a) = law.geometry.centre_distance_with(&c, law.centre_distance);
+                let a_rate: f64 = grad_a.iter().zip(&s[6..]).map(|(g, v)| g * v).sum();
+                let (alpha, dalpha_da) = law.geometry.pressure_angle(a, law.law);
                 let dyn_part = match self.options.dynamic_backlash {
                     DynamicBacklashLaw::Off => 0.0,
-                    DynamicBacklashLaw::Involute => da * alpha.sin(),
-                    DynamicBacklashLaw::Eq10 => {
-                        let (alpha_ref, _) = self.alpha_at(a0);
-                        let beta_c = alpha.tan();
-                        let beta_0 = alpha_ref.tan();
-                        let dp = 0.5 * p.base_radius_p * (beta_c * beta_c - beta_0 * beta_0);
-                        (da * da - dp * dp).max(0.0).sqrt()
-                    }
+                    // a non-finite state gives a non-finite backlash (the engines report it)
+                    _ => law.eval(&c).map_or(f64::NAN, |e| e.b_dy),
                 };
                 MeshGeometry {
                     alpha,
-                    alpha_rate,
+                    alpha_rate: dalpha_da * a_rate,
                     centre_change: da,
                     dynamic_part: dyn_part,
                     backlash: (p.backlash + dyn_part).max(0.0),
@@ -496,7 +496,7 @@ impl Yu2021Model {
         } else {
             (s[0], s[5])
         };
-        let k = 1.0 + p.epsilon * ph.sin();
+        let k = self.mesh_stiffness_law(w).stiffness(tau);
         (
             delta,
             delta_rate,
@@ -664,5 +664,155 @@ impl Yu2021Model {
             r[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
         }
         r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn state(x_p: f64, y_p: f64, x_g: f64, y_g: f64) -> [f64; STATE_LEN] {
+        let mut s = [0.0; STATE_LEN];
+        s[1..5].copy_from_slice(&[x_p, y_p, x_g, y_g]);
+        s[6..].copy_from_slice(&[0.3, -0.1, 0.2, 0.05]);
+        s
+    }
+
+    /// The model's dynamic backlash is the `backlash` leaf's number (the half gap), for every
+    /// law and both Eq. (8) signs, and the line-of-action form agrees with the leaf's exact
+    /// involute half gap to second order in Δa (R-BACKLASH-HALF-GAP).
+    #[test]
+    fn leaf_and_model_dynamic_backlash_are_the_same_number() {
+        let params = Yu2021Params::table1();
+        for dynamic_backlash in [DynamicBacklashLaw::Eq10, DynamicBacklashLaw::Involute] {
+            for pressure_angle in [
+                PressureAngleLaw::Operating,
+                PressureAngleLaw::PrintedEq16,
+                PressureAngleLaw::Constant,
+            ] {
+                for centre_distance in [
+                    CentreDistanceForm::Consistent,
+                    CentreDistanceForm::PrintedEq8,
+                ] {
+                    let o = Options {
+                        dynamic_backlash,
+                        pressure_angle,
+                        centre_distance,
+                        ..Options::default()
+                    };
+                    let m = Yu2021Model::new(&params, o).unwrap();
+                    let s = state(0.4, -0.2, -0.3, 0.1);
+                    let g = m.geometry(1.0, 0.0, &s);
+                    let leaf = m
+                        .dynamic_backlash_law()
+                        .eval(&backlash::CentreDisplacement::new(0.4, -0.2, -0.3, 0.1))
+                        .unwrap();
+                    assert_eq!(g.dynamic_part.to_bits(), leaf.b_dy.to_bits(), "{o:?}");
+                    assert_eq!(g.centre_change.to_bits(), leaf.delta_a.to_bits());
+                    assert_eq!(
+                        g.backlash.to_bits(),
+                        (m.params.backlash + leaf.b_dy).max(0.0).to_bits()
+                    );
+                }
+            }
+        }
+        // half gap: the model's Δa sin α and the leaf's exact involute half change
+        // (R_pb + R_gb)(inv α' − inv α_0) agree to O(Δa²); the full gap change is twice that.
+        let o = Options {
+            dynamic_backlash: DynamicBacklashLaw::Involute,
+            ..Options::default()
+        };
+        let m = Yu2021Model::new(&params, o).unwrap();
+        let exact = backlash::DynamicBacklash {
+            form: backlash::DynamicForm::Involute,
+            ..m.dynamic_backlash_law()
+        };
+        for x in [-0.5, -0.05, 0.05, 0.5] {
+            // consistent sign: x_g > 0 moves the centres apart by x (units of b_n)
+            let g = m.geometry(1.0, 0.0, &state(0.0, 0.0, x, 0.0));
+            let e = exact
+                .eval(&backlash::CentreDisplacement::new(0.0, 0.0, x, 0.0))
+                .unwrap();
+            assert!((g.centre_change - x).abs() < 1e-9 * x.abs());
+            let lin = x * m.params.alpha0.sin();
+            // second-order terms: Δa² cos α_0 α'(a_0) (line of action) and half of it (exact
+            // involute), α'(a_0) = cot α_0 / a_0, so cos²α_0/sin α_0 = 2.58 at 20°; plus rounding
+            let a0 = m.params.centre_distance;
+            let bound = 3.0 * x * x / a0 + 1e-12 * x.abs();
+            assert!((g.dynamic_part - lin).abs() <= bound, "{x}");
+            assert!((e.b_dy - lin).abs() <= bound, "{x}: {} vs {lin}", e.b_dy);
+        }
+    }
+
+    /// The response metrics are the `timestep` metrics on the same samples (one
+    /// implementation), and exact on a trigonometric polynomial sampled over whole periods.
+    #[test]
+    fn response_metrics_are_the_timestep_metrics() {
+        let (w, n) = (1.3, 128);
+        let tau: Vec<f64> = (0..3 * n)
+            .map(|i| i as f64 * std::f64::consts::TAU / (w * n as f64))
+            .collect();
+        let dte: Vec<f64> = tau
+            .iter()
+            .map(|t| 0.5 + 0.2 * (w * t).cos() + 0.1 * (2.0 * w * t).sin())
+            .collect();
+        let force: Vec<f64> = dte.iter().map(|d| 2.0 * d).collect();
+        let r = Response {
+            omega: w,
+            steps_per_period: n,
+            load: 0.8,
+            tau: tau.clone(),
+            dte: dte.clone(),
+            force: force.clone(),
+            backlash: vec![1.0; tau.len()],
+            alpha: vec![0.3; tau.len()],
+            final_state: [0.0; STATE_LEN],
+        };
+        let c = timestep::fourier_projection(&tau, &dte, w, 2).unwrap();
+        assert_eq!(r.fourier_coefficients(2), c);
+        let a = timestep::harmonic_amplitudes_of_projection(&c);
+        assert_eq!(r.harmonic_amplitudes(2), a);
+        assert_eq!(
+            r.rms(2).to_bits(),
+            timestep::rms_of_harmonics(&a).unwrap().to_bits()
+        );
+        assert_eq!(
+            r.dynamic_factor().to_bits(),
+            timestep::dynamic_factor(&force, 0.8).unwrap().to_bits()
+        );
+        assert!((a[0] - 0.2).abs() < 1e-13 && (a[1] - 0.1).abs() < 1e-13);
+        assert!((r.rms(2) - (0.05f64 / 2.0).sqrt()).abs() < 1e-13);
+        let nan = Response {
+            dte: vec![f64::NAN; tau.len()],
+            ..r.clone()
+        };
+        assert!(nan.rms(2).is_nan());
+        assert_eq!(r.rms(0).to_bits(), 0.0f64.to_bits());
+    }
+
+    /// The mesh force uses the `mesh-stiffness` leaf's Eq. (17) law (Yu's `k_am` form) and the
+    /// `backlash` leaf's dead zone: the same number as the leaves.
+    #[test]
+    fn leaf_and_model_mesh_stiffness_are_the_same_number() {
+        let m = Yu2021Model::new(&Yu2021Params::table1(), Options::kahraman_singh()).unwrap();
+        let p = m.params;
+        let w = 0.9;
+        let k_am = 3.0e8;
+        let leaf =
+            mesh_stiffness::SingleHarmonicStiffness::yu2021(k_am, p.epsilon, w, p.phase).unwrap();
+        let mut s = [0.0; STATE_LEN];
+        s[0] = p.backlash + 0.7;
+        s[5] = 0.2;
+        for tau in [0.0, 0.4, 2.3] {
+            let g = m.geometry(w, tau, &s);
+            let (delta, rate, force) = m.mesh(w, tau, &s, &g, g.backlash);
+            let k = leaf.eval(tau) / k_am;
+            assert!((m.mesh_stiffness_law(w).stiffness(tau) - k).abs() < 1e-15);
+            let want = k * backlash::dead_zone(delta, g.backlash) + p.zeta * rate;
+            assert!(
+                (force - want).abs() < 1e-14 * (1.0 + want.abs()),
+                "{force} vs {want}"
+            );
+        }
     }
 }

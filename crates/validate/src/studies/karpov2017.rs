@@ -218,8 +218,14 @@ fn fig3() -> Result<StudyOutput, Error> {
                 .with_tol(1e-9, 1e-9)
                 .with_max_steps(200_000_000)
                 .with_output(timestep::Output::Uniform { dt: 50.0 });
-            let sol = timestep::integrate(&m, 0.0, &[0.0, 0.0], TAU_END, &opts)
-                .context("Fig. 3 integration")?;
+            let sol = timestep::integrate(
+                &m.time_stepping().context("Fig. 3 system")?,
+                0.0,
+                &[0.0, 0.0],
+                TAU_END,
+                &opts,
+            )
+            .context("Fig. 3 integration")?;
             if !sol.status.is_success() {
                 return Err(Error::Study(format!(
                     "Fig. 3 integration ({name}) ended with {:?}",

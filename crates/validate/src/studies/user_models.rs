@@ -298,7 +298,8 @@ pub(super) fn karpov2017(solver: &Solver) -> Result<Adapter, Error> {
                     .with_tol(rtol, rtol)
                     .with_max_steps(500_000_000)
                     .with_output(timestep::Output::Final);
-                let sol = timestep::integrate(&m, 0.0, &[0.0, 0.0], params.tau_end, &opts)
+                let ode = m.time_stepping().context("karpov2017 system")?;
+                let sol = timestep::integrate(&ode, 0.0, &[0.0, 0.0], params.tau_end, &opts)
                     .context("karpov2017 time integration")?;
                 if !sol.status.is_success() {
                     return Err(Error::Study(format!(

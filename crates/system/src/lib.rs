@@ -1,0 +1,334 @@
+//! # geardyn-system
+//!
+//! The one description of a mechanical model that every geardyn engine solves: an `n`-DOF
+//! second-order system
+//!
+//! ```text
+//! M q'' + C q' + K q + g(t, q, q') = f(t)
+//! ```
+//!
+//! with constant matrices `M` (invertible), `C`, `K`, a nonlinear and/or time-varying force `g`
+//! with its Jacobians `∂g/∂q`, `∂g/∂q'`, an external forcing `f`, contact-event (gap) functions
+//! `e_i(t, q, q')` whose zeros are the switching surfaces of `g` (backlash edges), and named
+//! parameters for continuation and sweeps.
+//!
+//! A model implements [`SecondOrderSystem`] once; the harmonic balance engine (`geardyn-hbm`)
+//! takes it as is (its `SecondOrderSystem` *is* this trait), and the time-stepping engine
+//! (`geardyn-timestep`) integrates it through its `Mechanical` adapter, which forms
+//! `q'' = M⁻¹ (f − C q' − K q − g)` and locates the events. Neither engine depends on the
+//! other, and this crate depends on neither: it holds only the trait, its error type, the
+//! event direction and two helpers ([`finite_difference_force_jacobian`], [`gap_edges`]).
+//!
+//! ## Optional hooks
+//!
+//! * [`SecondOrderSystem::force_jacobian`] defaults to central finite differences.
+//! * [`SecondOrderSystem::set_base_frequency`] is told the fundamental frequency `ω` of the
+//!   periodic response an engine seeks (systems whose excitation is tied to `ω` store it).
+//! * Time tables: a system whose `g` contains functions of `t` alone (a mesh stiffness `k(t)`,
+//!   a time-varying backlash `b(t)`) may declare [`time_table_len`](SecondOrderSystem::time_table_len)
+//!   `> 0` values per time, fill them in [`fill_time_table`](SecondOrderSystem::fill_time_table),
+//!   and evaluate `g` from them in [`nonlinear_force_tabulated`](SecondOrderSystem::nonlinear_force_tabulated)
+//!   and [`force_jacobian_tabulated`](SecondOrderSystem::force_jacobian_tabulated). An engine
+//!   that samples the same times again and again (the AFT grid of harmonic balance) may then
+//!   tabulate them once. The defaults (length 0, untabulated evaluation) are always correct.
+//!
+//! ## Example
+//!
+//! ```
+//! use geardyn_system::{SecondOrderSystem, gap_edges};
+//! use nalgebra::DMatrix;
+//!
+//! /// q'' + 2ζ q' + k(t) d(q, b) = F, d the dead zone of half-width b.
+//! struct Rattle { zeta: f64, b: f64, force: f64 }
+//!
+//! impl SecondOrderSystem for Rattle {
+//!     fn n_dof(&self) -> usize { 1 }
+//!     fn mass(&self) -> DMatrix<f64> { DMatrix::identity(1, 1) }
+//!     fn damping(&self) -> DMatrix<f64> { DMatrix::from_element(1, 1, 2.0 * self.zeta) }
+//!     fn nonlinear_force(&self, t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
+//!         let d = if q[0] > self.b { q[0] - self.b } else if q[0] < -self.b { q[0] + self.b } else { 0.0 };
+//!         g[0] = (1.0 + 0.1 * t.cos()) * d;
+//!     }
+//!     fn forcing(&self, _t: f64, f: &mut [f64]) { f[0] = self.force; }
+//!     fn n_events(&self) -> usize { 2 }
+//!     fn events(&self, _t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) { gap_edges(q[0], self.b, e) }
+//! }
+//!
+//! let s = Rattle { zeta: 0.05, b: 1.0, force: 0.1 };
+//! let (mut dq, mut dv) = ([0.0], [0.0]);
+//! s.force_jacobian(0.0, &[2.0], &[0.0], &mut dq, &mut dv); // finite differences by default
+//! assert!((dq[0] - 1.1).abs() < 1e-6);
+//! assert!(s.parameter("zeta").is_err()); // no named parameters unless the model offers them
+//! ```
+
+#![deny(missing_docs)]
+
+use nalgebra::DMatrix;
+
+/// Errors a [`SecondOrderSystem`] reports through its setters.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SystemError {
+    /// The system does not know the named parameter.
+    #[error("unknown parameter `{name}`")]
+    UnknownParameter {
+        /// The name that was asked for.
+        name: String,
+    },
+    /// A parameter (or base frequency) value is outside what the model can take.
+    #[error("{name} must be {bound}, got {value}")]
+    InvalidParameter {
+        /// Name of the parameter (dotted path, e.g. `liu2021.omega_c`).
+        name: String,
+        /// The admissible range, in words.
+        bound: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+}
+
+impl SystemError {
+    /// An [`SystemError::InvalidParameter`].
+    pub fn invalid(name: impl Into<String>, bound: &'static str, value: f64) -> Self {
+        SystemError::InvalidParameter {
+            name: name.into(),
+            bound,
+            value,
+        }
+    }
+}
+
+/// Direction of a zero crossing of an event function.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub enum Direction {
+    /// The function goes from negative to positive.
+    Rising,
+    /// The function goes from positive to negative.
+    Falling,
+    /// Either direction (used as a filter only).
+    Both,
+}
+
+impl Direction {
+    /// True if a crossing in direction `actual` passes this filter.
+    pub fn accepts(self, actual: Direction) -> bool {
+        matches!(self, Direction::Both) || self == actual
+    }
+}
+
+/// An `n`-DOF second-order system `M q'' + C q' + K q + g(t, q, q') = f(t)`.
+///
+/// `M`, `C`, `K` are constant matrices; everything time-varying (parametric stiffness,
+/// transmission errors, …) and everything nonlinear lives in `g` and `f`. For harmonic balance
+/// `g` and `f` must be periodic with the period `2π/ω` of the base frequency `ω`.
+///
+/// Required: [`n_dof`](Self::n_dof), [`mass`](Self::mass), [`damping`](Self::damping),
+/// [`nonlinear_force`](Self::nonlinear_force), [`forcing`](Self::forcing). Everything else has a
+/// correct default (see the crate docs).
+pub trait SecondOrderSystem {
+    /// Number of degrees of freedom `n`.
+    fn n_dof(&self) -> usize;
+    /// Mass matrix `M` (`n × n`, invertible).
+    fn mass(&self) -> DMatrix<f64>;
+    /// Damping matrix `C` (`n × n`).
+    fn damping(&self) -> DMatrix<f64>;
+    /// Linear stiffness matrix `K` (`n × n`); zero by default (put it in `g` or here).
+    fn stiffness(&self) -> DMatrix<f64> {
+        DMatrix::zeros(self.n_dof(), self.n_dof())
+    }
+    /// Nonlinear (and/or time-varying) force `g(t, q, q')`, written into `g` (length `n`).
+    fn nonlinear_force(&self, t: f64, q: &[f64], qd: &[f64], g: &mut [f64]);
+    /// External forcing `f(t)`, written into `f` (length `n`).
+    fn forcing(&self, t: f64, f: &mut [f64]);
+    /// Jacobians `∂g/∂q` and `∂g/∂q'`, row-major `n × n` (`dg_dq[i*n + j] = ∂g_i/∂q_j`).
+    ///
+    /// Default: central finite differences of [`nonlinear_force`](Self::nonlinear_force)
+    /// ([`finite_difference_force_jacobian`]).
+    fn force_jacobian(&self, t: f64, q: &[f64], qd: &[f64], dg_dq: &mut [f64], dg_dqd: &mut [f64]) {
+        finite_difference_force_jacobian(self, t, q, qd, dg_dq, dg_dqd);
+    }
+
+    /// Number of time-only values per sample time that [`fill_time_table`](Self::fill_time_table)
+    /// writes (default 0: nothing to tabulate).
+    fn time_table_len(&self) -> usize {
+        0
+    }
+    /// Writes the time-only values at `t` (length [`time_table_len`](Self::time_table_len)),
+    /// e.g. `[k(t), b(t)]`. Default: nothing.
+    fn fill_time_table(&self, t: f64, row: &mut [f64]) {
+        let _ = (t, row);
+    }
+    /// `g(t, q, q')` from a row written by [`fill_time_table`](Self::fill_time_table) at the same
+    /// `t`; must equal [`nonlinear_force`](Self::nonlinear_force). Default: ignores the row.
+    fn nonlinear_force_tabulated(&self, row: &[f64], t: f64, q: &[f64], qd: &[f64], g: &mut [f64]) {
+        let _ = row;
+        self.nonlinear_force(t, q, qd, g);
+    }
+    /// Jacobians from a tabulated row; must equal [`force_jacobian`](Self::force_jacobian).
+    /// Default: ignores the row.
+    fn force_jacobian_tabulated(
+        &self,
+        row: &[f64],
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+        dg_dq: &mut [f64],
+        dg_dqd: &mut [f64],
+    ) {
+        let _ = row;
+        self.force_jacobian(t, q, qd, dg_dq, dg_dqd);
+    }
+
+    /// Number of contact-event (gap) functions (default 0).
+    fn n_events(&self) -> usize {
+        0
+    }
+    /// Event functions `e_i(t, q, q')` (length [`n_events`](Self::n_events)): continuous along a
+    /// trajectory, zero on the switching surfaces of `g` (e.g. [`gap_edges`]). A time-stepping
+    /// engine locates their zeros so that no step straddles a contact switch.
+    fn events(&self, t: f64, q: &[f64], qd: &[f64], e: &mut [f64]) {
+        let _ = (t, q, qd, e);
+    }
+    /// Which crossings of event `index` matter (default both).
+    fn event_direction(&self, index: usize) -> Direction {
+        let _ = index;
+        Direction::Both
+    }
+
+    /// Told the base frequency `ω` of the periodic response an engine seeks (harmonic balance
+    /// calls it whenever its `ω` is set). Systems whose excitation frequency is tied to `ω`
+    /// store it here; the default ignores it.
+    ///
+    /// # Errors
+    /// Implementation-defined (an `ω` the model cannot take).
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
+        let _ = omega;
+        Ok(())
+    }
+    /// Set a named parameter (for continuation and sweeps). Default: unknown.
+    ///
+    /// # Errors
+    /// [`SystemError::UnknownParameter`], or a value the model cannot take.
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), SystemError> {
+        let _ = value;
+        Err(SystemError::UnknownParameter {
+            name: name.to_string(),
+        })
+    }
+    /// Read a named parameter. Default: unknown.
+    ///
+    /// # Errors
+    /// [`SystemError::UnknownParameter`].
+    fn parameter(&self, name: &str) -> Result<f64, SystemError> {
+        Err(SystemError::UnknownParameter {
+            name: name.to_string(),
+        })
+    }
+}
+
+/// Central finite-difference Jacobians of `g` (the default of
+/// [`SecondOrderSystem::force_jacobian`]); step `6e-6 (1 + |x|)`.
+pub fn finite_difference_force_jacobian<S: SecondOrderSystem + ?Sized>(
+    system: &S,
+    t: f64,
+    q: &[f64],
+    qd: &[f64],
+    dg_dq: &mut [f64],
+    dg_dqd: &mut [f64],
+) {
+    let n = q.len();
+    let mut x = q.to_vec();
+    let mut v = qd.to_vec();
+    let mut gp = vec![0.0; n];
+    let mut gm = vec![0.0; n];
+    for j in 0..n {
+        let h = 6e-6 * (1.0 + q[j].abs());
+        x[j] = q[j] + h;
+        system.nonlinear_force(t, &x, qd, &mut gp);
+        x[j] = q[j] - h;
+        system.nonlinear_force(t, &x, qd, &mut gm);
+        x[j] = q[j];
+        for i in 0..n {
+            dg_dq[i * n + j] = (gp[i] - gm[i]) / (2.0 * h);
+        }
+        let h = 6e-6 * (1.0 + qd[j].abs());
+        v[j] = qd[j] + h;
+        system.nonlinear_force(t, q, &v, &mut gp);
+        v[j] = qd[j] - h;
+        system.nonlinear_force(t, q, &v, &mut gm);
+        v[j] = qd[j];
+        for i in 0..n {
+            dg_dqd[i * n + j] = (gp[i] - gm[i]) / (2.0 * h);
+        }
+    }
+}
+
+/// Event functions of a symmetric gap (backlash, dead zone) of half-width `b` in the
+/// coordinate `x`: `e[0] = x − b` (upper edge) and `e[1] = x + b` (lower edge).
+pub fn gap_edges(x: f64, b: f64, e: &mut [f64]) {
+    e[0] = x - b;
+    e[1] = x + b;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Cubic;
+    impl SecondOrderSystem for Cubic {
+        fn n_dof(&self) -> usize {
+            1
+        }
+        fn mass(&self) -> DMatrix<f64> {
+            DMatrix::identity(1, 1)
+        }
+        fn damping(&self) -> DMatrix<f64> {
+            DMatrix::zeros(1, 1)
+        }
+        fn nonlinear_force(&self, _t: f64, q: &[f64], qd: &[f64], g: &mut [f64]) {
+            g[0] = q[0].powi(3) + q[0] * qd[0];
+        }
+        fn forcing(&self, _t: f64, f: &mut [f64]) {
+            f[0] = 0.0;
+        }
+    }
+
+    #[test]
+    fn default_jacobian_is_finite_differences() {
+        let (mut a, mut b) = ([0.0], [0.0]);
+        Cubic.force_jacobian(0.0, &[2.0], &[3.0], &mut a, &mut b);
+        assert!((a[0] - (12.0 + 3.0)).abs() < 1e-6);
+        assert!((b[0] - 2.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn defaults_are_neutral() {
+        let mut c = Cubic;
+        assert!(matches!(
+            c.parameter("x"),
+            Err(SystemError::UnknownParameter { .. })
+        ));
+        assert!(c.set_parameter("x", 1.0).is_err());
+        assert!(c.set_base_frequency(2.0).is_ok());
+        assert_eq!(c.time_table_len(), 0);
+        assert_eq!(c.n_events(), 0);
+        assert_eq!(c.stiffness(), DMatrix::zeros(1, 1));
+        let (mut g1, mut g2) = ([0.0], [0.0]);
+        c.nonlinear_force(0.3, &[1.5], &[0.5], &mut g1);
+        c.nonlinear_force_tabulated(&[], 0.3, &[1.5], &[0.5], &mut g2);
+        assert_eq!(g1[0].to_bits(), g2[0].to_bits());
+        assert_eq!(Cubic.event_direction(0), Direction::Both);
+    }
+
+    #[test]
+    fn gap_edges_vanish_on_the_edges_and_directions_filter() {
+        let mut e = [0.0; 2];
+        gap_edges(1.0, 1.0, &mut e);
+        assert!(e[0].abs() < 1e-15 && (e[1] - 2.0).abs() < 1e-15);
+        gap_edges(-1.0, 1.0, &mut e);
+        assert!((e[0] + 2.0).abs() < 1e-15 && e[1].abs() < 1e-15);
+        assert!(Direction::Both.accepts(Direction::Rising));
+        assert!(Direction::Rising.accepts(Direction::Rising));
+        assert!(!Direction::Rising.accepts(Direction::Falling));
+    }
+}
