@@ -47,6 +47,44 @@ pub trait SecondOrderSystem {
         let _ = omega;
         Ok(())
     }
+    /// Length `L` of the per-sample table of time-only quantities (e.g. a time-varying
+    /// stiffness and backlash) that [`nonlinear_force_tabulated`](Self::nonlinear_force_tabulated)
+    /// and [`force_jacobian_tabulated`](Self::force_jacobian_tabulated) read. Default 0: no table.
+    ///
+    /// A [`HbmProblem`](crate::HbmProblem) fills the table once per problem and base frequency
+    /// (at construction, [`set_base_frequency`](Self::set_base_frequency) and
+    /// [`set_parameter`](Self::set_parameter)) instead of re-evaluating the time functions at
+    /// every residual and Jacobian.
+    fn time_table_len(&self) -> usize {
+        0
+    }
+    /// Fill `row` (length [`time_table_len`](Self::time_table_len)) with the time-only
+    /// quantities at time `t`. Default: nothing.
+    fn fill_time_table(&self, t: f64, row: &mut [f64]) {
+        let _ = (t, row);
+    }
+    /// [`nonlinear_force`](Self::nonlinear_force) with the row that
+    /// [`fill_time_table`](Self::fill_time_table) wrote for the same `t`; must give the same
+    /// result. Default: ignores the row.
+    fn nonlinear_force_tabulated(&self, t: f64, row: &[f64], q: &[f64], qd: &[f64], g: &mut [f64]) {
+        let _ = row;
+        self.nonlinear_force(t, q, qd, g);
+    }
+    /// [`force_jacobian`](Self::force_jacobian) with the row of
+    /// [`fill_time_table`](Self::fill_time_table) for the same `t`; must give the same result.
+    /// Default: ignores the row.
+    fn force_jacobian_tabulated(
+        &self,
+        t: f64,
+        row: &[f64],
+        q: &[f64],
+        qd: &[f64],
+        dg_dq: &mut [f64],
+        dg_dqd: &mut [f64],
+    ) {
+        let _ = row;
+        self.force_jacobian(t, q, qd, dg_dq, dg_dqd);
+    }
     /// Set a named parameter (for continuation in a model parameter). Default: unknown.
     fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), HbmError> {
         let _ = value;
