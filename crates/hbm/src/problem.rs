@@ -175,7 +175,9 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             let f = &mut self.ws.ftab[m * n..(m + 1) * n];
             self.system.forcing(t, f);
             let row = &mut self.ws.ttab[m * len..(m + 1) * len];
-            self.system.fill_time_table(t, row);
+            if len > 0 {
+                self.system.fill_time_table(t, row);
+            }
             if f.iter().chain(row.iter()).any(|x| !x.is_finite()) {
                 return Err(HbmError::NonFinite {
                     what: "forcing or time table",

@@ -95,8 +95,15 @@ fn tabulated_residual_and_jacobian_are_bit_identical_and_follow_omega() {
     }
     for omega in [0.7, 1.3] {
         let mk = |tabulate| {
-            let mut p = HbmProblem::new(Parametric { omega: 0.5, tabulate }, basis.clone(), 0.5)
-                .unwrap();
+            let mut p = HbmProblem::new(
+                Parametric {
+                    omega: 0.5,
+                    tabulate,
+                },
+                basis.clone(),
+                0.5,
+            )
+            .unwrap();
             // the tables must follow a change of ω
             p.set_omega(omega).unwrap();
             p
@@ -129,8 +136,11 @@ fn fft_time_series_matches_direct_summation() {
         1.1,
     )
     .unwrap();
-    let sol = p.solve(&p.zero_guess(), &SolverOptions::default()).unwrap();
-    assert!(sol.converged);
+    // convergence does not matter here: any coefficients will do
+    let mut sol = p.solve(&p.zero_guess(), &SolverOptions::default()).unwrap();
+    for (i, c) in sol.coefficients.iter_mut().enumerate() {
+        *c = 1.0 / (1.0 + i as f64) * (0.9 * i as f64).cos();
+    }
     for n_points in [19, 20, 64, 1000] {
         let ts = sol.time_series(n_points);
         assert_eq!(ts.time.len(), n_points);

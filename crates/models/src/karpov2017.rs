@@ -559,7 +559,11 @@ impl Kernel {
             let (c, s) = (c0 + dc, s0 + ds);
             let (st, ct) = tau.sin_cos();
             let (sth, cth) = (self.kw * tau).sin_cos();
-            (st * c - ct * s, ct * c + st * s, self.sin_phi(tau, sth, cth))
+            (
+                st * c - ct * s,
+                ct * c + st * s,
+                self.sin_phi(tau, sth, cth),
+            )
         };
         let (mut lo, mut hi) = (t0, t1);
         let (_, v_lo, _) = eval(lo);
@@ -627,7 +631,11 @@ impl Acc {
             (fine, coarse) = (ker.rot(h), ker.rot(2.0 * h));
         } else {
             let j = (f64::from(LEVELS_PER_OCTAVE) * (2.0 * theta / h).log2()).ceil();
-            let j = if j.is_finite() { j.max(f64::from(LEVELS_PER_OCTAVE)) } else { f64::MAX };
+            let j = if j.is_finite() {
+                j.max(f64::from(LEVELS_PER_OCTAVE))
+            } else {
+                f64::MAX
+            };
             if j < LEVELS as f64 {
                 let j = j as usize;
                 (fine, coarse) = (table[j], table[j - LEVELS_PER_OCTAVE as usize]);
@@ -636,7 +644,8 @@ impl Acc {
             }
         }
         let h = fine.h;
-        if !(h > 0.0) || t + h == t {
+        // `h` must be positive (not NaN) and large enough to move `t` at all
+        if h.is_nan() || h <= 0.0 || t + h <= t {
             return Err(Error::Quadrature {
                 reason: format!("Duhamel integral: panel length {h:e} does not advance τ"),
                 at: t,
@@ -870,7 +879,11 @@ mod tests {
                 p.excitation = Excitation::PrintedPhase;
             })
             .unwrap();
-        assert!(printed.amplitude().unwrap() < 200.0, "{}", printed.amplitude().unwrap());
+        assert!(
+            printed.amplitude().unwrap() < 200.0,
+            "{}",
+            printed.amplitude().unwrap()
+        );
     }
 
     #[test]
@@ -911,7 +924,8 @@ mod tests {
                 f(p)
             })
             .unwrap()
-            .duhamel().unwrap()
+            .duhamel()
+            .unwrap()
         };
         // A over `values` of one parameter (set by `set`), the others changed by `fixed`.
         let row = |ex: Excitation,

@@ -138,7 +138,14 @@ impl hbm::SecondOrderSystem for Model {
         row[0] = self.stiffness(t);
         row[1] = self.backlash_at(t);
     }
-    fn nonlinear_force_tabulated(&self, _t: f64, row: &[f64], q: &[f64], _qd: &[f64], g: &mut [f64]) {
+    fn nonlinear_force_tabulated(
+        &self,
+        _t: f64,
+        row: &[f64],
+        q: &[f64],
+        _qd: &[f64],
+        g: &mut [f64],
+    ) {
         g[0] = row[0] * backlash::dead_zone(q[0], row[1]);
     }
     fn force_jacobian_tabulated(
@@ -391,7 +398,10 @@ mod tests {
                 let (mut a, mut b, mut at, mut bt) = ([0.0], [0.0], [1.0], [1.0]);
                 m.force_jacobian(t, &q, &[0.0], &mut a, &mut b);
                 m.force_jacobian_tabulated(t, &row, &q, &[0.0], &mut at, &mut bt);
-                assert_eq!((a[0].to_bits(), b[0].to_bits()), (at[0].to_bits(), bt[0].to_bits()));
+                assert_eq!(
+                    (a[0].to_bits(), b[0].to_bits()),
+                    (at[0].to_bits(), bt[0].to_bits())
+                );
             }
         }
     }

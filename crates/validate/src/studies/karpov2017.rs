@@ -248,7 +248,12 @@ fn fig3() -> Result<StudyOutput, Error> {
                 })
                 .collect();
             let r = m.duhamel().context("Fig. 3 Duhamel quadrature")?;
-            Ok((name, env, (r.amplitude, r.error_estimate), sol.stats.n_accepted))
+            Ok((
+                name,
+                env,
+                (r.amplitude, r.error_estimate),
+                sol.stats.n_accepted,
+            ))
         })
         .collect();
     for r in results {
