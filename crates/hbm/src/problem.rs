@@ -46,7 +46,12 @@ struct Workspace {
     qd: Vec<f64>,
     h: Vec<f64>,
     gtmp: Vec<f64>,
-    ftmp: Vec<f64>,
+    /// forcing `f(t_m)` tabulated once per problem and `ω`: ftab[m*n + i]
+    ftab: Vec<f64>,
+    /// the system's time table (`SecondOrderSystem::fill_time_table`): ttab[m*L + l]
+    ttab: Vec<f64>,
+    /// `L`, the system's time-table row length
+    tab_len: usize,
     /// coefficients of h: hc[c*n + i]
     hc: Vec<f64>,
     /// Jacobian samples: jq[m*n*n + i*n + j]
@@ -58,7 +63,7 @@ struct Workspace {
 }
 
 impl Workspace {
-    fn new(n: usize, n_grid: usize, nc: usize) -> Self {
+    fn new(n: usize, n_grid: usize, nc: usize, tab_len: usize) -> Self {
         let mut planner = FftPlanner::new();
         let fwd = planner.plan_fft_forward(n_grid);
         let inv = planner.plan_fft_inverse(n_grid);
@@ -75,7 +80,9 @@ impl Workspace {
             qd: vec![0.0; n_grid * n],
             h: vec![0.0; n_grid * n],
             gtmp: vec![0.0; n],
-            ftmp: vec![0.0; n],
+            ftab: vec![0.0; n_grid * n],
+            ttab: vec![0.0; n_grid * tab_len],
+            tab_len,
             hc: vec![0.0; nc * n],
             jq: vec![0.0; n_grid * n * n],
             jv: vec![0.0; n_grid * n * n],
@@ -146,10 +153,39 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             m: DMatrix::zeros(n, n),
             c: DMatrix::zeros(n, n),
             k: DMatrix::zeros(n, n),
-            ws: Workspace::new(n, n_grid, nc),
+            ws: Workspace::new(n, n_grid, nc, 0),
         };
         p.refresh_matrices()?;
         Ok(p)
+    }
+
+    /// Tabulate the time-only functions on the AFT grid: the forcing `f(t_m)` and the system's
+    /// time table ([`SecondOrderSystem::fill_time_table`]). Called whenever `ω` or a parameter
+    /// changes.
+    fn refresh_tables(&mut self) -> Result<(), HbmError> {
+        let n = self.n;
+        let len = self.system.time_table_len();
+        let nn = self.ws.n_grid;
+        if self.ws.tab_len != len {
+            self.ws.tab_len = len;
+            self.ws.ttab = vec![0.0; nn * len];
+        }
+        for m in 0..nn {
+            let t = self.time(m);
+            let f = &mut self.ws.ftab[m * n..(m + 1) * n];
+            self.system.forcing(t, f);
+            let row = &mut self.ws.ttab[m * len..(m + 1) * len];
+            if len > 0 {
+                self.system.fill_time_table(t, row);
+            }
+            if f.iter().chain(row.iter()).any(|x| !x.is_finite()) {
+                return Err(HbmError::NonFinite {
+                    what: "forcing or time table",
+                    time: t,
+                });
+            }
+        }
+        Ok(())
     }
 
     fn refresh_matrices(&mut self) -> Result<(), HbmError> {
@@ -164,7 +200,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         self.m = m;
         self.c = c;
         self.k = k;
-        Ok(())
+        self.refresh_tables()
     }
 
     /// Number of unknowns `n × n_coefficients`.
@@ -205,7 +241,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         check_positive("omega", omega)?;
         self.system.set_base_frequency(omega)?;
         self.omega = omega;
-        Ok(())
+        self.refresh_tables()
     }
 
     /// Set a named system parameter (see [`SecondOrderSystem::set_parameter`]) and re-read the
@@ -273,15 +309,17 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
     /// Sample `h = g − f` on the grid.
     fn sample_forces(&mut self) -> Result<(), HbmError> {
         let n = self.n;
+        let len = self.ws.tab_len;
         for m in 0..self.ws.n_grid {
             let t = self.time(m);
             let ws = &mut self.ws;
             let q = &ws.q[m * n..(m + 1) * n];
             let qd = &ws.qd[m * n..(m + 1) * n];
-            self.system.nonlinear_force(t, q, qd, &mut ws.gtmp);
-            self.system.forcing(t, &mut ws.ftmp);
+            let row = &ws.ttab[m * len..(m + 1) * len];
+            self.system
+                .nonlinear_force_tabulated(t, row, q, qd, &mut ws.gtmp);
             for i in 0..n {
-                let v = ws.gtmp[i] - ws.ftmp[i];
+                let v = ws.gtmp[i] - ws.ftab[m * n + i];
                 if !v.is_finite() {
                     return Err(HbmError::NonFinite {
                         what: "nonlinear force or forcing",
@@ -388,17 +426,19 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         let n = self.n;
         let nn = self.ws.n_grid;
         let nsq = n * n;
+        let len = self.ws.tab_len;
         // sample the force Jacobians
         for m in 0..nn {
             let t = self.time(m);
             let ws = &mut self.ws;
             let q = &ws.q[m * n..(m + 1) * n];
             let qd = &ws.qd[m * n..(m + 1) * n];
+            let row = &ws.ttab[m * len..(m + 1) * len];
             let (a, b) = (
                 &mut ws.jq[m * nsq..(m + 1) * nsq],
                 &mut ws.jv[m * nsq..(m + 1) * nsq],
             );
-            self.system.force_jacobian(t, q, qd, a, b);
+            self.system.force_jacobian_tabulated(t, row, q, qd, a, b);
             if a.iter().chain(b.iter()).any(|x| !x.is_finite()) {
                 return Err(HbmError::NonFinite {
                     what: "force Jacobian",
@@ -506,7 +546,12 @@ impl<S: SecondOrderSystem + Clone> Clone for HbmProblem<S> {
             m: self.m.clone(),
             c: self.c.clone(),
             k: self.k.clone(),
-            ws: Workspace::new(self.n, self.ws.n_grid, self.basis.n_coefficients()),
+            ws: Workspace {
+                ftab: self.ws.ftab.clone(),
+                ttab: self.ws.ttab.clone(),
+                tab_len: self.ws.tab_len,
+                ..Workspace::new(self.n, self.ws.n_grid, self.basis.n_coefficients(), 0)
+            },
         }
     }
 }

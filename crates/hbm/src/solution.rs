@@ -3,6 +3,8 @@
 use crate::solve::{NonlinearEquations, solve_equations};
 use crate::{Basis, HbmError, HbmProblem, SecondOrderSystem, SolverOptions, Stability};
 use nalgebra::DMatrix;
+use num_complex::Complex;
+use rustfft::FftPlanner;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -85,9 +87,17 @@ impl PeriodicSolution {
     }
 
     /// Sample one period at `n_points` equidistant times (`n_points ≥ 2`).
+    ///
+    /// By one inverse FFT per degree of freedom (`q` and `q'` packed as the real and imaginary
+    /// parts) when `n_points > 2 k_max`, else by direct summation.
     pub fn time_series(&self, n_points: usize) -> TimeSeries {
         let n_points = n_points.max(2);
         let n = self.n_dof;
+        if n_points > 2 * self.basis.max_harmonic()
+            && self.coefficients.len() == n * self.basis.n_coefficients()
+        {
+            return self.time_series_fft(n_points);
+        }
         let mut ts = TimeSeries {
             time: Vec::with_capacity(n_points),
             displacement: vec![Vec::with_capacity(n_points); n],
@@ -110,6 +120,38 @@ impl PeriodicSolution {
                 ts.displacement[i].push(q[i]);
                 ts.velocity[i].push(qd[i]);
             }
+        }
+        ts
+    }
+
+    /// [`time_series`](Self::time_series) by inverse FFT (needs `n_points > 2 k_max` and
+    /// consistent coefficients).
+    fn time_series_fft(&self, n_points: usize) -> TimeSeries {
+        let n = self.n_dof;
+        let inv = FftPlanner::new().plan_fft_inverse(n_points);
+        let mut buf = vec![Complex::<f64>::default(); n_points];
+        let mut ts = TimeSeries {
+            time: (0..n_points)
+                .map(|m| self.period() * m as f64 / n_points as f64)
+                .collect(),
+            displacement: Vec::with_capacity(n),
+            velocity: Vec::with_capacity(n),
+        };
+        let z = &self.coefficients;
+        for i in 0..n {
+            buf.fill(Complex::default());
+            buf[0] = Complex::new(z[i], 0.0);
+            for (j, &k) in self.basis.harmonics().iter().enumerate() {
+                let (a, b) = (z[(2 * j + 1) * n + i], z[(2 * j + 2) * n + i]);
+                // q: X = (a − ib)/2 at +k; q': Y = kω(b + ia)/2; packed as X + iY
+                let x = Complex::new(a, -b) * 0.5;
+                let y = Complex::new(b, a) * (0.5 * k as f64 * self.omega);
+                buf[k] += x + Complex::<f64>::i() * y;
+                buf[(n_points - k) % n_points] += x.conj() + Complex::<f64>::i() * y.conj();
+            }
+            inv.process(&mut buf);
+            ts.displacement.push(buf.iter().map(|c| c.re).collect());
+            ts.velocity.push(buf.iter().map(|c| c.im).collect());
         }
         ts
     }

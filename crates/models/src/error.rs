@@ -23,6 +23,15 @@ pub enum Error {
     /// An engine (harmonic balance or time stepping) did not succeed.
     #[error("solver: {0}")]
     Solver(String),
+    /// A quadrature ran out of its panel budget, could not advance, or did not reach its
+    /// tolerance.
+    #[error("quadrature at τ = {at}: {reason}")]
+    Quadrature {
+        /// What went wrong, with the bound that was hit.
+        reason: String,
+        /// Where (the integration variable) it happened.
+        at: f64,
+    },
 }
 
 impl Error {

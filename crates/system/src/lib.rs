@@ -160,7 +160,7 @@ pub trait SecondOrderSystem {
     }
     /// `g(t, q, q')` from a row written by [`fill_time_table`](Self::fill_time_table) at the same
     /// `t`; must equal [`nonlinear_force`](Self::nonlinear_force). Default: ignores the row.
-    fn nonlinear_force_tabulated(&self, row: &[f64], t: f64, q: &[f64], qd: &[f64], g: &mut [f64]) {
+    fn nonlinear_force_tabulated(&self, t: f64, row: &[f64], q: &[f64], qd: &[f64], g: &mut [f64]) {
         let _ = row;
         self.nonlinear_force(t, q, qd, g);
     }
@@ -168,8 +168,8 @@ pub trait SecondOrderSystem {
     /// Default: ignores the row.
     fn force_jacobian_tabulated(
         &self,
-        row: &[f64],
         t: f64,
+        row: &[f64],
         q: &[f64],
         qd: &[f64],
         dg_dq: &mut [f64],
@@ -315,7 +315,7 @@ mod tests {
         assert_eq!(c.stiffness(), DMatrix::zeros(1, 1));
         let (mut g1, mut g2) = ([0.0], [0.0]);
         c.nonlinear_force(0.3, &[1.5], &[0.5], &mut g1);
-        c.nonlinear_force_tabulated(&[], 0.3, &[1.5], &[0.5], &mut g2);
+        c.nonlinear_force_tabulated(0.3, &[], &[1.5], &[0.5], &mut g2);
         assert_eq!(g1[0].to_bits(), g2[0].to_bits());
         assert_eq!(Cubic.event_direction(0), Direction::Both);
     }

@@ -90,6 +90,7 @@ mod metrics;
 mod odesolvers;
 mod options;
 mod problems;
+mod record;
 mod solution;
 mod spectrum;
 mod steady;

@@ -13,8 +13,8 @@
 use ode_solvers::dop_shared::IntegrationError;
 use ode_solvers::{DVector, Dop853, Dopri5, OutputType, System};
 
-use crate::driver::{EventMonitor, Recorder};
 use crate::options::{Method, Options};
+use crate::record::{EventMonitor, Recorder};
 use crate::solution::{Event, Solution, Stats, Status};
 use crate::stepper::hermite;
 use crate::system::{EventAction, OdeSystem};

@@ -139,6 +139,36 @@ impl system::SecondOrderSystem for Model {
     fn events(&self, t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) {
         system::gap_edges(q[0], self.backlash_at(t), e);
     }
+    /// Row `[F(τ), b̄(τ)]`: the time-varying stiffness and half backlash of Eq. (9).
+    fn time_table_len(&self) -> usize {
+        2
+    }
+    fn fill_time_table(&self, t: f64, row: &mut [f64]) {
+        row[0] = self.stiffness(t);
+        row[1] = self.backlash_at(t);
+    }
+    fn nonlinear_force_tabulated(
+        &self,
+        _t: f64,
+        row: &[f64],
+        q: &[f64],
+        _qd: &[f64],
+        g: &mut [f64],
+    ) {
+        g[0] = row[0] * backlash::dead_zone(q[0], row[1]);
+    }
+    fn force_jacobian_tabulated(
+        &self,
+        _t: f64,
+        row: &[f64],
+        q: &[f64],
+        _qd: &[f64],
+        dq: &mut [f64],
+        dv: &mut [f64],
+    ) {
+        dq[0] = row[0] * dead_zone_dx(q[0], row[1]);
+        dv[0] = 0.0;
+    }
     fn set_base_frequency(&mut self, omega: f64) -> Result<(), system::SystemError> {
         *self = self
             .with_omega_c(omega)
@@ -348,6 +378,37 @@ mod tests {
         let t = 123.4;
         let g = m.restoring(t, s.eval(t));
         assert!(g < 0.0, "in contact on the drive flank");
+    }
+
+    #[test]
+    fn tabulated_force_equals_direct() {
+        use hbm::SecondOrderSystem;
+        for base_radius in [
+            super::super::params::BaseRadius::TimeVarying,
+            super::super::params::BaseRadius::Mean,
+        ] {
+            let mut p = table1();
+            p.readings.base_radius = base_radius;
+            let m = p.model().unwrap();
+            let mut row = [0.0; 2];
+            assert_eq!(m.time_table_len(), 2);
+            for i in 0..50 {
+                let t = 0.37 * f64::from(i);
+                let q = [-2.0 + 0.09 * f64::from(i)];
+                m.fill_time_table(t, &mut row);
+                let (mut g, mut gt) = ([0.0], [0.0]);
+                m.nonlinear_force(t, &q, &[0.0], &mut g);
+                m.nonlinear_force_tabulated(t, &row, &q, &[0.0], &mut gt);
+                assert_eq!(g[0].to_bits(), gt[0].to_bits());
+                let (mut a, mut b, mut at, mut bt) = ([0.0], [0.0], [1.0], [1.0]);
+                m.force_jacobian(t, &q, &[0.0], &mut a, &mut b);
+                m.force_jacobian_tabulated(t, &row, &q, &[0.0], &mut at, &mut bt);
+                assert_eq!(
+                    (a[0].to_bits(), b[0].to_bits()),
+                    (at[0].to_bits(), bt[0].to_bits())
+                );
+            }
+        }
     }
 
     #[test]

@@ -291,7 +291,7 @@ pub(super) fn karpov2017(solver: &Solver) -> Result<Adapter, Error> {
             };
             let m = Karpov2017::new(params).context("karpov2017 parameters")?;
             if duhamel {
-                let r = m.duhamel();
+                let r = m.duhamel().context("karpov2017 Duhamel quadrature")?;
                 Ok(vec![r.amplitude, r.envelope, r.x])
             } else {
                 let opts = timestep::Options::default()
