@@ -114,3 +114,8 @@ pub use sweep::{sweep, sweep_with_threads};
 pub use system::{
     Direction, EventAction, FirstOrder, FnSystem, OdeSystem, SecondOrderSystem, gap_edges,
 };
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
