@@ -1,11 +1,11 @@
 //! Dynamic backlash from gear-centre motion, Yu Eq. (6)–(11).
 
-use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, finite, positive};
 
 /// Nominal geometry of a spur pair needed by the dynamic backlash.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PairGeometry {
     /// Reference (pitch) radius of the pinion R_p (m), > 0 (Yu Eq. 8, 16).
     pub r_p: f64,
@@ -120,7 +120,8 @@ impl PairGeometry {
 /// Translations of the two gear centres (m), Yu Fig. 6 / Eq. (8): x along the line of centres,
 /// y normal to it, signed so that a = √((a_0 + x_p − x_g)² + (y_p − y_g)²) (x_p > 0 or x_g < 0
 /// moves the centres apart).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CentreDisplacement {
     /// x_p (m).
     pub x_p: f64,
@@ -150,7 +151,9 @@ impl CentreDisplacement {
 }
 
 /// Law for the operating pressure angle α(a).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum PressureAngleLaw {
     /// Involute geometry: cos α = (R_pb + R_gb)/a = a_0 cos α_0 / a (default; α = α_0 at a = a_0).
     #[default]
@@ -161,7 +164,9 @@ pub enum PressureAngleLaw {
 }
 
 /// Which relation turns centre motion into a backlash change b_dy.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum DynamicForm {
     /// Involute geometry (default): change of the normal backlash (along the line of action)
     /// Δb = 2(R_pb + R_gb)(inv α' − inv α_0), inv α = tan α − α, cos α' = (R_pb + R_gb)/a.
@@ -175,7 +180,9 @@ pub enum DynamicForm {
 }
 
 /// What to do when the radicand Δa² − Δp² of Yu Eq. (6) is negative.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum RadicandPolicy {
     /// Δb = √max(r, 0) (default): a negative radicand means "no change of backlash".
     #[default]
@@ -187,7 +194,8 @@ pub enum RadicandPolicy {
 }
 
 /// Complete backlash B = b_s + b_dy (Yu Eq. 11) as a function of the centre displacements.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DynamicBacklash {
     /// Pair geometry.
     pub geometry: PairGeometry,
@@ -203,7 +211,8 @@ pub struct DynamicBacklash {
 }
 
 /// Everything computed by [`DynamicBacklash::eval`].
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BacklashEval {
     /// B = b_s + b_dy (m) (Yu Eq. 11). May be negative (interference) with the signed forms;
     /// [`dead_zone`](crate::dead_zone) treats a negative gap as 0.

@@ -110,7 +110,9 @@ pub use steady::{
     SteadyOptions, SteadyState, Transient, classify_motion, detect_period, largest_lyapunov,
     poincare_stroboscopic, poincare_surface, steady_state,
 };
-pub use sweep::{sweep, sweep_with_threads};
+pub use sweep::sweep;
+#[cfg(feature = "parallel")]
+pub use sweep::sweep_with_threads;
 pub use system::{
     Direction, EventAction, FirstOrder, FnSystem, OdeSystem, SecondOrderSystem, gap_edges,
 };

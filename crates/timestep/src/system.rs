@@ -1,7 +1,8 @@
 //! The problem traits: first-order systems with event functions, and second-order systems.
 
 /// Direction of a zero crossing of an event function `g(t, y)`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Direction {
     /// `g` goes from negative to positive.
     Rising,
@@ -19,7 +20,9 @@ impl Direction {
 }
 
 /// What the integrator does after an event has been located and the step restarted there.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum EventAction {
     /// Record the event and continue from the event point (switching surface).
     Continue,

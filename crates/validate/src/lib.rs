@@ -117,7 +117,7 @@ mod table;
 mod user;
 
 pub use error::{Error, ResultExt};
-pub use figure::{Figure, Series, Style};
+pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
 pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{

@@ -76,7 +76,7 @@ fn run(
     opts: timestep::Options,
 ) -> Result<timestep::Solution, Error> {
     let sol = timestep::integrate(&timestep::FirstOrder(*model), t0, y0, t1, &opts)
-        .map_err(|e| Error::Solver(e.to_string()))?;
+        .map_err(Error::from)?;
     if !sol.status.is_success() {
         return Err(Error::Solver(format!(
             "liu2021 integration ended with {:?}",

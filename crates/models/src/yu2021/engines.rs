@@ -99,7 +99,7 @@ impl timestep::OdeSystem for Yu2021Ode {
 }
 
 fn engine_error(e: timestep::Error) -> Error {
-    Error::Solver(format!("yu2021 timestep engine: {e}"))
+    Error::timestep("yu2021 timestep engine: ")(e)
 }
 
 impl Yu2021Model {
