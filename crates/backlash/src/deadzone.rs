@@ -1,6 +1,5 @@
 //! The dead-zone (backlash) function f(x; b) of Liu 2021 Eq. (12) / Yu 2021 Eq. (14).
 
-
 use crate::error::{Error, finite, non_negative, positive};
 
 /// Which side of the dead zone a relative displacement lies on.

@@ -1,6 +1,5 @@
 //! Dynamic backlash from gear-centre motion, Yu Eq. (6)–(11).
 
-
 use crate::error::{Error, finite, positive};
 
 /// Nominal geometry of a spur pair needed by the dynamic backlash.

@@ -3,7 +3,6 @@
 
 use std::f64::consts::PI;
 
-
 use crate::error::{Error, finite, non_negative, positive};
 
 fn check_d(d: f64) -> Result<f64, Error> {

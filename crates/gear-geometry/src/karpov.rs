@@ -2,7 +2,6 @@
 
 use std::f64::consts::TAU;
 
-
 use crate::Error;
 use crate::error::{finite, positive};
 use crate::numeric::{Quadrature, bisect, integrate, maximize_periodic};
@@ -16,7 +15,10 @@ use crate::numeric::{Quadrature, bisect, integrate, maximize_periodic};
 /// method costs one `sin`/`cos` pair (plus a `ln` for [`CentrodeDeviation::integral`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(try_from = "CentrodeDeviationParams", into = "CentrodeDeviationParams"))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "CentrodeDeviationParams", into = "CentrodeDeviationParams")
+)]
 pub struct CentrodeDeviation {
     b: f64,
     xi: f64,
@@ -192,7 +194,10 @@ pub struct KarpovPairParams {
 /// value ([`CentreDistance::Closing`], default).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(try_from = "KarpovPairParams", into = "KarpovPairParams"))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "KarpovPairParams", into = "KarpovPairParams")
+)]
 pub struct KarpovPair {
     r: f64,
     u: f64,

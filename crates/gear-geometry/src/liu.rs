@@ -3,7 +3,6 @@
 
 use std::f64::consts::{PI, TAU};
 
-
 use crate::Error;
 use crate::error::positive;
 
@@ -45,7 +44,10 @@ pub enum RigidAccelerationForm {
 /// `r_b2 = r2 cos α` (Section 2.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(try_from = "NfgPairParams", into = "NfgPairParams"))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "NfgPairParams", into = "NfgPairParams")
+)]
 pub struct NfgPair {
     p: NfgPairParams,
 }

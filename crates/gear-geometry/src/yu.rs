@@ -1,6 +1,5 @@
 //! Spur pair geometry of Yu, Sun, Li, Wu 2021 (Section 2.2, Eq. 7–9, 16; Tables 1–2).
 
-
 use crate::Error;
 use crate::error::positive;
 
@@ -32,7 +31,10 @@ pub struct SpurPairParams {
 /// A validated involute spur pair.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(try_from = "SpurPairParams", into = "SpurPairParams"))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "SpurPairParams", into = "SpurPairParams")
+)]
 pub struct SpurPair {
     p: SpurPairParams,
 }

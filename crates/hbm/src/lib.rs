@@ -114,12 +114,12 @@ mod stability;
 mod sweep;
 mod system;
 
-/// The nalgebra this crate's API uses ([`SecondOrderSystem`] returns `DMatrix<f64>`), re-exported
-/// so that users implement the trait against the same version.
-pub use nalgebra;
 /// The argmin this crate's solvers are built on ([`Newton`] and [`Broyden`] are
 /// `argmin::core::Solver`s, [`SolverState`] an argmin state), re-exported for the same reason.
 pub use argmin;
+/// The nalgebra this crate's API uses ([`SecondOrderSystem`] returns `DMatrix<f64>`), re-exported
+/// so that users implement the trait against the same version.
+pub use nalgebra;
 
 pub use basis::{Basis, CoefficientKind};
 pub use continuation::{

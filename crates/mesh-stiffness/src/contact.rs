@@ -3,7 +3,6 @@
 
 use std::f64::consts::PI;
 
-
 use crate::error::{Error, Result, positive};
 
 /// Which form of Yu Eq. (18) to evaluate (reading R-YU-EQ18).

@@ -1,7 +1,6 @@
 //! Fourier-series mesh stiffness (Liu 2021 Eq. 6) and its single-harmonic form (Liu Eq. 19,
 //! Yu 2021 Eq. 17).
 
-
 use crate::error::{Error, Result, finite, non_negative, positive};
 
 /// Which trigonometric function carries the phase in the single-harmonic form.
@@ -31,7 +30,10 @@ pub enum Waveform {
 /// for the higher harmonics, and never allocates.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(try_from = "FourierStiffnessData", into = "FourierStiffnessData"))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "FourierStiffnessData", into = "FourierStiffnessData")
+)]
 pub struct FourierStiffness {
     k0: f64,
     omega_e: f64,

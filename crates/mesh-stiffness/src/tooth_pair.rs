@@ -3,7 +3,6 @@
 
 use std::f64::consts::{FRAC_PI_4, PI, TAU};
 
-
 use crate::error::{Error, Result, non_negative, positive};
 use crate::series::FourierStiffness;
 

@@ -130,7 +130,9 @@ mod tests {
         );
         assert_eq!(e.to_string(), format!("gear geometry: {leaf}"));
 
-        let h = hbm::HbmError::Singular { what: "mass matrix" };
+        let h = hbm::HbmError::Singular {
+            what: "mass matrix",
+        };
         let e = Error::hbm("yu2021 hbm engine: ")(h.clone());
         assert_eq!(
             e.source().unwrap().downcast_ref::<hbm::HbmError>(),

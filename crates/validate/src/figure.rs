@@ -111,7 +111,10 @@ pub fn step_path(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
             out.push(*p);
             continue;
         }
-        let prev = i.checked_sub(1).and_then(|j| points.get(j)).filter(|q| finite(q));
+        let prev = i
+            .checked_sub(1)
+            .and_then(|j| points.get(j))
+            .filter(|q| finite(q));
         let next = points.get(i + 1).filter(|q| finite(q));
         let left = prev.map_or(p.0, |q| 0.5 * (q.0 + p.0));
         let right = next.map_or(p.0, |q| 0.5 * (p.0 + q.0));
@@ -206,7 +209,11 @@ impl Figure {
         }
         if points.len() == 1 {
             let p = points[0];
-            let target = if p.2 == Some(true) { &mut solid } else { &mut dashed };
+            let target = if p.2 == Some(true) {
+                &mut solid
+            } else {
+                &mut dashed
+            };
             target.push((p.0, p.1));
         }
         if !solid.is_empty() {

@@ -154,11 +154,7 @@ macro_rules! published {
     ($file:literal) => {
         $crate::Published::parse(
             $file,
-            include_str!(concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/published/",
-                $file
-            )),
+            include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/published/", $file)),
         )
     };
 }
@@ -208,14 +204,8 @@ source = "p. 9"
                 "karpov2017.toml",
                 include_str!("../published/karpov2017.toml"),
             ),
-            (
-                "liu2021.toml",
-                include_str!("../published/liu2021.toml"),
-            ),
-            (
-                "yu2021.toml",
-                include_str!("../published/yu2021.toml"),
-            ),
+            ("liu2021.toml", include_str!("../published/liu2021.toml")),
+            ("yu2021.toml", include_str!("../published/yu2021.toml")),
         ] {
             Published::parse(name, text).unwrap();
         }

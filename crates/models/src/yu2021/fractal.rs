@@ -91,11 +91,10 @@ pub fn chen_z(dimension: f64, t: f64) -> f64 {
 /// The Yu model takes the mean mesh stiffness `k_am` from its parameter sets; this function is
 /// offered for studies of Eq. (18).
 pub fn fractal_contact_stiffness(c: &FractalContact, form: FractalForm) -> Result<f64, Error> {
-    c.stiffness(form)
-        .map_err(|source| Error::Stiffness {
-            context: "yu2021 fractal contact stiffness",
-            source,
-        })
+    c.stiffness(form).map_err(|source| Error::Stiffness {
+        context: "yu2021 fractal contact stiffness",
+        source,
+    })
 }
 
 #[cfg(test)]

@@ -957,7 +957,10 @@ fn speed_continuation() -> Result<StudyOutput, Error> {
             .folds
             .iter()
             .filter_map(|f| {
-                let (a, c) = (b.points.get(f.after_index)?, b.points.get(f.after_index + 1)?);
+                let (a, c) = (
+                    b.points.get(f.after_index)?,
+                    b.points.get(f.after_index + 1)?,
+                );
                 Some((f.omega1, 0.5 * (a.rattle.ppv + c.rattle.ppv)))
             })
             .collect();
