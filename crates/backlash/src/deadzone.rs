@@ -1,14 +1,13 @@
 //! The dead-zone (backlash) function f(x; b) of Liu 2021 Eq. (12) / Yu 2021 Eq. (14).
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, finite, non_negative, positive};
 
 /// Which side of the dead zone a relative displacement lies on.
 ///
 /// Convention at the corners: `|x| = b` counts as [`ContactRegion::Separated`] (Liu Eq. 12
 /// writes the zero branch on the closed interval `−b ≤ q ≤ b`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum ContactRegion {
     /// `x > b`: drive-side flanks in contact, `f = x − b`.
     DriveSide,
@@ -135,7 +134,9 @@ fn smooth_ramp(u: f64, eps: f64) -> (f64, f64) {
 }
 
 /// How the corners of the dead zone are treated.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum Regularisation {
     /// The piecewise-linear function of Liu Eq. (12) / Yu Eq. (14) (default).
     #[default]
@@ -153,7 +154,8 @@ pub enum Regularisation {
 }
 
 /// Value and partial derivatives of the dead zone at one point.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DeadZoneEval {
     /// f(x; b).
     pub f: f64,
@@ -164,7 +166,8 @@ pub struct DeadZoneEval {
 }
 
 /// A dead zone with a chosen [`Regularisation`]; evaluate with any [`HalfGap`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DeadZone {
     regularisation: Regularisation,
 }

@@ -1,11 +1,10 @@
 //! Dynamic backlash from gear-centre motion, Yu Eq. (6)–(11).
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, finite, positive};
 
 /// Nominal geometry of a spur pair needed by the dynamic backlash.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PairGeometry {
     /// Reference (pitch) radius of the pinion R_p (m), > 0 (Yu Eq. 8, 16).
     pub r_p: f64,
@@ -155,7 +154,8 @@ impl PairGeometry {
 /// Translations of the two gear centres (m), Yu Fig. 6 / Eq. (8): x along the line of centres,
 /// y normal to it, signed so that a = √((a_0 + x_p − x_g)² + (y_p − y_g)²) (x_p > 0 or x_g < 0
 /// moves the centres apart).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CentreDisplacement {
     /// x_p (m).
     pub x_p: f64,
@@ -185,7 +185,9 @@ impl CentreDisplacement {
 }
 
 /// Law for the operating pressure angle α(a).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum PressureAngleLaw {
     /// Involute geometry: cos α = (R_pb + R_gb)/a = a_0 cos α_0 / a (default; α = α_0 at a = a_0).
     #[default]
@@ -232,7 +234,9 @@ pub enum Beta0 {
 }
 
 /// Which relation turns centre motion into a backlash change b_dy.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum DynamicForm {
     /// Involute geometry (default): change of the *half* gap along the line of action,
     /// b_dy = (R_pb + R_gb)(inv α' − inv α_0), inv α = tan α − α, cos α' = (R_pb + R_gb)/a —
@@ -253,7 +257,9 @@ pub enum DynamicForm {
 }
 
 /// What to do when the radicand Δa² − Δp² of Yu Eq. (6) is negative.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum RadicandPolicy {
     /// Δb = √max(r, 0) (default): a negative radicand means "no change of backlash".
     #[default]
@@ -265,7 +271,8 @@ pub enum RadicandPolicy {
 }
 
 /// Complete backlash B = b_s + b_dy (Yu Eq. 11) as a function of the centre displacements.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DynamicBacklash {
     /// Pair geometry.
     pub geometry: PairGeometry,
@@ -287,7 +294,8 @@ pub struct DynamicBacklash {
 }
 
 /// Everything computed by [`DynamicBacklash::eval`].
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BacklashEval {
     /// B = b_s + b_dy (m) (Yu Eq. 11). May be negative (interference) with the signed forms;
     /// [`dead_zone`](crate::dead_zone) treats a negative gap as 0.

@@ -3,8 +3,6 @@
 
 use std::f64::consts::PI;
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, finite, non_negative, positive};
 
 fn check_d(d: f64) -> Result<f64, Error> {
@@ -32,7 +30,8 @@ fn check_gamma(gamma: f64) -> Result<f64, Error> {
 }
 
 /// Fractal parameters of one rough surface (Yu Eq. 2).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SurfaceFractal {
     /// Fractal dimension D, dimensionless, in (1, 2); larger is smoother (Yu Eq. 2).
     pub d: f64,
@@ -57,7 +56,8 @@ impl SurfaceFractal {
 /// with λ^{k_min} ≈ 1/l_a (largest wavelength ≤ l_a, the maximum asperity base diameter) and
 /// λ^{n_max} ≤ 1/l_s (smallest wavelength ≥ l_s, the smallest resolvable wavelength). The
 /// neglected tail is bounded uniformly in l by [`WmProfile::truncation_bound`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct WmProfile {
     surface: SurfaceFractal,
     gamma: f64,
@@ -159,7 +159,8 @@ impl WmProfile {
 }
 
 /// Resolution of the quadrature of Eq. (4).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Quadrature {
     /// Midpoint samples per smallest kept wavelength (≥ 2; default 8).
     pub points_per_wavelength: f64,
@@ -177,7 +178,8 @@ impl Default for Quadrature {
 }
 
 /// Result of the mean-height integral (Eq. 4) with its error budget.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct MeanHeight {
     /// b_i = (1/L)∫₀^L |z(l)| dl of the truncated profile (m).
     pub value: f64,
@@ -303,7 +305,9 @@ fn unit_mean_height(
 }
 
 /// Which form of the constant part b_s to evaluate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum ConstantPartForm {
     /// Yu Eq. (4)–(5): mean of |z| over L with k from k_min (default; the form the text argues).
     #[default]
@@ -315,7 +319,8 @@ pub enum ConstantPartForm {
 }
 
 /// Parameters of the constant part of the backlash, Yu Eq. (5).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ConstantBacklashParams {
     /// Initial backlash b_0 between ideal flat flanks (m), ≥ 0 (Yu Eq. 5).
     pub b0: f64,
@@ -418,7 +423,8 @@ fn printed_eq11_mean(prof: &WmProfile, l_len: f64) -> MeanHeight {
 }
 
 /// Constant part of the backlash (Yu Eq. 5).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ConstantPart {
     /// b_s = b_0 − Σ b_i (m); may be negative.
     pub b_s: f64,
@@ -438,7 +444,8 @@ impl ConstantPart {
 }
 
 /// The data of Yu Fig. 4: b_i and b_s over a (D, G) grid, with D_p = D_g, G_p = G_g.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Fig4Data {
     /// Parameters used.
     pub params: ConstantBacklashParams,
@@ -455,7 +462,8 @@ pub struct Fig4Data {
 }
 
 /// The text's claims about Fig. 4, evaluated on a [`Fig4Data`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Fig4Claims {
     /// Largest b_s over G at the row D = 1.2 (m); the text: below 20 µm.
     pub max_b_s_at_d12: f64,
@@ -578,7 +586,8 @@ pub fn yu2021_fig4() -> Result<Fig4Data, Error> {
 
 /// Chen's fractal backlash (Yu Eq. 3, Chen et al. 2014):
 /// z(t) = Σ_{k=0}^{n−1} λ^{(D−2)k} sin(λ^k t), truncated to `n_terms` terms. Dimensionless.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ChenFractal {
     /// Fractal dimension D in (1, 2).
     pub d: f64,

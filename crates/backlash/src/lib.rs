@@ -146,3 +146,8 @@ mod tests {
         assert_send_sync::<Error>();
     }
 }
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -2,8 +2,6 @@
 
 use std::f64::consts::TAU;
 
-use serde::{Deserialize, Serialize};
-
 use crate::Error;
 use crate::error::{finite, positive};
 use crate::numeric::{Quadrature, bisect, integrate, maximize_periodic};
@@ -15,8 +13,12 @@ use crate::numeric::{Quadrature, bisect, integrate, maximize_periodic};
 /// sinusoidal limit of Section 4, `g = B sin θ`. This type is all that the mesh-frequency
 /// excitation of the Karpov oscillator (Eq. 7–10) needs: it is `Copy`, allocation-free and every
 /// method costs one `sin`/`cos` pair (plus a `ln` for [`CentrodeDeviation::integral`]).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "CentrodeDeviationParams", into = "CentrodeDeviationParams")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "CentrodeDeviationParams", into = "CentrodeDeviationParams")
+)]
 pub struct CentrodeDeviation {
     b: f64,
     xi: f64,
@@ -27,7 +29,8 @@ pub struct CentrodeDeviation {
 }
 
 /// Unvalidated serde form of [`CentrodeDeviation`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct CentrodeDeviationParams {
     /// `B`, maximum relative deviation of `r1` (Eq. 1), dimensionless, in `[0, 1)`.
     pub b: f64,
@@ -150,7 +153,9 @@ impl CentrodeDeviation {
 }
 
 /// How the centre distance of the Karpov pair is chosen (reading `R-KARPOV-EQ1-CLOSURE`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum CentreDistance {
     /// `a = r(1 + u)` and `r2 = r(u − g)` exactly as Eq. (1) prints them. The output gear then
     /// turns `2π/u + O(B²)` per input revolution, so the output centrode does not close exactly.
@@ -162,7 +167,8 @@ pub enum CentreDistance {
 }
 
 /// Unvalidated serde form of [`KarpovPair`] (SI units).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct KarpovPairParams {
     /// `r`, nominal radius of the input centrode (Eq. 1), m.
     pub r: f64,
@@ -177,7 +183,7 @@ pub struct KarpovPairParams {
     /// `z1`, teeth of the input gear (Eq. 7), `≥ 1`.
     pub z1: u32,
     /// Centre-distance choice (reading `R-KARPOV-EQ1-CLOSURE`).
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub centre_distance: CentreDistance,
 }
 
@@ -186,8 +192,12 @@ pub struct KarpovPairParams {
 /// Input centrode `r1(φ1) = r(1 + g(jφ1))`, output `r2(φ1) = r(A − g(jφ1))`, centre distance
 /// `a = r1 + r2 = r(1 + A)` constant, with `A = u` ([`CentreDistance::AsPrinted`]) or the closing
 /// value ([`CentreDistance::Closing`], default).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "KarpovPairParams", into = "KarpovPairParams")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "KarpovPairParams", into = "KarpovPairParams")
+)]
 pub struct KarpovPair {
     r: f64,
     u: f64,
@@ -213,7 +223,9 @@ impl From<KarpovPair> for KarpovPairParams {
 }
 
 /// Which speed-fluctuation expression a design check uses (reading `R-KARPOV-EQ4`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum SpeedFluctuationForm {
     /// `δ = u(max i − min i)` of the exact ratio (Eq. 3).
     Exact,
@@ -225,7 +237,8 @@ pub enum SpeedFluctuationForm {
 }
 
 /// Result of the Section 4 design check "δ within δ_max".
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DesignCheck {
     /// Allowed speed fluctuation `δ_max` (0.001 … 0.2 by mechanism type, Section 4).
     pub delta_max: f64,

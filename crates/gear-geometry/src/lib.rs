@@ -137,3 +137,8 @@ mod tests {
         check::<super::Error>();
     }
 }
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -3,13 +3,12 @@
 
 use std::f64::consts::{PI, TAU};
 
-use serde::{Deserialize, Serialize};
-
 use crate::Error;
 use crate::error::positive;
 
 /// Unvalidated serde form of [`NfgPair`] (SI units).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct NfgPairParams {
     /// `m`, module of the pinion (Table 1), m.
     pub module: f64,
@@ -25,7 +24,9 @@ pub struct NfgPairParams {
 
 /// Which expression of the NFG rigid-body angular acceleration `d²θ2/dτ²` to use
 /// (reading `R-LIU-EQ20`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum RigidAccelerationForm {
     /// Differentiated from Eq. (18): `d²θ2/dτ² = 2ε(1 − ε²) ω̄c² sin θ/(1 + 2ε cos θ + ε²)²`,
     /// `θ = ω̄c τ`. Default.
@@ -41,8 +42,12 @@ pub enum RigidAccelerationForm {
 /// Transmission ratio (Eq. 18) with `θc = ωc t`, `ωc = ω1/i_j`:
 /// `i12 = ω1/ω2 = i_j (1 + 2ε cos θc + ε²)/(1 − ε²)`, and `r2 = r1·i12` (Eq. 1),
 /// `r_b2 = r2 cos α` (Section 2.3).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "NfgPairParams", into = "NfgPairParams")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "NfgPairParams", into = "NfgPairParams")
+)]
 pub struct NfgPair {
     p: NfgPairParams,
 }
@@ -282,7 +287,8 @@ impl NfgPair {
 
 /// The vibration test rig of Liu et al. 2021, Section 3.8: a variable-frequency motor drives the
 /// pinion through a synchronous belt drive of ratio `belt_ratio` (motor speed / pinion speed).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LiuRig {
     /// Belt reduction ratio, motor speed / pinion speed (text: "1.3").
     pub belt_ratio: f64,

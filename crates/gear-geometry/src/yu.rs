@@ -1,12 +1,12 @@
 //! Spur pair geometry of Yu, Sun, Li, Wu 2021 (Section 2.2, Eq. 7–9, 16; Tables 1–2).
 
-use serde::{Deserialize, Serialize};
-
 use crate::Error;
 use crate::error::positive;
 
 /// Which operating-pressure-angle formula to use (reading `R-YU-EQ16`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum PressureAngleForm {
     /// `α = arccos(a0 cos α0/a)`: base radii fixed, `α = α0` at the nominal distance `a0`.
     /// Default.
@@ -17,7 +17,8 @@ pub enum PressureAngleForm {
 }
 
 /// Unvalidated serde form of [`SpurPair`] (SI units).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SpurPairParams {
     /// `R_p`, reference (pitch) radius of the pinion (Eq. 8, Table 1), m.
     pub rp: f64,
@@ -28,8 +29,12 @@ pub struct SpurPairParams {
 }
 
 /// A validated involute spur pair.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "SpurPairParams", into = "SpurPairParams")]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "SpurPairParams", into = "SpurPairParams")
+)]
 pub struct SpurPair {
     p: SpurPairParams,
 }

@@ -1,7 +1,6 @@
 //! Harmonic bases: which multiples `k ω` of the base frequency are retained.
 
 use crate::HbmError;
-use serde::{Deserialize, Serialize};
 
 /// A set of harmonics `k ω` (`k ≥ 1`) of one base frequency `ω`, always with the constant term.
 ///
@@ -11,13 +10,15 @@ use serde::{Deserialize, Serialize};
 /// The basis only stores the integers `k_j`: the frequency `ω` is chosen when a
 /// [`HbmProblem`](crate::HbmProblem) is built, so any basis (including Liu's sparse one) can be
 /// used with any base frequency.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Basis {
     harmonics: Vec<usize>,
 }
 
 /// Whether a coefficient multiplies the constant, a cosine or a sine.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum CoefficientKind {
     /// The constant term `a_0`.
     Constant,

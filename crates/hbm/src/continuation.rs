@@ -3,10 +3,11 @@
 use crate::solve::{NonlinearEquations, solve_equations};
 use crate::{HbmError, HbmProblem, Method, PeriodicSolution, SecondOrderSystem, SolverOptions};
 use nalgebra::{DMatrix, DVector};
-use serde::{Deserialize, Serialize};
 
 /// The parameter `λ` that is continued.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum ContinuationParameter {
     /// The base frequency `ω` of the basis.
     Frequency,
@@ -15,7 +16,8 @@ pub enum ContinuationParameter {
 }
 
 /// Options of [`HbmProblem::continuation`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ContinuationOptions {
     /// First arclength step (in the unscaled `(z, λ)` space).
     pub initial_step: f64,
@@ -76,7 +78,8 @@ impl ContinuationOptions {
 }
 
 /// One point on a branch.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BranchPoint {
     /// Parameter value `λ`.
     pub parameter: f64,
@@ -87,7 +90,8 @@ pub struct BranchPoint {
 }
 
 /// A fold (turning point, saddle-node) detected between two branch points.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FoldPoint {
     /// The fold lies between points `after_index` and `after_index + 1`.
     pub after_index: usize,
@@ -96,7 +100,9 @@ pub struct FoldPoint {
 }
 
 /// Why a continuation stopped.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum ContinuationEnd {
     /// The end value of the parameter was reached.
     ReachedEnd,
@@ -120,7 +126,8 @@ pub enum ContinuationEnd {
 }
 
 /// A computed solution branch.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Branch {
     /// The continued parameter.
     pub parameter: ContinuationParameter,

@@ -114,6 +114,13 @@ mod stability;
 mod sweep;
 mod system;
 
+/// The argmin this crate's solvers are built on ([`Newton`] and [`Broyden`] are
+/// `argmin::core::Solver`s, [`SolverState`] an argmin state), re-exported for the same reason.
+pub use argmin;
+/// The nalgebra this crate's API uses ([`SecondOrderSystem`] returns `DMatrix<f64>`), re-exported
+/// so that users implement the trait against the same version.
+pub use nalgebra;
+
 pub use basis::{Basis, CoefficientKind};
 pub use continuation::{
     Branch, BranchPoint, ContinuationEnd, ContinuationOptions, ContinuationParameter, FoldPoint,
@@ -146,3 +153,8 @@ mod tests {
         is_send_sync::<Broyden>();
     }
 }
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

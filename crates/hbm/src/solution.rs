@@ -5,11 +5,11 @@ use crate::{Basis, HbmError, HbmProblem, SecondOrderSystem, SolverOptions, Stabi
 use nalgebra::DMatrix;
 use num_complex::Complex;
 use rustfft::FftPlanner;
-use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
 /// A periodic solution `q(t) = a_0 + Σ a_k cos(kωt) + b_k sin(kωt)` and how its solve ended.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PeriodicSolution {
     /// The basis of the coefficients.
     pub basis: Basis,
@@ -32,7 +32,8 @@ pub struct PeriodicSolution {
 }
 
 /// Amplitude of one harmonic of one degree of freedom.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct HarmonicAmplitude {
     /// Harmonic index `k` (0 = constant).
     pub harmonic: usize,
@@ -43,7 +44,8 @@ pub struct HarmonicAmplitude {
 }
 
 /// A sampled time series over one period.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TimeSeries {
     /// Sample times `t_m = m T / N`, `m = 0..N`.
     pub time: Vec<f64>,
@@ -54,7 +56,8 @@ pub struct TimeSeries {
 }
 
 /// Change of a solution when the basis is enlarged (harmonic truncation error estimate).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct TruncationEstimate {
     /// Per DOF: `max_t |q_small(t) − q_large(t)|`.
     pub max_abs_difference: Vec<f64>,

@@ -5,7 +5,6 @@ use argmin::core::{
     Executor, IterState, KV, Problem, Solver, State, TerminationReason, TerminationStatus,
 };
 use nalgebra::{DMatrix, DVector};
-use serde::{Deserialize, Serialize};
 
 /// A square nonlinear system `r(x) = 0` with a Jacobian, as seen by [`Newton`] and [`Broyden`].
 pub trait NonlinearEquations {
@@ -32,7 +31,9 @@ pub trait NonlinearEquations {
 pub type SolverState = IterState<Vec<f64>, (), (), (), Vec<f64>, f64>;
 
 /// Which nonlinear solver to use.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum Method {
     /// Newton's method with the analytic Jacobian and a backtracking line search.
     #[default]
@@ -43,7 +44,8 @@ pub enum Method {
 }
 
 /// Options of a nonlinear solve.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SolverOptions {
     /// Solver.
     pub method: Method,
@@ -82,7 +84,8 @@ impl SolverOptions {
 }
 
 /// How a nonlinear solve ended.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SolveReport {
     /// The final iterate.
     pub x: Vec<f64>,

@@ -3,10 +3,10 @@
 use crate::solution::eval_state;
 use crate::{HbmError, HbmProblem, PeriodicSolution, SecondOrderSystem};
 use nalgebra::DMatrix;
-use serde::{Deserialize, Serialize};
 
 /// Floquet multipliers of a periodic solution and the verdict.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Stability {
     /// Floquet multipliers `μ` as `[Re μ, Im μ]`, `2n` of them.
     pub multipliers: Vec<[f64; 2]>,

@@ -1,6 +1,10 @@
 //! Parallel parameter sweeps (rayon), bit-identical for any number of threads.
+//!
+//! Without the `parallel` feature the same function runs the points serially, in order, with
+//! the same results.
 
 use crate::{HbmError, HbmProblem, PeriodicSolution, SecondOrderSystem, SolverOptions};
+#[cfg(feature = "parallel")]
 use rayon::prelude::*;
 
 /// Solve independent problems for each parameter value in parallel.
@@ -21,8 +25,11 @@ where
     F: Fn(f64) -> Result<HbmProblem<S>, HbmError> + Sync,
     G: Fn(f64, &HbmProblem<S>) -> Vec<f64> + Sync,
 {
-    values
-        .par_iter()
+    #[cfg(feature = "parallel")]
+    let points = values.par_iter();
+    #[cfg(not(feature = "parallel"))]
+    let points = values.iter();
+    points
         .map(|&v| {
             let mut p = make(v)?;
             let z0 = guess(v, &p);

@@ -3,12 +3,12 @@
 
 use std::f64::consts::PI;
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result, positive};
 
 /// Which form of Yu Eq. (18) to evaluate (reading R-YU-EQ18).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum FractalForm {
     /// Sign-consistent form (default): the printed factor `1/(1 − D)` is replaced by
     /// `1/(D − 1)`, and the removable singularity of `(l_a^e − l_s^e)/e` at
@@ -26,7 +26,9 @@ pub enum FractalForm {
 /// Yu prints `λ_c = {(3FR/4E)^{1/3} / [2π(R₁ + R₂)]}^{2/R}`, whose exponent contains the
 /// dimensional radius `R`; the number then depends on the length unit (reading R-YU-EQ18).
 /// The default is an explicit `λ_c = 1` (no curvature correction).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum CurvatureCoefficient {
     /// An explicit value `λ_c > 0` \[-\]. `Value(1.0)` is the default.
     Value(f64),
@@ -46,7 +48,8 @@ impl Default for CurvatureCoefficient {
 }
 
 /// Inputs of the fractal contact stiffness, Yu et al. 2021 Eq. (18), all explicit (SI).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FractalContact {
     /// Fractal dimension `D` \[-\], in (1, 2) (Yu Eq. 2, 18).
     pub fractal_dimension: f64,
@@ -261,7 +264,8 @@ impl FractalContact {
 /// - Load-independent estimate used in gear mesh-stiffness work (Yang & Lin 1987, ASME
 ///   J. Mech. Transm. Autom. Des. 109:189; Tian 2004): `k_h = π E* b / 2`, which is
 ///   `π E b / [4(1 − ν²)]` for two equal materials.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct HertzLineContact {
     /// Elastic modulus of body 1 `E₁` \[Pa\].
     pub elastic_modulus_1: f64,

@@ -4,13 +4,13 @@ use std::sync::Arc;
 
 use num_complex::Complex;
 use rustfft::{Fft, FftPlanner};
-use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result, positive};
 use crate::series::{FourierStiffness, SingleHarmonicStiffness, Waveform};
 
 /// Result of [`fit_fourier`]: the series and what it leaves out.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FourierFit {
     /// The fitted series `k0 + Σ_{n≤N} [a_n cos nω_e t + b_n sin nω_e t]`.
     pub series: FourierStiffness,

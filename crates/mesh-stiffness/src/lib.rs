@@ -117,3 +117,8 @@ pub use fit::{FourierFit, FourierFitter, fit_fourier, fit_single_harmonic};
 pub use law::StiffnessLaw;
 pub use series::{FourierStiffness, FourierStiffnessData, SingleHarmonicStiffness, Waveform};
 pub use tooth_pair::{NfgToothPairStiffness, ToothPairStiffness};
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -1,8 +1,6 @@
 //! Fourier-series mesh stiffness (Liu 2021 Eq. 6) and its single-harmonic form (Liu Eq. 19,
 //! Yu 2021 Eq. 17).
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result, finite, non_negative, positive};
 
 /// Which trigonometric function carries the phase in the single-harmonic form.
@@ -11,7 +9,9 @@ use crate::error::{Error, Result, finite, non_negative, positive};
 /// takes `φ_m = π/2`, which turns it into `k0 + k_r cos(ω_e t)`. The cosine form
 /// `k0 + k_r cos(ω_e t + φ_m)` is offered for callers who prefer it; the two are the same curve
 /// when `φ_cos = φ_sin − π/2`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum Waveform {
     /// `k0 + k_r sin(ω_e t + φ_m)`, as printed in Liu Eq. (19) and Yu Eq. (17). Default.
     #[default]
@@ -28,8 +28,12 @@ pub enum Waveform {
 /// separately (`cos()[n−1]`, `sin()[n−1]`); [`FourierStiffness::from_liu_coefficients`] accepts
 /// the interleaved layout of Eq. 6. Evaluation needs one `sin_cos` call and a rotation recurrence
 /// for the higher harmonics, and never allocates.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(try_from = "FourierStiffnessData", into = "FourierStiffnessData")]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    serde(try_from = "FourierStiffnessData", into = "FourierStiffnessData")
+)]
 pub struct FourierStiffness {
     k0: f64,
     omega_e: f64,
@@ -38,7 +42,8 @@ pub struct FourierStiffness {
 }
 
 /// Serialised form of [`FourierStiffness`] (validated on deserialisation).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FourierStiffnessData {
     /// Mean stiffness `k0` \[N/m\] (Liu Eq. 6).
     pub k0: f64,
@@ -263,7 +268,8 @@ impl FourierStiffness {
 ///
 /// Yu's `k_am (1 + ε sin(ω_h t + φ0))` is the same curve with `k0 = k_am`, `k_r = ε k_am`; see
 /// [`SingleHarmonicStiffness::yu2021`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SingleHarmonicStiffness {
     /// Mean stiffness `k0` \[N/m\] (Liu Eq. 19; Yu's `k_am`, Eq. 17).
     pub k0: f64,

@@ -3,8 +3,6 @@
 
 use std::f64::consts::{FRAC_PI_4, PI, TAU};
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result, non_negative, positive};
 use crate::series::FourierStiffness;
 
@@ -39,7 +37,8 @@ fn smooth_step(x: f64, s: f64) -> f64 {
 /// `(π/2s) cos(πx/s)` on `|x| < s/2`; the analytic Fourier coefficients
 /// ([`ToothPairStiffness::analytic_series`]) are then those of the sharp wave times
 /// `cos(πns)/(1 − (2ns)²)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ToothPairStiffness {
     /// Transverse contact ratio `ε_α` \[-\], in (1, 2].
     pub contact_ratio: f64,
@@ -168,7 +167,8 @@ impl ToothPairStiffness {
 /// Within a period the curve is the rectangular wave of [`ToothPairStiffness`]. Over one NFG
 /// revolution (`Z₂` periods, frequency `ω_c = ω_e/Z₂`) the DFT then shows the mesh harmonics
 /// plus sidebands at `nω_e ± ω_c`; [`crate::FourierFit::aperiodic_rms`] measures them.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct NfgToothPairStiffness {
     /// The mean (circular-gear) curve: `ε_α`, `k_single`, `k_double`, smoothing.
     pub base: ToothPairStiffness,

@@ -51,6 +51,7 @@ use crate::Error;
 
 /// How the excitation phase of Eq. (9) is read (reading `R-KARPOV-EQ9`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[non_exhaustive]
 pub enum Excitation {
     /// `sin(∫₀^τ ωe dτ')`: the accumulated mesh phase of Eq. (7). Default.
     #[default]
@@ -62,6 +63,7 @@ pub enum Excitation {
 /// Definition of the final amplitude `A` (Section 3.3, "the amplitude that corresponds to the
 /// final moment of simulation").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[non_exhaustive]
 pub enum AmplitudeMeasure {
     /// `max |X|` over the last cycle `[τ_end − 2π·max(1, 1/ω), τ_end]`. Default.
     #[default]
@@ -159,7 +161,7 @@ impl Karpov2017 {
         if p.xi.is_nan() || p.xi <= 1.0 {
             return Err(Error::invalid("karpov2017.xi", "> 1 (or +inf)", p.xi));
         }
-        let dev = CentrodeDeviation::new(p.b, p.xi).map_err(|e| Error::Geometry(e.to_string()))?;
+        let dev = CentrodeDeviation::new(p.b, p.xi).map_err(Error::from)?;
         Ok(Self { p, dev })
     }
 

@@ -18,3 +18,8 @@ pub mod liu2021;
 pub mod yu2021;
 
 pub use error::Error;
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

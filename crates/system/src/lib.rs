@@ -99,7 +99,8 @@ impl SystemError {
 }
 
 /// Direction of a zero crossing of an event function.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Direction {
     /// The function goes from negative to positive.
     Rising,
@@ -332,3 +333,8 @@ mod tests {
         assert!(!Direction::Rising.accepts(Direction::Falling));
     }
 }
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctest;

@@ -113,8 +113,15 @@ pub use steady::{
     SteadyOptions, SteadyState, Transient, classify_motion, detect_period, largest_lyapunov,
     poincare_stroboscopic, poincare_surface, steady_state,
 };
-pub use sweep::{sweep, sweep_with_threads};
+pub use sweep::sweep;
+#[cfg(feature = "parallel")]
+pub use sweep::sweep_with_threads;
 pub use system::{
     Direction, EventAction, FirstOrder, FnSystem, Mechanical, OdeSystem, SecondOrderSystem,
     gap_edges,
 };
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -29,7 +29,8 @@ pub fn peak_to_peak(x: &[f64]) -> Result<f64> {
 ///
 /// With relative displacement `x` and gap edges `±b` (dead zone `|x| ≤ b`), contact on the
 /// upper flank means `x > b`, on the lower flank `x < −b`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum RattleState {
     /// Permanent contact on one flank, never separating (rsv = 0).
     NoRattle,

@@ -3,7 +3,8 @@
 use crate::error::{Error, Result, check_positive};
 
 /// Integration method.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum Method {
     /// This crate's own embedded Dormand–Prince 5(4) with 4th-order dense output (Hairer,
@@ -25,7 +26,9 @@ pub enum Method {
 }
 
 /// Which states are stored in the [`crate::Solution`].
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum Output {
     /// Only the final state (always available as `Solution::y_final`).
     Final,
@@ -41,7 +44,8 @@ pub enum Output {
 }
 
 /// Options of [`crate::integrate`]. Build with [`Options::default`] and the `with_*` setters.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Options {
     /// Method (default [`Method::DormandPrince54`]).
     pub method: Method,

@@ -5,7 +5,8 @@ use crate::system::{Direction, EventAction, SecondOrderSystem, gap_edges};
 use crate::{Event, FirstOrder};
 
 /// Linear oscillator `x'' + 2 ζ ω0 x' + ω0² x = F cos(Ω t)`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LinearOscillator {
     /// Natural angular frequency ω0.
     pub omega0: f64,
@@ -47,7 +48,8 @@ impl SecondOrderSystem for LinearOscillator {
 /// γ = 0.28 and chaotic at γ = 0.50 (the classic sequence of Holmes 1979 /
 /// Guckenheimer & Holmes 1983, §2.2; also Jordan & Smith, *Nonlinear ODEs*, 4th ed., §13.3),
 /// see [`Duffing::holmes`].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Duffing {
     /// Damping δ.
     pub delta: f64,
@@ -97,7 +99,8 @@ impl SecondOrderSystem for Duffing {
 ///
 /// This is the dimensionless 1-DOF gear-pair form (Liu et al. 2021, Eq. 9 and 12, with one
 /// stiffness harmonic); its event functions are the gap edges `x = ±b` ([`gap_edges`]).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DeadZoneOscillator {
     /// Damping ratio ζ.
     pub zeta: f64,
@@ -171,7 +174,8 @@ impl SecondOrderSystem for DeadZoneOscillator {
 
 /// Impact oscillator: a ball under gravity `g` bouncing on a rigid floor `x = 0` with
 /// restitution coefficient `e` (the impact law `v → −e v` is applied by the event hook).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct BouncingBall {
     /// Gravity g (> 0).
     pub gravity: f64,

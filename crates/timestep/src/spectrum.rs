@@ -11,7 +11,8 @@ use crate::error::{Error, Result, check_finite_slice, check_positive};
 /// `|X_0|/N` at `k = 0`, `2|X_k|/N` for `0 < k < N/2` and `|X_{N/2}|/N` at the Nyquist bin
 /// (even `N`). A sine `A sin(2π f t)` sampled over an integer number of its periods therefore
 /// shows exactly `A` in the bin of `f` (no leakage).
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Spectrum {
     /// Bin spacing `1/(N dt)` (cycles per unit time).
     pub df: f64,

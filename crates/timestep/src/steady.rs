@@ -9,7 +9,9 @@ use crate::solution::{Event, Stats, Status};
 use crate::system::{Direction, EventAction, OdeSystem};
 
 /// How transients are discarded before sampling.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum Transient {
     /// Integrate exactly this many forcing periods.
     Periods(usize),
@@ -29,7 +31,8 @@ pub enum Transient {
 }
 
 /// Settings of [`steady_state`].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SteadyOptions {
     /// Forcing period `T` (> 0).
     pub period: f64,
@@ -62,7 +65,8 @@ impl SteadyOptions {
 }
 
 /// Result of [`steady_state`].
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SteadyState {
     /// Number of states.
     pub dim: usize,
@@ -216,7 +220,8 @@ pub fn steady_state<S: OdeSystem + ?Sized>(
 }
 
 /// Points of a Poincaré section, row-major.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct PoincareSection {
     /// Number of states per point.
     pub dim: usize,
@@ -365,7 +370,8 @@ pub fn detect_period(section: &PoincareSection, max_period: usize, tol: f64) -> 
 }
 
 /// Settings of [`largest_lyapunov`].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LyapunovOptions {
     /// Initial (and renormalised) separation `d0` (Euclidean norm of the state difference).
     pub d0: f64,
@@ -376,7 +382,8 @@ pub struct LyapunovOptions {
 }
 
 /// Estimate of the largest Lyapunov exponent.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LyapunovEstimate {
     /// `λ = Σ ln(d_k/d0) / (N τ)` (per unit time).
     pub value: f64,
@@ -441,7 +448,9 @@ pub fn largest_lyapunov<S: OdeSystem + ?Sized>(
 }
 
 /// Kind of steady motion.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum Motion {
     /// Period-`n` response (the stroboscopic section has `n` points).
     Periodic(usize),
@@ -452,7 +461,8 @@ pub enum Motion {
 }
 
 /// Settings of [`classify_motion`].
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ClassifyOptions {
     /// Forcing period (stroboscopic section and Lyapunov renormalisation interval).
     pub period: f64,
@@ -487,7 +497,8 @@ impl ClassifyOptions {
 }
 
 /// Classification of a steady motion.
-#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Classification {
     /// Kind of motion.
     pub motion: Motion,

@@ -1,7 +1,11 @@
 //! Parallel parameter sweeps (rayon).
+//!
+//! Without the `parallel` feature [`sweep`] runs the points serially, in order, with the same
+//! results, and [`sweep_with_threads`] is not compiled.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+#[cfg(feature = "parallel")]
 use rayon::prelude::*;
 
 /// Runs `f` on every parameter in parallel and returns the results in input order.
@@ -21,8 +25,11 @@ where
 {
     let done = AtomicUsize::new(0);
     let total = params.len();
-    params
-        .par_iter()
+    #[cfg(feature = "parallel")]
+    let points = params.par_iter();
+    #[cfg(not(feature = "parallel"))]
+    let points = params.iter();
+    points
         .map(|p| {
             let r = f(p);
             let k = done.fetch_add(1, Ordering::Relaxed) + 1;
@@ -35,6 +42,7 @@ where
 }
 
 /// As [`sweep`], on a dedicated pool of `threads` threads (≥ 1).
+#[cfg(feature = "parallel")]
 pub fn sweep_with_threads<P, R, F>(
     threads: usize,
     params: &[P],

@@ -6,7 +6,9 @@
 pub use ::system::Direction;
 
 /// What the integrator does after an event has been located and the step restarted there.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
 pub enum EventAction {
     /// Record the event and continue from the event point (switching surface).
     Continue,

@@ -119,7 +119,7 @@ mod table;
 mod user;
 
 pub use error::{Error, ResultExt};
-pub use figure::{Figure, Series, Style};
+pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
 pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
@@ -166,3 +166,8 @@ mod tests {
         check::<Error>();
     }
 }
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -147,18 +147,14 @@ impl Published {
     }
 }
 
-/// Load `validation/published/<file>` at compile time and parse it:
+/// Load `published/<file>` (a link to the repository's `validation/published/`) at compile time and parse it:
 /// `published!("karpov2017.toml")` → `Result<Published, Error>`.
 #[macro_export]
 macro_rules! published {
     ($file:literal) => {
         $crate::Published::parse(
             $file,
-            include_str!(concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../../validation/published/",
-                $file
-            )),
+            include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/published/", $file)),
         )
     };
 }
@@ -206,16 +202,10 @@ source = "p. 9"
         for (name, text) in [
             (
                 "karpov2017.toml",
-                include_str!("../../../validation/published/karpov2017.toml"),
+                include_str!("../published/karpov2017.toml"),
             ),
-            (
-                "liu2021.toml",
-                include_str!("../../../validation/published/liu2021.toml"),
-            ),
-            (
-                "yu2021.toml",
-                include_str!("../../../validation/published/yu2021.toml"),
-            ),
+            ("liu2021.toml", include_str!("../published/liu2021.toml")),
+            ("yu2021.toml", include_str!("../published/yu2021.toml")),
         ] {
             Published::parse(name, text).unwrap();
         }

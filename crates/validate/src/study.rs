@@ -56,6 +56,7 @@ impl Paper {
 /// How expensive a study is; `cargo test -p validate` runs (and snapshot-tests) only
 /// [`Cost::Fast`] studies, `cargo xtask validate` runs all.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[non_exhaustive]
 pub enum Cost {
     /// Well under a second in a debug build (closed forms, geometry, small quadratures).
     Fast,
@@ -105,6 +106,7 @@ impl Study {
 
 /// The verdict on one comparison or claim.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[non_exhaustive]
 pub enum Verdict {
     /// The model reproduces the paper within the tolerance (or the claim holds for the model).
     Pass,
@@ -166,6 +168,7 @@ impl ToleranceBasis {
 
 /// Size of a tolerance band.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[non_exhaustive]
 pub enum ToleranceBand {
     /// |model − paper| ≤ value (in the quantity's unit).
     Absolute(f64),

@@ -7,6 +7,7 @@ use crate::format::{csv_field, fmt6};
 
 /// One cell: a number (formatted to [`crate::SIGNIFICANT_DIGITS`]) or text (e.g. a rattle state).
 #[derive(Debug, Clone, PartialEq, Serialize)]
+#[non_exhaustive]
 pub enum Cell {
     /// A number.
     Num(f64),

@@ -59,6 +59,7 @@ impl Sweep {
 /// Which solver evaluates each point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Method {
     /// Time integration to steady state (`timestep` crate).
     TimeStepping,

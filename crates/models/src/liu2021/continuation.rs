@@ -203,7 +203,7 @@ pub fn continue_in_speed(
             options.omega1_end / to_omega1,
             &copts,
         )
-        .map_err(|e| Error::Solver(e.to_string()))?;
+        .map_err(Error::from)?;
     let points = branch
         .points
         .iter()

@@ -39,7 +39,7 @@ impl Basis {
             Basis::Sparse { r } => hbm::Basis::liu_multifrequency(r, z2 as usize),
             Basis::Full { max_harmonic } => hbm::Basis::full(max_harmonic),
         };
-        b.map_err(|e| Error::Solver(e.to_string()))
+        b.map_err(Error::from)
     }
 }
 
@@ -197,8 +197,7 @@ pub(super) fn problem_of(
 ) -> Result<hbm::HbmProblem<Model>, Error> {
     let kmax = basis.max_harmonic().max(1);
     let n_grid = samples.unwrap_or_else(|| (8 * kmax).next_power_of_two());
-    hbm::HbmProblem::with_grid_size(*model, basis, model.omega_c, n_grid)
-        .map_err(|e| Error::Solver(e.to_string()))
+    hbm::HbmProblem::with_grid_size(*model, basis, model.omega_c, n_grid).map_err(Error::from)
 }
 
 /// Residual scale of the convergence test: `B₀ + |B₁| + |B₂| + B₃ + b̄`.
@@ -225,9 +224,7 @@ fn solve_once(
         tolerance: options.tol * residual_scale(model),
         max_iters: options.max_iter,
     };
-    problem
-        .solve(&z0, &so)
-        .map_err(|e| Error::Solver(e.to_string()))
+    problem.solve(&z0, &so).map_err(Error::from)
 }
 
 /// Harmonic coefficients of one recorded period of a time response, in the layout of `basis`

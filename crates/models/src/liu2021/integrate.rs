@@ -61,9 +61,9 @@ fn run(
     opts: timestep::Options,
 ) -> Result<timestep::Solution, Error> {
     // the model's one system description (`system::SecondOrderSystem`), made explicit
-    let ode = timestep::Mechanical::new(*model).map_err(|e| Error::Solver(e.to_string()))?;
+    let ode = timestep::Mechanical::new(*model).map_err(Error::from)?;
     let sol = timestep::integrate(&timestep::FirstOrder(ode), t0, y0, t1, &opts)
-        .map_err(|e| Error::Solver(e.to_string()))?;
+        .map_err(Error::from)?;
     if !sol.status.is_success() {
         return Err(Error::Solver(format!(
             "liu2021 integration ended with {:?}",

@@ -72,6 +72,17 @@ impl Model {
         let l = p.mean_base_radius()?;
         let pair = p.pair()?;
         let form = p.readings.rigid_acceleration;
+        // The leaf enum is non-exhaustive: the matches below treat every form other than
+        // `PrintedEq20` as `Derived`, so any other form is rejected here.
+        if !matches!(
+            form,
+            RigidAcceleration::Derived | RigidAcceleration::PrintedEq20
+        ) {
+            return Err(Error::UnsupportedReading {
+                field: "liu2021.readings.rigid_acceleration",
+                reading: format!("{form:?}"),
+            });
+        }
         // derived: -2 wc^2 sum n(-e)^n sin(nx); printed: (-e)^(n-1)(1-e^2) 2 wc e
         let b1 = pair.rigid_acceleration_coefficient(form, 1, wc);
         let b2 = pair.rigid_acceleration_coefficient(form, 2, wc);
@@ -110,8 +121,8 @@ impl Model {
         }
         let r = omega_c / self.omega_c;
         let rigid = match self.readings.rigid_acceleration {
-            RigidAcceleration::Derived => r * r,
             RigidAcceleration::PrintedEq20 => r,
+            _ => r * r, // Derived (others are rejected by `Model::new`)
         };
         Ok(Model {
             omega_c,
@@ -175,8 +186,9 @@ impl Model {
                 let d = 1.0 + 2.0 * e * x.cos() + e * e;
                 let num = 2.0 * e * (1.0 - e * e) * x.sin();
                 match self.readings.rigid_acceleration {
-                    RigidAcceleration::Derived => self.omega_c * self.omega_c * num / (d * d),
                     RigidAcceleration::PrintedEq20 => self.omega_c * num / d,
+                    // Derived (others are rejected by `Model::new`)
+                    _ => self.omega_c * self.omega_c * num / (d * d),
                 }
             }
         }

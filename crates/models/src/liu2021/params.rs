@@ -223,7 +223,7 @@ impl Parameters {
             eccentricity: self.eccentricity,
             pressure_angle: self.pressure_angle,
         })
-        .map_err(|e| Error::Geometry(e.to_string()))
+        .map_err(Error::from)
     }
 
     /// Mean equivalent base radius `L` \[m\] of Eq. (8), from Eq. (1) and (18):

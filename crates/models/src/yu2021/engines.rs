@@ -60,7 +60,7 @@ fn full_state(y: &[f64]) -> [f64; STATE_LEN] {
 }
 
 fn engine_error(e: timestep::Error) -> Error {
-    Error::Solver(format!("yu2021 timestep engine: {e}"))
+    Error::timestep("yu2021 timestep engine: ")(e)
 }
 
 impl Yu2021Model {

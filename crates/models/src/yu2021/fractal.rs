@@ -58,7 +58,10 @@ impl FractalSurface {
 /// leaf ([`backlash::mean_asperity_height`], midpoint rule, 8 points per shortest wavelength).
 pub fn fractal_mean_height(s: &FractalSurface) -> Result<f64, Error> {
     s.validate()?;
-    let leaf = |e: backlash::Error| Error::Leaf(format!("yu2021 fractal backlash: {e}"));
+    let leaf = |source: backlash::Error| Error::Backlash {
+        context: "yu2021 fractal backlash",
+        source,
+    };
     let surface = backlash::SurfaceFractal::new(s.dimension, s.roughness).map_err(leaf)?;
     let profile = backlash::WmProfile::new(surface, s.lambda, s.l_max, s.l_min).map_err(leaf)?;
     let h = backlash::mean_asperity_height(&profile, s.length, backlash::Quadrature::default())
@@ -88,8 +91,10 @@ pub fn chen_z(dimension: f64, t: f64) -> f64 {
 /// The Yu model takes the mean mesh stiffness `k_am` from its parameter sets; this function is
 /// offered for studies of Eq. (18).
 pub fn fractal_contact_stiffness(c: &FractalContact, form: FractalForm) -> Result<f64, Error> {
-    c.stiffness(form)
-        .map_err(|e| Error::Leaf(format!("yu2021 fractal contact stiffness: {e}")))
+    c.stiffness(form).map_err(|source| Error::Stiffness {
+        context: "yu2021 fractal contact stiffness",
+        source,
+    })
 }
 
 #[cfg(test)]

@@ -281,7 +281,7 @@ impl system::SecondOrderSystem for Yu2021SixDof {
 }
 
 fn engine_error(e: hbm::HbmError) -> Error {
-    Error::Solver(format!("yu2021 hbm engine: {e}"))
+    Error::hbm("yu2021 hbm engine: ")(e)
 }
 
 /// `ω*` for the engine's frequency continuation: positive and finite.

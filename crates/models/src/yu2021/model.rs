@@ -10,6 +10,7 @@ use super::params::Yu2021Params;
 
 /// Which of the three spur-pair models of Yu's comparison (Sec. 4.4) to solve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[non_exhaustive]
 pub enum ModelKind {
     /// Kahraman & Singh 1991: 1-DOF torsional DTE, constant backlash `b_s`.
     KahramanSingh,
@@ -23,6 +24,7 @@ pub enum ModelKind {
 
 /// Which dimensionless equations to integrate (reading R-YU-EQ19).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[non_exhaustive]
 pub enum EquationForm {
     /// Derived from Eq. (12)–(15): the state is the relative torsional displacement
     /// `u = R_p θ_p − R_g θ_g` plus the four centre coordinates, `δ` of Eq. (15) is evaluated
@@ -37,6 +39,7 @@ pub enum EquationForm {
 
 /// When the dynamic backlash `B(t)` of Eq. (11) is evaluated (Fig. 8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[non_exhaustive]
 pub enum BacklashUpdate {
     /// Fig. 8 as printed: `B` is computed from the centre displacements at the start of each
     /// step ("obtained by past step") and held over the step.
@@ -49,6 +52,7 @@ pub enum BacklashUpdate {
 
 /// Law for the operating pressure angle `α` (Eq. 16, reading R-YU-EQ16).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[non_exhaustive]
 pub enum PressureAngleLaw {
     /// `cos α = a_0 cos α_0 / a` (base-circle involute geometry): `α = α_0` at `a = a_0`.
     #[default]
@@ -62,6 +66,7 @@ pub enum PressureAngleLaw {
 
 /// Law for the dynamic part `b_dy` of the backlash (reading R-YU-EQ6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[non_exhaustive]
 pub enum DynamicBacklashLaw {
     /// Eq. (10): `b_dy = sqrt(Δa² − Δp²)` with `Δp = R_pb/2 (β_c² − β_0²)`, `β = tan α`
     /// (never negative; clamped to 0 when `Δp² > Δa²`).
@@ -76,6 +81,7 @@ pub enum DynamicBacklashLaw {
 
 /// Sign of the centre separation in the centre distance, Eq. (8)–(9) (reading R-YU-EQ8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[non_exhaustive]
 pub enum CentreDistanceForm {
     /// `a = sqrt((a_0 − x_p + x_g)² + (y_p − y_g)²)`: the frame of Eq. (12) and (15), in which
     /// a growing `x_p − x_g` compresses the mesh (moves the centres together), so the radial

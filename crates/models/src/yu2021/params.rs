@@ -9,6 +9,7 @@ use super::fractal::{FractalSurface, fractal_mean_height};
 /// How the constant part of the backlash `b_s` (Eq. 1, 5) is given.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
+#[non_exhaustive]
 pub enum BacklashSpec {
     /// A constant backlash: `b_s = b` (m). This is the threshold `B` of the dead zone of Eq. (14)
     /// (half the total circumferential play projected on the line of action, Kahraman–Singh

@@ -374,7 +374,7 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
 fn sweep_figures(out: &mut StudyOutput, name: &str, x: (&str, &str), pts: &[Point]) {
     let s = |f: &dyn Fn(&Point) -> f64| pts.iter().map(|p| (p.x, f(p))).collect::<Vec<_>>();
     let mut rsv = Figure::new(&format!("{name}_rsv"), "Rattle state", x, ("rsv", "1")).with(
-        Series::line("time integration", s(&|p| f64::from(p.rsv_time))),
+        Series::step("time integration", s(&|p| f64::from(p.rsv_time))),
     );
     let mut ppv = Figure::new(
         &format!("{name}_ppv"),
@@ -926,8 +926,8 @@ fn speed_continuation() -> Result<StudyOutput, Error> {
         ("omega1", "rad/s"),
         ("ppv", "1"),
     );
-    for ((label, ..), b) in runs.iter().zip(&branches) {
-        let (mut st, mut un, mut all) = (Vec::new(), Vec::new(), Vec::new());
+    for (j, ((label, ..), b)) in runs.iter().zip(&branches).enumerate() {
+        let mut pts = Vec::new();
         for p in &b.points {
             t.push(vec![
                 (*label).into(),
@@ -939,12 +939,7 @@ fn speed_continuation() -> Result<StudyOutput, Error> {
                     .into(),
                 p.max_multiplier.unwrap_or(f64::NAN).into(),
             ])?;
-            all.push((p.omega1, p.rattle.ppv));
-            match p.stable {
-                Some(true) => st.push((p.omega1, p.rattle.ppv)),
-                Some(false) => un.push((p.omega1, p.rattle.ppv)),
-                None => {}
-            }
+            pts.push((p.omega1, p.rattle.ppv, p.stable));
         }
         runs_t.push(vec![
             (*label).into(),
@@ -957,15 +952,27 @@ fn speed_continuation() -> Result<StudyOutput, Error> {
                 .into(),
             format!("{:?}", b.end).into(),
         ])?;
-        fig = fig
-            .with(Series::line(format!("{label} (arclength order)"), all))
-            .with(Series::markers(format!("{label}, stable"), st))
-            .with(Series::markers(format!("{label}, unstable"), un));
+        // a fold lies between two points: mark it at the fitted ω₁ and their mean ppv
+        let folds = b
+            .folds
+            .iter()
+            .filter_map(|f| {
+                let (a, c) = (
+                    b.points.get(f.after_index)?,
+                    b.points.get(f.after_index + 1)?,
+                );
+                Some((f.omega1, 0.5 * (a.rattle.ppv + c.rattle.ppv)))
+            })
+            .collect();
+        fig = fig.branch(label, j, &pts, folds);
     }
-    fig = fig.with(Series::markers(
-        "time integration from rest",
-        ti.iter().map(|&(x, _, p)| (x, p)).collect(),
-    ));
+    fig = fig.with(
+        Series::markers(
+            "time integration from rest",
+            ti.iter().map(|&(x, _, p)| (x, p)).collect(),
+        )
+        .colour(6), // black: the branches take 0..3
+    );
     let ti_onset = ti.iter().find(|p| p.1 == 2).map_or(f64::NAN, |p| p.0);
     let tol = || {
         Tolerance::stated(

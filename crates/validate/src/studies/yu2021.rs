@@ -123,7 +123,8 @@ fn fractal_rig(d: f64) -> Yu2021Params {
 fn engine_for(o: &Options) -> Engine {
     match o.update {
         BacklashUpdate::PreviousStep => Engine::Rk4Fixed,
-        BacklashUpdate::InRhs => Engine::timestep(),
+        // InRhs, and any later state-dependent update
+        _ => Engine::timestep(),
     }
 }
 

@@ -1,0 +1,488 @@
+//! Python bindings of geardyn (module `geardyn._geardyn`; the public API is the pure-Python
+//! package `geardyn` around it).
+//!
+//! Every function takes and returns JSON text: parameter sets and results are the models'
+//! serde forms, so each field keeps its Rust name and SI unit, and the Python layer turns
+//! number lists into numpy arrays. A failure returns `{"error": {"kind", "message", "chain"}}`,
+//! which the Python layer raises as the typed exception named by `kind` (`ParameterError`,
+//! `SolverError`, `StudyError`); `chain` lists the messages of the Rust `source()` chain.
+//! The heavy work runs with the GIL released.
+
+use std::collections::BTreeMap;
+
+use models::{karpov2017, liu2021, yu2021};
+use pyo3::prelude::*;
+use rayon::prelude::*;
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use serde_json::{Value, json};
+
+/// The kind of Python exception an error maps to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// Bad input: unknown name, out-of-range parameter, unsupported reading.
+    Parameter,
+    /// An engine failed (a non-converged solve is a result, not an error).
+    Solver,
+    /// A study file could not be read or run.
+    Study,
+}
+
+/// An error on its way to Python.
+#[derive(Debug)]
+struct Failure {
+    kind: Kind,
+    message: String,
+    chain: Vec<String>,
+}
+
+impl Failure {
+    fn parameter(message: impl Into<String>) -> Self {
+        Failure {
+            kind: Kind::Parameter,
+            message: message.into(),
+            chain: Vec::new(),
+        }
+    }
+
+    fn to_json(&self) -> Value {
+        let kind = match self.kind {
+            Kind::Parameter => "ParameterError",
+            Kind::Solver => "SolverError",
+            Kind::Study => "StudyError",
+        };
+        json!({"error": {"kind": kind, "message": self.message, "chain": self.chain}})
+    }
+}
+
+/// The messages of `e.source()`, `e.source().source()`, … (not `e` itself).
+fn source_chain(e: &dyn std::error::Error) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut cur = e.source();
+    while let Some(s) = cur {
+        out.push(s.to_string());
+        cur = s.source();
+    }
+    out
+}
+
+impl From<models::Error> for Failure {
+    fn from(e: models::Error) -> Self {
+        use models::Error as E;
+        let kind = match &e {
+            E::InvalidParameter { .. }
+            | E::UnsupportedReading { .. }
+            | E::Geometry(_)
+            | E::Stiffness { .. }
+            | E::Backlash { .. } => Kind::Parameter,
+            _ => Kind::Solver,
+        };
+        Failure {
+            kind,
+            message: e.to_string(),
+            chain: source_chain(&e),
+        }
+    }
+}
+
+impl From<validate::Error> for Failure {
+    fn from(e: validate::Error) -> Self {
+        Failure {
+            kind: Kind::Study,
+            message: e.to_string(),
+            chain: source_chain(&e),
+        }
+    }
+}
+
+type Res<T> = Result<T, Failure>;
+
+fn parse_json(what: &str, text: &str) -> Res<Value> {
+    serde_json::from_str(text).map_err(|e| Failure::parameter(format!("{what}: invalid JSON: {e}")))
+}
+
+/// Overlay `over` on `base`, recursively for objects; every key of `over` must exist in `base`
+/// (a typo is an error naming the known keys), except where `base` holds `null` (an optional
+/// field) or a non-object (replaced whole, e.g. an enum).
+fn merge(path: &str, base: &mut Value, over: &Value) -> Res<()> {
+    match (base, over) {
+        (Value::Object(b), Value::Object(o)) => {
+            for (k, v) in o {
+                let p = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                match b.get_mut(k) {
+                    Some(slot) if slot.is_object() && v.is_object() => merge(&p, slot, v)?,
+                    Some(slot) => *slot = v.clone(),
+                    None => {
+                        let known: Vec<&String> = b.keys().collect();
+                        return Err(Failure::parameter(format!(
+                            "unknown parameter `{p}`; known: {known:?}"
+                        )));
+                    }
+                }
+            }
+            Ok(())
+        }
+        (b, o) => {
+            *b = o.clone();
+            Ok(())
+        }
+    }
+}
+
+/// `base` with the JSON overrides `over` applied, deserialised back into `T`.
+fn with_overrides<T: Serialize + DeserializeOwned>(what: &str, base: &T, over: &Value) -> Res<T> {
+    let mut v = serde_json::to_value(base).map_err(|e| Failure::parameter(e.to_string()))?;
+    if !over.is_null() {
+        merge("", &mut v, over)?;
+    }
+    serde_json::from_value(v).map_err(|e| Failure::parameter(format!("{what}: {e}")))
+}
+
+fn to_json<T: Serialize>(x: &T) -> Res<Value> {
+    serde_json::to_value(x).map_err(|e| Failure {
+        kind: Kind::Solver,
+        message: format!("result not representable: {e}"),
+        chain: Vec::new(),
+    })
+}
+
+/// The named parameter sets (`preset(model, name)`).
+fn preset_value(model: &str, name: &str) -> Res<Value> {
+    let v = match (model, name) {
+        ("liu2021", "table1") => to_json(&liu2021::table1())?,
+        ("liu2021-readings", "consistent") => to_json(&liu2021::Readings::default())?,
+        ("liu2021-readings", "printed") => to_json(&liu2021::Readings::printed())?,
+        ("karpov2017", "fig3") => to_json(&karpov2017::Karpov2017::fig3().params())?,
+        ("yu2021", "table1") => to_json(&yu2021::Yu2021Params::table1())?,
+        ("yu2021", "table2") => to_json(&yu2021::Yu2021Params::table2())?,
+        ("yu2021-options", "yu") => to_json(&yu2021::Options::default())?,
+        ("yu2021-options", "chen") => to_json(&yu2021::Options::chen())?,
+        _ => {
+            return Err(Failure::parameter(format!(
+                "unknown preset `{name}` of `{model}`; known: {}",
+                PRESETS
+                    .iter()
+                    .map(|(m, n)| format!("{m}:{n}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        }
+    };
+    Ok(v)
+}
+
+/// Every `(model, preset)` pair.
+const PRESETS: [(&str, &str); 8] = [
+    ("liu2021", "table1"),
+    ("liu2021-readings", "consistent"),
+    ("liu2021-readings", "printed"),
+    ("karpov2017", "fig3"),
+    ("yu2021", "table1"),
+    ("yu2021", "table2"),
+    ("yu2021-options", "yu"),
+    ("yu2021-options", "chen"),
+];
+
+fn settings_map(settings: &Value) -> Res<BTreeMap<String, Value>> {
+    match settings {
+        Value::Null => Ok(BTreeMap::new()),
+        Value::Object(m) => Ok(m.iter().map(|(k, v)| (k.clone(), v.clone())).collect()),
+        _ => Err(Failure::parameter("settings must be a mapping")),
+    }
+}
+
+fn take_f64(s: &mut BTreeMap<String, Value>, key: &str, default: f64) -> Res<f64> {
+    match s.remove(key) {
+        None => Ok(default),
+        Some(v) => v
+            .as_f64()
+            .ok_or_else(|| Failure::parameter(format!("setting `{key}` must be a number"))),
+    }
+}
+
+fn take_bool(s: &mut BTreeMap<String, Value>, key: &str, default: bool) -> Res<bool> {
+    match s.remove(key) {
+        None => Ok(default),
+        Some(v) => v
+            .as_bool()
+            .ok_or_else(|| Failure::parameter(format!("setting `{key}` must be true or false"))),
+    }
+}
+
+fn no_leftovers(method: &str, s: BTreeMap<String, Value>) -> Res<()> {
+    match s.keys().next() {
+        None => Ok(()),
+        Some(k) => Err(Failure::parameter(format!(
+            "unknown setting `{k}` for method `{method}`"
+        ))),
+    }
+}
+
+/// Solve one point of a model by one method.
+fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> Res<Value> {
+    let mut s = settings_map(settings)?;
+    match (model, method) {
+        ("liu2021", "time-stepping") => {
+            let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
+            let opts_over = s.remove("options").unwrap_or(Value::Null);
+            no_leftovers(method, s)?;
+            let opts = with_overrides(
+                "liu2021 integration options",
+                &liu2021::IntegrationOptions::default(),
+                &opts_over,
+            )?;
+            let r = liu2021::integrate(&p.model()?, &opts)?;
+            Ok(json!({
+                "tau": r.tau, "q": r.q, "v": r.v,
+                "rsv": r.rattle.state.rsv(), "ppv": r.rattle.ppv,
+                "converged": true, "contact_events": r.contact_events,
+            }))
+        }
+        ("liu2021", "hbm") => {
+            let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
+            let full_r = take_f64(&mut s, "full_r", 0.0)?;
+            let warm = take_bool(&mut s, "warm_start", false)?;
+            let samples = take_f64(&mut s, "samples", 512.0)?;
+            let tol = take_f64(&mut s, "tol", 1e-9)?;
+            let max_iter = take_f64(&mut s, "max_iter", 60.0)?;
+            no_leftovers(method, s)?;
+            if !(full_r >= 0.0 && full_r.fract() == 0.0 && full_r <= 64.0) {
+                return Err(Failure::parameter(format!(
+                    "setting `full_r` must be an integer in [0, 64] (0: the paper's basis), got {full_r}"
+                )));
+            }
+            if !(samples >= 16.0 && samples <= 1.0e6 && samples.fract() == 0.0) {
+                return Err(Failure::parameter(format!(
+                    "setting `samples` must be an integer in [16, 1e6], got {samples}"
+                )));
+            }
+            if !(max_iter >= 1.0 && max_iter <= 1.0e6 && max_iter.fract() == 0.0) {
+                return Err(Failure::parameter(format!(
+                    "setting `max_iter` must be an integer in [1, 1e6], got {max_iter}"
+                )));
+            }
+            let m = p.model()?;
+            let mut opts = if full_r > 0.0 {
+                liu2021::HbmOptions::full(&m, full_r as usize)
+            } else {
+                liu2021::HbmOptions::default()
+            };
+            opts.tol = tol;
+            opts.max_iter = max_iter as u64;
+            let r = if warm {
+                let ti = liu2021::integrate(&m, &liu2021::IntegrationOptions::default())?;
+                liu2021::solve_hbm_from_time_response(&m, &opts, &ti)?
+            } else {
+                liu2021::solve_hbm(&m, &opts, None)?
+            };
+            let n = samples as usize;
+            let period = m.period();
+            let tau: Vec<f64> = (0..n).map(|i| period * i as f64 / n as f64).collect();
+            let q: Vec<f64> = tau.iter().map(|&t| r.eval(t)).collect();
+            Ok(json!({
+                "tau": tau, "q": q,
+                "rsv": r.rattle.state.rsv(), "ppv": r.rattle.ppv,
+                "converged": r.converged(),
+                "coefficients": r.solution.coefficients,
+            }))
+        }
+        ("karpov2017", "duhamel") | ("karpov2017", "time-stepping") => {
+            let base = karpov2017::Karpov2017::fig3().params();
+            let p: karpov2017::Karpov2017Params = with_overrides("karpov2017", &base, params)?;
+            no_leftovers(method, s)?;
+            let m = karpov2017::Karpov2017::new(p)?;
+            let r = m.duhamel();
+            let mut v = to_json(&r)?;
+            if let Value::Object(o) = &mut v {
+                o.insert("converged".into(), Value::Bool(true));
+            }
+            Ok(v)
+        }
+        ("yu2021", "time-stepping") | ("yu2021", "rk4") => {
+            let p: yu2021::Yu2021Params =
+                with_overrides("yu2021", &yu2021::Yu2021Params::table1(), params)?;
+            let o = with_overrides(
+                "yu2021 options",
+                &yu2021::Options::default(),
+                &s.remove("options").unwrap_or(Value::Null),
+            )?;
+            let omega = take_f64(&mut s, "omega", f64::NAN)?;
+            let mut run = yu2021::RunSettings::new(omega);
+            run.transient_periods = take_f64(&mut s, "transient_periods", 200.0)? as usize;
+            run.record_periods = take_f64(&mut s, "record_periods", 20.0)? as usize;
+            no_leftovers(method, s)?;
+            let engine = if method == "rk4" {
+                yu2021::Engine::Rk4Fixed
+            } else {
+                yu2021::Engine::timestep()
+            };
+            let m = yu2021::Yu2021Model::new(&p, o)?;
+            let r = m.simulate_with(&run, &engine, None)?;
+            let df = r.dynamic_factor();
+            let mut v = to_json(&r)?;
+            if let Value::Object(obj) = &mut v {
+                obj.insert("dynamic_factor".into(), json!(df));
+                obj.insert("converged".into(), Value::Bool(true));
+            }
+            Ok(v)
+        }
+        ("yu2021", "hbm") => {
+            let p: yu2021::Yu2021Params =
+                with_overrides("yu2021", &yu2021::Yu2021Params::table1(), params)?;
+            let o = with_overrides(
+                "yu2021 options",
+                &yu2021::Options::default(),
+                &s.remove("options").unwrap_or(Value::Null),
+            )?;
+            let omega = take_f64(&mut s, "omega", f64::NAN)?;
+            let hs = with_overrides(
+                "yu2021 hbm settings",
+                &yu2021::HbmSettings::default(),
+                &s.remove("hbm").unwrap_or(Value::Null),
+            )?;
+            no_leftovers(method, s)?;
+            let m = yu2021::Yu2021Model::new(&p, o)?;
+            let r = m.harmonic_balance(omega, &hs, None)?;
+            to_json(&r)
+        }
+        _ => Err(Failure::parameter(format!(
+            "unknown model/method `{model}`/`{method}`; known: liu2021 (hbm, time-stepping), \
+             karpov2017 (duhamel), yu2021 (time-stepping, rk4, hbm)"
+        ))),
+    }
+}
+
+fn envelope(r: Res<Value>) -> String {
+    match r {
+        Ok(v) => json!({ "ok": v }).to_string(),
+        Err(f) => f.to_json().to_string(),
+    }
+}
+
+/// `preset(model, name)` → JSON of the named parameter set (see the Python `geardyn.presets`).
+#[pyfunction]
+fn preset(model: &str, name: &str) -> String {
+    envelope(preset_value(model, name))
+}
+
+/// `solve(model, params_json, method, settings_json)` → JSON result of one point.
+#[pyfunction]
+fn solve(py: Python<'_>, model: &str, params: &str, method: &str, settings: &str) -> String {
+    py.detach(|| {
+        envelope((|| {
+            let p = parse_json("params", params)?;
+            let s = parse_json("settings", settings)?;
+            solve_value(model, &p, method, &s)
+        })())
+    })
+}
+
+/// `sweep(model, params_json, parameter, values, method, settings_json)` → JSON list, one
+/// result (or error) per value, solved in parallel and returned in input order (each point is
+/// independent, so the results do not depend on the number of threads).
+#[pyfunction]
+fn sweep(
+    py: Python<'_>,
+    model: &str,
+    params: &str,
+    parameter: &str,
+    values: Vec<f64>,
+    method: &str,
+    settings: &str,
+) -> String {
+    py.detach(|| {
+        envelope((|| {
+            let p = parse_json("params", params)?;
+            let s = parse_json("settings", settings)?;
+            let points: Vec<Value> = values
+                .par_iter()
+                .map(|&x| {
+                    let mut pp = p.clone();
+                    if pp.is_null() {
+                        pp = json!({});
+                    }
+                    let r = match &mut pp {
+                        Value::Object(o) => {
+                            o.insert(parameter.to_owned(), json!(x));
+                            solve_value(model, &pp, method, &s)
+                        }
+                        _ => Err(Failure::parameter("params must be a mapping")),
+                    };
+                    match r {
+                        Ok(v) => json!({ "ok": v }),
+                        Err(f) => f.to_json(),
+                    }
+                })
+                .collect();
+            Ok(Value::Array(points))
+        })())
+    })
+}
+
+/// `run_study(toml_text)` → JSON `{name, columns: [{name, unit}], rows, summary}`.
+#[pyfunction]
+fn run_study(py: Python<'_>, text: &str) -> String {
+    py.detach(|| {
+        envelope((|| {
+            let study = validate::UserStudy::parse(text)?;
+            let out = validate::run_user_study(&study, || {})?;
+            let rows: Vec<Vec<Value>> = out
+                .table
+                .rows
+                .iter()
+                .map(|r| {
+                    r.iter()
+                        .map(|c| match c {
+                            validate::Cell::Num(x) => json!(x),
+                            validate::Cell::Text(t) => json!(t),
+                            _ => Value::Null,
+                        })
+                        .collect()
+                })
+                .collect();
+            Ok(json!({
+                "name": study.name,
+                "columns": out.table.columns,
+                "rows": rows,
+                "summary": out.summary,
+            }))
+        })())
+    })
+}
+
+/// The Rust side of the `geardyn` Python package.
+#[pymodule]
+fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add(
+        "PRESETS",
+        PRESETS
+            .iter()
+            .map(|(a, b)| (a.to_string(), b.to_string()))
+            .collect::<Vec<_>>(),
+    )?;
+    m.add_function(wrap_pyfunction!(preset, m)?)?;
+    m.add_function(wrap_pyfunction!(solve, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(run_study, m)?)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn merge_rejects_unknown_keys_and_keeps_nested_ones() {
+        let mut base = json!({"a": 1.0, "r": {"x": "derived", "y": "mean"}});
+        merge("", &mut base, &json!({"r": {"x": "printed_eq20"}})).unwrap();
+        assert_eq!(base, json!({"a": 1.0, "r": {"x": "printed_eq20", "y": "mean"}}));
+        let e = merge("", &mut base, &json!({"b": 2.0})).unwrap_err();
+        assert_eq!(e.kind, Kind::Parameter);
+        assert!(e.message.contains("`b`"));
+    }
+}

@@ -1,0 +1,104 @@
+"""Tests of the geardyn Python package (run by .ci/run after `pip install ./python`)."""
+
+import math
+import pathlib
+
+import numpy as np
+import pytest
+
+import geardyn
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+
+
+def test_presets_and_params():
+    assert ("liu2021", "table1") in geardyn.presets()
+    liu = geardyn.Liu2021()
+    # Liu et al. 2021, Table 1
+    assert liu.params["omega1"] == 160.0
+    assert liu.params["z1"] == 18
+    faster = liu.with_params(omega1=200.0)
+    assert faster.params["omega1"] == 200.0
+    assert liu.params["omega1"] == 160.0, "models are immutable"
+
+
+def test_readings_by_name_and_by_field():
+    printed = geardyn.Liu2021(readings="printed").params["readings"]
+    consistent = geardyn.Liu2021().params["readings"]
+    assert printed != consistent
+    one = geardyn.Liu2021(readings={"rigid_acceleration": "printed_eq20"}).params["readings"]
+    assert one["rigid_acceleration"] == "printed_eq20"
+
+
+def test_liu_hbm_below_threshold_has_no_rattle():
+    r = geardyn.Liu2021().with_params(omega1=120.0).solve("hbm")
+    assert r["converged"]
+    assert r["rsv"] == 0
+    assert isinstance(r["q"], np.ndarray) and r["q"].shape == r["tau"].shape
+    # ppv of the sampled period agrees with the reported one
+    assert abs((r["q"].max() - r["q"].min()) - r["ppv"]) <= 1e-3 * r["ppv"]
+
+
+def test_liu_hbm_matches_time_stepping():
+    liu = geardyn.Liu2021().with_params(omega1=120.0)
+    h = liu.solve("hbm", full_r=2)
+    t = liu.solve("time-stepping", options={"transient_periods": 4.0})
+    assert h["rsv"] == t["rsv"] == 0
+    # same steady response: ppv within 1 % (HBM truncation, K = 2 Z2 + 2 harmonics)
+    assert abs(h["ppv"] - t["ppv"]) <= 0.01 * t["ppv"]
+
+
+def test_rattle_sweep_is_ordered_and_numpy():
+    omega1 = np.array([120.0, 250.0])
+    s = geardyn.Liu2021().rattle_sweep(omega1)
+    assert s["rsv"].dtype == float and s["rsv"].shape == (2,)
+    assert s["rsv"][0] == 0
+    assert s["rsv"][1] >= 1, "250 rad/s rattles (Liu Fig. 11)"
+
+
+def test_karpov_and_yu_solve():
+    k = geardyn.Karpov2017().with_params(tau_end=200.0).solve()
+    assert k["converged"] and math.isfinite(k["amplitude"]) and k["amplitude"] > 0
+    y = geardyn.Yu2021().solve("time-stepping", omega=0.5, transient_periods=20,
+                               record_periods=4)
+    assert y["dynamic_factor"] >= 1.0
+    assert isinstance(y["dte"], np.ndarray) and y["dte"].size > 0
+
+
+def test_typed_errors():
+    with pytest.raises(geardyn.ParameterError, match="omega1"):
+        geardyn.Liu2021().with_params(omega1=-1.0).solve("hbm")
+    with pytest.raises(geardyn.ParameterError, match="omega2"):
+        geardyn.Liu2021().with_params(omega2=1.0)
+    with pytest.raises(geardyn.ParameterError, match="method"):
+        geardyn.Liu2021().solve("shooting")
+    with pytest.raises(geardyn.ParameterError, match="preset"):
+        geardyn.Liu2021("table9")
+    # ParameterError is also a ValueError
+    with pytest.raises(ValueError):
+        geardyn.Karpov2017().with_params(xi=0.5).solve()
+    # a failed point of a sweep is returned as the exception, the others still solve
+    res = geardyn.Liu2021().sweep("omega1", [120.0, -1.0], "hbm")
+    assert isinstance(res[0], dict) and isinstance(res[1], geardyn.ParameterError)
+
+
+def test_study_from_toml_string_and_file():
+    text = """
+name = "delta-vs-b"
+model = "karpov2017-kinematics"
+[sweep]
+parameter = "b"
+from = 0.001
+to = 0.01
+steps = 4
+[solver]
+method = "kinematics"
+"""
+    s = geardyn.run_study(text)
+    assert s.data.shape == (4, len(s.columns))
+    b = s.column(s.columns[0])
+    assert np.allclose(b, [0.001, 0.004, 0.007, 0.01])
+    f = geardyn.run_study_file(ROOT / "validation/examples/karpov-delta-vs-b.toml")
+    assert f.data.shape[0] == 50 * 4
+    with pytest.raises(geardyn.StudyError):
+        geardyn.run_study("name = 'x'\nmodel = 'nope'\n[solver]\nmethod = 'hbm'\n")
