@@ -114,6 +114,11 @@ pub struct KarpovResponse {
 const PANEL: f64 = 2.0;
 /// Sampling step of `|X|` in the last cycle.
 const SAMPLE: f64 = 0.01;
+/// Panel factor of [`Karpov2017::duhamel`].
+pub const DEFAULT_PANEL: f64 = PANEL;
+/// Panel budget of [`Karpov2017::duhamel`] and [`Karpov2017::duhamel_with`]; beyond it the
+/// response is NaN (use [`Karpov2017::try_duhamel_budget`] for the error).
+pub const MAX_PANELS: u64 = 1_000_000_000;
 
 impl Karpov2017 {
     /// Validate and build. Errors name the field (`karpov2017.omega`, …).
@@ -166,6 +171,17 @@ impl Karpov2017 {
                 "karpov2017.omega_n",
                 "finite and > 0",
                 omega_n,
+            ));
+        }
+        if !(omega1.is_finite() && omega1 > 0.0) {
+            return Err(Error::invalid("karpov2017.omega1", "finite and > 0", omega1));
+        }
+        let omega = f64::from(pair.z1()) * omega1 / omega_n;
+        if !omega.is_finite() {
+            return Err(Error::invalid(
+                "karpov2017.omega1",
+                "such that z1·omega1/omega_n is finite",
+                omega1,
             ));
         }
         Self::new(Karpov2017Params {
@@ -242,7 +258,50 @@ impl Karpov2017 {
 
     /// [`Karpov2017::duhamel`] with panel factor `panel` (panels `≤ panel/(1 + |Φ'|)`); for
     /// convergence checks.
+    ///
+    /// Within [`MAX_PANELS`] panels; a response that would need more (or a non-positive
+    /// `panel`) is all NaN — [`Karpov2017::try_duhamel_budget`] reports why.
     pub fn duhamel_with(&self, panel: f64) -> KarpovResponse {
+        self.try_duhamel_budget(panel, MAX_PANELS)
+            .unwrap_or(KarpovResponse {
+                x: f64::NAN,
+                v: f64::NAN,
+                envelope: f64::NAN,
+                last_cycle_max: f64::NAN,
+                amplitude: f64::NAN,
+                panels: 0,
+            })
+    }
+
+    /// [`Karpov2017::duhamel_with`] with a panel budget: errors (naming the bound) if `panel`
+    /// is not finite and > 0, if the estimated panel count `τ_end (1 + ω(1 − B))/panel`
+    /// exceeds `max_panels`, if the quadrature takes more than `max_panels` panels, or if a
+    /// panel no longer advances `τ` (`τ + h == τ`). Every loop therefore ends.
+    pub fn try_duhamel_budget(&self, panel: f64, max_panels: u64) -> Result<KarpovResponse, Error> {
+        if !(panel.is_finite() && panel > 0.0) {
+            return Err(Error::invalid("karpov2017.panel", "finite and > 0", panel));
+        }
+        let estimate = self.p.tau_end * (1.0 + self.p.omega * (1.0 - self.p.b)) / panel;
+        if !(estimate <= max_panels as f64) {
+            return Err(Error::Solver(format!(
+                "karpov2017: about {estimate:.3e} quadrature panels needed for tau_end = {} and \
+                 omega = {}, over the budget of {max_panels}",
+                self.p.tau_end, self.p.omega
+            )));
+        }
+        let over = |panels: u64, t: f64, h: f64| -> Result<(), Error> {
+            if panels >= max_panels {
+                Err(Error::Solver(format!(
+                    "karpov2017: quadrature budget of {max_panels} panels spent at tau = {t}"
+                )))
+            } else if t + h <= t {
+                Err(Error::Solver(format!(
+                    "karpov2017: quadrature step {h:e} no longer advances tau = {t}"
+                )))
+            } else {
+                Ok(())
+            }
+        };
         let g = GaussLegendre::<10>::new();
         let tau_end = self.p.tau_end;
         let t_w = (tau_end - self.last_cycle()).max(0.0);
@@ -265,6 +324,7 @@ impl Karpov2017 {
         };
         while t < t_w {
             let h = (panel / (1.0 + self.phase_rate(t).abs())).min(t_w - t);
+            over(panels, t, h)?;
             step(t, h, &mut c, &mut s);
             t += h;
             panels += 1;
@@ -278,6 +338,7 @@ impl Karpov2017 {
             let h = (panel / (1.0 + self.phase_rate(t).abs()))
                 .min(SAMPLE)
                 .min(tau_end - t);
+            over(panels, t, h)?;
             step(t, h, &mut c, &mut s);
             t += h;
             panels += 1;
@@ -289,14 +350,14 @@ impl Karpov2017 {
             AmplitudeMeasure::LastCycleMax => max_abs,
             AmplitudeMeasure::Envelope => envelope,
         };
-        KarpovResponse {
+        Ok(KarpovResponse {
             x,
             v,
             envelope,
             last_cycle_max: max_abs,
             amplitude,
             panels,
-        }
+        })
     }
 
     /// Final amplitude `A` (fast path).
