@@ -275,8 +275,9 @@ impl Karpov2017 {
 
     /// [`Karpov2017::duhamel_with`] with a panel budget: errors (naming the bound) if `panel`
     /// is not finite and > 0, if the estimated panel count `τ_end (1 + ω(1 − B))/panel`
-    /// exceeds `max_panels`, if the quadrature takes more than `max_panels` panels, or if a
-    /// panel no longer advances `τ` (`τ + h == τ`). Every loop therefore ends.
+    /// exceeds `max_panels`, if the quadrature takes more than `max_panels` panels, if a
+    /// panel no longer advances `τ` (`τ + h == τ`), or if the response is not finite (e.g.
+    /// an overflowing phase for extreme `k`, `ω`). Every loop therefore ends.
     pub fn try_duhamel_budget(&self, panel: f64, max_panels: u64) -> Result<KarpovResponse, Error> {
         if !(panel.is_finite() && panel > 0.0) {
             return Err(Error::invalid("karpov2017.panel", "finite and > 0", panel));
@@ -350,6 +351,12 @@ impl Karpov2017 {
             AmplitudeMeasure::LastCycleMax => max_abs,
             AmplitudeMeasure::Envelope => envelope,
         };
+        if !(x.is_finite() && v.is_finite() && max_abs.is_finite()) {
+            return Err(Error::Solver(format!(
+                "karpov2017: non-finite response (X = {x}, X' = {v}) for {:?}",
+                self.p
+            )));
+        }
         Ok(KarpovResponse {
             x,
             v,

@@ -537,7 +537,14 @@ pub fn compute(
         .map(|job| {
             let r = match job {
                 Ok(job) => match catch_unwind(AssertUnwindSafe(job)) {
-                    Ok(Ok(v)) if v.len() == n_out => Ok(v),
+                    Ok(Ok(v)) if v.len() == n_out => match v.iter().position(|x| !x.is_finite()) {
+                        // A success never carries a non-finite number.
+                        Some(j) => Err(format!(
+                            "non-finite output `{}` = {}",
+                            outputs[j].0, v[j]
+                        )),
+                        None => Ok(v),
+                    },
                     Ok(Ok(v)) => Err(format!(
                         "internal error: {} outputs for {n_out} columns",
                         v.len()
