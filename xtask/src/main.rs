@@ -50,9 +50,7 @@ fn repo_root() -> PathBuf {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.cmd {
-        Cmd::Validate { check, filter } => {
-            cli::validate(&repo_root(), check, filter.as_deref())
-        }
+        Cmd::Validate { check, filter } => cli::validate(&repo_root(), check, filter.as_deref()),
         Cmd::Study { file, out } => cli::study(&file, out.as_deref()),
     };
     match result {

@@ -47,7 +47,10 @@ impl StderrProgress {
     fn begin(&mut self, total: usize) {
         if std::io::stderr().is_terminal() {
             let pb = ProgressBar::new(total as u64);
-            let template = format!("{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {} (eta {{eta}}) {{msg}}", self.what);
+            let template = format!(
+                "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {} (eta {{eta}}) {{msg}}",
+                self.what
+            );
             if let Ok(style) = ProgressStyle::with_template(&template) {
                 pb.set_style(style.progress_chars("=> "));
             }
@@ -133,11 +136,10 @@ pub fn study(file: &Path, out: Option<&Path>) -> Result<(), Failure> {
     }
     let failed = output.failed.len();
     for f in output.failed.iter().take(5) {
-        let at: Vec<String> = f
-            .at
-            .iter()
-            .map(|(k, v)| format!("{k} = {}", v.label()))
-            .collect();
+        let at: Vec<String> =
+            f.at.iter()
+                .map(|(k, v)| format!("{k} = {}", v.label()))
+                .collect();
         eprintln!("failed point {} ({}): {}", f.index, at.join(", "), f.error);
     }
     if failed > 5 {
@@ -200,7 +202,10 @@ pub fn models_text(name: Option<&str>) -> Result<String, Failure> {
     for m in specs {
         let info = (m.describe)();
         let _ = writeln!(s, "{} — {}", m.name, m.description);
-        let _ = writeln!(s, "  parameters ([overrides] or a sweep; name [unit] = default):");
+        let _ = writeln!(
+            s,
+            "  parameters ([overrides] or a sweep; name [unit] = default):"
+        );
         for p in &info.parameters {
             let _ = writeln!(s, "    {} [{}] = {}", p.name, p.unit, p.default);
         }

@@ -6,7 +6,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "geardyn", version, about = "Nonlinear gear dynamics: studies, models, validation")]
+#[command(
+    name = "geardyn",
+    version,
+    about = "Nonlinear gear dynamics: studies, models, validation"
+)]
 struct Cli {
     #[command(subcommand)]
     cmd: Cmd,

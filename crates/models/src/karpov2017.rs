@@ -118,7 +118,7 @@ const SAMPLE: f64 = 0.01;
 pub const DEFAULT_PANEL: f64 = PANEL;
 /// Panel budget of [`Karpov2017::duhamel`] and [`Karpov2017::duhamel_with`]; beyond it the
 /// response is NaN (use [`Karpov2017::try_duhamel_budget`] for the error).
-pub const MAX_PANELS: u64 = 1_000_000_000;
+pub const MAX_PANELS: u64 = 200_000_000;
 
 impl Karpov2017 {
     /// Validate and build. Errors name the field (`karpov2017.omega`, …).
@@ -174,7 +174,11 @@ impl Karpov2017 {
             ));
         }
         if !(omega1.is_finite() && omega1 > 0.0) {
-            return Err(Error::invalid("karpov2017.omega1", "finite and > 0", omega1));
+            return Err(Error::invalid(
+                "karpov2017.omega1",
+                "finite and > 0",
+                omega1,
+            ));
         }
         let omega = f64::from(pair.z1()) * omega1 / omega_n;
         if !omega.is_finite() {
@@ -434,6 +438,26 @@ impl Sum {
 
 #[cfg(test)]
 mod tests {
+
+    /// Inputs that used to hang return at once: NaN from `duhamel*`, an error naming the
+    /// budget from `try_duhamel_budget`.
+    #[test]
+    fn loops_end_on_extreme_inputs() {
+        let m = Karpov2017::fig3().with(|p| p.omega = 1e17).unwrap();
+        assert!(m.duhamel().x.is_nan());
+        let e = m.try_duhamel_budget(DEFAULT_PANEL, MAX_PANELS).unwrap_err();
+        assert!(e.to_string().contains("panels"), "{e}");
+        let m = Karpov2017::fig3().with(|p| p.tau_end = 1e12).unwrap();
+        assert!(m.duhamel().x.is_nan());
+        let m = Karpov2017::fig3();
+        assert!(m.duhamel_with(0.0).x.is_nan());
+        assert!(m.duhamel_with(f64::NAN).x.is_nan());
+        assert!(m.try_duhamel_budget(-1.0, 10).is_err());
+        // a small budget is honoured
+        assert!(m.try_duhamel_budget(DEFAULT_PANEL, 10).is_err());
+        assert!(m.try_duhamel_budget(DEFAULT_PANEL, MAX_PANELS).is_ok());
+    }
+
     use super::*;
     use timestep::{Method, Options, Output};
 

@@ -127,22 +127,22 @@ pub use render::{
     snapshot_body,
 };
 pub use studies::all_studies;
+pub use studies::user_models::{
+    Adapter, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo, ModelSpec, ParamInfo, REGISTRY,
+    SettingDef, describe_all,
+};
 pub use study::{
     Claim, Comparison, Cost, Paper, Reference, Study, StudyOutput, Tolerance, ToleranceBand,
     ToleranceBasis, Verdict,
 };
 pub use table::{Cell, Column, Table};
-pub use studies::user_models::{
-    Adapter, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo, ModelSpec, ParamInfo,
-    REGISTRY, SettingDef, describe_all,
-};
 pub use user::{
     FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_STEPS_BOUND, MAX_SWEEP_VALUES, MODELS,
     Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, Sweep, UserStudy,
-    UserStudyOutput, Value, Written, apply_overrides, apply_values, camel_to_kebab, check_study_name,
-    choice, compute, default_out_dir, display_name, field_names, kebab_to_camel, lock_output_dir, model_spec,
-    new_run_id, prepare, run_study_file, run_study_from_str, run_user_study, variant_names,
-    write_outputs,
+    UserStudyOutput, Value, Written, apply_overrides, apply_values, camel_to_kebab,
+    check_study_name, choice, compute, default_out_dir, display_name, field_names, kebab_to_camel,
+    lock_output_dir, model_spec, new_run_id, prepare, run_study_file, run_study_from_str,
+    run_user_study, variant_names, write_outputs,
 };
 
 #[cfg(test)]

@@ -280,8 +280,14 @@ impl UserStudy {
             )));
         }
         model_spec(&s.model)?;
-        let n1 = s.sweep.as_ref().map_or(Ok(1), |w| w.points().map(|p| p.len()))?;
-        let n2 = s.sweep2.as_ref().map_or(Ok(1), |w| w.points().map(|p| p.len()))?;
+        let n1 = s
+            .sweep
+            .as_ref()
+            .map_or(Ok(1), |w| w.points().map(|p| p.len()))?;
+        let n2 = s
+            .sweep2
+            .as_ref()
+            .map_or(Ok(1), |w| w.points().map(|p| p.len()))?;
         let n = n1.checked_mul(n2).unwrap_or(usize::MAX);
         if n > s.limits.max_points as usize {
             return Err(Error::StudyFile(format!(
@@ -539,10 +545,7 @@ pub fn compute(
                 Ok(job) => match catch_unwind(AssertUnwindSafe(job)) {
                     Ok(Ok(v)) if v.len() == n_out => match v.iter().position(|x| !x.is_finite()) {
                         // A success never carries a non-finite number.
-                        Some(j) => Err(format!(
-                            "non-finite output `{}` = {}",
-                            outputs[j].0, v[j]
-                        )),
+                        Some(j) => Err(format!("non-finite output `{}` = {}", outputs[j].0, v[j])),
                         None => Ok(v),
                     },
                     Ok(Ok(v)) => Err(format!(
@@ -738,14 +741,12 @@ pub fn apply_values<T: Serialize + DeserializeOwned>(
         let old = slot.clone();
         let candidates: Vec<serde_json::Value> = match (x, &old) {
             // A name: try the serde spellings of a variant (CamelCase, snake_case, as given).
-            (Value::Text(t), serde_json::Value::String(_)) => [
-                kebab_to_camel(t),
-                t.replace('-', "_"),
-                t.clone(),
-            ]
-            .into_iter()
-            .map(serde_json::Value::String)
-            .collect(),
+            (Value::Text(t), serde_json::Value::String(_)) => {
+                [kebab_to_camel(t), t.replace('-', "_"), t.clone()]
+                    .into_iter()
+                    .map(serde_json::Value::String)
+                    .collect()
+            }
             _ => vec![to_json(k, x, &old)?],
         };
         // Deserialise after each field so that an out-of-type value names its field.
@@ -820,12 +821,8 @@ pub fn field_names<T: Serialize>(base: &T) -> Vec<String> {
 
 fn to_json(k: &str, x: &Value, old: &serde_json::Value) -> Result<serde_json::Value, Error> {
     use serde_json::Value as J;
-    let wrong = |takes: &str| {
-        Error::StudyFile(format!(
-            "parameter `{k}` takes {takes}, got {}",
-            x.label()
-        ))
-    };
+    let wrong =
+        |takes: &str| Error::StudyFile(format!("parameter `{k}` takes {takes}, got {}", x.label()));
     Ok(match (old, x) {
         (J::Number(n), Value::Num(f)) if n.is_u64() || n.is_i64() => {
             if f.fract() != 0.0 || f.abs() > 9.0e15 {
@@ -1053,7 +1050,12 @@ pub fn new_run_id() -> String {
     let t = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .unwrap_or_default();
-    format!("{}-{:09}-{}", t.as_secs(), t.subsec_nanos(), std::process::id())
+    format!(
+        "{}-{:09}-{}",
+        t.as_secs(),
+        t.subsec_nanos(),
+        std::process::id()
+    )
 }
 
 /// Write a study's outputs atomically into the locked directory: every file goes into a fresh
@@ -1098,7 +1100,8 @@ pub fn write_outputs(out: &UserStudyOutput, lock: &OutputLock) -> Result<Written
             o.insert("figures_not_drawn".to_owned(), serde_json::json!(not_drawn));
             o.insert("run_id".to_owned(), serde_json::json!(run_id));
         }
-        let json = serde_json::to_string_pretty(&summary).map_err(|e| Error::Study(e.to_string()))?;
+        let json =
+            serde_json::to_string_pretty(&summary).map_err(|e| Error::Study(e.to_string()))?;
         put(format!("{}.json", out.name), format!("{json}\n").as_bytes())?;
         put(MARKER.to_owned(), format!("{run_id}\n").as_bytes())?;
         Ok(files)

@@ -1,7 +1,9 @@
 //! The study path: shipped examples, errors before computing, and every output column compared
 //! with a direct library call (so that a swapped or mislabelled column fails a test).
 
-use geardyn_validate::{RunOptions, UserStudy, UserStudyOutput, run_study_from_str, run_user_study};
+use geardyn_validate::{
+    RunOptions, UserStudy, UserStudyOutput, run_study_from_str, run_user_study,
+};
 
 fn run(text: &str) -> UserStudyOutput {
     run_study_from_str(text, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}\n{text}"))
@@ -31,15 +33,21 @@ fn karpov_kinematics_example_runs() {
     assert!(s.windows(2).all(|w| w[1].1 > w[0].1));
     // the axis names its unit (B is dimensionless: "1"), the CSV header too
     assert_eq!(out.figures[2].y.1, "rad/s^2");
-    assert!(out.table.to_csv().starts_with("b [1],xi [1],"), "{}", out.table.to_csv());
+    assert!(
+        out.table.to_csv().starts_with("b [1],xi [1],"),
+        "{}",
+        out.table.to_csv()
+    );
 }
 
 /// Every column of the Karpov kinematics model against the library.
 #[test]
 fn karpov_kinematics_columns_match_library() {
-    let out = run("name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nomega1 = 7.0\n\
+    let out = run(
+        "name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nomega1 = 7.0\n\
                    j = 2\n[sweep]\nparameter = \"b\"\nvalues = [0.01, 0.03]\n\
-                   [solver]\nmethod = \"kinematics\"\n");
+                   [solver]\nmethod = \"kinematics\"\n",
+    );
     for (i, b) in [0.01, 0.03].into_iter().enumerate() {
         let mut p = gear_geometry::KarpovPair::karpov2017_table1().params();
         p.b = b;
@@ -54,7 +62,11 @@ fn karpov_kinematics_columns_match_library() {
             ("b_max_exact", check.b_max_exact),
         ];
         for (name, v) in want {
-            assert_eq!(col(&out, name)[i].to_bits(), v.to_bits(), "{name} at b = {b}");
+            assert_eq!(
+                col(&out, name)[i].to_bits(),
+                v.to_bits(),
+                "{name} at b = {b}"
+            );
         }
     }
 }
@@ -63,10 +75,12 @@ fn karpov_kinematics_columns_match_library() {
 #[test]
 fn karpov_columns_match_library() {
     use models::karpov2017::{Excitation, Karpov2017};
-    let out = run("name = \"k\"\nmodel = \"karpov2017\"\n[overrides]\ntau_end = 300.0\n\
+    let out = run(
+        "name = \"k\"\nmodel = \"karpov2017\"\n[overrides]\ntau_end = 300.0\n\
                    [sweep]\nparameter = \"b\"\nvalues = [0.01, 0.02]\n\
                    [sweep2]\nparameter = \"excitation\"\nvalues = [\"accumulated-phase\", \"printed-phase\"]\n\
-                   [solver]\nmethod = \"time-stepping\"\n");
+                   [solver]\nmethod = \"time-stepping\"\n",
+    );
     let mut row = 0;
     for exc in [Excitation::AccumulatedPhase, Excitation::PrintedPhase] {
         for b in [0.01, 0.02] {
@@ -118,10 +132,12 @@ fn liu_columns_match_library() {
 #[test]
 fn yu_columns_match_library() {
     use models::yu2021::{Engine, Options, RunSettings, Yu2021Model, Yu2021Params};
-    let out = run("name = \"y\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.4\n\
+    let out = run(
+        "name = \"y\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.4\n\
                    variant = \"kahraman-singh\"\n[solver]\nmethod = \"time-stepping\"\n\
                    [solver.settings]\ntransient_periods = 10\nrecord_periods = 4\n\
-                   steps_per_period = 64\nrms_harmonics = 3\n");
+                   steps_per_period = 64\nrms_harmonics = 3\n",
+    );
     let m = Yu2021Model::new(&Yu2021Params::table1(), Options::kahraman_singh()).unwrap();
     let s = RunSettings {
         omega: 0.4,
@@ -139,15 +155,19 @@ fn yu_columns_match_library() {
 
 #[test]
 fn bad_parameter_is_a_study_file_error() {
-    let e = err("name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nnope = 1.0\n\
-                 [solver]\nmethod = \"kinematics\"\n");
+    let e = err(
+        "name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nnope = 1.0\n\
+                 [solver]\nmethod = \"kinematics\"\n",
+    );
     assert!(e.contains("nope"), "{e}");
 }
 
 #[test]
 fn invalid_value_is_a_failed_point_not_a_panic() {
-    let out = run("name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nb = 1.5\n\
-                   [solver]\nmethod = \"kinematics\"\n");
+    let out = run(
+        "name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nb = 1.5\n\
+                   [solver]\nmethod = \"kinematics\"\n",
+    );
     assert_eq!(out.failed.len(), 1);
     assert!(out.all_failed());
     assert_eq!(
@@ -158,20 +178,30 @@ fn invalid_value_is_a_failed_point_not_a_panic() {
 
 #[test]
 fn old_numeric_choices_name_the_new_spelling() {
-    let e = err("name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\nvariant = 0\n\
-                 [solver]\nmethod = \"time-stepping\"\n");
+    let e = err(
+        "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\nvariant = 0\n\
+                 [solver]\nmethod = \"time-stepping\"\n",
+    );
     assert!(e.contains("variant = \"yu\""), "{e}");
-    let e = err("name = \"x\"\nmodel = \"karpov2017\"\n[overrides]\nprinted_phase = 1\n\
-                 [solver]\nmethod = \"time-stepping\"\n");
+    let e = err(
+        "name = \"x\"\nmodel = \"karpov2017\"\n[overrides]\nprinted_phase = 1\n\
+                 [solver]\nmethod = \"time-stepping\"\n",
+    );
     assert!(e.contains("excitation = \"printed-phase\""), "{e}");
-    let e = err("name = \"x\"\nmodel = \"karpov2017\"\n[solver]\nmethod = \"time-stepping\"\n\
-                 [solver.settings]\nduhamel = 1\n");
+    let e = err(
+        "name = \"x\"\nmodel = \"karpov2017\"\n[solver]\nmethod = \"time-stepping\"\n\
+                 [solver.settings]\nduhamel = 1\n",
+    );
     assert!(e.contains("engine = \"duhamel\""), "{e}");
-    let e = err("name = \"x\"\nmodel = \"liu2021\"\n[overrides]\nreadings_printed = 1\n\
-                 [solver]\nmethod = \"hbm\"\n");
+    let e = err(
+        "name = \"x\"\nmodel = \"liu2021\"\n[overrides]\nreadings_printed = 1\n\
+                 [solver]\nmethod = \"hbm\"\n",
+    );
     assert!(e.contains("readings = \"printed\""), "{e}");
-    let e = err("name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
-                 [solver]\nmethod = \"time-stepping\"\n[solver.settings]\nengine = 1\n");
+    let e = err(
+        "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
+                 [solver]\nmethod = \"time-stepping\"\n[solver.settings]\nengine = 1\n",
+    );
     assert!(e.contains("engine") && e.contains("rk4"), "{e}");
 }
 
@@ -189,30 +219,40 @@ fn settings_out_of_bounds_are_errors_naming_entry_and_bound() {
         assert!(e.contains(needle) && e.contains('['), "{setting}: {e}");
     }
     // ppv from 2 samples is refused before computing
-    let e = err("name = \"x\"\nmodel = \"liu2021\"\n[solver]\nmethod = \"time-stepping\"\n\
-                 [solver.settings]\nsample_step = 1000\n");
+    let e = err(
+        "name = \"x\"\nmodel = \"liu2021\"\n[solver]\nmethod = \"time-stepping\"\n\
+                 [solver.settings]\nsample_step = 1000\n",
+    );
     assert!(e.contains("samples"), "{e}");
-    let e = err("name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
+    let e = err(
+        "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
                  [solver]\nmethod = \"time-stepping\"\n[solver.settings]\n\
-                 steps_per_period = 4503599627370496\n");
+                 steps_per_period = 4503599627370496\n",
+    );
     assert!(e.contains("steps_per_period"), "{e}");
-    let e = err("name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nz1 = -3\n\
-                 [solver]\nmethod = \"kinematics\"\n");
+    let e = err(
+        "name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nz1 = -3\n\
+                 [solver]\nmethod = \"kinematics\"\n",
+    );
     assert!(e.contains("z1"), "{e}");
 }
 
 #[test]
 fn huge_sizes_fail_points_not_the_process() {
     // Yu: ω* = 1e-12 would need ~1e13 steps per period: a failed point among good ones.
-    let out = run("name = \"x\"\nmodel = \"yu2021\"\n[sweep]\nparameter = \"omega\"\n\
+    let out = run(
+        "name = \"x\"\nmodel = \"yu2021\"\n[sweep]\nparameter = \"omega\"\n\
                    values = [1e-12, 0.5]\n[solver]\nmethod = \"time-stepping\"\n\
                    [solver.settings]\ntransient_periods = 5\nrecord_periods = 2\n\
-                   steps_per_period = 32\n");
+                   steps_per_period = 32\n",
+    );
     assert_eq!(out.failed.len(), 1);
     assert!(col(&out, "df")[0].is_nan() && col(&out, "df")[1].is_finite());
     // mass_g = 1e-300: a huge natural frequency, refused by the step budget
-    let out = run("name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
-                   mass_g = 1e-300\n[solver]\nmethod = \"time-stepping\"\n");
+    let out = run(
+        "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
+                   mass_g = 1e-300\n[solver]\nmethod = \"time-stepping\"\n",
+    );
     assert!(out.all_failed());
     // Karpov ω = 1e17 and τ_end = 1e12: refused at once (they used to hang)
     for o in ["omega = 1e17", "tau_end = 1e12"] {
@@ -221,7 +261,11 @@ fn huge_sizes_fail_points_not_the_process() {
              [solver]\nmethod = \"time-stepping\"\n"
         ));
         assert!(out.all_failed(), "{o}");
-        assert!(out.failed[0].error.contains("steps"), "{}", out.failed[0].error);
+        assert!(
+            out.failed[0].error.contains("steps"),
+            "{}",
+            out.failed[0].error
+        );
     }
 }
 
@@ -251,8 +295,8 @@ fn every_shipped_example_parses() {
             let text = std::fs::read_to_string(&path).unwrap();
             let s = UserStudy::parse(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             // and every point prepares (settings, names, sizes) without computing
-            let p = geardyn_validate::prepare(&s)
-                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let p =
+                geardyn_validate::prepare(&s).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             assert!(p.failed_early().is_empty(), "{}", path.display());
             n += 1;
         }
@@ -292,8 +336,10 @@ fn yu_engines_selectable_and_agree() {
 
 #[test]
 fn json_summary_numbers_are_numbers() {
-    let out = run("name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[sweep]\nparameter = \"b\"\n\
-                   values = [0.01, 0.03]\n[solver]\nmethod = \"kinematics\"\n");
+    let out = run(
+        "name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[sweep]\nparameter = \"b\"\n\
+                   values = [0.01, 0.03]\n[solver]\nmethod = \"kinematics\"\n",
+    );
     assert!(out.summary["outputs"]["delta_exact"]["min"].is_f64());
     assert!(out.summary["points"].is_u64());
 }
@@ -303,8 +349,10 @@ fn outputs_are_written_atomically_and_locked() {
     let base = std::env::temp_dir().join(format!("geardyn-study-test-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&base);
     std::fs::create_dir_all(&base).unwrap();
-    let out = run("name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[sweep]\nparameter = \"b\"\n\
-                   values = [0.01, 0.03]\n[solver]\nmethod = \"kinematics\"\n");
+    let out = run(
+        "name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[sweep]\nparameter = \"b\"\n\
+                   values = [0.01, 0.03]\n[solver]\nmethod = \"kinematics\"\n",
+    );
     let dir = base.join("k");
     {
         let lock = geardyn_validate::lock_output_dir(&dir).unwrap();

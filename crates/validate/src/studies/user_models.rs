@@ -263,10 +263,7 @@ impl Settings {
                 )));
             };
             let bad = |want: String| {
-                Error::StudyFile(format!(
-                    "setting `{k}` must be {want}, got {}",
-                    v.label()
-                ))
+                Error::StudyFile(format!("setting `{k}` must be {want}, got {}", v.label()))
             };
             match (d.kind, v) {
                 (Kind::Num { lo, hi, .. }, Value::Num(x)) => {
@@ -333,11 +330,7 @@ impl Settings {
 }
 
 /// Remove the choices (names) from a point, checking old numeric spellings.
-fn take_choice(
-    p: &mut Point,
-    name: &str,
-    legacy: Option<&str>,
-) -> Result<Option<Value>, Error> {
+fn take_choice(p: &mut Point, name: &str, legacy: Option<&str>) -> Result<Option<Value>, Error> {
     match p.remove(name) {
         Some(Value::Num(x)) => Err(Error::StudyFile(format!(
             "`{name}` = {x}: choices are names now; write {}",
@@ -864,8 +857,8 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                              record_periods"
                         )));
                     }
-                    let steps = (opts.transient_periods + opts.record_periods) * period
-                        / opts.max_step;
+                    let steps =
+                        (opts.transient_periods + opts.record_periods) * period / opts.max_step;
                     need_steps("liu2021", steps, &limits)?;
                     Ok(Box::new(move || {
                         let r = liu2021::integrate(&model, &opts)
@@ -1083,7 +1076,11 @@ fn yu_describe() -> ModelInfo {
             choice_info("form", o.form, "Eq. (19) consistent or as printed"),
             choice_info("update", o.update, "backlash update (Fig. 8)"),
             choice_info("pressure_angle_law", o.pressure_angle, "pressure-angle law"),
-            choice_info("dynamic_backlash", o.dynamic_backlash, "dynamic-backlash law"),
+            choice_info(
+                "dynamic_backlash",
+                o.dynamic_backlash,
+                "dynamic-backlash law",
+            ),
             choice_info(
                 "centre_distance",
                 o.centre_distance,
