@@ -287,7 +287,7 @@ impl Karpov2017 {
             return Err(Error::invalid("karpov2017.panel", "finite and > 0", panel));
         }
         let estimate = self.p.tau_end * (1.0 + self.p.omega * (1.0 - self.p.b)) / panel;
-        if !(estimate <= max_panels as f64) {
+        if estimate.is_nan() || estimate > max_panels as f64 {
             return Err(Error::Solver(format!(
                 "karpov2017: about {estimate:.3e} quadrature panels needed for tau_end = {} and \
                  omega = {}, over the budget of {max_panels}",

@@ -128,8 +128,8 @@ pub use render::{
 };
 pub use studies::all_studies;
 pub use studies::user_models::{
-    Adapter, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo, ModelSpec, ParamInfo, REGISTRY,
-    SettingDef, describe_all,
+    Adapter, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo, ModelSpec, ParamInfo, Preparer,
+    REGISTRY, SettingDef, describe_all,
 };
 pub use study::{
     Claim, Comparison, Cost, Paper, Reference, Study, StudyOutput, Tolerance, ToleranceBand,

@@ -288,7 +288,7 @@ impl UserStudy {
             .sweep2
             .as_ref()
             .map_or(Ok(1), |w| w.points().map(|p| p.len()))?;
-        let n = n1.checked_mul(n2).unwrap_or(usize::MAX);
+        let n = n1.saturating_mul(n2);
         if n > s.limits.max_points as usize {
             return Err(Error::StudyFile(format!(
                 "{n1} × {n2} = {n} points exceed limits.max_points = {}",

@@ -588,7 +588,7 @@ impl Yu2021Model {
         let n = (settings.steps_per_period.max(8) as f64).max((period / dt_max).ceil());
         let periods = settings.transient_periods as f64 + settings.record_periods as f64;
         let total = periods * n;
-        if !(total <= MAX_RUN_STEPS as f64) {
+        if total.is_nan() || total > MAX_RUN_STEPS as f64 {
             return Err(Error::invalid(
                 "yu2021.steps",
                 format!(
@@ -599,7 +599,7 @@ impl Yu2021Model {
             ));
         }
         let recorded = settings.record_periods as f64 * n;
-        if !(recorded <= MAX_RECORDED_SAMPLES as f64) {
+        if recorded.is_nan() || recorded > MAX_RECORDED_SAMPLES as f64 {
             return Err(Error::invalid(
                 "yu2021.record_periods",
                 format!("such that record_periods × steps per period <= {MAX_RECORDED_SAMPLES}"),

@@ -17,12 +17,15 @@ use crate::{Error, ResultExt};
 /// The computation of one prepared point.
 pub type Job = Box<dyn FnOnce() -> Result<Vec<f64>, Error> + Send>;
 
+/// Checks one point and returns its computation.
+pub type Preparer = Box<dyn Fn(&Point) -> Result<Job, Error> + Sync>;
+
 /// Output columns and the point preparer of a model under one solver.
 pub struct Adapter {
     /// Output columns `(name, unit)`.
     pub outputs: Vec<(String, String)>,
     /// Check one point and return its computation.
-    pub prepare: Box<dyn Fn(&Point) -> Result<Job, Error> + Sync>,
+    pub prepare: Preparer,
 }
 
 /// What an adapter is built from.
@@ -1334,8 +1337,9 @@ mod tests {
         }
     }
 
-    /// The documented defaults are the library's defaults.
+    /// The documented defaults are the library's defaults (the same literals: exact).
     #[test]
+    #[allow(clippy::float_cmp)]
     fn setting_defaults_match_the_library() {
         let o = liu2021::IntegrationOptions::default();
         assert_eq!(default_of(LIU_TS, "transient_periods"), o.transient_periods);
