@@ -5,9 +5,8 @@
 //! * `cargo xtask validate --check` — regenerate in memory and fail if any committed output or
 //!   snapshot would change (CI).
 //! * `cargo xtask study <file.toml>` — run a user study (format in `docs/studies.md`).
-
-mod study;
-mod validate;
+//!
+//! Both run the code of the `geardyn` command (`cli::validate`, `cli::study`).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -51,14 +50,14 @@ fn repo_root() -> PathBuf {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.cmd {
-        Cmd::Validate { check, filter } => validate::run(&repo_root(), check, filter.as_deref()),
-        Cmd::Study { file, out } => study::run(&file, out.as_deref()),
+        Cmd::Validate { check, filter } => cli::validate(&repo_root(), check, filter.as_deref()),
+        Cmd::Study { file, out } => cli::study(&file, out.as_deref()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::FAILURE
+        Err(f) => {
+            eprintln!("error: {}", f.message);
+            ExitCode::from(f.code)
         }
     }
 }

@@ -200,7 +200,8 @@ pub enum PressureAngleLaw {
 }
 
 /// Sign of the centre separation in the centre distance, Yu Eq. (8)–(9) (reading R-YU-EQ8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum CentreDistanceForm {
     /// Eq. (8) as printed, `a = √((a_0 + x_p − x_g)² + (y_p − y_g)²)` (default of the leaf:
     /// `x_p > 0` or `x_g < 0` moves the centres apart).
@@ -223,7 +224,8 @@ impl CentreDistanceForm {
 }
 
 /// Reference angle β_0 = tan α of Yu Eq. (7) (reading R-YU-EQ16).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Beta0 {
     /// β_0 = tan α_0, the nominal pressure angle (default).
     #[default]
@@ -286,10 +288,10 @@ pub struct DynamicBacklash {
     /// Policy for a negative radicand (only for [`DynamicForm::YuEq10`]).
     pub policy: RadicandPolicy,
     /// Sign convention of Eq. (8) for the centre distance.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub centre_distance: CentreDistanceForm,
     /// Reference angle β_0 of Eq. (7) (only for [`DynamicForm::YuEq10`]).
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub beta0: Beta0,
 }
 

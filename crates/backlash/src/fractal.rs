@@ -584,6 +584,9 @@ pub fn yu2021_fig4() -> Result<Fig4Data, Error> {
     fig4_grid(ConstantBacklashParams::yu2021_fig4(), &d, &g)
 }
 
+/// Most terms of [`ChenFractal`] (the limit of [`ChenFractal::for_tolerance`] too).
+pub const CHEN_MAX_TERMS: u32 = 1_000_000;
+
 /// Chen's fractal backlash (Yu Eq. 3, Chen et al. 2014):
 /// z(t) = Σ_{k=0}^{n−1} λ^{(D−2)k} sin(λ^k t), truncated to `n_terms` terms. Dimensionless.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -609,6 +612,14 @@ impl ChenFractal {
                 value: 0.0,
             });
         }
+        // Every evaluation sums n_terms terms: bound the work, and keep λ^n finite.
+        if n_terms > CHEN_MAX_TERMS || f64::from(n_terms) * gamma.ln() > 700.0 {
+            return Err(Error::InvalidParameter {
+                name: "n_terms",
+                bound: "<= 1e6 and with λ^n_terms < e^700",
+                value: f64::from(n_terms),
+            });
+        }
         Ok(Self { d, gamma, n_terms })
     }
 
@@ -631,10 +642,11 @@ impl ChenFractal {
     }
 
     /// z(t), truncated. `t` must be finite (non-finite gives NaN, use [`Self::try_value`]).
+    /// At most [`CHEN_MAX_TERMS`] terms are summed even if the public field says more.
     pub fn value(&self, t: f64) -> f64 {
         let r = self.gamma.powf(self.d - 2.0);
         let (mut a, mut w, mut s) = (1.0, 1.0, 0.0);
-        for _ in 0..self.n_terms {
+        for _ in 0..self.n_terms.min(CHEN_MAX_TERMS) {
             s += a * (w * t).sin();
             a *= r;
             w *= self.gamma;
@@ -681,6 +693,9 @@ mod tests {
         assert!(WmProfile::new(s, 1.0, 1e-3, 1e-6).is_err());
         assert!(WmProfile::new(s, 1.5, 1e-6, 1e-3).is_err());
         assert!(ChenFractal::new(1.5, 0.9, 10).is_err());
+        // used to sum 4e9 terms per call
+        assert!(ChenFractal::new(1.5, 1.0 + 1e-9, u32::MAX).is_err());
+        assert!(ChenFractal::new(1.5, 2.0, 2000).is_err());
         let p = prof(1.5, 1e-6);
         let q = Quadrature {
             points_per_wavelength: 8.0,

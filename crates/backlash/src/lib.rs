@@ -125,9 +125,9 @@ pub use dynamic::{
 };
 pub use error::Error;
 pub use fractal::{
-    ChenFractal, ConstantBacklashParams, ConstantPart, ConstantPartForm, Fig4Claims, Fig4Data,
-    MeanHeight, Quadrature, SurfaceFractal, WmProfile, fig4_grid, mean_asperity_height,
-    yu2021_fig4,
+    CHEN_MAX_TERMS, ChenFractal, ConstantBacklashParams, ConstantPart, ConstantPartForm,
+    Fig4Claims, Fig4Data, MeanHeight, Quadrature, SurfaceFractal, WmProfile, fig4_grid,
+    mean_asperity_height, yu2021_fig4,
 };
 
 #[cfg(test)]

@@ -50,7 +50,7 @@ impl SecondOrderSystem for Parametric {
         a[0] = self.k(t) * dead(q[0], self.b(t)).1;
         b[0] = 0.0;
     }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::HbmError> {
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::SystemError> {
         self.omega = omega;
         Ok(())
     }

@@ -195,6 +195,21 @@ impl Karpov2017 {
                 omega_n,
             ));
         }
+        if !(omega1.is_finite() && omega1 > 0.0) {
+            return Err(Error::invalid(
+                "karpov2017.omega1",
+                "finite and > 0",
+                omega1,
+            ));
+        }
+        let omega = f64::from(pair.z1()) * omega1 / omega_n;
+        if !omega.is_finite() {
+            return Err(Error::invalid(
+                "karpov2017.omega1",
+                "such that z1·omega1/omega_n is finite",
+                omega1,
+            ));
+        }
         Self::new(Karpov2017Params {
             omega: f64::from(pair.z1()) * omega1 / omega_n,
             b: pair.b(),
@@ -317,6 +332,20 @@ impl Karpov2017 {
                 "in [1e-3, 8]",
                 theta,
             ));
+        }
+        // Each pair of panels spans a phase of at most 2θ and the phase advances at least at
+        // 1 + ω(1 − B) (the smallest |Φ'| + 1), so at least this many panels are needed: refuse
+        // at once what the budget cannot hold instead of running into it.
+        let estimate = self.p.tau_end * (1.0 + self.p.omega * (1.0 - self.p.b)) / (2.0 * theta);
+        if !(estimate <= MAX_PANELS as f64) {
+            return Err(Error::Quadrature {
+                reason: format!(
+                    "Duhamel integral: about {estimate:.3e} panels needed for tau_end = {} and \
+                     omega = {}, over the budget of {MAX_PANELS} panels",
+                    self.p.tau_end, self.p.omega
+                ),
+                at: 0.0,
+            });
         }
         let ker = Kernel::new(self);
         let table: Vec<Rot> = (0..LEVELS)
@@ -721,6 +750,21 @@ impl Sum {
 
 #[cfg(test)]
 mod tests {
+
+    /// Inputs that used to hang return at once with an error naming the panel budget.
+    #[test]
+    fn loops_end_on_extreme_inputs() {
+        let m = Karpov2017::fig3().with(|p| p.omega = 1e17).unwrap();
+        let e = m.duhamel().unwrap_err();
+        assert!(e.to_string().contains("panels"), "{e}");
+        let m = Karpov2017::fig3().with(|p| p.tau_end = 1e12).unwrap();
+        assert!(m.duhamel().is_err());
+        let m = Karpov2017::fig3();
+        assert!(m.duhamel_with(0.0).is_err());
+        assert!(m.duhamel_with(f64::NAN).is_err());
+        assert!(m.duhamel_with(-1.0).is_err());
+    }
+
     use super::*;
     use timestep::{Method, Options, Output};
 

@@ -286,6 +286,14 @@ impl Figure {
         };
         let (x0, x1) = self.x_range.unwrap_or_else(|| self.data_range(|p| p.0));
         let (y0, y1) = self.y_range.unwrap_or_else(|| self.data_range(|p| p.1));
+        // Non-finite, reversed or overflowing ranges would make the axis key points loop.
+        for (axis, a, b) in [("x", x0, x1), ("y", y0, y1)] {
+            if !(a.is_finite() && b.is_finite() && a < b && (b - a).is_finite()) {
+                return Err(err(format!(
+                    "{axis} range [{a}, {b}] must be finite, increasing and of finite width"
+                )));
+            }
+        }
         let mut svg = String::new();
         {
             let root = SVGBackend::with_string(&mut svg, (800, 560)).into_drawing_area();

@@ -110,6 +110,7 @@ mod error;
 mod figure;
 mod format;
 pub mod heatmap;
+mod output;
 mod published;
 mod render;
 pub mod shard;
@@ -121,19 +122,29 @@ mod user;
 pub use error::{Error, ResultExt};
 pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
 pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
+pub use output::{ValidationSummary, run_validation};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
     ReadingsIndex, StudyResult, comparisons_csv, insta_snap, render_all, report, run_studies,
     snapshot_body,
 };
 pub use studies::all_studies;
+pub use studies::user_models::{
+    Adapter, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo, ModelSpec, ParamInfo, Preparer,
+    REGISTRY, SettingDef, describe_all,
+};
 pub use study::{
     Claim, Comparison, Cost, Paper, Reference, Study, StudyOutput, Tolerance, ToleranceBand,
     ToleranceBasis, Verdict,
 };
 pub use table::{Cell, Column, Table};
 pub use user::{
-    MODELS, Method, Solver, Sweep, UserStudy, UserStudyOutput, apply_overrides, run_user_study,
+    FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_STEPS_BOUND, MAX_SWEEP_VALUES, MODELS,
+    Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, Sweep, UserStudy,
+    UserStudyOutput, Value, Written, apply_overrides, apply_values, camel_to_kebab,
+    check_study_name, choice, compute, default_out_dir, display_name, field_names, kebab_to_camel,
+    lock_output_dir, model_spec, new_run_id, prepare, run_study_file, run_study_from_str,
+    run_user_study, variant_names, write_outputs,
 };
 
 #[cfg(test)]

@@ -1,43 +1,141 @@
-//! User studies: `cargo xtask study <file.toml>` (format documented in `docs/studies.md`).
+//! User studies: `geardyn study <file.toml>` / `cargo xtask study <file.toml>` (format in
+//! `docs/studies.md`, limits and guarantees in `docs/reliability.md`).
+//!
+//! The flow is *check everything, then compute, then write*:
+//!
+//! 1. [`UserStudy::parse`] reads the file and checks every entry that does not depend on the
+//!    model (names, finiteness, sweep sizes, limits);
+//! 2. [`prepare`] builds the model adapter (every solver setting checked against its documented
+//!    bounds) and prepares every point (the model's validating constructor, every derived size);
+//!    a study-file error stops here, before any computation;
+//! 3. [`run_user_study`] computes the points in parallel (collected in input order, so the
+//!    output is identical for any thread count); a point whose preparation or computation
+//!    fails — error, or a panic caught as a last resort — becomes a NaN row with its message;
+//! 4. [`write_outputs`] writes the CSV, SVGs and JSON summary atomically (see there).
+//!
+//! [`run_study_from_str`] does 1–3 in one call (the entry point of the Python package).
 
 use std::collections::BTreeMap;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize, de::DeserializeOwned};
 
 use crate::error::{Error, check_name};
 use crate::figure::{Figure, Series};
+use crate::studies::user_models::{self, Job, ModelSpec};
 use crate::table::{Cell, Table};
 
-/// One swept parameter: a range (`from`, `to`, `steps`, linear) or explicit `values`.
+/// Longest study name (bytes).
+pub const MAX_NAME_LEN: usize = 64;
+/// Most values one sweep may have.
+pub const MAX_SWEEP_VALUES: usize = 100_000;
+/// Hard upper bound of [`Limits::max_points`].
+pub const MAX_POINTS_BOUND: usize = 1_000_000;
+/// Hard upper bound of [`Limits::max_steps`].
+pub const MAX_STEPS_BOUND: u64 = 10_000_000_000;
+
+/// A value in a study file: a number, a name (choices and readings), a flag or a list of
+/// numbers (initial states).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Value {
+    /// `true` / `false`.
+    Bool(bool),
+    /// A number (TOML integers are read as numbers too).
+    Num(f64),
+    /// A name, e.g. `"kahraman-singh"`.
+    Text(String),
+    /// A list of numbers, e.g. an initial state.
+    List(Vec<f64>),
+}
+
+impl Value {
+    /// The number, if this is one.
+    pub fn as_num(&self) -> Option<f64> {
+        match self {
+            Value::Num(x) => Some(*x),
+            _ => None,
+        }
+    }
+
+    /// A short rendering for messages, labels and CSV cells.
+    pub fn label(&self) -> String {
+        match self {
+            Value::Bool(b) => b.to_string(),
+            Value::Num(x) => crate::fmt6(*x),
+            Value::Text(s) => s.clone(),
+            Value::List(v) => format!(
+                "[{}]",
+                v.iter()
+                    .map(|x| crate::fmt6(*x))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
+    }
+
+    fn check_finite(&self, what: &str) -> Result<(), Error> {
+        let bad = |x: f64| Error::StudyFile(format!("{what} must be finite, got {x}"));
+        match self {
+            Value::Num(x) if !x.is_finite() => Err(bad(*x)),
+            Value::List(v) => match v.iter().find(|x| !x.is_finite()) {
+                Some(x) => Err(bad(*x)),
+                None => Ok(()),
+            },
+            _ => Ok(()),
+        }
+    }
+}
+
+/// One swept parameter: a range (`from`, `to`, `steps`, linear) or explicit `values` (numbers,
+/// or names for a choice such as `variant`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Sweep {
-    /// Parameter name (a field of the model's parameter struct, or a solver input such as the
-    /// excitation frequency; see `docs/studies.md`).
+    /// Parameter or choice name (see `geardyn models`).
     pub parameter: String,
     /// Start of a linear range.
     pub from: Option<f64>,
     /// End of a linear range (inclusive).
     pub to: Option<f64>,
-    /// Number of points of the range (≥ 2).
-    pub steps: Option<usize>,
+    /// Number of points of the range (2 ..= [`MAX_SWEEP_VALUES`]).
+    pub steps: Option<i64>,
     /// Explicit values (instead of a range).
-    pub values: Option<Vec<f64>>,
+    pub values: Option<Vec<Value>>,
 }
 
 impl Sweep {
-    /// The swept values, in order.
-    pub fn points(&self) -> Result<Vec<f64>, Error> {
+    /// The swept values, in order. Errors name the sweep and the bound.
+    pub fn points(&self) -> Result<Vec<Value>, Error> {
         let bad = |m: String| Error::StudyFile(format!("sweep of `{}`: {m}", self.parameter));
         let v = match (&self.values, self.from, self.to, self.steps) {
-            (Some(v), None, None, None) => v.clone(),
-            (None, Some(a), Some(b), Some(n)) => {
-                if n < 2 {
-                    return Err(bad(format!("steps must be >= 2, got {n}")));
+            (Some(v), None, None, None) => {
+                if v.len() > MAX_SWEEP_VALUES {
+                    return Err(bad(format!(
+                        "{} values, at most {MAX_SWEEP_VALUES} allowed",
+                        v.len()
+                    )));
                 }
+                v.clone()
+            }
+            (None, Some(a), Some(b), Some(n)) => {
+                if !(2..=MAX_SWEEP_VALUES as i64).contains(&n) {
+                    return Err(bad(format!(
+                        "steps must be in [2, {MAX_SWEEP_VALUES}], got {n}"
+                    )));
+                }
+                if !(a.is_finite() && b.is_finite()) {
+                    return Err(bad(format!("from and to must be finite, got {a} and {b}")));
+                }
+                // (b − a) may overflow for |a|, |b| near f64::MAX: interpolate without it.
+                let n = n as usize;
                 (0..n)
-                    .map(|i| a + (b - a) * i as f64 / (n - 1) as f64)
+                    .map(|i| {
+                        let t = i as f64 / (n - 1) as f64;
+                        Value::Num(a * (1.0 - t) + b * t)
+                    })
                     .collect()
             }
             _ => {
@@ -49,8 +147,8 @@ impl Sweep {
         if v.is_empty() {
             return Err(bad("no values".to_owned()));
         }
-        if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-            return Err(bad(format!("values must be finite, got {x}")));
+        for x in &v {
+            x.check_finite(&format!("sweep of `{}`: every value", self.parameter))?;
         }
         Ok(v)
     }
@@ -61,12 +159,23 @@ impl Sweep {
 #[serde(rename_all = "kebab-case")]
 #[non_exhaustive]
 pub enum Method {
-    /// Time integration to steady state (`timestep` crate).
+    /// Time integration to steady state (`timestep` crate or a model's own engine).
     TimeStepping,
     /// Harmonic balance (`hbm` crate).
     Hbm,
     /// Closed-form kinematics/geometry (no dynamics).
     Kinematics,
+}
+
+impl Method {
+    /// The name in a study file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::TimeStepping => "time-stepping",
+            Method::Hbm => "hbm",
+            Method::Kinematics => "kinematics",
+        }
+    }
 }
 
 /// Solver choice and settings.
@@ -75,260 +184,526 @@ pub enum Method {
 pub struct Solver {
     /// `time-stepping`, `hbm` or `kinematics`.
     pub method: Method,
-    /// Method settings by name (e.g. `periods`, `transient_periods`, `harmonics`, `tolerance`);
-    /// unknown names are an error of the model adapter.
+    /// Method settings by name (see `geardyn models`); unknown names are an error.
     #[serde(default)]
-    pub settings: BTreeMap<String, f64>,
+    pub settings: BTreeMap<String, Value>,
+}
+
+/// Work limits of a study (`[limits]`), checked before anything runs.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Limits {
+    /// Most points (sweep × sweep2); default 10 000, at most [`MAX_POINTS_BOUND`].
+    pub max_points: i64,
+    /// Most integration steps (or quadrature panels) one point may take, estimated before it
+    /// runs from its settings and enforced by the engines' step budgets; default 2·10⁸, at most
+    /// [`MAX_STEPS_BOUND`]. A point over the budget fails with a message (a NaN row).
+    pub max_steps: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_points: 10_000,
+            max_steps: 2e8,
+        }
+    }
+}
+
+impl Limits {
+    fn check(&self) -> Result<(), Error> {
+        if !(1..=MAX_POINTS_BOUND as i64).contains(&self.max_points) {
+            return Err(Error::StudyFile(format!(
+                "limits.max_points must be in [1, {MAX_POINTS_BOUND}], got {}",
+                self.max_points
+            )));
+        }
+        if !(self.max_steps >= 1.0 && self.max_steps <= MAX_STEPS_BOUND as f64) {
+            return Err(Error::StudyFile(format!(
+                "limits.max_steps must be in [1, {MAX_STEPS_BOUND:e}], got {}",
+                self.max_steps
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// A user study file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct UserStudy {
-    /// File-name stem of the outputs (`a-z 0-9 - _ .`).
+    /// File-name stem of the outputs: `a-z 0-9 - _ .`, not starting with `.`, at most
+    /// [`MAX_NAME_LEN`] bytes.
     pub name: String,
     /// Free description copied into the summary.
     #[serde(default)]
     pub description: String,
-    /// Model: see [`MODELS`].
+    /// Model: see [`MODELS`] / `geardyn models`.
     pub model: String,
-    /// Parameter overrides `name = value`, applied on top of the paper's parameter set.
+    /// Parameter overrides and choices `name = value` on top of the model's base set.
     #[serde(default)]
-    pub overrides: BTreeMap<String, f64>,
+    pub overrides: BTreeMap<String, Value>,
+    /// Initial state of the time integration (model-specific length; see `geardyn models`);
+    /// absent: the model's default start.
+    pub initial: Option<Vec<f64>>,
     /// The first (x-axis) sweep; absent = a single point.
     pub sweep: Option<Sweep>,
     /// The optional second sweep (one curve per value).
     pub sweep2: Option<Sweep>,
     /// Solver.
     pub solver: Solver,
+    /// Work limits.
+    #[serde(default)]
+    pub limits: Limits,
 }
 
 impl UserStudy {
-    /// Parse a study file.
+    /// Parse a study file and check every entry that does not need the model.
     pub fn parse(text: &str) -> Result<Self, Error> {
         let s: UserStudy = toml::from_str(text).map_err(|e| Error::StudyFile(e.to_string()))?;
-        check_name(&s.name)?;
-        if let Some((k, v)) = s.overrides.iter().find(|(_, v)| !v.is_finite()) {
+        check_study_name(&s.name)?;
+        for (k, v) in &s.overrides {
+            v.check_finite(&format!("override `{k}`"))?;
+        }
+        for (k, v) in &s.solver.settings {
+            v.check_finite(&format!("setting `{k}`"))?;
+        }
+        if let Some(v) = &s.initial {
+            Value::List(v.clone()).check_finite("initial")?;
+        }
+        s.limits.check()?;
+        if let (Some(a), Some(b)) = (&s.sweep, &s.sweep2)
+            && a.parameter == b.parameter
+        {
             return Err(Error::StudyFile(format!(
-                "override `{k}` must be finite, got {v}"
+                "[sweep] and [sweep2] both sweep `{}`; sweep two different parameters",
+                a.parameter
             )));
         }
-        if let Some((k, v)) = s.solver.settings.iter().find(|(_, v)| !v.is_finite()) {
+        model_spec(&s.model)?;
+        let n1 = s
+            .sweep
+            .as_ref()
+            .map_or(Ok(1), |w| w.points().map(|p| p.len()))?;
+        let n2 = s
+            .sweep2
+            .as_ref()
+            .map_or(Ok(1), |w| w.points().map(|p| p.len()))?;
+        let n = n1.saturating_mul(n2);
+        if n > s.limits.max_points as usize {
             return Err(Error::StudyFile(format!(
-                "setting `{k}` must be finite, got {v}"
-            )));
-        }
-        if !MODELS.iter().any(|(m, _)| *m == s.model) {
-            return Err(Error::StudyFile(format!(
-                "unknown model `{}`; known: {}",
-                s.model,
-                MODELS
-                    .iter()
-                    .map(|(m, _)| *m)
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                "{n1} × {n2} = {n} points exceed limits.max_points = {}",
+                s.limits.max_points
             )));
         }
         Ok(s)
     }
 }
 
-/// What a user study produced.
-#[derive(Debug, Clone)]
-pub struct UserStudyOutput {
-    /// One row per point: swept parameters then the model's outputs.
-    pub table: Table,
-    /// One figure per output quantity (x = first sweep, one curve per second-sweep value).
-    pub figures: Vec<Figure>,
-    /// JSON summary: the study as read, the output ranges, failed points.
-    pub summary: serde_json::Value,
+/// Check a study name: `a-z 0-9 - _ .`, not `.`/`..` nor starting with `.`, at most
+/// [`MAX_NAME_LEN`] bytes.
+pub fn check_study_name(name: &str) -> Result<(), Error> {
+    check_name(name)?;
+    if name.starts_with('.') || name.len() > MAX_NAME_LEN {
+        return Err(Error::StudyFile(format!(
+            "name `{name}` must not start with '.' and must be at most {MAX_NAME_LEN} characters"
+        )));
+    }
+    Ok(())
 }
 
-/// Models known to `cargo xtask study`, with whether they are wired to a solver yet.
-pub const MODELS: [(&str, &str); 4] = [
-    (
-        "karpov2017-kinematics",
-        "Karpov 2017 centrodes: δ, ε_max (method = kinematics)",
-    ),
-    (
-        "karpov2017",
-        "Karpov 2017 oscillator with variable mesh frequency",
-    ),
-    ("liu2021", "Liu 2021 NFG rattle model"),
-    ("yu2021", "Yu 2021 6-DOF spur pair with dynamic backlash"),
-];
+/// The registered model of that name.
+pub fn model_spec(name: &str) -> Result<&'static ModelSpec, Error> {
+    user_models::REGISTRY
+        .iter()
+        .find(|m| m.name == name)
+        .ok_or_else(|| {
+            Error::StudyFile(format!(
+                "unknown model `{name}`; known: {}",
+                MODELS.join(", ")
+            ))
+        })
+}
 
-/// Apply `name = value` overrides to any serde parameter struct (through JSON), so that a user
-/// can set any numeric field by its Rust name; unknown names are an error listing the fields.
-pub fn apply_overrides<T: Serialize + DeserializeOwned>(
-    base: &T,
-    overrides: &BTreeMap<String, f64>,
-) -> Result<T, Error> {
-    let mut v = serde_json::to_value(base).map_err(|e| Error::StudyFile(e.to_string()))?;
-    let obj = v
-        .as_object_mut()
-        .ok_or_else(|| Error::StudyFile("parameter set is not a struct".to_owned()))?;
-    for (k, x) in overrides {
-        match obj.get_mut(k) {
-            Some(slot) if slot.is_u64() || slot.is_i64() => {
-                // Integer fields (teeth numbers, j, …) take integral values only.
-                if x.fract() != 0.0 || x.abs() > 9.0e15 {
-                    return Err(Error::StudyFile(format!(
-                        "parameter `{k}` is an integer, got {x}"
-                    )));
-                }
-                *slot = if *x >= 0.0 {
-                    serde_json::Value::from(*x as u64)
-                } else {
-                    serde_json::Value::from(*x as i64)
-                };
+/// Names of the models known to `geardyn study` (one registration each in the registry).
+pub const MODELS: [&str; user_models::REGISTRY.len()] = {
+    let mut names = [""; user_models::REGISTRY.len()];
+    let mut i = 0;
+    while i < names.len() {
+        names[i] = user_models::REGISTRY[i].name;
+        i += 1;
+    }
+    names
+};
+
+/// The inputs of one point: overrides with the swept values on top.
+pub type Point = BTreeMap<String, Value>;
+
+/// A study checked and ready to compute: every point prepared (or failed with its message).
+pub struct Prepared {
+    study: UserStudy,
+    outputs: Vec<(String, String)>,
+    xs: Vec<Value>,
+    ys: Vec<Value>,
+    jobs: Vec<Result<Job, Error>>,
+}
+
+impl std::fmt::Debug for Prepared {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Prepared")
+            .field("study", &self.study.name)
+            .field("points", &self.jobs.len())
+            .finish()
+    }
+}
+
+impl Prepared {
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.jobs.len()
+    }
+
+    /// True if there is no point (never: a study has at least one).
+    pub fn is_empty(&self) -> bool {
+        self.jobs.is_empty()
+    }
+
+    /// Points that failed their preparation (index, message).
+    pub fn failed_early(&self) -> Vec<(usize, String)> {
+        self.jobs
+            .iter()
+            .enumerate()
+            .filter_map(|(i, j)| j.as_ref().err().map(|e| (i, e.to_string())))
+            .collect()
+    }
+
+    /// The study.
+    pub fn study(&self) -> &UserStudy {
+        &self.study
+    }
+}
+
+/// Build the model adapter and prepare every point. Study-file errors (unknown or ill-typed
+/// names, settings out of bounds, old spellings) are returned here, before any computation; a
+/// point whose values the model rejects is kept as a failed point.
+pub fn prepare(study: &UserStudy) -> Result<Prepared, Error> {
+    let spec = model_spec(&study.model)?;
+    let ctx = user_models::Context {
+        solver: &study.solver,
+        initial: study.initial.as_deref(),
+        limits: study.limits,
+    };
+    let adapter = (spec.build)(&ctx)?;
+    let xs = match &study.sweep {
+        Some(s) => s.points()?,
+        None => vec![Value::Num(f64::NAN)],
+    };
+    let ys = match &study.sweep2 {
+        Some(s) => s.points()?,
+        None => vec![Value::Num(f64::NAN)],
+    };
+    let mut jobs = Vec::with_capacity(xs.len().saturating_mul(ys.len()));
+    for y in &ys {
+        for x in &xs {
+            let mut p = study.overrides.clone();
+            if let Some(s) = &study.sweep {
+                p.insert(s.parameter.clone(), x.clone());
             }
-            Some(slot) if slot.is_number() => {
-                *slot = serde_json::Value::from(*x);
+            if let Some(s) = &study.sweep2 {
+                p.insert(s.parameter.clone(), y.clone());
             }
-            _ => {
-                let names: Vec<&String> = obj
-                    .iter()
-                    .filter(|(_, v)| v.is_number())
-                    .map(|(k, _)| k)
-                    .collect();
-                return Err(Error::StudyFile(format!(
-                    "unknown numeric parameter `{k}`; numeric fields: {names:?}"
-                )));
+            let job = catch_unwind(AssertUnwindSafe(|| (adapter.prepare)(&p)))
+                .unwrap_or_else(|e| Err(Error::Study(panic_message(e.as_ref()))));
+            match job {
+                // A study-file error is the user's configuration, not a failed point.
+                Err(Error::StudyFile(m)) => return Err(Error::StudyFile(m)),
+                j => jobs.push(j),
             }
         }
     }
-    serde_json::from_value(v).map_err(|e| Error::StudyFile(e.to_string()))
+    Ok(Prepared {
+        study: study.clone(),
+        outputs: adapter.outputs,
+        xs,
+        ys,
+        jobs,
+    })
 }
 
-/// Run a user study: every point (in parallel, collected in order) — `on_point` is called after
-/// each point (progress bar). A point whose model or solver fails is recorded (NaN outputs and
-/// the message in the summary), it does not abort the study.
+fn panic_message(e: &(dyn std::any::Any + Send)) -> String {
+    let m = e
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| e.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".to_owned());
+    format!("internal error (panic caught): {m}")
+}
+
+/// One failed point of a study.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FailedPoint {
+    /// Index of the point (row of the CSV, from 0).
+    pub index: usize,
+    /// The values of the swept parameters, `parameter = value`.
+    pub at: BTreeMap<String, Value>,
+    /// The message.
+    pub error: String,
+}
+
+/// What a user study produced.
+#[derive(Debug, Clone)]
+pub struct UserStudyOutput {
+    /// The study's name (file-name stem).
+    pub name: String,
+    /// Output columns `(name, unit)` of the model (after the swept parameters in the table).
+    pub outputs: Vec<(String, String)>,
+    /// One row per point: swept parameters then the model's outputs (`name [unit]` headers).
+    pub table: Table,
+    /// One figure per output quantity (x = first sweep, one curve per second-sweep value).
+    pub figures: Vec<Figure>,
+    /// Points that failed (NaN rows in the table).
+    pub failed: Vec<FailedPoint>,
+    /// Number of points.
+    pub points: usize,
+    /// JSON summary: the study as read, the output ranges (numbers), failed points.
+    pub summary: serde_json::Value,
+}
+
+impl UserStudyOutput {
+    /// True when every point failed (the CLI then exits non-zero).
+    pub fn all_failed(&self) -> bool {
+        self.failed.len() == self.points
+    }
+
+    /// A numeric column of the table by name (without the unit).
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let i = self.table.columns.iter().position(|c| c.name == name)?;
+        Some(
+            self.table
+                .rows
+                .iter()
+                .map(|r| match &r[i] {
+                    Cell::Num(x) => *x,
+                    Cell::Text(_) => f64::NAN,
+                })
+                .collect(),
+        )
+    }
+}
+
+/// Options of [`run_study_from_str`].
+#[derive(Default)]
+pub struct RunOptions<'a> {
+    /// Called after each point with (points done, total); from several threads.
+    pub progress: Option<&'a (dyn Fn(usize, usize) + Sync)>,
+}
+
+impl std::fmt::Debug for RunOptions<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RunOptions")
+            .field("progress", &self.progress.is_some())
+            .finish()
+    }
+}
+
+/// Parse, check, prepare and compute a study given as TOML text; writes nothing. The entry
+/// point for scripting front ends (the Python package).
+pub fn run_study_from_str(toml: &str, options: &RunOptions<'_>) -> Result<UserStudyOutput, Error> {
+    let study = UserStudy::parse(toml)?;
+    let prepared = prepare(&study)?;
+    Ok(compute(prepared, options.progress))
+}
+
+/// Run a user study (parse → [`prepare`] → compute): `on_point` is called after each point.
 pub fn run_user_study(
     study: &UserStudy,
     on_point: impl Fn() + Sync,
 ) -> Result<UserStudyOutput, Error> {
-    let (outputs, eval) = crate::studies::user_adapter(&study.model, &study.solver)?;
-    let xs = match &study.sweep {
-        Some(s) => s.points()?,
-        None => vec![f64::NAN],
-    };
-    let ys = match &study.sweep2 {
-        Some(s) => s.points()?,
-        None => vec![f64::NAN],
-    };
-    let mut grid = Vec::with_capacity(xs.len() * ys.len());
-    for &y in &ys {
-        for &x in &xs {
-            grid.push((x, y));
-        }
-    }
-    let results: Vec<Result<Vec<f64>, Error>> = grid
-        .par_iter()
-        .map(|&(x, y)| {
-            let mut params = study.overrides.clone();
-            if let Some(s) = &study.sweep {
-                params.insert(s.parameter.clone(), x);
+    let prepared = prepare(study)?;
+    let cb = move |_: usize, _: usize| on_point();
+    Ok(compute(prepared, Some(&cb)))
+}
+
+/// Compute every prepared point (parallel, collected in input order) and assemble the outputs.
+pub fn compute(
+    prepared: Prepared,
+    progress: Option<&(dyn Fn(usize, usize) + Sync)>,
+) -> UserStudyOutput {
+    let Prepared {
+        study,
+        outputs,
+        xs,
+        ys,
+        jobs,
+    } = prepared;
+    let total = jobs.len();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let n_out = outputs.len();
+    let results: Vec<Result<Vec<f64>, String>> = jobs
+        .into_par_iter()
+        .map(|job| {
+            let r = match job {
+                Ok(job) => match catch_unwind(AssertUnwindSafe(job)) {
+                    Ok(Ok(v)) if v.len() == n_out => match v.iter().position(|x| !x.is_finite()) {
+                        // A success never carries a non-finite number.
+                        Some(j) => Err(format!("non-finite output `{}` = {}", outputs[j].0, v[j])),
+                        None => Ok(v),
+                    },
+                    Ok(Ok(v)) => Err(format!(
+                        "internal error: {} outputs for {n_out} columns",
+                        v.len()
+                    )),
+                    Ok(Err(e)) => Err(e.to_string()),
+                    Err(p) => Err(panic_message(p.as_ref())),
+                },
+                Err(e) => Err(e.to_string()),
+            };
+            let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            if let Some(f) = progress {
+                f(d, total);
             }
-            if let Some(s) = &study.sweep2 {
-                params.insert(s.parameter.clone(), y);
-            }
-            let r = eval(&params);
-            on_point();
             r
         })
         .collect();
+    assemble(&study, &outputs, &xs, &ys, results)
+}
 
-    // A study-file error (unknown or ill-typed parameter) is the user's configuration, not a
-    // failed point: report it once.
-    for r in &results {
-        if let Err(Error::StudyFile(m)) = r {
-            return Err(Error::StudyFile(m.clone()));
-        }
+fn axis_unit(study: &UserStudy, parameter: &str) -> String {
+    model_spec(&study.model)
+        .map(|m| (m.unit_of)(parameter).to_owned())
+        .unwrap_or_default()
+}
+
+fn assemble(
+    study: &UserStudy,
+    outputs: &[(String, String)],
+    xs: &[Value],
+    ys: &[Value],
+    results: Vec<Result<Vec<f64>, String>>,
+) -> UserStudyOutput {
+    let cell = |v: &Value| match v {
+        Value::Num(x) => Cell::Num(*x),
+        other => Cell::Text(other.label()),
+    };
+    let mut cols: Vec<(String, String)> = Vec::new();
+    for s in [&study.sweep, &study.sweep2].into_iter().flatten() {
+        cols.push((s.parameter.clone(), axis_unit(study, &s.parameter)));
     }
-    let mut cols: Vec<(&str, &str)> = Vec::new();
-    if let Some(s) = &study.sweep {
-        cols.push((s.parameter.as_str(), ""));
-    }
-    if let Some(s) = &study.sweep2 {
-        cols.push((s.parameter.as_str(), ""));
-    }
-    cols.extend(outputs.iter().copied());
-    let mut table = Table::new(&study.name, &cols);
-    let mut failures = Vec::new();
-    for (&(x, y), r) in grid.iter().zip(&results) {
-        let mut row: Vec<Cell> = Vec::new();
-        if study.sweep.is_some() {
-            row.push(Cell::Num(x));
-        }
-        if study.sweep2.is_some() {
-            row.push(Cell::Num(y));
-        }
-        match r {
-            Ok(v) => row.extend(v.iter().map(|&z| Cell::Num(z))),
-            Err(e) => {
-                failures.push(serde_json::json!({"x": x, "y": y, "error": e.to_string()}));
-                row.extend(outputs.iter().map(|_| Cell::Num(f64::NAN)));
+    cols.extend(outputs.iter().cloned());
+    let col_refs: Vec<(&str, &str)> = cols.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
+    let mut table = Table::new(&study.name, &col_refs);
+    let mut failed = Vec::new();
+    let mut k = 0;
+    for y in ys {
+        for x in xs {
+            let mut row: Vec<Cell> = Vec::new();
+            let mut at = BTreeMap::new();
+            if let Some(s) = &study.sweep {
+                row.push(cell(x));
+                at.insert(s.parameter.clone(), x.clone());
             }
+            if let Some(s) = &study.sweep2 {
+                row.push(cell(y));
+                at.insert(s.parameter.clone(), y.clone());
+            }
+            match &results[k] {
+                Ok(v) => row.extend(v.iter().map(|&z| Cell::Num(z))),
+                Err(e) => {
+                    failed.push(FailedPoint {
+                        index: k,
+                        at,
+                        error: e.clone(),
+                    });
+                    row.extend(outputs.iter().map(|_| Cell::Num(f64::NAN)));
+                }
+            }
+            // Row length always matches the header (same column list).
+            let _ = table.push(row);
+            k += 1;
         }
-        table.push(row)?;
     }
 
+    // The x axis: numbers as they are; names at their index 0, 1, 2, …
+    let x_num: Vec<f64> = xs
+        .iter()
+        .enumerate()
+        .map(|(i, v)| v.as_num().unwrap_or(i as f64))
+        .collect();
     let mut figures = Vec::new();
     let mut ranges = serde_json::Map::new();
-    for (k, (name, unit)) in outputs.iter().enumerate() {
+    for (j, (name, unit)) in outputs.iter().enumerate() {
         let vals: Vec<f64> = results
             .iter()
-            .filter_map(|r| r.as_ref().ok().map(|v| v[k]))
+            .filter_map(|r| r.as_ref().ok().map(|v| v[j]))
             .filter(|v| v.is_finite())
             .collect();
-        let (lo, hi) = vals
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
+        let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         ranges.insert(
-            (*name).to_owned(),
-            serde_json::json!({"unit": unit, "min": crate::fmt6(lo), "max": crate::fmt6(hi)}),
+            name.clone(),
+            serde_json::json!({"unit": unit, "min": json_num(lo), "max": json_num(hi)}),
         );
         if let Some(s) = &study.sweep {
             let fname = format!("{}_{}", study.name, sanitize(name));
+            let x_unit = axis_unit(study, &s.parameter);
             let mut fig = Figure::new(
                 &fname,
                 &format!("{}: {name}", study.name),
-                (&s.parameter, ""),
+                (&s.parameter, &x_unit),
                 (name, unit),
             );
-            for (j, &y) in ys.iter().enumerate() {
-                let pts: Vec<(f64, f64)> = xs
+            for (iy, y) in ys.iter().enumerate() {
+                let pts: Vec<(f64, f64)> = x_num
                     .iter()
                     .enumerate()
-                    .map(|(i, &x)| {
-                        let r = &results[j * xs.len() + i];
-                        (x, r.as_ref().map_or(f64::NAN, |v| v[k]))
+                    .map(|(ix, &x)| {
+                        let r = &results[iy * xs.len() + ix];
+                        (x, r.as_ref().map_or(f64::NAN, |v| v[j]))
                     })
                     .collect();
                 let label = match &study.sweep2 {
-                    Some(s2) => format!("{} = {}", s2.parameter, crate::fmt6(y)),
-                    None => (*name).to_owned(),
+                    Some(s2) => {
+                        let u = axis_unit(study, &s2.parameter);
+                        if u.is_empty() || u == "1" {
+                            format!("{} = {}", s2.parameter, y.label())
+                        } else {
+                            format!("{} = {} {u}", s2.parameter, y.label())
+                        }
+                    }
+                    None => name.clone(),
                 };
                 fig.push(Series::line(label, pts));
             }
             figures.push(fig);
         }
     }
+    let points = results.len();
     let summary = serde_json::json!({
         "study": study,
-        "points": grid.len(),
-        "failed_points": failures,
+        "points": points,
+        "failed_points": failed,
         "outputs": ranges,
         "significant_digits": crate::SIGNIFICANT_DIGITS,
     });
-    Ok(UserStudyOutput {
+    UserStudyOutput {
+        name: study.name.clone(),
+        outputs: outputs.to_vec(),
         table,
         figures,
+        failed,
+        points,
         summary,
-    })
+    }
+}
+
+/// A number at 6 significant digits as a JSON number (`null` if not finite).
+fn json_num(x: f64) -> serde_json::Value {
+    if x.is_finite() {
+        let r: f64 = crate::fmt6(x).parse().unwrap_or(x);
+        serde_json::json!(r)
+    } else {
+        serde_json::Value::Null
+    }
 }
 
 fn sanitize(s: &str) -> String {
@@ -341,6 +716,462 @@ fn sanitize(s: &str) -> String {
             }
         })
         .collect()
+}
+
+/// Apply `name = value` overrides to any serde parameter struct (through JSON), so that a user
+/// can set any field by its Rust name: numbers into numeric fields (integers only into integer
+/// fields), names into choice fields (kebab-case: `"printed-eq20"` for the variant
+/// `PrintedEq20`), flags into `bool` fields, lists into array/tuple fields. A name not found at
+/// the top level is looked up one level down (e.g. Liu's `readings.rigid_acceleration` as
+/// `rigid_acceleration`). Errors name the field and what it takes.
+pub fn apply_values<T: Serialize + DeserializeOwned>(
+    base: &T,
+    overrides: &BTreeMap<String, Value>,
+) -> Result<T, Error> {
+    let mut v = serde_json::to_value(base).map_err(|e| Error::StudyFile(e.to_string()))?;
+    if !v.is_object() {
+        return Err(Error::StudyFile("parameter set is not a struct".to_owned()));
+    }
+    for (k, x) in overrides {
+        let slot = find_slot(&mut v, k).ok_or_else(|| {
+            Error::StudyFile(format!(
+                "unknown parameter `{k}`; parameters: {}",
+                field_names(base).join(", ")
+            ))
+        })?;
+        let old = slot.clone();
+        let candidates: Vec<serde_json::Value> = match (x, &old) {
+            // A name: try the serde spellings of a variant (CamelCase, snake_case, as given).
+            (Value::Text(t), serde_json::Value::String(_)) => {
+                [kebab_to_camel(t), t.replace('-', "_"), t.clone()]
+                    .into_iter()
+                    .map(serde_json::Value::String)
+                    .collect()
+            }
+            _ => vec![to_json(k, x, &old)?],
+        };
+        // Deserialise after each field so that an out-of-type value names its field.
+        let mut last = None;
+        for c in candidates {
+            if let Some(slot) = find_slot(&mut v, k) {
+                *slot = c;
+            }
+            match serde_json::from_value::<T>(v.clone()) {
+                Ok(_) => {
+                    last = None;
+                    break;
+                }
+                Err(e) => last = Some(e.to_string()),
+            }
+        }
+        if let Some(e) = last {
+            if e.contains("unknown variant") {
+                return Err(Error::StudyFile(format!(
+                    "parameter `{k}` = \"{}\" is not an option; options: \"{}\"",
+                    x.label(),
+                    expected_names(&e).join("\", \"")
+                )));
+            }
+            return Err(Error::StudyFile(format!(
+                "parameter `{k}` = {}: {e}",
+                x.label()
+            )));
+        }
+    }
+    serde_json::from_value(v).map_err(|e| Error::StudyFile(e.to_string()))
+}
+
+/// [`apply_values`] with numbers only (the form of the paper studies).
+pub fn apply_overrides<T: Serialize + DeserializeOwned>(
+    base: &T,
+    overrides: &BTreeMap<String, f64>,
+) -> Result<T, Error> {
+    let o = overrides
+        .iter()
+        .map(|(k, v)| (k.clone(), Value::Num(*v)))
+        .collect();
+    apply_values(base, &o)
+}
+
+fn find_slot<'a>(v: &'a mut serde_json::Value, k: &str) -> Option<&'a mut serde_json::Value> {
+    let obj = v.as_object_mut()?;
+    if obj.contains_key(k) {
+        return obj.get_mut(k);
+    }
+    let holder = obj
+        .iter()
+        .filter(|(_, inner)| inner.as_object().is_some_and(|o| o.contains_key(k)))
+        .map(|(name, _)| name.clone())
+        .next()?;
+    obj.get_mut(&holder)?.as_object_mut()?.get_mut(k)
+}
+
+/// The settable fields of a parameter struct (top level and one level down).
+pub fn field_names<T: Serialize>(base: &T) -> Vec<String> {
+    let mut names = Vec::new();
+    if let Ok(serde_json::Value::Object(o)) = serde_json::to_value(base) {
+        for (k, v) in o {
+            match v {
+                serde_json::Value::Object(inner) => names.extend(inner.keys().cloned()),
+                _ => names.push(k),
+            }
+        }
+    }
+    names
+}
+
+fn to_json(k: &str, x: &Value, old: &serde_json::Value) -> Result<serde_json::Value, Error> {
+    use serde_json::Value as J;
+    let wrong =
+        |takes: &str| Error::StudyFile(format!("parameter `{k}` takes {takes}, got {}", x.label()));
+    Ok(match (old, x) {
+        (J::Number(n), Value::Num(f)) if n.is_u64() || n.is_i64() => {
+            if f.fract() != 0.0 || f.abs() > 9.0e15 {
+                return Err(wrong("an integer"));
+            }
+            if *f >= 0.0 {
+                J::from(*f as u64)
+            } else {
+                J::from(*f as i64)
+            }
+        }
+        (J::Number(_), Value::Num(f)) => J::from(*f),
+        (J::Number(_), _) => return Err(wrong("a number")),
+        (J::Bool(_), Value::Bool(b)) => J::Bool(*b),
+        (J::Bool(_), _) => return Err(wrong("true or false")),
+        (J::String(_), Value::Text(s)) => J::String(kebab_to_camel(s)),
+        (J::String(cur), _) => {
+            return Err(wrong(&format!(
+                "a name (e.g. `{k} = \"{}\"`)",
+                display_name(cur)
+            )));
+        }
+        (J::Array(_) | J::Null, Value::List(v)) => J::from(v.clone()),
+        (J::Array(a), _) => return Err(wrong(&format!("a list of {} numbers", a.len()))),
+        _ => return Err(wrong("a value of another kind")),
+    })
+}
+
+/// `PrintedEq20` → `printed-eq20`.
+pub fn camel_to_kebab(s: &str) -> String {
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if c.is_ascii_uppercase() {
+            if i > 0 {
+                out.push('-');
+            }
+            out.push(c.to_ascii_lowercase());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// `printed-eq20` → `PrintedEq20`.
+pub fn kebab_to_camel(s: &str) -> String {
+    s.split('-')
+        .map(|w| {
+            let mut c = w.chars();
+            match c.next() {
+                Some(f) => f.to_ascii_uppercase().to_string() + c.as_str(),
+                None => String::new(),
+            }
+        })
+        .collect()
+}
+
+/// The study-file spelling of a serde variant name: `PrintedEq20` → `printed-eq20`,
+/// `two_terms` → `two-terms`.
+pub fn display_name(raw: &str) -> String {
+    if raw.contains('_') || raw.chars().all(|c| !c.is_ascii_uppercase()) {
+        raw.replace('_', "-").to_ascii_lowercase()
+    } else {
+        camel_to_kebab(raw)
+    }
+}
+
+/// The names listed after "expected" in a serde unknown-variant message.
+fn expected_names(message: &str) -> Vec<String> {
+    let tail = message.split_once("expected").map_or("", |(_, t)| t);
+    tail.split('`')
+        .skip(1)
+        .step_by(2)
+        .map(display_name)
+        .collect()
+}
+
+/// The names of a unit-variant enum in study-file spelling, read from serde's error for an
+/// unknown variant.
+pub fn variant_names<T: DeserializeOwned>() -> Vec<String> {
+    match serde_json::from_value::<T>(serde_json::Value::String("\u{1}".to_owned())) {
+        Ok(_) => Vec::new(),
+        Err(e) => expected_names(&e.to_string()),
+    }
+}
+
+/// A choice by name into an enum `E` (study-file spelling); errors list the options.
+pub fn choice<E: DeserializeOwned>(field: &str, v: &Value) -> Result<E, Error> {
+    let opts = || variant_names::<E>().join("\", \"");
+    match v {
+        Value::Text(s) => [kebab_to_camel(s), s.replace('-', "_"), s.clone()]
+            .into_iter()
+            .find_map(|c| serde_json::from_value(serde_json::Value::String(c)).ok())
+            .ok_or_else(|| {
+                Error::StudyFile(format!(
+                    "`{field}` = \"{s}\" is not an option; options: \"{}\"",
+                    opts()
+                ))
+            }),
+        other => Err(Error::StudyFile(format!(
+            "`{field}` takes a name, got {}; options: \"{}\"",
+            other.label(),
+            opts()
+        ))),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writing the outputs.
+
+/// What [`write_outputs`] wrote.
+#[derive(Debug, Clone)]
+pub struct Written {
+    /// The output directory.
+    pub dir: PathBuf,
+    /// The files, in write order (JSON summary last).
+    pub files: Vec<PathBuf>,
+    /// The run id recorded in the JSON summary.
+    pub run_id: String,
+}
+
+/// Marker file that identifies a directory as a study output (so that it may be replaced).
+const MARKER: &str = ".geardyn-study";
+
+/// A lock on an output directory, released (file removed) on drop.
+#[derive(Debug)]
+pub struct OutputLock {
+    path: PathBuf,
+    dir: PathBuf,
+}
+
+impl OutputLock {
+    /// The locked output directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+}
+
+impl Drop for OutputLock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// Check and lock an output directory **before computing**: its parent must exist or be
+/// creatable and writable; the directory must be absent, empty, or a previous study output
+/// (holding the `.geardyn-study` marker) — never an unrelated directory, which would be
+/// replaced; and no other run may hold it (`<dir>.lock` beside it, created exclusively; a lock
+/// left by a killed run must be removed by hand, the error says so).
+pub fn lock_output_dir(dir: &Path) -> Result<OutputLock, Error> {
+    let name = dir
+        .file_name()
+        .and_then(|n| n.to_str())
+        .filter(|n| *n != "." && *n != "..")
+        .ok_or_else(|| {
+            Error::StudyFile(format!(
+                "output directory `{}` must end in a plain directory name",
+                dir.display()
+            ))
+        })?;
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&parent).map_err(io(&parent))?;
+    if dir.exists() {
+        if !dir.is_dir() {
+            return Err(Error::StudyFile(format!(
+                "output `{}` exists and is not a directory",
+                dir.display()
+            )));
+        }
+        let mut entries = std::fs::read_dir(dir).map_err(io(dir))?;
+        let empty = entries.next().is_none();
+        if !empty && !dir.join(MARKER).is_file() {
+            return Err(Error::StudyFile(format!(
+                "output directory `{}` is not empty and holds no previous study output; \
+                 refusing to replace it (choose another --out)",
+                dir.display()
+            )));
+        }
+    }
+    let lock = parent.join(format!(".{name}.lock"));
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&lock)
+    {
+        Ok(mut f) => {
+            use std::io::Write;
+            let _ = writeln!(f, "pid {}", std::process::id());
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+            return Err(Error::StudyFile(format!(
+                "output directory `{}` is locked by another run ({}); if no run is active, \
+                 remove the lock file",
+                dir.display(),
+                lock.display()
+            )));
+        }
+        Err(e) => return Err(io(&lock)(e)),
+    }
+    // Probe writability now rather than after the computation.
+    let probe = parent.join(format!(".{name}.probe-{}", std::process::id()));
+    std::fs::write(&probe, b"").map_err(|e| {
+        let _ = std::fs::remove_file(&lock);
+        io(&probe)(e)
+    })?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(OutputLock {
+        path: lock,
+        dir: dir.to_path_buf(),
+    })
+}
+
+/// A run id: seconds since the Unix epoch, nanoseconds and the process id.
+pub fn new_run_id() -> String {
+    let t = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    format!(
+        "{}-{:09}-{}",
+        t.as_secs(),
+        t.subsec_nanos(),
+        std::process::id()
+    )
+}
+
+/// Write a study's outputs atomically into the locked directory: every file goes into a fresh
+/// temporary directory beside it (CSV, SVGs, then the JSON summary with the run id last), which
+/// then replaces the output directory by renames; files of an earlier run are therefore never
+/// mixed with new ones (stale files disappear with the old directory). A killed run leaves at
+/// most a `.<name>.tmp-<run id>` directory beside the output, never a mixed output.
+pub fn write_outputs(out: &UserStudyOutput, lock: &OutputLock) -> Result<Written, Error> {
+    let dir = lock.dir();
+    let run_id = new_run_id();
+    let name = dir
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("study")
+        .to_owned();
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let tmp = parent.join(format!(".{name}.tmp-{run_id}"));
+    std::fs::create_dir(&tmp).map_err(io(&tmp))?;
+    let result = (|| {
+        let mut files = Vec::new();
+        let mut put = |file: String, bytes: &[u8]| -> Result<(), Error> {
+            let p = tmp.join(&file);
+            std::fs::write(&p, bytes).map_err(io(&p))?;
+            files.push(dir.join(file));
+            Ok(())
+        };
+        put(format!("{}.csv", out.name), out.table.to_csv().as_bytes())?;
+        // A figure that cannot be drawn (e.g. a data range wider than f64) is reported in the
+        // summary; its data is in the CSV.
+        let mut not_drawn = Vec::new();
+        for f in &out.figures {
+            match f.to_svg() {
+                Ok(svg) => put(format!("{}.svg", f.name), svg.as_bytes())?,
+                Err(e) => not_drawn.push(e.to_string()),
+            }
+        }
+        let mut summary = out.summary.clone();
+        if let Some(o) = summary.as_object_mut() {
+            o.insert("figures_not_drawn".to_owned(), serde_json::json!(not_drawn));
+            o.insert("run_id".to_owned(), serde_json::json!(run_id));
+        }
+        let json =
+            serde_json::to_string_pretty(&summary).map_err(|e| Error::Study(e.to_string()))?;
+        put(format!("{}.json", out.name), format!("{json}\n").as_bytes())?;
+        put(MARKER.to_owned(), format!("{run_id}\n").as_bytes())?;
+        Ok(files)
+    })();
+    let files = match result {
+        Ok(f) => f,
+        Err(e) => {
+            let _ = std::fs::remove_dir_all(&tmp);
+            return Err(e);
+        }
+    };
+    let old = parent.join(format!(".{name}.old-{run_id}"));
+    if dir.exists() {
+        std::fs::rename(dir, &old).map_err(io(dir))?;
+    }
+    std::fs::rename(&tmp, dir).map_err(io(dir))?;
+    if old.exists() {
+        std::fs::remove_dir_all(&old).map_err(io(&old))?;
+    }
+    let files = files
+        .into_iter()
+        .filter(|p| p.file_name().and_then(|n| n.to_str()) != Some(MARKER))
+        .collect();
+    Ok(Written {
+        dir: dir.to_path_buf(),
+        files,
+        run_id,
+    })
+}
+
+/// The default output directory of a study file: `<directory of the file>/<name>/`.
+pub fn default_out_dir(file: &Path, study: &UserStudy) -> PathBuf {
+    file.parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."))
+        .join(&study.name)
+}
+
+/// Progress of a study file run, for front ends.
+pub trait Progress: Sync {
+    /// The points are about to be computed.
+    fn start(&self, total: usize);
+    /// A point finished (`done` of `total`).
+    fn point(&self, done: usize, total: usize);
+    /// Computation finished.
+    fn finish(&self);
+}
+
+/// Run a study file end to end: read and check it, check and lock the output directory
+/// (`out`, default [`default_out_dir`]), prepare every point, compute, write atomically.
+pub fn run_study_file(
+    file: &Path,
+    out: Option<&Path>,
+    progress: &dyn Progress,
+) -> Result<(UserStudyOutput, Written), Error> {
+    let text = std::fs::read_to_string(file).map_err(io(file))?;
+    let study = UserStudy::parse(&text).map_err(|e| match e {
+        Error::StudyFile(m) => Error::StudyFile(format!("{}: {m}", file.display())),
+        e => e,
+    })?;
+    let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
+    let lock = lock_output_dir(&dir)?;
+    let prepared = prepare(&study)?;
+    progress.start(prepared.len());
+    let cb = |d: usize, t: usize| progress.point(d, t);
+    let output = compute(prepared, Some(&cb));
+    progress.finish();
+    let written = write_outputs(&output, &lock)?;
+    Ok((output, written))
 }
 
 #[cfg(test)]
@@ -383,9 +1214,22 @@ mod tests {
         assert_eq!(apply_overrides(&Q { n: 1 }, &o).unwrap(), Q { n: 3 });
         o.insert("n".to_owned(), 2.5);
         assert!(apply_overrides(&Q { n: 1 }, &o).is_err());
+        o.insert("n".to_owned(), -3.0);
+        let e = apply_overrides(&Q { n: 1 }, &o).unwrap_err().to_string();
+        assert!(e.contains("`n`"), "{e}");
         let mut o = BTreeMap::new();
         o.insert("name".to_owned(), 1.0);
         assert!(apply_overrides(&p, &o).is_err());
+    }
+
+    #[test]
+    fn names_round_trip() {
+        assert_eq!(camel_to_kebab("PrintedEq20"), "printed-eq20");
+        assert_eq!(kebab_to_camel("printed-eq20"), "PrintedEq20");
+        assert_eq!(kebab_to_camel("kahraman-singh"), "KahramanSingh");
+        let v = variant_names::<Method>();
+        // Method is kebab-case in serde: the names come back as they are.
+        assert_eq!(v.len(), 3, "{v:?}");
     }
 
     #[test]
@@ -399,6 +1243,20 @@ mod tests {
         };
         assert_eq!(s.points().unwrap().len(), 3);
         let s = Sweep {
+            steps: Some(i64::MAX),
+            ..s
+        };
+        assert!(s.points().is_err());
+        let s = Sweep {
+            parameter: "x".into(),
+            from: Some(-1e308),
+            to: Some(1e308),
+            steps: Some(3),
+            values: None,
+        };
+        let p = s.points().unwrap();
+        assert!(p.iter().all(|v| v.as_num().is_some_and(f64::is_finite)));
+        let s = Sweep {
             parameter: "x".into(),
             from: Some(0.0),
             to: None,
@@ -409,8 +1267,16 @@ mod tests {
     }
 
     #[test]
-    fn parse_rejects_unknown_model() {
+    fn parse_rejects_bad_files() {
         let t = "name = \"a\"\nmodel = \"nope\"\n[solver]\nmethod = \"hbm\"\n";
         assert!(UserStudy::parse(t).is_err());
+        for name in ["..", ".", "a/b", ".hidden", &"x".repeat(65)] {
+            let t = format!("name = \"{name}\"\nmodel = \"liu2021\"\n[solver]\nmethod = \"hbm\"\n");
+            assert!(UserStudy::parse(&t).is_err(), "{name}");
+        }
+        let t = "name = \"a\"\nmodel = \"liu2021\"\n[sweep]\nparameter = \"kr\"\nvalues = [1]\n\
+                 [sweep2]\nparameter = \"kr\"\nvalues = [2]\n[solver]\nmethod = \"hbm\"\n";
+        let e = UserStudy::parse(t).unwrap_err().to_string();
+        assert!(e.contains("kr"), "{e}");
     }
 }

@@ -1,42 +1,286 @@
-//! The shipped user-study examples parse and (where fast) run.
+//! The study path: shipped examples, errors before computing, and every output column compared
+//! with a direct library call (so that a swapped or mislabelled column fails a test).
+//! The study path runs the same computation as the direct call: the comparisons are exact.
 
-use geardyn_validate::{UserStudy, run_user_study};
+#![allow(clippy::float_cmp)]
+
+use geardyn_validate::{
+    RunOptions, UserStudy, UserStudyOutput, run_study_from_str, run_user_study,
+};
+
+fn run(text: &str) -> UserStudyOutput {
+    run_study_from_str(text, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+fn err(text: &str) -> String {
+    match run_study_from_str(text, &RunOptions::default()) {
+        Ok(_) => panic!("expected an error for\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn col(out: &UserStudyOutput, name: &str) -> Vec<f64> {
+    out.column(name)
+        .unwrap_or_else(|| panic!("no column {name}"))
+}
 
 #[test]
 fn karpov_kinematics_example_runs() {
     let text = include_str!("../../../validation/examples/karpov-delta-vs-b.toml");
-    let study = UserStudy::parse(text).unwrap();
-    let out = run_user_study(&study, || {}).unwrap();
+    let out = run(text);
     assert_eq!(out.table.rows.len(), 50 * 4);
-    assert_eq!(
-        out.summary["failed_points"].as_array().map(Vec::len),
-        Some(0)
-    );
+    assert!(out.failed.is_empty());
     assert_eq!(out.figures.len(), 5);
     // δ exact grows with B along each curve.
     let s = &out.figures[0].series[0].points;
     assert!(s.windows(2).all(|w| w[1].1 > w[0].1));
+    // the axis names its unit (B is dimensionless: "1"), the CSV header too
+    assert_eq!(out.figures[2].y.1, "rad/s^2");
+    assert!(
+        out.table.to_csv().starts_with("b [1],xi [1],"),
+        "{}",
+        out.table.to_csv()
+    );
+}
+
+/// Every column of the Karpov kinematics model against the library.
+#[test]
+fn karpov_kinematics_columns_match_library() {
+    let out = run(
+        "name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nomega1 = 7.0\n\
+                   j = 2\n[sweep]\nparameter = \"b\"\nvalues = [0.01, 0.03]\n\
+                   [solver]\nmethod = \"kinematics\"\n",
+    );
+    for (i, b) in [0.01, 0.03].into_iter().enumerate() {
+        let mut p = gear_geometry::KarpovPair::karpov2017_table1().params();
+        p.b = b;
+        p.j = 2;
+        let pair = gear_geometry::KarpovPair::new(p).unwrap();
+        let check = pair.design_check(0.001).unwrap();
+        let want = [
+            ("delta_exact", pair.speed_fluctuation()),
+            ("delta_eq4", pair.speed_fluctuation_eq4()),
+            ("emax_exact", pair.max_acceleration(7.0)),
+            ("emax_eq6", pair.max_acceleration_eq6(7.0)),
+            ("b_max_exact", check.b_max_exact),
+        ];
+        for (name, v) in want {
+            assert_eq!(
+                col(&out, name)[i].to_bits(),
+                v.to_bits(),
+                "{name} at b = {b}"
+            );
+        }
+    }
+}
+
+/// Karpov oscillator: A, envelope, x_final against `duhamel()`, both readings by name.
+#[test]
+fn karpov_columns_match_library() {
+    use models::karpov2017::{Excitation, Karpov2017};
+    let out = run(
+        "name = \"k\"\nmodel = \"karpov2017\"\n[overrides]\ntau_end = 300.0\n\
+                   [sweep]\nparameter = \"b\"\nvalues = [0.01, 0.02]\n\
+                   [sweep2]\nparameter = \"excitation\"\nvalues = [\"accumulated-phase\", \"printed-phase\"]\n\
+                   [solver]\nmethod = \"time-stepping\"\n",
+    );
+    let mut row = 0;
+    for exc in [Excitation::AccumulatedPhase, Excitation::PrintedPhase] {
+        for b in [0.01, 0.02] {
+            let m = Karpov2017::fig3()
+                .with(|p| {
+                    p.b = b;
+                    p.tau_end = 300.0;
+                    p.excitation = exc;
+                })
+                .unwrap();
+            let r = m.duhamel().unwrap();
+            assert_eq!(col(&out, "A")[row], r.amplitude, "A");
+            assert_eq!(col(&out, "envelope")[row], r.envelope, "envelope");
+            assert_eq!(col(&out, "x_final")[row], r.x, "x_final is X, not X'");
+            row += 1;
+        }
+    }
+    // The name appears in the CSV, not a number.
+    assert!(out.table.to_csv().contains("printed-phase"));
+}
+
+/// Liu: rsv, ppv, q_min, q_max against `integrate()`, with an initial state and a reading.
+#[test]
+fn liu_columns_match_library() {
+    use models::liu2021;
+    let out = run("name = \"l\"\nmodel = \"liu2021\"\ninitial = [0.1, 0.0]\n\
+                   [overrides]\nomega1 = 150.0\nrigid_series = \"two-terms\"\n\
+                   [solver]\nmethod = \"time-stepping\"\n[solver.settings]\n\
+                   transient_periods = 1.0\nrecord_periods = 1.0\n");
+    let mut p = liu2021::table1();
+    p.omega1 = 150.0;
+    p.readings.rigid_series = liu2021::RigidSeries::TwoTerms;
+    let model = p.model().unwrap();
+    let opts = liu2021::IntegrationOptions {
+        transient_periods: 1.0,
+        record_periods: 1.0,
+        initial: Some((0.1, 0.0)),
+        ..liu2021::IntegrationOptions::default()
+    };
+    let r = liu2021::integrate(&model, &opts).unwrap();
+    assert_eq!(col(&out, "rsv")[0], f64::from(r.rattle.state.rsv()));
+    assert_eq!(col(&out, "ppv")[0], r.rattle.ppv);
+    assert_eq!(col(&out, "q_min")[0], r.rattle.q_min);
+    assert_eq!(col(&out, "q_max")[0], r.rattle.q_max);
+    assert!(r.rattle.q_min < r.rattle.q_max);
+}
+
+/// Yu: every time-stepping column against `simulate_with`, variant by name.
+#[test]
+fn yu_columns_match_library() {
+    use models::yu2021::{Engine, Options, RunSettings, Yu2021Model, Yu2021Params};
+    let out = run(
+        "name = \"y\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.4\n\
+                   variant = \"kahraman-singh\"\n[solver]\nmethod = \"time-stepping\"\n\
+                   [solver.settings]\ntransient_periods = 10\nrecord_periods = 4\n\
+                   steps_per_period = 64\nrms_harmonics = 3\n",
+    );
+    let m = Yu2021Model::new(&Yu2021Params::table1(), Options::kahraman_singh()).unwrap();
+    let s = RunSettings {
+        omega: 0.4,
+        transient_periods: 10,
+        record_periods: 4,
+        steps_per_period: 64,
+    };
+    let r = m.simulate_with(&s, &Engine::Rk4Fixed, None).unwrap();
+    assert_eq!(col(&out, "df")[0], r.dynamic_factor());
+    assert_eq!(col(&out, "rms")[0], r.rms(3));
+    assert_eq!(col(&out, "mean_dte")[0], r.mean_dte());
+    assert_eq!(col(&out, "dte_peak_to_peak")[0], r.dte_peak_to_peak());
+    assert_eq!(col(&out, "mean_backlash")[0], r.mean_backlash());
 }
 
 #[test]
 fn bad_parameter_is_a_study_file_error() {
-    let text = "name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nnope = 1.0\n\
-                [solver]\nmethod = \"kinematics\"\n";
-    let study = UserStudy::parse(text).unwrap();
-    let err = run_user_study(&study, || {}).unwrap_err().to_string();
-    assert!(err.contains("nope"), "{err}");
+    let e = err(
+        "name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nnope = 1.0\n\
+                 [solver]\nmethod = \"kinematics\"\n",
+    );
+    assert!(e.contains("nope"), "{e}");
 }
 
 #[test]
 fn invalid_value_is_a_failed_point_not_a_panic() {
-    let text = "name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nb = 1.5\n\
-                [solver]\nmethod = \"kinematics\"\n";
-    let study = UserStudy::parse(text).unwrap();
-    let out = run_user_study(&study, || {}).unwrap();
+    let out = run(
+        "name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nb = 1.5\n\
+                   [solver]\nmethod = \"kinematics\"\n",
+    );
+    assert_eq!(out.failed.len(), 1);
+    assert!(out.all_failed());
     assert_eq!(
         out.summary["failed_points"].as_array().map(Vec::len),
         Some(1)
     );
+}
+
+#[test]
+fn old_numeric_choices_name_the_new_spelling() {
+    let e = err(
+        "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\nvariant = 0\n\
+                 [solver]\nmethod = \"time-stepping\"\n",
+    );
+    assert!(e.contains("variant = \"yu\""), "{e}");
+    let e = err(
+        "name = \"x\"\nmodel = \"karpov2017\"\n[overrides]\nprinted_phase = 1\n\
+                 [solver]\nmethod = \"time-stepping\"\n",
+    );
+    assert!(e.contains("excitation = \"printed-phase\""), "{e}");
+    let e = err(
+        "name = \"x\"\nmodel = \"karpov2017\"\n[solver]\nmethod = \"time-stepping\"\n\
+                 [solver.settings]\nduhamel = 1\n",
+    );
+    assert!(e.contains("engine = \"duhamel\""), "{e}");
+    let e = err(
+        "name = \"x\"\nmodel = \"liu2021\"\n[overrides]\nreadings_printed = 1\n\
+                 [solver]\nmethod = \"hbm\"\n",
+    );
+    assert!(e.contains("readings = \"printed\""), "{e}");
+    let e = err(
+        "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
+                 [solver]\nmethod = \"time-stepping\"\n[solver.settings]\nengine = 1\n",
+    );
+    assert!(e.contains("engine") && e.contains("rk4"), "{e}");
+}
+
+#[test]
+fn settings_out_of_bounds_are_errors_naming_entry_and_bound() {
+    for (setting, needle) in [
+        ("tol = 1000", "tol"),
+        ("max_iter = -1", "max_iter"),
+        ("samples = 2.5", "samples"),
+    ] {
+        let e = err(&format!(
+            "name = \"x\"\nmodel = \"liu2021\"\n[solver]\nmethod = \"hbm\"\n\
+             [solver.settings]\n{setting}\n"
+        ));
+        assert!(e.contains(needle) && e.contains('['), "{setting}: {e}");
+    }
+    // ppv from 2 samples is refused before computing
+    let e = err(
+        "name = \"x\"\nmodel = \"liu2021\"\n[solver]\nmethod = \"time-stepping\"\n\
+                 [solver.settings]\nsample_step = 1000\n",
+    );
+    assert!(e.contains("samples"), "{e}");
+    let e = err(
+        "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
+                 [solver]\nmethod = \"time-stepping\"\n[solver.settings]\n\
+                 steps_per_period = 4503599627370496\n",
+    );
+    assert!(e.contains("steps_per_period"), "{e}");
+    let e = err(
+        "name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[overrides]\nz1 = -3\n\
+                 [solver]\nmethod = \"kinematics\"\n",
+    );
+    assert!(e.contains("z1"), "{e}");
+}
+
+#[test]
+fn huge_sizes_fail_points_not_the_process() {
+    // Yu: ω* = 1e-12 would need ~1e13 steps per period: a failed point among good ones.
+    let out = run(
+        "name = \"x\"\nmodel = \"yu2021\"\n[sweep]\nparameter = \"omega\"\n\
+                   values = [1e-12, 0.5]\n[solver]\nmethod = \"time-stepping\"\n\
+                   [solver.settings]\ntransient_periods = 5\nrecord_periods = 2\n\
+                   steps_per_period = 32\n",
+    );
+    assert_eq!(out.failed.len(), 1);
+    assert!(col(&out, "df")[0].is_nan() && col(&out, "df")[1].is_finite());
+    // mass_g = 1e-300: a huge natural frequency, refused by the step budget
+    let out = run(
+        "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
+                   mass_g = 1e-300\n[solver]\nmethod = \"time-stepping\"\n",
+    );
+    assert!(out.all_failed());
+    // Karpov ω = 1e17 and τ_end = 1e12: refused at once (they used to hang)
+    for o in ["omega = 1e17", "tau_end = 1e12"] {
+        let out = run(&format!(
+            "name = \"x\"\nmodel = \"karpov2017\"\n[overrides]\n{o}\n\
+             [solver]\nmethod = \"time-stepping\"\n"
+        ));
+        assert!(out.all_failed(), "{o}");
+        assert!(
+            out.failed[0].error.contains("steps"),
+            "{}",
+            out.failed[0].error
+        );
+    }
+}
+
+#[test]
+fn sweep_over_the_whole_float_range_draws() {
+    let out = run("name = \"x\"\nmodel = \"karpov2017-kinematics\"\n[sweep]\n\
+                   parameter = \"omega1\"\nfrom = -1e308\nto = 1e308\nsteps = 3\n\
+                   [solver]\nmethod = \"kinematics\"\n");
+    for f in &out.figures {
+        // either an SVG or an error, never a hang
+        let _ = f.to_svg();
+    }
 }
 
 #[test]
@@ -53,60 +297,85 @@ fn every_shipped_example_parses() {
         if path.extension().and_then(|x| x.to_str()) == Some("toml") {
             let text = std::fs::read_to_string(&path).unwrap();
             let s = UserStudy::parse(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-            assert!(geardyn_validate::MODELS.iter().any(|(m, _)| *m == s.model));
+            // and every point prepares (settings, names, sizes) without computing
+            let p =
+                geardyn_validate::prepare(&s).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            assert!(p.failed_early().is_empty(), "{}", path.display());
             n += 1;
         }
     }
-    assert!(n >= 4, "expected the shipped examples, found {n}");
+    assert!(n >= 5, "expected the shipped examples, found {n}");
 }
 
 #[test]
 fn unwired_or_misconfigured_models_are_errors() {
-    let text = "name = \"x\"\nmodel = \"liu2021\"\n[solver]\nmethod = \"kinematics\"\n";
-    let study = UserStudy::parse(text).unwrap();
-    assert!(run_user_study(&study, || {}).is_err());
-    let text = "name = \"x\"\nmodel = \"yu2021\"\n[solver]\nmethod = \"time-stepping\"\n";
-    let study = UserStudy::parse(text).unwrap();
-    let err = run_user_study(&study, || {}).unwrap_err().to_string();
-    assert!(err.contains("omega"), "{err}");
+    let e = err("name = \"x\"\nmodel = \"liu2021\"\n[solver]\nmethod = \"kinematics\"\n");
+    assert!(e.contains("time-stepping"), "{e}");
+    let e = err("name = \"x\"\nmodel = \"yu2021\"\n[solver]\nmethod = \"time-stepping\"\n");
+    assert!(e.contains("omega"), "{e}");
 }
 
-/// Both engines of the Yu model are reachable from a study file and agree on a non-impacting
+/// Both engines of the Yu model are reachable by name and agree on a non-impacting
 /// Kahraman–Singh point (the models crate tests the engines against each other to 1e-8).
 #[test]
 fn yu_engines_selectable_and_agree() {
-    let run = |engine: u32| {
+    let df = |engine: &str| {
         let text = format!(
-            "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.3\nvariant = 1\n\
-             [solver]\nmethod = \"time-stepping\"\n[solver.settings]\nengine = {engine}\n\
+            "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.3\nvariant = \"kahraman-singh\"\n\
+             [solver]\nmethod = \"time-stepping\"\n[solver.settings]\nengine = \"{engine}\"\n\
              transient_periods = 20\nrecord_periods = 4\nsteps_per_period = 128\n"
         );
         let study = UserStudy::parse(&text).unwrap();
         let out = run_user_study(&study, || {}).unwrap();
-        assert_eq!(
-            out.summary["failed_points"].as_array().map(Vec::len),
-            Some(0)
-        );
-        let col = out
-            .table
-            .columns
-            .iter()
-            .position(|c| c.name == "df")
-            .expect("df column");
-        match &out.table.rows[0][col] {
-            geardyn_validate::Cell::Num(x) => *x,
-            other => panic!("df is not a number: {other:?}"),
-        }
+        assert!(out.failed.is_empty());
+        col(&out, "df")[0]
     };
-    let (rk4, dp) = (run(0), run(1));
+    let (rk4, dp) = (df("rk4"), df("timestep"));
     assert!(
         rk4 > 1.0 && (rk4 - dp).abs() < 1e-4 * rk4,
         "DF {rk4} vs {dp}"
     );
+}
 
-    let bad = "name = \"x\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.3\n\
-               [solver]\nmethod = \"time-stepping\"\n[solver.settings]\nengine = 7\n";
-    let study = UserStudy::parse(bad).unwrap();
-    let err = run_user_study(&study, || {}).unwrap_err().to_string();
-    assert!(err.contains("engine"), "{err}");
+#[test]
+fn json_summary_numbers_are_numbers() {
+    let out = run(
+        "name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[sweep]\nparameter = \"b\"\n\
+                   values = [0.01, 0.03]\n[solver]\nmethod = \"kinematics\"\n",
+    );
+    assert!(out.summary["outputs"]["delta_exact"]["min"].is_f64());
+    assert!(out.summary["points"].is_u64());
+}
+
+#[test]
+fn outputs_are_written_atomically_and_locked() {
+    let base = std::env::temp_dir().join(format!("geardyn-study-test-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    std::fs::create_dir_all(&base).unwrap();
+    let out = run(
+        "name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[sweep]\nparameter = \"b\"\n\
+                   values = [0.01, 0.03]\n[solver]\nmethod = \"kinematics\"\n",
+    );
+    let dir = base.join("k");
+    {
+        let lock = geardyn_validate::lock_output_dir(&dir).unwrap();
+        // a second run on the same directory is refused while the first holds it
+        assert!(geardyn_validate::lock_output_dir(&dir).is_err());
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("stale.svg"), "old").unwrap();
+        std::fs::write(dir.join(".geardyn-study"), "old").unwrap();
+        let w = geardyn_validate::write_outputs(&out, &lock).unwrap();
+        assert!(w.files.last().unwrap().ends_with("k.json"));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("k.json")).unwrap()).unwrap();
+        assert_eq!(json["run_id"], serde_json::json!(w.run_id));
+        assert!(!dir.join("stale.svg").exists(), "stale files are removed");
+    }
+    // an unrelated non-empty directory is never replaced
+    let other = base.join("other");
+    std::fs::create_dir_all(&other).unwrap();
+    std::fs::write(other.join("mine.txt"), "keep").unwrap();
+    assert!(geardyn_validate::lock_output_dir(&other).is_err());
+    assert!(other.join("mine.txt").exists());
+    let _ = std::fs::remove_dir_all(&base);
 }

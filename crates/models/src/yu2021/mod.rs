@@ -112,8 +112,8 @@ pub use fractal::{
 };
 pub use hbm::{HbmSettings, HbmSolution, Yu2021SixDof, Yu2021Torsional};
 pub use model::{
-    BacklashUpdate, CentreDistanceForm, DynamicBacklashLaw, EquationForm, MeshGeometry, ModelKind,
-    Options, PressureAngleLaw, Response, RunSettings, STATE_LEN, Yu2021Dimensionless, Yu2021Model,
-    dead_zone,
+    BacklashUpdate, CentreDistanceForm, DynamicBacklashLaw, EquationForm, MAX_RECORDED_SAMPLES,
+    MAX_RUN_STEPS, MeshGeometry, ModelKind, Options, PressureAngleLaw, Response, RunSettings,
+    STATE_LEN, Yu2021Dimensionless, Yu2021Model, dead_zone,
 };
 pub use params::{BacklashSpec, Yu2021Params};

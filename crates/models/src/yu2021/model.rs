@@ -256,6 +256,11 @@ pub struct Yu2021Model {
     pub options: Options,
 }
 
+/// Most steps (transient and recorded) of one run; larger runs are refused with an error.
+pub const MAX_RUN_STEPS: u64 = 10_000_000_000;
+/// Most recorded samples of one run (five series of `f64` are kept: 400 MB at the bound).
+pub const MAX_RECORDED_SAMPLES: u64 = 10_000_000;
+
 /// Settings of one steady-state run at the dimensionless mesh frequency `ω* = ω_h/ω_n`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct RunSettings {
@@ -585,10 +590,36 @@ impl Yu2021Model {
         }
         let period = std::f64::consts::TAU / w;
         let dt_max = 0.2 / self.omega_max();
-        Ok(settings
-            .steps_per_period
-            .max(8)
-            .max((period / dt_max).ceil() as usize))
+        // Sizes in f64 first: nothing below may overflow or allocate beyond the bounds.
+        let n = (settings.steps_per_period.max(8) as f64).max((period / dt_max).ceil());
+        let periods = settings.transient_periods as f64 + settings.record_periods as f64;
+        let total = periods * n;
+        if total.is_nan() || total > MAX_RUN_STEPS as f64 {
+            return Err(Error::invalid(
+                "yu2021.steps",
+                format!(
+                    "<= {MAX_RUN_STEPS} steps per run ((transient_periods + record_periods) × \
+                     steps per period, the latter raised to {n:.3e} so that Δτ ≤ 0.2/ω_max)"
+                ),
+                total,
+            ));
+        }
+        let recorded = settings.record_periods as f64 * n;
+        if recorded.is_nan() || recorded > MAX_RECORDED_SAMPLES as f64 {
+            return Err(Error::invalid(
+                "yu2021.record_periods",
+                format!("such that record_periods × steps per period <= {MAX_RECORDED_SAMPLES}"),
+                settings.record_periods as f64,
+            ));
+        }
+        Ok(n as usize)
+    }
+
+    /// Total RK4 steps (samples) of one run with these settings, checked against
+    /// [`MAX_RUN_STEPS`] and [`MAX_RECORDED_SAMPLES`] before anything is allocated.
+    pub fn run_steps(&self, settings: &RunSettings) -> Result<usize, Error> {
+        let n = self.samples_per_period(settings)?;
+        Ok((settings.transient_periods + settings.record_periods) * n)
     }
 
     /// Integrate to steady state with fixed-step RK4 and record the response.

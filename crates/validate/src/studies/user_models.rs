@@ -1,315 +1,1379 @@
-//! User-study adapters of the dynamic models (see `docs/studies.md`).
+//! The models of `geardyn study`: one [`ModelSpec`] registration each in [`REGISTRY`].
+//!
+//! A registration names the model, lists what `geardyn models` prints (parameters with units,
+//! choices and readings with their options, solver settings with bounds, outputs), and builds
+//! an [`Adapter`]: the output columns and a `prepare` function that checks one point (model
+//! constructor, every derived size against [`Limits`](crate::Limits)) and returns the job that
+//! computes it. Nothing else in the crate needs to change to add a model.
 
 use std::collections::BTreeMap;
 
-use models::liu2021;
+use models::{karpov2017, liu2021, yu2021};
+use serde::Serialize;
 
-use super::Adapter;
-use crate::user::{Method, Solver};
-use crate::{Error, ResultExt, apply_overrides};
+use crate::user::{Limits, Method, Point, Solver, Value, apply_values};
+use crate::{Error, ResultExt};
 
-/// Split the solver settings into the ones named in `extra` and the rest.
-fn take(
-    settings: &BTreeMap<String, f64>,
-    extra: &[&str],
-) -> (BTreeMap<String, f64>, BTreeMap<String, f64>) {
-    let mut a = BTreeMap::new();
-    let mut b = BTreeMap::new();
-    for (k, v) in settings {
-        if extra.contains(&k.as_str()) {
-            a.insert(k.clone(), *v);
-        } else {
-            b.insert(k.clone(), *v);
-        }
-    }
-    (a, b)
+/// The computation of one prepared point.
+pub type Job = Box<dyn FnOnce() -> Result<Vec<f64>, Error> + Send>;
+
+/// Checks one point and returns its computation.
+pub type Preparer = Box<dyn Fn(&Point) -> Result<Job, Error> + Sync>;
+
+/// Output columns and the point preparer of a model under one solver.
+pub struct Adapter {
+    /// Output columns `(name, unit)`.
+    pub outputs: Vec<(String, String)>,
+    /// Check one point and return its computation.
+    pub prepare: Preparer,
 }
 
-/// Liu 2021: overrides are fields of `models::liu2021::Parameters` (SI) plus `readings_printed`
-/// (1: every equation as printed, 0: consistent, default). Time stepping settings are the fields
-/// of `IntegrationOptions`; HBM settings `tol`, `max_iter`, `samples` and `full_r` (full basis
-/// with `K = R Z2 + 2`; absent: the paper's basis).
-pub(super) fn liu2021(solver: &Solver) -> Result<Adapter, Error> {
-    let outputs = vec![
-        ("rsv", "1"),
-        ("ppv", "1"),
-        ("q_min", "1"),
-        ("q_max", "1"),
-        ("converged", "1"),
-    ];
-    match solver.method {
-        Method::TimeStepping => {
-            let opts = apply_overrides(&liu2021::IntegrationOptions::default(), &solver.settings)?;
-            Ok((
-                outputs,
-                Box::new(move |p: &BTreeMap<String, f64>| {
-                    let model = liu_model(p)?;
-                    let r =
-                        liu2021::integrate(&model, &opts).context("liu2021 time integration")?;
-                    Ok(vec![
-                        f64::from(r.rattle.state.rsv()),
-                        r.rattle.ppv,
-                        r.rattle.q_min,
-                        r.rattle.q_max,
-                        1.0,
-                    ])
+/// What an adapter is built from.
+#[derive(Debug, Clone, Copy)]
+pub struct Context<'a> {
+    /// The solver and its settings.
+    pub solver: &'a Solver,
+    /// The initial state, if given.
+    pub initial: Option<&'a [f64]>,
+    /// Work limits.
+    pub limits: Limits,
+}
+
+/// One registered model.
+#[derive(Debug, Clone, Copy)]
+pub struct ModelSpec {
+    /// Name in a study file.
+    pub name: &'static str,
+    /// One line.
+    pub description: &'static str,
+    /// Build the adapter for a solver (every setting checked).
+    pub build: fn(&Context<'_>) -> Result<Adapter, Error>,
+    /// What `geardyn models` prints.
+    pub describe: fn() -> ModelInfo,
+    /// Unit of a parameter (for CSV headers and axes; `""` if unknown).
+    pub unit_of: fn(&str) -> &'static str,
+}
+
+/// A parameter (number) of a model.
+#[derive(Debug, Clone, Serialize)]
+pub struct ParamInfo {
+    /// Name.
+    pub name: String,
+    /// Unit (`1`: dimensionless).
+    pub unit: String,
+    /// Default value.
+    pub default: String,
+}
+
+/// A choice (model variant, reading) and its options.
+#[derive(Debug, Clone, Serialize)]
+pub struct ChoiceInfo {
+    /// Name.
+    pub name: String,
+    /// Options (names).
+    pub options: Vec<String>,
+    /// Default option.
+    pub default: String,
+    /// What it selects.
+    pub note: String,
+}
+
+/// The kind and bounds of a solver setting.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub enum Kind {
+    /// A number in `[lo, hi]`.
+    Num {
+        /// Lower bound.
+        lo: f64,
+        /// Upper bound.
+        hi: f64,
+        /// Default.
+        default: f64,
+    },
+    /// An integer in `[lo, hi]`.
+    Int {
+        /// Lower bound.
+        lo: u64,
+        /// Upper bound.
+        hi: u64,
+        /// Default (`None`: absent unless given).
+        default: Option<u64>,
+    },
+    /// A name.
+    Name {
+        /// Options.
+        options: &'static [&'static str],
+        /// Default.
+        default: &'static str,
+    },
+}
+
+/// A solver setting with its bounds.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct SettingDef {
+    /// Name.
+    pub name: &'static str,
+    /// Kind, bounds and default.
+    pub kind: Kind,
+    /// What it does.
+    pub doc: &'static str,
+}
+
+/// One solver method of a model.
+#[derive(Debug, Clone, Serialize)]
+pub struct MethodInfo {
+    /// The method.
+    pub method: Method,
+    /// Its settings.
+    pub settings: Vec<SettingDef>,
+    /// Its outputs `(name, unit)`.
+    pub outputs: Vec<(String, String)>,
+    /// Meaning of `initial = [...]` for this method (`None`: not supported).
+    pub initial: Option<&'static str>,
+}
+
+/// What `geardyn models` prints about a model.
+#[derive(Debug, Clone, Serialize)]
+pub struct ModelInfo {
+    /// Numeric parameters.
+    pub parameters: Vec<ParamInfo>,
+    /// Choices and readings.
+    pub choices: Vec<ChoiceInfo>,
+    /// Methods with settings and outputs.
+    pub methods: Vec<MethodInfo>,
+}
+
+/// Every model of `geardyn study`. Adding a model is one entry here.
+pub const REGISTRY: [ModelSpec; 4] = [
+    ModelSpec {
+        name: "karpov2017-kinematics",
+        description: "Karpov 2017 non-circular pair: speed fluctuation δ and peak acceleration ε_max",
+        build: kinematics_build,
+        describe: kinematics_describe,
+        unit_of: kinematics_unit,
+    },
+    ModelSpec {
+        name: "karpov2017",
+        description: "Karpov 2017 oscillator with variable mesh frequency (Eq. 9)",
+        build: karpov_build,
+        describe: karpov_describe,
+        unit_of: karpov_unit,
+    },
+    ModelSpec {
+        name: "liu2021",
+        description: "Liu 2021 non-circular face gear rattle model (Eq. 22)",
+        build: liu_build,
+        describe: liu_describe,
+        unit_of: liu_unit,
+    },
+    ModelSpec {
+        name: "yu2021",
+        description: "Yu 2021 spur pair with dynamic backlash (6-DOF; Kahraman–Singh, Chen references)",
+        build: yu_build,
+        describe: yu_describe,
+        unit_of: yu_unit,
+    },
+];
+
+// ---------------------------------------------------------------------------------------------
+// Shared helpers.
+
+fn outs(v: &[(&str, &str)]) -> Vec<(String, String)> {
+    v.iter()
+        .map(|(a, b)| ((*a).to_owned(), (*b).to_owned()))
+        .collect()
+}
+
+fn params_of<T: Serialize>(base: &T, unit: fn(&str) -> &'static str) -> Vec<ParamInfo> {
+    let mut out = Vec::new();
+    if let Ok(serde_json::Value::Object(o)) = serde_json::to_value(base) {
+        for (k, v) in o {
+            match v {
+                serde_json::Value::Number(n) => out.push(ParamInfo {
+                    unit: unit(&k).to_owned(),
+                    name: k,
+                    default: n.to_string(),
                 }),
-            ))
+                serde_json::Value::Array(a) if a.iter().all(|x| x.is_number()) => {
+                    out.push(ParamInfo {
+                        unit: unit(&k).to_owned(),
+                        name: k,
+                        default: serde_json::Value::Array(a).to_string(),
+                    })
+                }
+                _ => {}
+            }
         }
-        Method::Hbm => {
-            let (extra, rest) = take(&solver.settings, &["full_r", "samples"]);
-            let base = apply_overrides(&liu2021::HbmOptions::default(), &rest)?;
-            let full_r = extra.get("full_r").copied();
-            let samples = extra.get("samples").copied();
-            for (k, v) in &extra {
-                if v.fract() != 0.0 || *v < 1.0 {
-                    return Err(Error::StudyFile(format!(
-                        "setting `{k}` must be a positive integer, got {v}"
+    }
+    out
+}
+
+fn choice_info<E: serde::de::DeserializeOwned + Serialize>(
+    name: &str,
+    default: E,
+    note: &str,
+) -> ChoiceInfo {
+    let d = serde_json::to_value(default)
+        .ok()
+        .and_then(|v| v.as_str().map(crate::user::display_name))
+        .unwrap_or_default();
+    ChoiceInfo {
+        name: name.to_owned(),
+        options: crate::user::variant_names::<E>(),
+        default: d,
+        note: note.to_owned(),
+    }
+}
+
+fn wrong_method(model: &str, m: Method, allowed: &[Method]) -> Error {
+    Error::StudyFile(format!(
+        "{model} has no solver.method = \"{}\"; use {}",
+        m.name(),
+        allowed
+            .iter()
+            .map(|a| format!("\"{}\"", a.name()))
+            .collect::<Vec<_>>()
+            .join(" or ")
+    ))
+}
+
+/// Settings read against their definitions.
+struct Settings(BTreeMap<&'static str, Value>);
+
+impl Settings {
+    /// Check every given setting against `defs` (unknown names, kind, bounds) and fill the
+    /// defaults.
+    fn read(
+        model: &str,
+        method: Method,
+        defs: &[SettingDef],
+        given: &BTreeMap<String, Value>,
+        legacy: &[(&str, &str)],
+    ) -> Result<Self, Error> {
+        let mut out = BTreeMap::new();
+        for (k, v) in given {
+            if let Some((_, new)) = legacy.iter().find(|(old, _)| *old == k) {
+                return Err(Error::StudyFile(format!(
+                    "setting `{k}` = {} is the old spelling; write {new}",
+                    v.label()
+                )));
+            }
+            let Some(d) = defs.iter().find(|d| d.name == k) else {
+                return Err(Error::StudyFile(format!(
+                    "unknown {model} {} setting `{k}`; settings: {}",
+                    method.name(),
+                    defs.iter().map(|d| d.name).collect::<Vec<_>>().join(", ")
+                )));
+            };
+            let bad = |want: String| {
+                Error::StudyFile(format!("setting `{k}` must be {want}, got {}", v.label()))
+            };
+            match (d.kind, v) {
+                (Kind::Num { lo, hi, .. }, Value::Num(x)) => {
+                    if !(*x >= lo && *x <= hi) {
+                        return Err(bad(format!("in [{lo:e}, {hi:e}]")));
+                    }
+                }
+                (Kind::Int { lo, hi, .. }, Value::Num(x)) => {
+                    if x.fract() != 0.0 || !(*x >= lo as f64 && *x <= hi as f64) {
+                        return Err(bad(format!("an integer in [{lo}, {hi}]")));
+                    }
+                }
+                (Kind::Name { options, .. }, Value::Text(s)) => {
+                    if !options.contains(&s.as_str()) {
+                        return Err(bad(format!("one of \"{}\"", options.join("\", \""))));
+                    }
+                }
+                (Kind::Name { options, .. }, _) => {
+                    return Err(bad(format!(
+                        "a name: one of \"{}\" (e.g. {k} = \"{}\")",
+                        options.join("\", \""),
+                        options[0]
                     )));
                 }
+                (_, _) => return Err(bad("a number".to_owned())),
             }
-            Ok((
-                outputs,
-                Box::new(move |p: &BTreeMap<String, f64>| {
-                    let model = liu_model(p)?;
-                    let mut opts = match full_r {
-                        Some(r) => liu2021::HbmOptions {
-                            tol: base.tol,
-                            max_iter: base.max_iter,
-                            ..liu2021::HbmOptions::full(&model, r as usize)
-                        },
-                        None => base,
-                    };
-                    if let Some(m) = samples {
-                        opts.samples = Some(m as usize);
-                    }
-                    let r = liu2021::solve_hbm(&model, &opts, None)
-                        .context("liu2021 harmonic balance")?;
-                    Ok(vec![
-                        f64::from(r.rattle.state.rsv()),
-                        r.rattle.ppv,
-                        r.rattle.q_min,
-                        r.rattle.q_max,
-                        if r.converged() { 1.0 } else { 0.0 },
-                    ])
-                }),
-            ))
+            out.insert(d.name, v.clone());
         }
-        Method::Kinematics => Err(Error::StudyFile(
-            "liu2021 needs solver.method = \"time-stepping\" or \"hbm\"".to_owned(),
-        )),
+        for d in defs {
+            if !out.contains_key(d.name) {
+                match d.kind {
+                    Kind::Num { default, .. } => {
+                        out.insert(d.name, Value::Num(default));
+                    }
+                    Kind::Int {
+                        default: Some(x), ..
+                    } => {
+                        out.insert(d.name, Value::Num(x as f64));
+                    }
+                    Kind::Int { default: None, .. } => {}
+                    Kind::Name { default, .. } => {
+                        out.insert(d.name, Value::Text(default.to_owned()));
+                    }
+                }
+            }
+        }
+        Ok(Settings(out))
+    }
+
+    fn f(&self, k: &str) -> f64 {
+        self.0.get(k).and_then(Value::as_num).unwrap_or(f64::NAN)
+    }
+
+    fn u(&self, k: &str) -> Option<u64> {
+        self.0.get(k).and_then(Value::as_num).map(|x| x as u64)
+    }
+
+    fn name(&self, k: &str) -> &str {
+        match self.0.get(k) {
+            Some(Value::Text(s)) => s,
+            _ => "",
+        }
     }
 }
 
-fn liu_model(p: &BTreeMap<String, f64>) -> Result<liu2021::Model, Error> {
-    let mut fields = p.clone();
-    let printed = fields.remove("readings_printed");
-    let mut params = apply_overrides(&liu2021::table1(), &fields)?;
-    match printed.map(f64::to_bits) {
-        None => {}
-        Some(b) if b == 0f64.to_bits() => params.readings = liu2021::Readings::default(),
-        Some(b) if b == 1f64.to_bits() => params.readings = liu2021::Readings::printed(),
-        Some(b) => {
-            let x = f64::from_bits(b);
+/// Remove the choices (names) from a point, checking old numeric spellings.
+fn take_choice(p: &mut Point, name: &str, legacy: Option<&str>) -> Result<Option<Value>, Error> {
+    match p.remove(name) {
+        Some(Value::Num(x)) => Err(Error::StudyFile(format!(
+            "`{name}` = {x}: choices are names now; write {}",
+            legacy.unwrap_or("a name (see `geardyn models`)")
+        ))),
+        v => Ok(v),
+    }
+}
+
+fn reject_legacy(p: &Point, legacy: &[(&str, &str)]) -> Result<(), Error> {
+    for (old, new) in legacy {
+        if let Some(v) = p.get(*old) {
             return Err(Error::StudyFile(format!(
-                "readings_printed must be 0 or 1, got {x}"
+                "`{old}` = {} is the old spelling; write {new}",
+                v.label()
             )));
         }
     }
+    Ok(())
+}
+
+fn need_steps(what: &str, steps: f64, limits: &Limits) -> Result<(), Error> {
+    if steps.is_finite() && steps <= limits.max_steps {
+        Ok(())
+    } else {
+        Err(Error::Study(format!(
+            "{what}: about {steps:.3e} steps needed, over limits.max_steps = {:e}",
+            limits.max_steps
+        )))
+    }
+}
+
+fn no_initial(model: &str, ctx: &Context<'_>) -> Result<(), Error> {
+    if ctx.initial.is_some() {
+        return Err(Error::StudyFile(format!(
+            "{model} with solver.method = \"{}\" takes no `initial` state",
+            ctx.solver.method.name()
+        )));
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// karpov2017-kinematics
+
+fn kinematics_unit(k: &str) -> &'static str {
+    match k {
+        "r" => "m",
+        "omega1" => "rad/s",
+        _ => "1",
+    }
+}
+
+fn kinematics_describe() -> ModelInfo {
+    let base = gear_geometry::KarpovPair::karpov2017_table1().params();
+    let mut parameters = params_of(&base, kinematics_unit);
+    parameters.push(ParamInfo {
+        name: "omega1".into(),
+        unit: "rad/s".into(),
+        default: "1".into(),
+    });
+    parameters.push(ParamInfo {
+        name: "delta_max".into(),
+        unit: "1".into(),
+        default: "0.001".into(),
+    });
+    ModelInfo {
+        parameters,
+        choices: vec![choice_info(
+            "centre_distance",
+            base.centre_distance,
+            "centre-distance closure (reading R-KARPOV-EQ1-CLOSURE)",
+        )],
+        methods: vec![MethodInfo {
+            method: Method::Kinematics,
+            settings: vec![],
+            outputs: outs(KINEMATICS_OUT),
+            initial: None,
+        }],
+    }
+}
+
+const KINEMATICS_OUT: &[(&str, &str)] = &[
+    ("delta_exact", "1"),
+    ("delta_eq4", "1"),
+    ("emax_exact", "rad/s^2"),
+    ("emax_eq6", "rad/s^2"),
+    ("b_max_exact", "1"),
+];
+
+fn kinematics_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
+    if ctx.solver.method != Method::Kinematics {
+        return Err(wrong_method(
+            "karpov2017-kinematics",
+            ctx.solver.method,
+            &[Method::Kinematics],
+        ));
+    }
+    no_initial("karpov2017-kinematics", ctx)?;
+    Settings::read(
+        "karpov2017-kinematics",
+        Method::Kinematics,
+        &[],
+        &ctx.solver.settings,
+        &[],
+    )?;
+    Ok(Adapter {
+        outputs: outs(KINEMATICS_OUT),
+        prepare: Box::new(|p: &Point| {
+            let mut fields = p.clone();
+            let num = |f: &mut Point, k: &str, d: f64| match f.remove(k) {
+                None => Ok(d),
+                Some(Value::Num(x)) => Ok(x),
+                Some(v) => Err(Error::StudyFile(format!(
+                    "`{k}` takes a number, got {}",
+                    v.label()
+                ))),
+            };
+            let omega1 = num(&mut fields, "omega1", 1.0)?;
+            let delta_max = num(&mut fields, "delta_max", 0.001)?;
+            let base = gear_geometry::KarpovPair::karpov2017_table1().params();
+            let params = apply_values(&base, &fields)?;
+            if !(omega1.is_finite() && omega1 > 0.0) {
+                return Err(Error::Study(format!(
+                    "omega1 must be finite and > 0, got {omega1}"
+                )));
+            }
+            if !(delta_max > 0.0 && delta_max < 1.0) {
+                return Err(Error::Study(format!(
+                    "delta_max must be in (0, 1), got {delta_max}"
+                )));
+            }
+            let pair = gear_geometry::KarpovPair::new(params).context("Karpov pair")?;
+            Ok(Box::new(move || {
+                let check = pair.design_check(delta_max).context("design check")?;
+                Ok(vec![
+                    pair.speed_fluctuation(),
+                    pair.speed_fluctuation_eq4(),
+                    pair.max_acceleration(omega1),
+                    pair.max_acceleration_eq6(omega1),
+                    check.b_max_exact,
+                ])
+            }) as Job)
+        }),
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// karpov2017
+
+fn karpov_unit(_: &str) -> &'static str {
+    "1"
+}
+
+const KARPOV_TS: &[SettingDef] = &[
+    SettingDef {
+        name: "engine",
+        kind: Kind::Name {
+            options: &["duhamel", "timestep"],
+            default: "duhamel",
+        },
+        doc: "duhamel: the model's exact Duhamel-integral quadrature (from rest); timestep: the \
+              timestep crate's Dormand–Prince 5(4) (no `A` column)",
+    },
+    SettingDef {
+        name: "rtol",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-2,
+            default: 1e-9,
+        },
+        doc: "relative (and absolute) tolerance of the timestep engine",
+    },
+];
+
+const KARPOV_OUT: &[(&str, &str)] = &[("A", "1"), ("envelope", "1"), ("x_final", "1")];
+
+fn karpov_describe() -> ModelInfo {
+    let p = karpov2017::Karpov2017::fig3().params();
+    ModelInfo {
+        parameters: params_of(&p, karpov_unit),
+        choices: vec![
+            choice_info(
+                "excitation",
+                p.excitation,
+                "excitation phase (reading R-KARPOV-EQ9): accumulated ∫ωe dτ or sin(ωe·τ) as printed",
+            ),
+            choice_info("measure", p.measure, "amplitude measure A"),
+        ],
+        methods: vec![MethodInfo {
+            method: Method::TimeStepping,
+            settings: KARPOV_TS.to_vec(),
+            outputs: outs(KARPOV_OUT),
+            initial: Some("[X, X'] at τ = 0 (engine = \"timestep\" only)"),
+        }],
+    }
+}
+
+fn karpov_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
+    use karpov2017::Karpov2017;
+    if ctx.solver.method != Method::TimeStepping {
+        return Err(wrong_method(
+            "karpov2017",
+            ctx.solver.method,
+            &[Method::TimeStepping],
+        ));
+    }
+    let s = Settings::read(
+        "karpov2017",
+        Method::TimeStepping,
+        KARPOV_TS,
+        &ctx.solver.settings,
+        &[("duhamel", "engine = \"duhamel\" or engine = \"timestep\"")],
+    )?;
+    let duhamel = s.name("engine") == "duhamel";
+    let rtol = s.f("rtol");
+    let initial = match ctx.initial {
+        None => [0.0, 0.0],
+        Some(_) if duhamel => {
+            return Err(Error::StudyFile(
+                "karpov2017: `initial` needs engine = \"timestep\" (the Duhamel path starts \
+                 from rest)"
+                    .to_owned(),
+            ));
+        }
+        Some([x, v]) => [*x, *v],
+        Some(v) => {
+            return Err(Error::StudyFile(format!(
+                "karpov2017: `initial` must be [X, X'], got {} numbers",
+                v.len()
+            )));
+        }
+    };
+    let limits = ctx.limits;
+    // The timestep engine does not sample the last cycle: no `A` column.
+    let outputs = if duhamel {
+        outs(KARPOV_OUT)
+    } else {
+        outs(&KARPOV_OUT[1..])
+    };
+    Ok(Adapter {
+        outputs,
+        prepare: Box::new(move |p: &Point| {
+            let mut fields = p.clone();
+            reject_legacy(
+                &fields,
+                &[(
+                    "printed_phase",
+                    "excitation = \"accumulated-phase\" or excitation = \"printed-phase\"",
+                )],
+            )?;
+            for c in ["excitation", "measure"] {
+                if let Some(Value::Num(_)) = fields.get(c) {
+                    take_choice(&mut fields, c, None)?;
+                }
+            }
+            let params = apply_values(&Karpov2017::fig3().params(), &fields)?;
+            let m = Karpov2017::new(params).context("karpov2017 parameters")?;
+            // Quadrature panels ≈ τ_end (1 + |Φ'|)/2 with |Φ'| ≥ ω(1 − B).
+            let est = params.tau_end * (1.0 + params.omega * (1.0 - params.b)) / 2.0;
+            need_steps("karpov2017", est, &limits)?;
+            let max_steps = limits.max_steps as u64;
+            Ok(Box::new(move || {
+                if duhamel {
+                    let r = m.duhamel().context("karpov2017 Duhamel quadrature")?;
+                    Ok(vec![r.amplitude, r.envelope, r.x])
+                } else {
+                    let opts = timestep::Options::default()
+                        .with_tol(rtol, rtol)
+                        .with_max_steps(max_steps)
+                        .with_output(timestep::Output::Final);
+                    let ode = m.time_stepping().context("karpov2017 system")?;
+                    let sol = timestep::integrate(&ode, 0.0, &initial, params.tau_end, &opts)
+                        .context("karpov2017 time integration")?;
+                    if !sol.status.is_success() {
+                        return Err(Error::Study(format!(
+                            "time integration ended with {:?}",
+                            sol.status
+                        )));
+                    }
+                    let (x, v) = (sol.y_final[0], sol.y_final[1]);
+                    Ok(vec![x.hypot(v), x])
+                }
+            }) as Job)
+        }),
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// liu2021
+
+fn liu_unit(k: &str) -> &'static str {
+    match k {
+        "module" | "e0" | "er" | "half_backlash" => "m",
+        "pressure_angle" | "phase_stiffness" | "phase_error" => "rad",
+        "load_torque" => "N·m",
+        "inertia" => "kg·m²",
+        "k0" | "kr" => "N/m",
+        "omega1" => "rad/s",
+        _ => "1",
+    }
+}
+
+const LIU_OUT: &[(&str, &str)] = &[
+    ("rsv", "1"),
+    ("ppv", "1"),
+    ("q_min", "1"),
+    ("q_max", "1"),
+    ("converged", "1"),
+];
+
+/// Fewest samples of the recorded window (ppv, q_min, q_max are read from them).
+const LIU_MIN_SAMPLES: f64 = 64.0;
+/// Most samples of the recorded window.
+const LIU_MAX_SAMPLES: f64 = 1e7;
+
+const LIU_TS: &[SettingDef] = &[
+    SettingDef {
+        name: "transient_periods",
+        kind: Kind::Num {
+            lo: 0.0,
+            hi: 1e4,
+            default: 2.0,
+        },
+        doc: "periods T = 2π/ω̄_c integrated and discarded",
+    },
+    SettingDef {
+        name: "record_periods",
+        kind: Kind::Num {
+            lo: 1e-3,
+            hi: 1e3,
+            default: 1.0,
+        },
+        doc: "periods recorded (the steady response)",
+    },
+    SettingDef {
+        name: "sample_step",
+        kind: Kind::Num {
+            lo: 1e-6,
+            hi: 1e3,
+            default: 0.1,
+        },
+        doc: "output sampling interval Δτ; the recorded window must hold 64 … 1e7 samples",
+    },
+    SettingDef {
+        name: "max_step",
+        kind: Kind::Num {
+            lo: 1e-6,
+            hi: 1e3,
+            default: 0.5,
+        },
+        doc: "largest integrator step Δτ",
+    },
+    SettingDef {
+        name: "rtol",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-2,
+            default: 1e-8,
+        },
+        doc: "relative tolerance of Dormand–Prince 5(4)",
+    },
+];
+
+const LIU_HBM: &[SettingDef] = &[
+    SettingDef {
+        name: "tol",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-2,
+            default: 1e-9,
+        },
+        doc: "Newton residual tolerance",
+    },
+    SettingDef {
+        name: "max_iter",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 10_000,
+            default: Some(60),
+        },
+        doc: "Newton iterations",
+    },
+    SettingDef {
+        name: "samples",
+        kind: Kind::Int {
+            lo: 8,
+            hi: 65_536,
+            default: None,
+        },
+        doc: "AFT samples per period (absent: smallest power of two ≥ 8 × harmonics)",
+    },
+    SettingDef {
+        name: "full_r",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 8,
+            default: None,
+        },
+        doc: "full basis with K = R·Z2 + 2 harmonics (absent: the paper's 15-unknown basis)",
+    },
+];
+
+fn liu_describe() -> ModelInfo {
+    let p = liu2021::table1();
+    let mut choices = vec![ChoiceInfo {
+        name: "readings".into(),
+        options: vec!["consistent".into(), "printed".into()],
+        default: "consistent".into(),
+        note: "every reading at once: the consistent equations, or every equation as printed"
+            .into(),
+    }];
+    choices.push(choice_info(
+        "rigid_acceleration",
+        p.readings.rigid_acceleration,
+        "d²θ₂/dτ², Eq. (20)",
+    ));
+    choices.push(choice_info(
+        "rigid_series",
+        p.readings.rigid_series,
+        "Fourier truncation, Eq. (22)",
+    ));
+    choices.push(choice_info(
+        "error_term",
+        p.readings.error_term,
+        "d²ē/dτ², Eq. (21)",
+    ));
+    choices.push(choice_info(
+        "base_radius",
+        p.readings.base_radius,
+        "base radius in b̄ and ē, Eq. (11)–(12)",
+    ));
+    ModelInfo {
+        parameters: params_of(&p, liu_unit),
+        choices,
+        methods: vec![
+            MethodInfo {
+                method: Method::TimeStepping,
+                settings: LIU_TS.to_vec(),
+                outputs: outs(&LIU_OUT[..4]),
+                initial: Some("[q, q'] at τ = 0 (default: the quasi-static contact at rest)"),
+            },
+            MethodInfo {
+                method: Method::Hbm,
+                settings: LIU_HBM.to_vec(),
+                outputs: outs(LIU_OUT),
+                initial: None,
+            },
+        ],
+    }
+}
+
+fn liu_model(p: &Point) -> Result<liu2021::Model, Error> {
+    let mut fields = p.clone();
+    reject_legacy(
+        &fields,
+        &[(
+            "readings_printed",
+            "readings = \"consistent\" or readings = \"printed\"",
+        )],
+    )?;
+    let preset = take_choice(
+        &mut fields,
+        "readings",
+        Some("readings = \"consistent\" or readings = \"printed\""),
+    )?;
+    let mut base = liu2021::table1();
+    match preset {
+        None => {}
+        Some(Value::Text(s)) if s == "consistent" => base.readings = liu2021::Readings::default(),
+        Some(Value::Text(s)) if s == "printed" => base.readings = liu2021::Readings::printed(),
+        Some(v) => {
+            return Err(Error::StudyFile(format!(
+                "`readings` = {} is not an option; options: \"consistent\", \"printed\"",
+                v.label()
+            )));
+        }
+    }
+    let params = apply_values(&base, &fields)?;
     params.model().context("liu2021 parameters")
 }
 
-/// Yu 2021: overrides are fields of `models::yu2021::Yu2021Params` (SI) on top of its
-/// `table1()` (DF rig) or, with `table = 2`, `table2()` (RMS rig); `omega` is the dimensionless
-/// mesh frequency ω* (required); `variant` selects the model: 0 Yu 6-DOF consistent (default),
-/// 1 Kahraman–Singh, 2 Chen fractal, 3 Yu as printed. Time stepping settings: `transient_periods`,
-/// `record_periods`, `steps_per_period`, `rms_harmonics` (default 5); HBM settings: fields of
-/// `HbmSettings` (`harmonics`, `samples`, `tolerance`, `max_iterations`), torsional models only.
-pub(super) fn yu2021(solver: &Solver) -> Result<Adapter, Error> {
-    use models::yu2021::{HbmSettings, RunSettings};
-    match solver.method {
+fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
+    let limits = ctx.limits;
+    match ctx.solver.method {
         Method::TimeStepping => {
-            let (extra, rest) = take(
-                &solver.settings,
-                &["rms_harmonics", "engine", "rtol", "atol"],
-            );
-            let n_rms = extra.get("rms_harmonics").copied().unwrap_or(5.0);
-            if n_rms.fract() != 0.0 || n_rms < 1.0 {
-                return Err(Error::StudyFile(format!(
-                    "rms_harmonics must be a positive integer, got {n_rms}"
-                )));
-            }
-            let engine = yu_engine(&extra)?;
-            let base = apply_overrides(&RunSettings::new(1.0), &rest)?;
-            Ok((
-                vec![
-                    ("df", "1"),
-                    ("rms", "1"),
-                    ("mean_dte", "1"),
-                    ("dte_peak_to_peak", "1"),
-                    ("mean_backlash", "1"),
-                ],
-                Box::new(move |p: &BTreeMap<String, f64>| {
-                    let (model, omega) = yu_model(p)?;
-                    let settings = RunSettings { omega, ..base };
-                    let r = model
-                        .simulate_with(&settings, &engine, None)
-                        .context("yu2021 time integration")?;
-                    Ok(vec![
-                        r.dynamic_factor(),
-                        r.rms(n_rms as usize),
-                        r.mean_dte(),
-                        r.dte_peak_to_peak(),
-                        r.mean_backlash(),
-                    ])
+            let s = Settings::read(
+                "liu2021",
+                Method::TimeStepping,
+                LIU_TS,
+                &ctx.solver.settings,
+                &[],
+            )?;
+            let initial = match ctx.initial {
+                None => None,
+                Some([q, v]) => Some((*q, *v)),
+                Some(v) => {
+                    return Err(Error::StudyFile(format!(
+                        "liu2021: `initial` must be [q, q'], got {} numbers",
+                        v.len()
+                    )));
+                }
+            };
+            let opts = liu2021::IntegrationOptions {
+                transient_periods: s.f("transient_periods"),
+                record_periods: s.f("record_periods"),
+                sample_step: s.f("sample_step"),
+                max_step: s.f("max_step"),
+                rtol: s.f("rtol"),
+                initial,
+            };
+            Ok(Adapter {
+                outputs: outs(&LIU_OUT[..4]),
+                prepare: Box::new(move |p: &Point| {
+                    let model = liu_model(p)?;
+                    let period = model.period();
+                    let samples = opts.record_periods * period / opts.sample_step;
+                    if !(LIU_MIN_SAMPLES..=LIU_MAX_SAMPLES).contains(&samples) {
+                        return Err(Error::StudyFile(format!(
+                            "liu2021: the recorded window holds {samples:.3e} samples \
+                             (record_periods·T/sample_step, T = {period:.4}); it must hold \
+                             {LIU_MIN_SAMPLES} … {LIU_MAX_SAMPLES:e}: change sample_step or \
+                             record_periods"
+                        )));
+                    }
+                    let steps =
+                        (opts.transient_periods + opts.record_periods) * period / opts.max_step;
+                    need_steps("liu2021", steps, &limits)?;
+                    Ok(Box::new(move || {
+                        let r = liu2021::integrate(&model, &opts)
+                            .context("liu2021 time integration")?;
+                        Ok(vec![
+                            f64::from(r.rattle.state.rsv()),
+                            r.rattle.ppv,
+                            r.rattle.q_min,
+                            r.rattle.q_max,
+                        ])
+                    }) as Job)
                 }),
-            ))
+            })
         }
         Method::Hbm => {
-            let settings = apply_overrides(&HbmSettings::default(), &solver.settings)?;
-            Ok((
-                vec![
-                    ("mean_dte", "1"),
-                    ("first_harmonic_amplitude", "1"),
-                    ("converged", "1"),
-                    ("residual_norm", "1"),
-                ],
-                Box::new(move |p: &BTreeMap<String, f64>| {
-                    let (model, omega) = yu_model(p)?;
-                    let s = model
-                        .harmonic_balance(omega, &settings, None)
-                        .context("yu2021 harmonic balance")?;
-                    let c = &s.coefficients;
-                    let a1 = if c.len() >= 3 {
-                        c[1].hypot(c[2])
-                    } else {
-                        f64::NAN
+            no_initial("liu2021", ctx)?;
+            let s = Settings::read("liu2021", Method::Hbm, LIU_HBM, &ctx.solver.settings, &[])?;
+            let (tol, max_iter) = (s.f("tol"), s.u("max_iter").unwrap_or(60));
+            let (full_r, samples) = (s.u("full_r"), s.u("samples"));
+            Ok(Adapter {
+                outputs: outs(LIU_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let model = liu_model(p)?;
+                    let mut opts = match full_r {
+                        Some(r) => liu2021::HbmOptions::full(&model, r as usize),
+                        None => liu2021::HbmOptions::default(),
                     };
-                    Ok(vec![
-                        c.first().copied().unwrap_or(f64::NAN),
-                        a1,
-                        if s.converged { 1.0 } else { 0.0 },
-                        s.residual_norm,
-                    ])
+                    opts.tol = tol;
+                    opts.max_iter = max_iter;
+                    opts.samples = samples.map(|m| m as usize);
+                    Ok(Box::new(move || {
+                        let r = liu2021::solve_hbm(&model, &opts, None)
+                            .context("liu2021 harmonic balance")?;
+                        Ok(vec![
+                            f64::from(r.rattle.state.rsv()),
+                            r.rattle.ppv,
+                            r.rattle.q_min,
+                            r.rattle.q_max,
+                            if r.converged() { 1.0 } else { 0.0 },
+                        ])
+                    }) as Job)
                 }),
-            ))
+            })
         }
-        Method::Kinematics => Err(Error::StudyFile(
-            "yu2021 needs solver.method = \"time-stepping\" or \"hbm\"".to_owned(),
+        m => Err(wrong_method(
+            "liu2021",
+            m,
+            &[Method::TimeStepping, Method::Hbm],
         )),
     }
 }
 
-/// `engine` 0 (default): the model's fixed-step RK4; 1: the `timestep` crate (Dormand–Prince
-/// 5(4) with the contact switches located as events), tolerances `rtol` (default 1e-8) and
-/// `atol` (default 1e-10).
-fn yu_engine(extra: &BTreeMap<String, f64>) -> Result<models::yu2021::Engine, Error> {
-    use models::yu2021::Engine;
-    let rtol = extra.get("rtol").copied().unwrap_or(1e-8);
-    let atol = extra.get("atol").copied().unwrap_or(1e-10);
-    for (name, v) in [("rtol", rtol), ("atol", atol)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Error::StudyFile(format!(
-                "{name} must be finite and > 0, got {v}"
-            )));
-        }
-    }
-    match extra.get("engine").copied().unwrap_or(0.0) {
-        e if e.abs() < f64::EPSILON => Ok(Engine::Rk4Fixed),
-        e if (e - 1.0).abs() < f64::EPSILON => Ok(Engine::Timestep {
-            method: timestep::Method::DormandPrince54,
-            rtol,
-            atol,
-            events: true,
-        }),
-        e => Err(Error::StudyFile(format!(
-            "engine must be 0 (fixed-step RK4) or 1 (timestep Dormand-Prince with events), got {e}"
-        ))),
+// ---------------------------------------------------------------------------------------------
+// yu2021
+
+fn yu_unit(k: &str) -> &'static str {
+    match k {
+        "inertia_p" | "inertia_g" => "kg·m²",
+        "mass_p" | "mass_g" => "kg",
+        "radius_p" | "radius_g" | "ste_amplitude" | "nominal_length" | "chen_amplitude" => "m",
+        "pressure_angle" | "phase" => "rad",
+        "torque" => "N·m",
+        "mesh_stiffness" | "bearing_stiffness" => "N/m",
+        _ => "1",
     }
 }
 
-fn yu_model(p: &BTreeMap<String, f64>) -> Result<(models::yu2021::Yu2021Model, f64), Error> {
-    use models::yu2021::{Options, Yu2021Model, Yu2021Params};
+const YU_VARIANTS: &[&str] = &["yu", "kahraman-singh", "chen", "yu-as-printed"];
+
+const YU_TS: &[SettingDef] = &[
+    SettingDef {
+        name: "engine",
+        kind: Kind::Name {
+            options: &["rk4", "timestep"],
+            default: "rk4",
+        },
+        doc: "rk4: the model's fixed-step RK4; timestep: Dormand–Prince 5(4) with the contact \
+              switches located as events",
+    },
+    SettingDef {
+        name: "transient_periods",
+        kind: Kind::Int {
+            lo: 0,
+            hi: 100_000,
+            default: Some(200),
+        },
+        doc: "mesh periods discarded",
+    },
+    SettingDef {
+        name: "record_periods",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 10_000,
+            default: Some(20),
+        },
+        doc: "mesh periods recorded",
+    },
+    SettingDef {
+        name: "steps_per_period",
+        kind: Kind::Int {
+            lo: 8,
+            hi: 100_000,
+            default: Some(256),
+        },
+        doc: "RK4 steps (samples) per mesh period, raised so that Δτ ≤ 0.2/ω_max",
+    },
+    SettingDef {
+        name: "rms_harmonics",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 100,
+            default: Some(5),
+        },
+        doc: "n of Eq. (21)",
+    },
+    SettingDef {
+        name: "rtol",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-2,
+            default: 1e-8,
+        },
+        doc: "engine = \"timestep\": relative tolerance",
+    },
+    SettingDef {
+        name: "atol",
+        kind: Kind::Num {
+            lo: 1e-16,
+            hi: 1e-2,
+            default: 1e-10,
+        },
+        doc: "engine = \"timestep\": absolute tolerance",
+    },
+];
+
+const YU_HBM: &[SettingDef] = &[
+    SettingDef {
+        name: "harmonics",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 64,
+            default: None,
+        },
+        doc: "harmonics H of ω* (default of HbmSettings)",
+    },
+    SettingDef {
+        name: "samples",
+        kind: Kind::Int {
+            lo: 6,
+            hi: 65_536,
+            default: None,
+        },
+        doc: "AFT samples per period (≥ 4H + 2)",
+    },
+    SettingDef {
+        name: "tolerance",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-2,
+            default: 1e-10,
+        },
+        doc: "residual-norm tolerance",
+    },
+    SettingDef {
+        name: "max_iterations",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 10_000,
+            default: None,
+        },
+        doc: "Newton iterations (default of HbmSettings)",
+    },
+];
+
+const YU_TS_OUT: &[(&str, &str)] = &[
+    ("df", "1"),
+    ("rms", "1"),
+    ("mean_dte", "1"),
+    ("dte_peak_to_peak", "1"),
+    ("mean_backlash", "1"),
+];
+const YU_HBM_OUT: &[(&str, &str)] = &[
+    ("mean_dte", "1"),
+    ("first_harmonic_amplitude", "1"),
+    ("converged", "1"),
+    ("residual_norm", "1"),
+];
+
+fn yu_describe() -> ModelInfo {
+    let mut parameters = vec![ParamInfo {
+        name: "omega".into(),
+        unit: "1".into(),
+        default: "(required) ω* = ω_h/ω_n".into(),
+    }];
+    parameters.extend(params_of(&yu2021::Yu2021Params::table1(), yu_unit));
+    let o = yu2021::Options::default();
+    ModelInfo {
+        parameters,
+        choices: vec![
+            ChoiceInfo {
+                name: "variant".into(),
+                options: YU_VARIANTS.iter().map(|s| (*s).to_owned()).collect(),
+                default: "yu".into(),
+                note: "model preset: Yu 6-DOF consistent, Kahraman–Singh, Chen fractal, Yu as \
+                       printed (the choices below refine it)"
+                    .into(),
+            },
+            ChoiceInfo {
+                name: "table".into(),
+                options: vec!["df-rig".into(), "rms-rig".into()],
+                default: "df-rig".into(),
+                note: "base parameter set: Table 1 (DF rig) or Table 2 (RMS rig)".into(),
+            },
+            choice_info("kind", o.kind, "which model"),
+            choice_info("form", o.form, "Eq. (19) consistent or as printed"),
+            choice_info("update", o.update, "backlash update (Fig. 8)"),
+            choice_info("pressure_angle_law", o.pressure_angle, "pressure-angle law"),
+            choice_info(
+                "dynamic_backlash",
+                o.dynamic_backlash,
+                "dynamic-backlash law",
+            ),
+            choice_info(
+                "centre_distance",
+                o.centre_distance,
+                "sign convention of Eq. (8)",
+            ),
+            ChoiceInfo {
+                name: "lock_centres".into(),
+                options: vec!["true".into(), "false".into()],
+                default: "false".into(),
+                note: "infinitely stiff bearings (flag)".into(),
+            },
+        ],
+        methods: vec![
+            MethodInfo {
+                method: Method::TimeStepping,
+                settings: YU_TS.to_vec(),
+                outputs: outs(YU_TS_OUT),
+                initial: Some("the state vector of the model (yu2021::STATE_LEN numbers)"),
+            },
+            MethodInfo {
+                method: Method::Hbm,
+                settings: YU_HBM.to_vec(),
+                outputs: outs(YU_HBM_OUT),
+                initial: None,
+            },
+        ],
+    }
+}
+
+/// Split a Yu point into ω*, the model options and the parameters.
+fn yu_model(p: &Point) -> Result<(yu2021::Yu2021Model, f64), Error> {
+    use yu2021::{Options, Yu2021Model, Yu2021Params};
     let mut fields = p.clone();
-    let omega = fields.remove("omega").ok_or_else(|| {
-        Error::StudyFile("yu2021 needs `omega` (ω*) in [overrides] or a sweep".to_owned())
-    })?;
-    let base = match fields.remove("table") {
-        None => Yu2021Params::table1(),
-        Some(t) if (t - 1.0).abs() < f64::EPSILON => Yu2021Params::table1(),
-        Some(t) if (t - 2.0).abs() < f64::EPSILON => Yu2021Params::table2(),
-        Some(t) => return Err(Error::StudyFile(format!("table must be 1 or 2, got {t}"))),
-    };
-    let options = match fields.remove("variant").map(|v| v.to_bits()) {
-        None => Options::default(),
-        Some(b) if b == 0f64.to_bits() => Options::default(),
-        Some(b) if b == 1f64.to_bits() => Options::kahraman_singh(),
-        Some(b) if b == 2f64.to_bits() => Options::chen(),
-        Some(b) if b == 3f64.to_bits() => Options::yu_as_printed(),
-        Some(b) => {
+    let omega = match fields.remove("omega") {
+        Some(Value::Num(w)) => w,
+        Some(v) => {
             return Err(Error::StudyFile(format!(
-                "variant must be 0 (Yu), 1 (Kahraman–Singh), 2 (Chen) or 3 (Yu as printed), got {}",
-                f64::from_bits(b)
+                "`omega` takes a number, got {}",
+                v.label()
+            )));
+        }
+        None => {
+            return Err(Error::StudyFile(
+                "yu2021 needs `omega` (ω*) in [overrides] or a sweep".to_owned(),
+            ));
+        }
+    };
+    let base = match take_choice(
+        &mut fields,
+        "table",
+        Some("table = \"df-rig\" or table = \"rms-rig\""),
+    )? {
+        None => Yu2021Params::table1(),
+        Some(Value::Text(s)) if s == "df-rig" => Yu2021Params::table1(),
+        Some(Value::Text(s)) if s == "rms-rig" => Yu2021Params::table2(),
+        Some(v) => {
+            return Err(Error::StudyFile(format!(
+                "`table` = {} is not an option; options: \"df-rig\", \"rms-rig\"",
+                v.label()
             )));
         }
     };
-    let params = apply_overrides(&base, &fields)?;
+    let legacy = "variant = \"yu\", \"kahraman-singh\", \"chen\" or \"yu-as-printed\"";
+    let mut options = match take_choice(&mut fields, "variant", Some(legacy))? {
+        None => Options::default(),
+        Some(Value::Text(s)) => match s.as_str() {
+            "yu" => Options::default(),
+            "kahraman-singh" => Options::kahraman_singh(),
+            "chen" => Options::chen(),
+            "yu-as-printed" => Options::yu_as_printed(),
+            other => {
+                return Err(Error::StudyFile(format!(
+                    "`variant` = \"{other}\" is not an option; write {legacy}"
+                )));
+            }
+        },
+        Some(v) => {
+            return Err(Error::StudyFile(format!(
+                "`variant` = {}: write {legacy}",
+                v.label()
+            )));
+        }
+    };
+    // Individual choices on top of the preset.
+    let mut opt_fields = BTreeMap::new();
+    for (name, field) in [
+        ("kind", "kind"),
+        ("form", "form"),
+        ("update", "update"),
+        ("pressure_angle_law", "pressure_angle"),
+        ("dynamic_backlash", "dynamic_backlash"),
+        ("centre_distance", "centre_distance"),
+        ("lock_centres", "lock_centres"),
+    ] {
+        if let Some(v) = fields.remove(name) {
+            opt_fields.insert(field.to_owned(), v);
+        }
+    }
+    if !opt_fields.is_empty() {
+        options = apply_values(&options, &opt_fields)?;
+    }
+    let params = apply_values(&base, &fields)?;
     let model = Yu2021Model::new(&params, options).context("yu2021 parameters")?;
     Ok((model, omega))
 }
 
-/// Karpov 2017 oscillator: overrides are fields of `models::karpov2017::Karpov2017Params`
-/// (`omega`, `b`, `xi`, `k`, `tau_end`; default: the Fig. 3 point) plus `printed_phase`
-/// (0: accumulated phase, default; 1: `sin(ωe·τ)` as printed). Method `time-stepping`;
-/// settings: `duhamel` (1: the model's Duhamel-integral fast path, default; 0: the timestep
-/// crate's Dormand–Prince 5(4)), `rtol` (for `duhamel = 0`, default 1e-9).
-pub(super) fn karpov2017(solver: &Solver) -> Result<Adapter, Error> {
-    use models::karpov2017::{Excitation, Karpov2017};
-    if solver.method != Method::TimeStepping {
-        return Err(Error::StudyFile(
-            "karpov2017 needs solver.method = \"time-stepping\"".to_owned(),
-        ));
-    }
-    let (extra, rest) = take(&solver.settings, &["duhamel", "rtol"]);
-    if let Some(k) = rest.keys().next() {
-        return Err(Error::StudyFile(format!(
-            "unknown karpov2017 setting `{k}` (known: duhamel, rtol)"
-        )));
-    }
-    let duhamel = extra.get("duhamel").copied().unwrap_or(1.0) != 0.0;
-    let rtol = extra.get("rtol").copied().unwrap_or(1e-9);
-    Ok((
-        vec![("A", "1"), ("envelope", "1"), ("x_final", "1")],
-        Box::new(move |p: &BTreeMap<String, f64>| {
-            let mut fields = p.clone();
-            let printed = fields.remove("printed_phase").unwrap_or(0.0) != 0.0;
-            let mut params = apply_overrides(&Karpov2017::fig3().params(), &fields)?;
-            params.excitation = if printed {
-                Excitation::PrintedPhase
-            } else {
-                Excitation::AccumulatedPhase
+fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
+    use yu2021::{Engine, HbmSettings, RunSettings};
+    let limits = ctx.limits;
+    match ctx.solver.method {
+        Method::TimeStepping => {
+            let s = Settings::read(
+                "yu2021",
+                Method::TimeStepping,
+                YU_TS,
+                &ctx.solver.settings,
+                &[],
+            )?;
+            let engine = match s.name("engine") {
+                "timestep" => Engine::Timestep {
+                    method: timestep::Method::DormandPrince54,
+                    rtol: s.f("rtol"),
+                    atol: s.f("atol"),
+                    events: true,
+                },
+                _ => Engine::Rk4Fixed,
             };
-            let m = Karpov2017::new(params).context("karpov2017 parameters")?;
-            if duhamel {
-                let r = m.duhamel().context("karpov2017 Duhamel quadrature")?;
-                Ok(vec![r.amplitude, r.envelope, r.x])
-            } else {
-                let opts = timestep::Options::default()
-                    .with_tol(rtol, rtol)
-                    .with_max_steps(500_000_000)
-                    .with_output(timestep::Output::Final);
-                let ode = m.time_stepping().context("karpov2017 system")?;
-                let sol = timestep::integrate(&ode, 0.0, &[0.0, 0.0], params.tau_end, &opts)
-                    .context("karpov2017 time integration")?;
-                if !sol.status.is_success() {
-                    return Err(Error::Study(format!(
-                        "time integration ended with {:?}",
-                        sol.status
-                    )));
-                }
-                let (x, v) = (sol.y_final[0], sol.y_final[1]);
-                Ok(vec![f64::NAN, x.hypot(v), x])
+            let initial = match ctx.initial {
+                None => None,
+                Some(v) => Some(<[f64; yu2021::STATE_LEN]>::try_from(v).map_err(|_| {
+                    Error::StudyFile(format!(
+                        "yu2021: `initial` must have {} numbers (the model state), got {}",
+                        yu2021::STATE_LEN,
+                        v.len()
+                    ))
+                })?),
+            };
+            let n_rms = s.u("rms_harmonics").unwrap_or(5) as usize;
+            let base = RunSettings {
+                omega: 1.0,
+                transient_periods: s.u("transient_periods").unwrap_or(200) as usize,
+                record_periods: s.u("record_periods").unwrap_or(20) as usize,
+                steps_per_period: s.u("steps_per_period").unwrap_or(256) as usize,
+            };
+            Ok(Adapter {
+                outputs: outs(YU_TS_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let (model, omega) = yu_model(p)?;
+                    let settings = RunSettings { omega, ..base };
+                    let steps = model.run_steps(&settings).context("yu2021 run size")?;
+                    need_steps("yu2021", steps as f64, &limits)?;
+                    Ok(Box::new(move || {
+                        let r = model
+                            .simulate_with(&settings, &engine, initial)
+                            .context("yu2021 time integration")?;
+                        Ok(vec![
+                            r.dynamic_factor(),
+                            r.rms(n_rms),
+                            r.mean_dte(),
+                            r.dte_peak_to_peak(),
+                            r.mean_backlash(),
+                        ])
+                    }) as Job)
+                }),
+            })
+        }
+        Method::Hbm => {
+            no_initial("yu2021", ctx)?;
+            let s = Settings::read("yu2021", Method::Hbm, YU_HBM, &ctx.solver.settings, &[])?;
+            let mut settings = HbmSettings::default();
+            if let Some(h) = s.u("harmonics") {
+                settings.harmonics = h as usize;
             }
-        }),
-    ))
+            if let Some(m) = s.u("samples") {
+                settings.samples = m as usize;
+            }
+            if let Some(m) = s.u("max_iterations") {
+                settings.max_iterations = m as usize;
+            }
+            settings.tolerance = s.f("tolerance");
+            if settings.samples < 4 * settings.harmonics + 2 {
+                return Err(Error::StudyFile(format!(
+                    "yu2021 hbm: samples = {} must be >= 4·harmonics + 2 = {}",
+                    settings.samples,
+                    4 * settings.harmonics + 2
+                )));
+            }
+            Ok(Adapter {
+                outputs: outs(YU_HBM_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let (model, omega) = yu_model(p)?;
+                    if !(omega.is_finite() && omega > 0.0) {
+                        return Err(Error::Study(format!(
+                            "yu2021.omega must be finite and > 0, got {omega}"
+                        )));
+                    }
+                    Ok(Box::new(move || {
+                        let s = model
+                            .harmonic_balance(omega, &settings, None)
+                            .context("yu2021 harmonic balance")?;
+                        let c = &s.coefficients;
+                        let a1 = if c.len() >= 3 {
+                            c[1].hypot(c[2])
+                        } else {
+                            f64::NAN
+                        };
+                        Ok(vec![
+                            c.first().copied().unwrap_or(f64::NAN),
+                            a1,
+                            if s.converged { 1.0 } else { 0.0 },
+                            s.residual_norm,
+                        ])
+                    }) as Job)
+                }),
+            })
+        }
+        m => Err(wrong_method(
+            "yu2021",
+            m,
+            &[Method::TimeStepping, Method::Hbm],
+        )),
+    }
+}
+
+/// Describe every registered model as JSON (for `geardyn models --json`).
+pub fn describe_all() -> serde_json::Value {
+    let v: Vec<serde_json::Value> = REGISTRY
+        .iter()
+        .map(|m| {
+            serde_json::json!({
+                "name": m.name,
+                "description": m.description,
+                "info": (m.describe)(),
+            })
+        })
+        .collect();
+    serde_json::Value::Array(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn default_of(defs: &[SettingDef], name: &str) -> f64 {
+        match defs.iter().find(|d| d.name == name).map(|d| d.kind) {
+            Some(Kind::Num { default, .. }) => default,
+            Some(Kind::Int {
+                default: Some(d), ..
+            }) => d as f64,
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+
+    /// The documented defaults are the library's defaults (the same literals: exact).
+    #[test]
+    #[allow(clippy::float_cmp)]
+    fn setting_defaults_match_the_library() {
+        let o = liu2021::IntegrationOptions::default();
+        assert_eq!(default_of(LIU_TS, "transient_periods"), o.transient_periods);
+        assert_eq!(default_of(LIU_TS, "record_periods"), o.record_periods);
+        assert_eq!(default_of(LIU_TS, "sample_step"), o.sample_step);
+        assert_eq!(default_of(LIU_TS, "max_step"), o.max_step);
+        assert_eq!(default_of(LIU_TS, "rtol"), o.rtol);
+        let h = liu2021::HbmOptions::default();
+        assert_eq!(default_of(LIU_HBM, "tol"), h.tol);
+        assert_eq!(default_of(LIU_HBM, "max_iter"), h.max_iter as f64);
+        let r = yu2021::RunSettings::new(1.0);
+        assert_eq!(
+            default_of(YU_TS, "transient_periods"),
+            r.transient_periods as f64
+        );
+        assert_eq!(default_of(YU_TS, "record_periods"), r.record_periods as f64);
+        assert_eq!(
+            default_of(YU_TS, "steps_per_period"),
+            r.steps_per_period as f64
+        );
+        assert_eq!(
+            default_of(YU_HBM, "tolerance"),
+            yu2021::HbmSettings::default().tolerance
+        );
+    }
+
+    #[test]
+    fn every_model_describes_itself() {
+        for m in &REGISTRY {
+            let info = (m.describe)();
+            assert!(!info.parameters.is_empty(), "{}", m.name);
+            assert!(!info.methods.is_empty(), "{}", m.name);
+            for c in &info.choices {
+                assert!(c.options.contains(&c.default), "{}: {c:?}", m.name);
+            }
+        }
+    }
 }

@@ -1,15 +1,16 @@
-//! `cargo xtask validate [--check]`.
+//! The validation run behind `cargo xtask validate [--check]` and `geardyn validate [--check]`:
+//! run every study, render the files under `validation/`, then write them (pruning stale
+//! generated files) or compare them byte for byte with the committed ones.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressStyle};
-use validate::{ReadingsIndex, Verdict};
+use crate::{Error, ReadingsIndex, Study, Verdict};
 
 /// Directories under `validation/` that are entirely generated (stale files there are removed).
 fn generated_dirs() -> Vec<String> {
-    let mut v: Vec<String> = validate::Paper::ALL
+    let mut v: Vec<String> = crate::Paper::ALL
         .iter()
         .map(|p| p.dir().to_owned())
         .collect();
@@ -20,32 +21,60 @@ fn generated_dirs() -> Vec<String> {
 const HINT: &str = "run `cargo xtask validate` locally and review/commit the diff \
                     (git diff validation/)";
 
-pub fn run(root: &Path, check: bool, filter: Option<&str>) -> Result<(), String> {
+/// What a validation run did.
+#[derive(Debug, Clone, Default)]
+pub struct ValidationSummary {
+    /// Studies run.
+    pub studies: usize,
+    /// Comparison/claim verdicts: pass, deviation, inconclusive.
+    pub tally: (usize, usize, usize),
+    /// Wall time of the studies (s).
+    pub seconds: f64,
+    /// Warnings (failed studies, undocumented readings, deviations without a reading).
+    pub warnings: Vec<String>,
+    /// What was written or checked, one line.
+    pub message: String,
+}
+
+/// Run every validation study (or those whose id contains `filter`) under the repository
+/// `root`, then write `validation/` (`check = false`) or compare with it (`check = true`:
+/// an error lists every differing file). `progress(study, done, total)` is called after each
+/// study.
+pub fn run_validation(
+    root: &Path,
+    check: bool,
+    filter: Option<&str>,
+    progress: &(dyn Fn(&Study, usize, usize) + Sync),
+) -> Result<ValidationSummary, Error> {
     if check && filter.is_some() {
-        return Err("--filter cannot be combined with --check".to_owned());
+        return Err(Error::Study(
+            "--filter cannot be combined with --check".to_owned(),
+        ));
+    }
+    let vdir = root.join("validation");
+    if !vdir.is_dir() {
+        return Err(Error::Study(format!(
+            "{} is not a directory: run from the geardyn repository root (or pass --root)",
+            vdir.display()
+        )));
     }
     let t0 = Instant::now();
-    let mut studies = validate::all_studies();
+    let mut studies = crate::all_studies();
     if let Some(f) = filter {
         studies.retain(|s| s.id.contains(f));
     }
-    let pb = ProgressBar::new(studies.len() as u64);
-    pb.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} {msg}")
-            .map_err(|e| e.to_string())?
-            .progress_chars("=> "),
-    );
-    let results = validate::run_studies(&studies, |s| {
-        pb.set_message(s.id);
-        pb.inc(1);
+    let total = studies.len();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let results = crate::run_studies(&studies, |s| {
+        let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        progress(s, d, total);
     });
-    pb.finish_and_clear();
     let elapsed = t0.elapsed();
 
-    let idx = ReadingsIndex::scan(root).map_err(|e| e.to_string())?;
-    let files = validate::render_all(&results, &idx);
+    let idx = ReadingsIndex::scan(root)?;
+    let files = crate::render_all(&results, &idx);
 
-    // Console summary.
+    let mut warnings = Vec::new();
     let (mut p, mut d, mut i) = (0, 0, 0);
     for r in &results {
         match &r.output {
@@ -62,10 +91,10 @@ pub fn run(root: &Path, check: bool, filter: Option<&str>) -> Result<(), String>
                     .filter(|id| !idx.contains(id))
                     .collect();
                 for id in undocumented {
-                    eprintln!(
+                    warnings.push(format!(
                         "warning: {}: reading {id} not found in docs/readings",
                         r.study.id
-                    );
+                    ));
                 }
                 let dev = o
                     .comparisons
@@ -73,40 +102,45 @@ pub fn run(root: &Path, check: bool, filter: Option<&str>) -> Result<(), String>
                     .filter(|c| c.verdict() == Verdict::Deviation && c.readings.is_empty())
                     .count();
                 if dev > 0 {
-                    eprintln!("note: {}: {dev} deviation(s) without a reading", r.study.id);
+                    warnings.push(format!(
+                        "note: {}: {dev} deviation(s) without a reading",
+                        r.study.id
+                    ));
                 }
             }
-            Err(e) => eprintln!("warning: study {} failed: {e}", r.study.id),
+            Err(e) => warnings.push(format!("warning: study {} failed: {e}", r.study.id)),
         }
     }
-    println!(
-        "{} studies in {:.1} s: {p} pass, {d} deviation, {i} inconclusive",
-        results.len(),
-        elapsed.as_secs_f64()
-    );
-
-    let vdir = root.join("validation");
-    if check {
-        check_files(&vdir, &files)
+    let mut summary = ValidationSummary {
+        studies: results.len(),
+        tally: (p, d, i),
+        seconds: elapsed.as_secs_f64(),
+        warnings,
+        message: String::new(),
+    };
+    summary.message = if check {
+        check_files(&vdir, &files)?
     } else {
-        write_files(&vdir, &files, filter.is_none())
-    }
+        write_files(&vdir, &files, filter.is_none())?
+    };
+    Ok(summary)
 }
 
 /// Committed generated files: relative path → contents.
-fn committed(vdir: &Path) -> Result<BTreeMap<String, Vec<u8>>, String> {
+fn committed(vdir: &Path) -> Result<BTreeMap<String, Vec<u8>>, Error> {
     let mut m = BTreeMap::new();
     for d in generated_dirs() {
         let dir = vdir.join(&d);
         if !dir.is_dir() {
             continue;
         }
-        let rd = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let rd = std::fs::read_dir(&dir).map_err(io(&dir))?;
         for e in rd {
-            let e = e.map_err(|e| e.to_string())?;
+            let e = e.map_err(io(&dir))?;
             if e.path().is_file() {
                 let name = format!("{d}/{}", e.file_name().to_string_lossy());
-                let bytes = std::fs::read(e.path()).map_err(|e| e.to_string())?;
+                let path = e.path();
+                let bytes = std::fs::read(&path).map_err(io(&path))?;
                 m.insert(name, bytes);
             }
         }
@@ -115,13 +149,13 @@ fn committed(vdir: &Path) -> Result<BTreeMap<String, Vec<u8>>, String> {
     if report.is_file() {
         m.insert(
             "REPORT.md".to_owned(),
-            std::fs::read(&report).map_err(|e| e.to_string())?,
+            std::fs::read(&report).map_err(io(&report))?,
         );
     }
     Ok(m)
 }
 
-fn check_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>) -> Result<(), String> {
+fn check_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>) -> Result<String, Error> {
     let old = committed(vdir)?;
     let mut problems = Vec::new();
     for (k, v) in files {
@@ -139,19 +173,16 @@ fn check_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>) -> Result<(), Str
         }
     }
     if problems.is_empty() {
-        println!(
+        Ok(format!(
             "validate --check: {} generated files match the committed ones",
             files.len()
-        );
-        Ok(())
-    } else {
-        for p in &problems {
-            eprintln!("{p}");
-        }
-        Err(format!(
-            "{} generated file(s) differ from the committed validation outputs/snapshots; {HINT}",
-            problems.len()
         ))
+    } else {
+        Err(Error::Study(format!(
+            "{}\n{} generated file(s) differ from the committed validation outputs/snapshots; {HINT}",
+            problems.join("\n"),
+            problems.len()
+        )))
     }
 }
 
@@ -168,7 +199,11 @@ fn first_diff(old: &[u8], new: &[u8]) -> String {
     format!(" ({} vs {} lines)", o.lines().count(), n.lines().count())
 }
 
-fn write_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>, prune: bool) -> Result<(), String> {
+fn write_files(
+    vdir: &Path,
+    files: &BTreeMap<String, Vec<u8>>,
+    prune: bool,
+) -> Result<String, Error> {
     let old = committed(vdir)?;
     let mut changed = 0;
     for (k, v) in files {
@@ -178,9 +213,9 @@ fn write_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>, prune: bool) -> R
             continue;
         }
         if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
+            std::fs::create_dir_all(parent).map_err(io(parent))?;
         }
-        std::fs::write(&path, v).map_err(|e| format!("{}: {e}", path.display()))?;
+        std::fs::write(&path, v).map_err(io(&path))?;
         changed += 1;
     }
     let mut removed = 0;
@@ -188,14 +223,20 @@ fn write_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>, prune: bool) -> R
         for k in old.keys() {
             if !files.contains_key(k) {
                 let path = vdir.join(k);
-                std::fs::remove_file(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+                std::fs::remove_file(&path).map_err(io(&path))?;
                 removed += 1;
             }
         }
     }
-    println!(
+    Ok(format!(
         "wrote validation/: {} files ({changed} changed, {removed} removed); review with `git diff validation/`",
         files.len()
-    );
-    Ok(())
+    ))
+}
+
+fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::Io {
+        path: path.display().to_string(),
+        source,
+    }
 }

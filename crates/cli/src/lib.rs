@@ -1,0 +1,277 @@
+//! The `geardyn` command (install with `cargo install --path crates/cli`):
+//!
+//! * `geardyn study FILE [--out DIR]` — run a study file (format in `docs/studies.md`): CSV,
+//!   one SVG per output and a JSON summary, written atomically into `DIR` (default: next to
+//!   the file, in a directory named after the study);
+//! * `geardyn models [NAME] [--json]` — every model with its parameters and units, choices and
+//!   readings, solver methods with their settings and bounds, and outputs;
+//! * `geardyn validate [--check]` — the validation of `cargo xtask validate` (same code).
+//!
+//! The commands are library functions here so that `cargo xtask` runs exactly the same code.
+//! Progress goes to stderr: a progress bar on a terminal, plain lines otherwise.
+//!
+//! Exit status: 0 on success, 1 on an error (nothing computed or written, or a write failed),
+//! 2 when every point of a study failed (the outputs are still written, with NaN rows).
+
+#![deny(missing_docs)]
+
+use std::io::IsTerminal;
+use std::path::Path;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+/// Exit status when every point of a study failed.
+pub const EXIT_ALL_FAILED: u8 = 2;
+
+/// Progress on stderr: an indicatif bar on a terminal, otherwise a plain line at most every
+/// 10 % or 5 s (and at the end).
+#[derive(Debug)]
+pub struct StderrProgress {
+    what: &'static str,
+    bar: Option<ProgressBar>,
+    last: Mutex<(Instant, usize)>,
+}
+
+impl StderrProgress {
+    /// `what` names the items (`points`, `studies`).
+    pub fn new(what: &'static str) -> Self {
+        StderrProgress {
+            what,
+            bar: None,
+            last: Mutex::new((Instant::now(), 0)),
+        }
+    }
+
+    fn begin(&mut self, total: usize) {
+        if std::io::stderr().is_terminal() {
+            let pb = ProgressBar::new(total as u64);
+            let template = format!(
+                "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {} (eta {{eta}}) {{msg}}",
+                self.what
+            );
+            if let Ok(style) = ProgressStyle::with_template(&template) {
+                pb.set_style(style.progress_chars("=> "));
+            }
+            self.bar = Some(pb);
+        } else {
+            eprintln!("{total} {} to run", self.what);
+        }
+    }
+
+    fn tick(&self, done: usize, total: usize, msg: &str) {
+        if let Some(pb) = &self.bar {
+            pb.set_message(msg.to_owned());
+            pb.set_position(done as u64);
+            return;
+        }
+        let Ok(mut last) = self.last.lock() else {
+            return;
+        };
+        let step = (total / 10).max(1);
+        if done == total || done >= last.1 + step || last.0.elapsed() >= Duration::from_secs(5) {
+            *last = (Instant::now(), done);
+            eprintln!(
+                "{done}/{total} {} done ({}%) {msg}",
+                self.what,
+                (100 * done).checked_div(total).unwrap_or(100)
+            );
+        }
+    }
+
+    fn end(&self) {
+        if let Some(pb) = &self.bar {
+            pb.finish_and_clear();
+        }
+    }
+}
+
+/// [`validate::Progress`] for study files.
+struct StudyProgress(Mutex<StderrProgress>);
+
+impl validate::Progress for StudyProgress {
+    fn start(&self, total: usize) {
+        if let Ok(mut p) = self.0.lock() {
+            p.begin(total);
+        }
+    }
+    fn point(&self, done: usize, total: usize) {
+        if let Ok(p) = self.0.lock() {
+            p.tick(done, total, "");
+        }
+    }
+    fn finish(&self) {
+        if let Ok(p) = self.0.lock() {
+            p.end();
+        }
+    }
+}
+
+/// An error of a command, with its exit status.
+#[derive(Debug)]
+pub struct Failure {
+    /// The message (printed as `error: …`).
+    pub message: String,
+    /// Exit status.
+    pub code: u8,
+}
+
+impl From<validate::Error> for Failure {
+    fn from(e: validate::Error) -> Self {
+        Failure {
+            message: e.to_string(),
+            code: 1,
+        }
+    }
+}
+
+/// `geardyn study FILE [--out DIR]`: run, write, report. Returns an error with
+/// [`EXIT_ALL_FAILED`] when every point failed (the files are written all the same).
+pub fn study(file: &Path, out: Option<&Path>) -> Result<(), Failure> {
+    let progress = StudyProgress(Mutex::new(StderrProgress::new("points")));
+    let (output, written) = validate::run_study_file(file, out, &progress)?;
+    for f in &written.files {
+        println!("wrote {}", f.display());
+    }
+    let failed = output.failed.len();
+    for f in output.failed.iter().take(5) {
+        let at: Vec<String> =
+            f.at.iter()
+                .map(|(k, v)| format!("{k} = {}", v.label()))
+                .collect();
+        eprintln!("failed point {} ({}): {}", f.index, at.join(", "), f.error);
+    }
+    if failed > 5 {
+        eprintln!("… {} more failed point(s)", failed - 5);
+    }
+    if output.all_failed() {
+        return Err(Failure {
+            message: format!(
+                "every point ({failed}) failed; see {}",
+                written.dir.join(format!("{}.json", output.name)).display()
+            ),
+            code: EXIT_ALL_FAILED,
+        });
+    }
+    if failed > 0 {
+        eprintln!(
+            "warning: {failed} of {} point(s) failed (NaN rows); see the JSON summary",
+            output.points
+        );
+    }
+    Ok(())
+}
+
+/// `geardyn validate [--check] [--filter F]` under the repository `root`.
+pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Failure> {
+    let total = if let Some(f) = filter {
+        validate::all_studies()
+            .iter()
+            .filter(|s| s.id.contains(f))
+            .count()
+    } else {
+        validate::all_studies().len()
+    };
+    let mut p = StderrProgress::new("studies");
+    p.begin(total);
+    let cb = |s: &validate::Study, done: usize, total: usize| p.tick(done, total, s.id);
+    let result = validate::run_validation(root, check, filter, &cb);
+    p.end();
+    let summary = result?;
+    for w in &summary.warnings {
+        eprintln!("{w}");
+    }
+    let (pass, dev, inc) = summary.tally;
+    println!(
+        "{} studies in {:.1} s: {pass} pass, {dev} deviation, {inc} inconclusive",
+        summary.studies, summary.seconds
+    );
+    println!("{}", summary.message);
+    Ok(())
+}
+
+/// The text of `geardyn models [NAME]`.
+pub fn models_text(name: Option<&str>) -> Result<String, Failure> {
+    use std::fmt::Write;
+    let specs: Vec<&validate::ModelSpec> = match name {
+        Some(n) => vec![validate::model_spec(n)?],
+        None => validate::REGISTRY.iter().collect(),
+    };
+    let mut s = String::new();
+    for m in specs {
+        let info = (m.describe)();
+        let _ = writeln!(s, "{} — {}", m.name, m.description);
+        let _ = writeln!(
+            s,
+            "  parameters ([overrides] or a sweep; name [unit] = default):"
+        );
+        for p in &info.parameters {
+            let _ = writeln!(s, "    {} [{}] = {}", p.name, p.unit, p.default);
+        }
+        if !info.choices.is_empty() {
+            let _ = writeln!(s, "  choices and readings (names; default first):");
+            for c in &info.choices {
+                let mut opts = vec![c.default.clone()];
+                opts.extend(c.options.iter().filter(|o| **o != c.default).cloned());
+                let _ = writeln!(
+                    s,
+                    "    {} = \"{}\"  — {}",
+                    c.name,
+                    opts.join("\" | \""),
+                    c.note
+                );
+            }
+        }
+        for meth in &info.methods {
+            let _ = writeln!(s, "  solver.method = \"{}\":", meth.method.name());
+            if meth.settings.is_empty() {
+                let _ = writeln!(s, "    settings: none");
+            }
+            for d in &meth.settings {
+                let bound = match d.kind {
+                    validate::Kind::Num { lo, hi, default } => {
+                        format!("number in [{lo:e}, {hi:e}], default {default:e}")
+                    }
+                    validate::Kind::Int { lo, hi, default } => format!(
+                        "integer in [{lo}, {hi}], default {}",
+                        default.map_or("model's".to_owned(), |d| d.to_string())
+                    ),
+                    validate::Kind::Name { options, default } => {
+                        format!("\"{}\", default \"{default}\"", options.join("\" | \""))
+                    }
+                };
+                let _ = writeln!(s, "    {}: {bound} — {}", d.name, d.doc);
+            }
+            let outs: Vec<String> = meth
+                .outputs
+                .iter()
+                .map(|(n, u)| format!("{n} [{u}]"))
+                .collect();
+            let _ = writeln!(s, "    outputs: {}", outs.join(", "));
+            if let Some(i) = meth.initial {
+                let _ = writeln!(s, "    initial = {i}");
+            }
+        }
+        s.push('\n');
+    }
+    Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn models_lists_every_model_with_units_and_outputs() {
+        let t = models_text(None).unwrap();
+        for m in validate::MODELS {
+            assert!(t.contains(m), "{m} missing");
+        }
+        assert!(t.contains("omega1 [rad/s]"), "{t}");
+        assert!(t.contains("kahraman-singh"), "{t}");
+        assert!(t.contains("printed-phase"), "{t}");
+        assert!(t.contains("outputs: df [1]"), "{t}");
+        assert!(models_text(Some("nope")).is_err());
+    }
+}
