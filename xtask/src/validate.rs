@@ -85,6 +85,19 @@ pub fn run(root: &Path, check: bool, filter: Option<&str>) -> Result<(), String>
         elapsed.as_secs_f64()
     );
 
+    // integrity rules (validate::audit): causes named, no shared file names, no verdict from a
+    // flagged point; fatal under --check
+    let problems = validate::audit(&results);
+    for p in &problems {
+        eprintln!("error: {p}");
+    }
+    if check && !problems.is_empty() {
+        return Err(format!(
+            "validate --check: {} integrity problem(s) (see above)",
+            problems.len()
+        ));
+    }
+
     let vdir = root.join("validation");
     if check {
         check_files(&vdir, &files)

@@ -106,6 +106,7 @@
 
 #![deny(missing_docs)]
 
+mod audit;
 mod error;
 mod figure;
 mod format;
@@ -116,6 +117,7 @@ mod study;
 mod table;
 mod user;
 
+pub use audit::{Problem, audit, audit_output, output_files};
 pub use error::{Error, ResultExt};
 pub use figure::{Figure, Series, Style};
 pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
@@ -126,7 +128,7 @@ pub use render::{
 };
 pub use studies::all_studies;
 pub use study::{
-    Claim, Comparison, Cost, Paper, Reference, Study, StudyOutput, Tolerance, ToleranceBand,
+    ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance, ToleranceBand,
     ToleranceBasis, Verdict,
 };
 pub use table::{Cell, Column, Table};
