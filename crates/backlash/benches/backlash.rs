@@ -3,11 +3,11 @@
 
 use std::hint::black_box;
 
+use criterion::{Criterion, criterion_group, criterion_main};
 use geardyn_backlash::{
     CentreDisplacement, ConstantBacklashParams, DeadZone, DynamicBacklash, DynamicForm,
     PairGeometry, PressureAngleLaw, RadicandPolicy, Regularisation, SurfaceFractal, dead_zone,
 };
-use criterion::{Criterion, criterion_group, criterion_main};
 
 fn xs() -> Vec<f64> {
     (0..1024).map(|i| (f64::from(i) - 512.0) * 0.01).collect()

@@ -3,8 +3,8 @@
 
 #![allow(missing_docs)]
 use criterion::{Criterion, criterion_group, criterion_main};
-use std::hint::black_box;
 use geardyn_timestep::*;
+use std::hint::black_box;
 
 fn backlash() -> FirstOrder<DeadZoneOscillator> {
     FirstOrder(DeadZoneOscillator {

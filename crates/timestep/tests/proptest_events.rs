@@ -1,8 +1,8 @@
 //! Property test: event times of the free dead-zone oscillator equal the analytic
 //! free-flight/contact schedule for any gap and impact speed.
 
-use proptest::prelude::*;
 use geardyn_timestep::*;
+use proptest::prelude::*;
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(24))]

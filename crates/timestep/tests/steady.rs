@@ -1,7 +1,7 @@
 //! Steady state, spectra, Poincaré classification and sweeps.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
 use geardyn_timestep::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 #[test]
 fn steady_forced_linear_oscillator_has_exact_amplitude() {

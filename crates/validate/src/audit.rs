@@ -174,7 +174,8 @@ mod tests {
     #[test]
     fn verdict_from_flagged_point_fails() {
         // a claim whose verdict is set after flagging (bypassing `flagged_all`)
-        let mut c = Claim::new("c", "p. 1", "e", Verdict::Pass).flagged_all(["HBM unstable".into()]);
+        let mut c =
+            Claim::new("c", "p. 1", "e", Verdict::Pass).flagged_all(["HBM unstable".into()]);
         assert_eq!(c.verdict, Verdict::Inconclusive);
         let mut out = StudyOutput::new();
         out.claim(c.clone());

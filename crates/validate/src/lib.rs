@@ -128,8 +128,8 @@ pub use render::{
 };
 pub use studies::all_studies;
 pub use study::{
-    ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance, ToleranceBand,
-    ToleranceBasis, Verdict,
+    ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance,
+    ToleranceBand, ToleranceBasis, Verdict,
 };
 pub use table::{Cell, Column, Table};
 pub use user::{

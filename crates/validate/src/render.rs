@@ -488,7 +488,9 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
         }
     }
     if !out.claims.is_empty() {
-        s.push_str("| claim (quoted) | source | model evidence | class | verdict | readings / cause |\n");
+        s.push_str(
+            "| claim (quoted) | source | model evidence | class | verdict | readings / cause |\n",
+        );
         s.push_str("| --- | --- | --- | --- | --- | --- |\n");
         for c in &out.claims {
             let _ = writeln!(

@@ -114,10 +114,10 @@ pub use harmonic::{
 };
 pub use integrate::{IntegrationOptions, TimeResponse, integrate};
 pub use model::{Model, Rattle, RattleState};
+pub use params::{
+    BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries, table1,
+};
 pub use strategy::{
     HbmOrigin, HbmPoint, Motion, SweepPoint, SweepStrategy, TimeReference, classify_section,
     is_stable_multiplier, max_multiplier, solve_point, solve_sweep, time_reference,
-};
-pub use params::{
-    BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries, table1,
 };

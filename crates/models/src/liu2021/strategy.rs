@@ -68,7 +68,8 @@ pub struct SweepStrategy {
     pub neighbour_passes: usize,
     /// Compute the period-map stability of converged warm/full solutions.
     pub stability: bool,
-    /// Periods recorded for the stroboscopic Poincaré section (≥ 2·4 + 1 to see period 4).
+    /// Periods recorded for the stroboscopic Poincaré section (≥ 4 + 1 to accept period 4:
+    /// [`classify_section`] needs `n + 2` section points).
     pub poincare_periods: usize,
     /// Relative distance (to the section's spread plus the gap `b̄`) below which two section
     /// points are the same.
@@ -87,7 +88,7 @@ impl Default for SweepStrategy {
             full_basis: Some(1),
             neighbour_passes: 4,
             stability: true,
-            poincare_periods: 10,
+            poincare_periods: 6,
             poincare_tol: 1e-4,
             refine_factor: 100.0,
             ppv_rel_tol: 1e-3,
@@ -213,8 +214,7 @@ impl HbmPoint {
     /// Stability by the policy (`max |μ| ≤ 1 + hbm::STABILITY_TOLERANCE`); `None` when not
     /// computed.
     pub fn stable(&self) -> Option<bool> {
-        self.max_multiplier
-            .map(|m| is_stable_multiplier(m))
+        self.max_multiplier.map(|m| is_stable_multiplier(m))
     }
 
     /// Why this column cannot carry a verdict (not converged, unstable, stability unknown), or
@@ -225,9 +225,7 @@ impl HbmPoint {
         }
         match self.max_multiplier {
             None => Some("HBM stability not computed".to_owned()),
-            Some(m) if !is_stable_multiplier(m) => {
-                Some(format!("HBM unstable (max |μ| = {m:.4})"))
-            }
+            Some(m) if !is_stable_multiplier(m) => Some(format!("HBM unstable (max |μ| = {m:.4})")),
             Some(_) => None,
         }
     }
@@ -319,7 +317,9 @@ pub fn solve_point(params: &Parameters, strategy: &SweepStrategy) -> Result<Swee
         time,
         cold: HbmPoint::of(&cold, HbmOrigin::Cold),
         warm: HbmPoint::of(&warm, HbmOrigin::TimeResponse),
-        full: full.as_ref().map(|f| HbmPoint::of(f, HbmOrigin::TimeResponse)),
+        full: full
+            .as_ref()
+            .map(|f| HbmPoint::of(f, HbmOrigin::TimeResponse)),
         response: ti,
         cold_solution: cold,
         warm_solution: warm,
@@ -410,10 +410,7 @@ fn fill_from_neighbours(
                 let Some(s) = pts[j].full_solution.clone() else {
                     continue;
                 };
-                (
-                    HbmOptions::full(m, strategy.full_basis.unwrap_or(1)),
-                    s,
-                )
+                (HbmOptions::full(m, strategy.full_basis.unwrap_or(1)), s)
             } else {
                 (strategy.paper_hbm, pts[j].warm_solution.clone())
             };
@@ -452,7 +449,10 @@ mod tests {
         assert_eq!(classify_section(&qn, &v0, 1e-6, 1.0), Motion::NonPeriodic);
         // too short to accept period 4
         let q4 = [1.0, 2.0, 3.0, 4.0, 1.0];
-        assert_eq!(classify_section(&q4, &v0[..5], 1e-6, 1.0), Motion::NonPeriodic);
+        assert_eq!(
+            classify_section(&q4, &v0[..5], 1e-6, 1.0),
+            Motion::NonPeriodic
+        );
     }
 
     #[test]

@@ -7,6 +7,7 @@ use crate::{Error, ResultExt, Study, apply_overrides};
 
 mod geometry;
 mod karpov2017;
+mod karpov2017_kinematics;
 mod liu2021;
 mod user_models;
 mod yu2021;
@@ -15,6 +16,7 @@ mod yu2021_backlash;
 /// Every study, in report order (Karpov, Liu, Yu; geometry first within a paper).
 pub fn all_studies() -> Vec<Study> {
     let mut v = geometry::studies();
+    v.extend(karpov2017_kinematics::studies());
     v.extend(karpov2017::studies());
     v.extend(liu2021::studies());
     v.extend(yu2021_backlash::studies());

@@ -17,8 +17,8 @@ use models::yu2021::{
 use rayon::prelude::*;
 
 use crate::{
-    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table,
-    Tolerance, Verdict, fmt_sig, published,
+    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
+    Table, Tolerance, Verdict, fmt_sig, published,
 };
 
 /// The studies of this file.
@@ -186,7 +186,11 @@ fn fig9() -> Result<StudyOutput, Error> {
                 resp.mean_backlash(),
             )?
             // "about 5.5", "fluctuating around 7.2", "about 9.2"
-            .with_tolerance(Tolerance::about(if key == "d14" { "around" } else { "about" }))
+            .with_tolerance(Tolerance::about(if key == "d14" {
+                "around"
+            } else {
+                "about"
+            }))
             .reading("R-YU-EQ6")
             .reading("R-YU-EQ8")
             .note("depends on the chosen bearing stiffness (1e8 N/m) and load (Table 2)"),
@@ -476,7 +480,8 @@ fn fig13() -> Result<StudyOutput, Error> {
         "Sect. 4.4, Fig. 13",
         format!("{} (no experimental jump to compare with)", ev.join("; ")),
         Verdict::Inconclusive,
-    ));
+    )
+    .cause("the experimental DF points of Fig. 13 are not transcribed (no printed numbers; figure reading not done)"));
     Ok(out)
 }
 

@@ -224,7 +224,9 @@ fn run() -> Result<StudyOutput, Error> {
         if fold_max.is_finite() {
             out.compare(
                 Comparison::published(paper.value("sect34.bilateral-onset")?, fold_max)?
-                    .with_tolerance(speed_tolerance(&paper.value("sect34.bilateral-onset")?.printed))
+                    .with_tolerance(speed_tolerance(
+                        &paper.value("sect34.bilateral-onset")?.printed,
+                    ))
                     .reading("R-LIU-HBM")
                     .shown_only()
                     .note(&format!(
@@ -236,7 +238,10 @@ fn run() -> Result<StudyOutput, Error> {
             ok = fold_max.is_finite() && bi_min < ti_onset && ti_onset <= fold_max + 5.0;
         }
     }
-    let onset_idx = ti.iter().position(|p| p.1 == 2).unwrap_or(ti.len().saturating_sub(1));
+    let onset_idx = ti
+        .iter()
+        .position(|p| p.1 == 2)
+        .unwrap_or(ti.len().saturating_sub(1));
     let flags: Vec<String> = ti[..=onset_idx.min(ti.len().saturating_sub(1))]
         .iter()
         .filter_map(|p| p.3.clone())
@@ -260,4 +265,3 @@ fn run() -> Result<StudyOutput, Error> {
     out.figure(fig);
     Ok(out)
 }
-

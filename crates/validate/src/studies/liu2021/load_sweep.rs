@@ -1,8 +1,8 @@
 //! Fig. 15: rattle state and ppv against the load torque T2.
 
 use super::{
-    HBM_KINDS, converged_note, first_hbm, first_time, flags_of, sig, sweep, sweep_figures,
-    sweep_table,
+    HBM_KINDS, converged_note, first_hbm, first_time, flags_of, rise_claim, sig, sweep,
+    sweep_figures, sweep_table,
 };
 use crate::{
     Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Tolerance, ToleranceBand, Verdict,
@@ -106,8 +106,21 @@ fn run() -> Result<StudyOutput, Error> {
         .reading("R-LIU-FIG15")
         .flagged_all(flags),
     );
+    // Fig. 15b: slow growth while bilateral, gradual growth after the drop
+    let end_bi = pts.iter().position(|p| p.rsv() < 2).unwrap_or(pts.len());
+    out.claim(rise_claim(
+        "In the bilateral rattle state, the ppv grows slowly with the increase in T2.",
+        "Sect. 3.7, Fig. 15b",
+        "T2 while bilateral",
+        &pts[..end_bi],
+    ));
+    out.claim(rise_claim(
+        "Then, ppv gradually raises with the increase in T2.",
+        "Sect. 3.7, Fig. 15b",
+        "T2 after the bilateral → unilateral drop",
+        &pts[end_bi..],
+    ));
     out.table(sweep_table("sweep", ("T2", "N m"), &pts)?);
     sweep_figures(&mut out, "t2", ("T2", "N m"), &pts);
     Ok(out)
 }
-

@@ -152,7 +152,10 @@ fn converged_note(pts: &[Point], kind: HbKind) -> String {
         .iter()
         .filter(|p| kind(p).origin == liu2021::HbmOrigin::Neighbour)
         .count();
-    let u = pts.iter().filter(|p| kind(p).stable() == Some(false)).count();
+    let u = pts
+        .iter()
+        .filter(|p| kind(p).stable() == Some(false))
+        .count();
     format!(
         "{n}/{} converged, {m} of them via a neighbour, {u} unstable; only converged stable points used",
         pts.len()
@@ -224,9 +227,8 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
 /// Figures `<name>_rsv` and `<name>_ppv` (names distinct from the tables' names).
 fn sweep_figures(out: &mut StudyOutput, name: &str, x: (&str, &str), pts: &[Point]) {
     let s = |f: &dyn Fn(&Point) -> f64| pts.iter().map(|p| (p.x, f(p))).collect::<Vec<_>>();
-    let mut rsv = Figure::new(&format!("{name}_rsv"), "Rattle state", x, ("rsv", "1")).with(
-        Series::line("time integration", s(&|p| f64::from(p.rsv()))),
-    );
+    let mut rsv = Figure::new(&format!("{name}_rsv"), "Rattle state", x, ("rsv", "1"))
+        .with(Series::line("time integration", s(&|p| f64::from(p.rsv()))));
     let mut ppv = Figure::new(
         &format!("{name}_ppv"),
         "Peak-to-peak value of q",
@@ -243,4 +245,68 @@ fn sweep_figures(out: &mut StudyOutput, name: &str, x: (&str, &str), pts: &[Poin
     }
     out.figure(rsv);
     out.figure(ppv);
+}
+
+/// Relative ppv change below which a step is undecided: the ppv tolerance of the 100×
+/// refinement (`SweepStrategy::ppv_rel_tol`), so round-off never settles a trend.
+const PPV_STEP: f64 = 1e-3;
+
+/// Trend of ppv over consecutive points: `Some(true)` if every step rises by more than
+/// [`PPV_STEP`] relative, `Some(false)` if some step falls by more than that, `None` if a step
+/// is within it (undecided) or there are fewer than two points.
+fn ppv_rises(pts: &[Point]) -> Option<bool> {
+    if pts.len() < 2 {
+        return None;
+    }
+    let mut all_up = true;
+    for w in pts.windows(2) {
+        let d = w[1].ppv() - w[0].ppv();
+        let scale = PPV_STEP * w[0].ppv().abs().max(w[1].ppv().abs());
+        if d.abs() <= scale {
+            return None;
+        }
+        all_up &= d > 0.0;
+    }
+    Some(all_up)
+}
+
+/// Verdict of a trend: pass/deviation, or inconclusive when undecided.
+fn trend_verdict(t: Option<bool>) -> crate::Verdict {
+    t.map_or(crate::Verdict::Inconclusive, crate::Verdict::from_bool)
+}
+
+/// "x₀…x₁: ppv a → b" for evidence.
+fn span(pts: &[Point]) -> String {
+    match (pts.first(), pts.last()) {
+        (Some(a), Some(b)) => format!(
+            "{}…{}: ppv {} → {} over {} points",
+            sig(a.x),
+            sig(b.x),
+            sig(a.ppv()),
+            sig(b.ppv()),
+            pts.len()
+        ),
+        _ => "no points".to_owned(),
+    }
+}
+
+/// The claim that ppv rises over `pts` (a contiguous run of one rattle regime).
+fn rise_claim(text: &str, source: &str, what: &str, pts: &[Point]) -> crate::Claim {
+    let t = ppv_rises(pts);
+    crate::Claim::new(
+        text,
+        source,
+        format!(
+            "{what}, time integration {}; 'grows' read as every step rising by more than {} relative",
+            span(pts),
+            PPV_STEP
+        ),
+        trend_verdict(t),
+    )
+    .cause(if t.is_none() {
+        "a step is within the 1e-3 ppv reproducibility, or the regime has fewer than two points"
+    } else {
+        "ppv trend of the time-integration reference over the regime"
+    })
+    .flagged_all(flags_of(pts))
 }

@@ -1,8 +1,8 @@
 //! Fig. 8–10: dynamic responses at ω1 = 160, 140, 180 rad/s.
 
 use models::liu2021::{
-    self, HbmOptions, HbmStart, IntegrationOptions, Model, RattleState,
-    SweepStrategy, TimeReference,
+    self, HbmOptions, HbmStart, IntegrationOptions, Model, RattleState, SweepStrategy,
+    TimeReference,
 };
 use rayon::prelude::*;
 
@@ -91,7 +91,10 @@ fn run() -> Result<StudyOutput, Error> {
                 full.converged()
             ),
             Verdict::from_bool(ti.rattle.state == expected),
-        ).cause("rattle state of the time-integration reference").flagged_all(time.flag()));
+        )
+        .reading("R-LIU-EQ11")
+        .cause("the model's unilateral onset is 135 rad/s, the paper's 150 (R-LIU-EQ11)")
+        .flagged_all(time.flag()));
         let step = (ti.tau.len() / 600).max(1);
         let pick = |v: &[f64]| -> Vec<(f64, f64)> {
             ti.tau
@@ -268,4 +271,3 @@ fn spectrum_outputs(
     }
     Ok(())
 }
-

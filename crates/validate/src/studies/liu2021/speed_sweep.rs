@@ -1,8 +1,8 @@
 //! Fig. 11: rattle state and ppv against the input speed ω1.
 
 use super::{
-    HBM_KINDS, converged_note, first_at_least, first_hbm, flags_of, sig, speed_tolerance, sweep,
-    sweep_figures, sweep_table,
+    HBM_KINDS, Point, converged_note, first_at_least, first_hbm, flags_of, rise_claim, sig,
+    speed_tolerance, sweep, sweep_figures, sweep_table,
 };
 use crate::{Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Verdict, published};
 
@@ -68,9 +68,7 @@ fn run() -> Result<StudyOutput, Error> {
         );
     }
     // ppv jump at the onset of bilateral rattle (time integration)
-    let jump = pts
-        .windows(2)
-        .find(|w| w[0].rsv() < 2 && w[1].rsv() == 2);
+    let jump = pts.windows(2).find(|w| w[0].rsv() < 2 && w[1].rsv() == 2);
     let (evidence, ok, flags) = match jump {
         Some(w) => (
             format!(
@@ -114,6 +112,33 @@ fn run() -> Result<StudyOutput, Error> {
         )
         .cause("order of the time-integration thresholds")
         .flagged_all(bi.flags),
+    );
+    // Fig. 11b: gradual growth before the bilateral onset, quicker growth after it
+    let onset = pts.iter().position(|p| p.rsv() == 2).unwrap_or(pts.len());
+    out.claim(rise_claim(
+        "In the non-rattle and unilateral rattle vibration, ppv grows gradually with the increase of the input speed.",
+        "Sect. 3.3, Fig. 11b",
+        "ω1 before the first bilateral point",
+        &pts[..onset],
+    ));
+    let slope = |q: &[Point]| match (q.first(), q.last()) {
+        (Some(a), Some(b)) if b.x > a.x => (b.ppv() - a.ppv()) / (b.x - a.x),
+        _ => f64::NAN,
+    };
+    let (s_before, s_after) = (slope(&pts[..onset]), slope(&pts[onset..]));
+    out.claim(
+        Claim::new(
+            "In the bilateral rattle state, the vibrational amplitude increases more quickly.",
+            "Sect. 3.3, Fig. 11b",
+            format!(
+                "time integration: mean ppv slope {} per rad/s before the bilateral onset, {} per rad/s after it",
+                sig(s_before),
+                sig(s_after)
+            ),
+            Verdict::from_bool(s_after > s_before),
+        )
+        .cause("mean ppv slopes of the time-integration reference on either side of the onset")
+        .flagged_all(flags_of(&pts)),
     );
     out.table(sweep_table("sweep", ("omega1", "rad/s"), &pts)?);
     sweep_figures(&mut out, "omega1", ("omega1", "rad/s"), &pts);
