@@ -214,7 +214,7 @@ impl HbmPoint {
     /// Stability by the policy (`max |μ| ≤ 1 + hbm::STABILITY_TOLERANCE`); `None` when not
     /// computed.
     pub fn stable(&self) -> Option<bool> {
-        self.max_multiplier.map(|m| is_stable_multiplier(m))
+        self.max_multiplier.map(is_stable_multiplier)
     }
 
     /// Why this column cannot carry a verdict (not converged, unstable, stability unknown), or
