@@ -83,6 +83,27 @@ pub(crate) fn md_cell(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
 }
 
+/// Half a unit in the last digit of a printed decimal number.
+pub(crate) fn half_last_digit(printed: &str) -> Result<f64, crate::error::Error> {
+    let bad = || crate::error::Error::PrintedNumber {
+        printed: printed.to_owned(),
+    };
+    let t = printed.trim();
+    let (mant, exp) = match t.split_once(['e', 'E']) {
+        Some((m, e)) => (m, e.parse::<i32>().map_err(|_| bad())?),
+        None => (t, 0),
+    };
+    let m = mant.trim_start_matches(['+', '-']);
+    if m.is_empty()
+        || !m.chars().all(|c| c.is_ascii_digit() || c == '.')
+        || m.matches('.').count() > 1
+    {
+        return Err(bad());
+    }
+    let decimals = m.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
+    Ok(0.5 * 10f64.powi(exp - decimals))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

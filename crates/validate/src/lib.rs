@@ -9,8 +9,12 @@
 //!
 //! * **comparisons** ([`Comparison`]): quantity, unit, the paper's value ([`Reference`], kept as
 //!   printed), the model's value, deviation (absolute and relative), a [`Tolerance`] with its
-//!   basis ([`ToleranceBasis`]: printed precision, digitising, "about" in the text, numerical) and
-//!   the [`Verdict`] (pass if |model − paper| ≤ tolerance, else `DEVIATION`);
+//!   basis ([`ToleranceBasis`]) and the derivation of its size from the source (printed digits,
+//!   round numbers, figure reading with the axis resolution, the one "about" band
+//!   [`ABOUT_BAND`], experimental scatter, numerical), the [`Evidence`] class (reproduction,
+//!   consistency, calibration, transcription, holds by construction), flags of the points the
+//!   model value rests on, and the [`Verdict`] (pass if |model − paper| ≤ tolerance, else
+//!   `DEVIATION`; `inconclusive` when flagged; `shown` when not judged or unable to fail);
 //! * **claims** ([`Claim`]): a statement of the paper quoted with its page, the model's evidence
 //!   (with numbers) and a verdict (pass / deviation / inconclusive);
 //! * **tables** ([`Table`]): data written as CSV with `name [unit]` headers;
@@ -46,9 +50,11 @@
 //! [`run_studies`] runs the studies in parallel; [`render_all`] turns the results into files
 //! relative to `validation/`: `<paper>/<id>.csv` (comparison and claim rows),
 //! `<paper>/<id>_<table>.csv`, `<paper>/<id>_<figure>.svg` (+ `.csv`), `snapshots/<id>.snap`
-//! (insta format, every number at 6 significant digits) and `REPORT.md` (summary table of every
-//! comparison and claim with verdicts and links to the readings). `cargo xtask validate --check`
-//! regenerates everything in memory and fails if any byte differs from the committed files.
+//! (insta format, every number at 6 significant digits) and `REPORT.md` (headline: reproductions
+//! by paper; every comparison and claim with class, verdict and links to the readings).
+//! `cargo xtask validate --check` regenerates everything in memory and fails if any byte differs
+//! from the committed files, or if [`audit`] finds a deviation/inconclusive row without a reading
+//! or cause, two outputs sharing a file name, or a verdict resting on a flagged point.
 //!
 //! # Example: a complete study
 //!
@@ -106,6 +112,7 @@
 
 #![deny(missing_docs)]
 
+mod audit;
 mod error;
 mod figure;
 mod format;
@@ -119,6 +126,7 @@ mod study;
 mod table;
 mod user;
 
+pub use audit::{Problem, audit, audit_output, output_files};
 pub use error::{Error, ResultExt};
 pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
 pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
@@ -134,8 +142,8 @@ pub use studies::user_models::{
     REGISTRY, SettingDef, describe_all,
 };
 pub use study::{
-    Claim, Comparison, Cost, Paper, Reference, Study, StudyOutput, Tolerance, ToleranceBand,
-    ToleranceBasis, Verdict,
+    ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance,
+    ToleranceBand, ToleranceBasis, Verdict,
 };
 pub use table::{Cell, Column, Table};
 pub use user::{

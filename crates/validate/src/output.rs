@@ -111,6 +111,17 @@ pub fn run_validation(
             Err(e) => warnings.push(format!("warning: study {} failed: {e}", r.study.id)),
         }
     }
+    // integrity rules (crate::audit): causes named, no shared file names, no verdict from a
+    // flagged point; fatal under --check, warnings otherwise
+    let problems = crate::audit(&results);
+    if check && !problems.is_empty() {
+        return Err(Error::Study(format!(
+            "validate --check: {} integrity problem(s):\n{}",
+            problems.len(),
+            problems.iter().map(|p| p.to_string()).collect::<Vec<_>>().join("\n")
+        )));
+    }
+    warnings.extend(problems.iter().map(|p| format!("error: {p}")));
     let mut summary = ValidationSummary {
         studies: results.len(),
         tally: (p, d, i),
@@ -180,7 +191,7 @@ fn check_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>) -> Result<String,
     } else {
         Err(Error::Study(format!(
             "{}\n{} generated file(s) differ from the committed validation outputs/snapshots; {HINT}",
-            problems.join("\n"),
+            problems.iter().map(|p| p.to_string()).collect::<Vec<_>>().join("\n"),
             problems.len()
         )))
     }

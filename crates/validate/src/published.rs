@@ -97,7 +97,7 @@ impl Published {
                     v.id, v.printed
                 ))
             })?;
-            crate::study::half_last_digit(&v.printed)?;
+            crate::format::half_last_digit(&v.printed)?;
         }
         let mut ids: Vec<&str> = values.iter().map(|v| v.id.as_str()).collect();
         ids.extend(raw.claim.iter().map(|c| c.id.as_str()));

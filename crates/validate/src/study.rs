@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use crate::error::{Error, check_name};
 use crate::figure::Figure;
+use crate::format::half_last_digit;
 use crate::published::{PublishedClaim, PublishedValue};
 use crate::table::Table;
 
@@ -112,9 +113,12 @@ pub enum Verdict {
     Pass,
     /// The model disagrees with the paper; the row should name a reading that explains why.
     Deviation,
-    /// The claim cannot be decided from the model's output (e.g. too vague); says why in the
-    /// evidence.
+    /// The row cannot be decided: the model value rests on a non-converged, unstable or
+    /// non-reproducible point, or the claim is too vague; the row names why.
     Inconclusive,
+    /// Shown beside the judged method but not judged (the paper's verdict rule picks the other
+    /// method, see `validation/README.md`), or a row that cannot fail (holds by construction).
+    Shown,
 }
 
 impl Verdict {
@@ -124,6 +128,7 @@ impl Verdict {
             Verdict::Pass => "pass",
             Verdict::Deviation => "DEVIATION",
             Verdict::Inconclusive => "inconclusive",
+            Verdict::Shown => "shown",
         }
     }
 
@@ -134,6 +139,41 @@ impl Verdict {
         } else {
             Verdict::Deviation
         }
+    }
+}
+
+/// What kind of evidence a row is (issue: only reproductions count as evidence that a model
+/// reproduces a paper).
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub enum Evidence {
+    /// An independently computed model quantity against the paper.
+    Reproduction,
+    /// The paper against itself, or a formula against its exact form.
+    Consistency,
+    /// Constants fitted from this data (named): agreement follows from the fit.
+    Calibration(String),
+    /// A transcribed number read back (checks the transcription, not the model).
+    Transcription,
+    /// True for any parameters or returns an input: cannot fail, so not a check.
+    ByConstruction,
+}
+
+impl Evidence {
+    /// Short label for tables (`reproduction`, `calibration (k_b, c)`, …).
+    pub fn label(&self) -> String {
+        match self {
+            Evidence::Reproduction => "reproduction".to_owned(),
+            Evidence::Consistency => "consistency".to_owned(),
+            Evidence::Calibration(what) => format!("calibration ({what})"),
+            Evidence::Transcription => "transcription".to_owned(),
+            Evidence::ByConstruction => "holds by construction".to_owned(),
+        }
+    }
+
+    /// Whether a row of this class is a check (can fail): all but
+    /// [`Evidence::ByConstruction`].
+    pub fn is_check(&self) -> bool {
+        !matches!(self, Evidence::ByConstruction)
     }
 }
 
@@ -176,13 +216,20 @@ pub enum ToleranceBand {
     Relative(f64),
 }
 
-/// A tolerance: its band and its basis.
+/// The one band for numbers the text qualifies with "about", "approximately" or "almost":
+/// ±10 % of the value (defined once here and in `validation/README.md`).
+pub const ABOUT_BAND: f64 = 0.10;
+
+/// A tolerance: its band, its basis and the derivation of its size from the source.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Tolerance {
     /// Size of the band.
     pub band: ToleranceBand,
     /// Why this size.
     pub basis: ToleranceBasis,
+    /// How the size follows from the source (`½ unit of the last digit of "38.67"`), shown in
+    /// the row.
+    pub derivation: String,
 }
 
 impl Tolerance {
@@ -195,25 +242,61 @@ impl Tolerance {
     /// assert_eq!(t.band, ToleranceBand::Absolute(0.005));
     /// ```
     pub fn printed(printed: &str) -> Result<Self, Error> {
+        let half = half_last_digit(printed)?;
         Ok(Tolerance {
-            band: ToleranceBand::Absolute(half_last_digit(printed)?),
+            band: ToleranceBand::Absolute(half),
             basis: ToleranceBasis::PrintedPrecision,
+            derivation: format!(
+                "½ unit of the last printed digit of \"{}\" = {}",
+                printed.trim(),
+                crate::fmt_sig(half, 3)
+            ),
         })
     }
 
-    /// An absolute band read off a figure.
-    pub fn digitising(abs: f64) -> Self {
+    /// A number the text gives as a round value (`"150 rad/s"` on a grid of `resolution`):
+    /// half the resolution.
+    pub fn round_number(printed: &str, resolution: f64, unit: &str) -> Self {
         Tolerance {
-            band: ToleranceBand::Absolute(abs),
-            basis: ToleranceBasis::Digitising,
+            band: ToleranceBand::Absolute(0.5 * resolution),
+            basis: ToleranceBasis::PrintedPrecision,
+            derivation: format!(
+                "round number \"{}\" in the text: ½ of its {} {unit} resolution",
+                printed.trim(),
+                crate::fmt_sig(resolution, 3)
+            ),
         }
     }
 
-    /// A relative band for numbers the text gives as "about …".
-    pub fn approximate(rel: f64) -> Self {
+    /// An absolute band read off a figure: half the smallest distinguishable step of the axis,
+    /// `axis` describing its resolution (`"y axis: ticks every 10 µm, 1 mm ≈ 2 µm"`).
+    pub fn digitising(abs: f64, axis: &str) -> Self {
         Tolerance {
-            band: ToleranceBand::Relative(rel),
+            band: ToleranceBand::Absolute(abs),
+            basis: ToleranceBasis::Digitising,
+            derivation: format!("figure reading: {axis}"),
+        }
+    }
+
+    /// The one band [`ABOUT_BAND`] for numbers the text gives as "about …"/"almost …";
+    /// `word` is the word the text uses.
+    pub fn about(word: &str) -> Self {
+        Tolerance {
+            band: ToleranceBand::Relative(ABOUT_BAND),
             basis: ToleranceBasis::ApproximateText,
+            derivation: format!(
+                "the text says \"{word}\": the one band ±{} % (validation/README.md)",
+                crate::fmt_sig(100.0 * ABOUT_BAND, 3)
+            ),
+        }
+    }
+
+    /// A band from the scatter of experimental values in the paper's own table.
+    pub fn experimental_scatter(band: ToleranceBand, derivation: &str) -> Self {
+        Tolerance {
+            band,
+            basis: ToleranceBasis::Stated("experimental scatter".to_owned()),
+            derivation: derivation.to_owned(),
         }
     }
 
@@ -222,6 +305,7 @@ impl Tolerance {
         Tolerance {
             band: ToleranceBand::Relative(rel),
             basis: ToleranceBasis::Numerical,
+            derivation: "numerical error of the computation".to_owned(),
         }
     }
 
@@ -230,6 +314,7 @@ impl Tolerance {
         Tolerance {
             band,
             basis: ToleranceBasis::Stated(why.to_owned()),
+            derivation: why.to_owned(),
         }
     }
 
@@ -248,27 +333,6 @@ impl Tolerance {
             ToleranceBand::Relative(r) => format!("±{}%", crate::fmt_sig(100.0 * r, 3)),
         }
     }
-}
-
-/// Half a unit in the last digit of a printed decimal number.
-pub(crate) fn half_last_digit(printed: &str) -> Result<f64, Error> {
-    let bad = || Error::PrintedNumber {
-        printed: printed.to_owned(),
-    };
-    let t = printed.trim();
-    let (mant, exp) = match t.split_once(['e', 'E']) {
-        Some((m, e)) => (m, e.parse::<i32>().map_err(|_| bad())?),
-        None => (t, 0),
-    };
-    let m = mant.trim_start_matches(['+', '-']);
-    if m.is_empty()
-        || !m.chars().all(|c| c.is_ascii_digit() || c == '.')
-        || m.matches('.').count() > 1
-    {
-        return Err(bad());
-    }
-    let decimals = m.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
-    Ok(0.5 * 10f64.powi(exp - decimals))
 }
 
 /// The reference side of a comparison: the paper's number (or an exact value) and where it is.
@@ -321,6 +385,15 @@ pub struct Comparison {
     pub readings: Vec<String>,
     /// Free remark (Markdown, short).
     pub note: String,
+    /// Evidence class of the row.
+    pub evidence: Evidence,
+    /// Cause of a deviation or of an inconclusive verdict, when no reading id explains it.
+    pub cause: String,
+    /// Why the model value rests on a point that cannot carry a verdict (non-converged,
+    /// unstable, non-periodic, not reproducible); any flag makes the row inconclusive.
+    pub flags: Vec<String>,
+    /// False when the row is shown beside the judged method but not judged (verdict `shown`).
+    pub judged: bool,
 }
 
 impl Comparison {
@@ -347,6 +420,10 @@ impl Comparison {
             tolerance,
             readings: Vec::new(),
             note: String::new(),
+            evidence: Evidence::Reproduction,
+            cause: String::new(),
+            flags: Vec::new(),
+            judged: true,
         }
     }
 
@@ -366,6 +443,37 @@ impl Comparison {
     /// Set the note.
     pub fn note(mut self, note: &str) -> Self {
         self.note = note.to_owned();
+        self
+    }
+
+    /// Set the evidence class (default [`Evidence::Reproduction`]).
+    pub fn class(mut self, evidence: Evidence) -> Self {
+        self.evidence = evidence;
+        self
+    }
+
+    /// Name the cause of a deviation or an inconclusive verdict.
+    pub fn cause(mut self, cause: &str) -> Self {
+        self.cause = cause.to_owned();
+        self
+    }
+
+    /// Mark that the model value rests on a point that cannot carry a verdict (the row becomes
+    /// inconclusive; the reason is shown).
+    pub fn flagged(mut self, reason: impl Into<String>) -> Self {
+        self.flags.push(reason.into());
+        self
+    }
+
+    /// Add every flag of `reasons`.
+    pub fn flagged_all(mut self, reasons: impl IntoIterator<Item = String>) -> Self {
+        self.flags.extend(reasons);
+        self
+    }
+
+    /// Show the row without judging it (the paper's verdict rule picks another method).
+    pub fn shown_only(mut self) -> Self {
+        self.judged = false;
         self
     }
 
@@ -391,7 +499,17 @@ impl Comparison {
 
     /// Pass when |model − paper| ≤ allowed (with a 1e-12 relative slack for the decimal
     /// representation of printed bounds); a non-finite model value is a deviation.
+    ///
+    /// A row that is not judged or cannot fail ([`Evidence::ByConstruction`]) is
+    /// [`Verdict::Shown`]; a flagged row (or one whose model value is NaN because no point
+    /// qualified and a flag says so) is [`Verdict::Inconclusive`].
     pub fn verdict(&self) -> Verdict {
+        if !self.judged || !self.evidence.is_check() {
+            return Verdict::Shown;
+        }
+        if !self.flags.is_empty() {
+            return Verdict::Inconclusive;
+        }
         let allowed = self.tolerance.allowed(self.reference.value);
         let slack = 1e-12 * self.reference.value.abs().max(allowed);
         Verdict::from_bool(self.model.is_finite() && self.deviation_abs().abs() <= allowed + slack)
@@ -411,6 +529,13 @@ pub struct Claim {
     pub verdict: Verdict,
     /// Reading ids explaining a deviation.
     pub readings: Vec<String>,
+    /// Evidence class of the row.
+    pub class: Evidence,
+    /// Cause of a deviation or of an inconclusive verdict, when no reading id explains it.
+    pub cause: String,
+    /// Why the evidence rests on points that cannot carry a verdict; a flagged claim must be
+    /// inconclusive (`cargo xtask validate --check` fails otherwise).
+    pub flags: Vec<String>,
 }
 
 impl Claim {
@@ -422,6 +547,9 @@ impl Claim {
             evidence: evidence.into(),
             verdict,
             readings: Vec::new(),
+            class: Evidence::Reproduction,
+            cause: String::new(),
+            flags: Vec::new(),
         }
     }
 
@@ -433,6 +561,33 @@ impl Claim {
     /// Add a reading id.
     pub fn reading(mut self, id: &str) -> Self {
         self.readings.push(id.to_owned());
+        self
+    }
+
+    /// Set the evidence class (default [`Evidence::Reproduction`]); a
+    /// [`Evidence::ByConstruction`] claim is shown, not judged.
+    pub fn class(mut self, evidence: Evidence) -> Self {
+        if !evidence.is_check() {
+            self.verdict = Verdict::Shown;
+        }
+        self.class = evidence;
+        self
+    }
+
+    /// Name the cause of a deviation or an inconclusive verdict.
+    pub fn cause(mut self, cause: &str) -> Self {
+        self.cause = cause.to_owned();
+        self
+    }
+
+    /// Mark flagged evidence: the verdict becomes [`Verdict::Inconclusive`] and the reasons
+    /// are listed.
+    pub fn flagged_all(mut self, reasons: impl IntoIterator<Item = String>) -> Self {
+        let before = self.flags.len();
+        self.flags.extend(reasons);
+        if self.flags.len() > before && self.verdict != Verdict::Shown {
+            self.verdict = Verdict::Inconclusive;
+        }
         self
     }
 }
@@ -488,7 +643,8 @@ impl StudyOutput {
         self
     }
 
-    /// Count of (pass, deviation, inconclusive) over comparisons and claims.
+    /// Count of (pass, deviation, inconclusive) over comparisons and claims (rows shown but not
+    /// judged are not counted).
     pub fn tally(&self) -> (usize, usize, usize) {
         let mut t = (0, 0, 0);
         let verdicts = self
@@ -501,6 +657,7 @@ impl StudyOutput {
                 Verdict::Pass => t.0 += 1,
                 Verdict::Deviation => t.1 += 1,
                 Verdict::Inconclusive => t.2 += 1,
+                Verdict::Shown => {}
             }
         }
         t

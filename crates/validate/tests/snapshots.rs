@@ -48,3 +48,24 @@ fn outputs_are_deterministic() {
     let b = geardyn_validate::render_all(&geardyn_validate::run_studies(&studies, |_| {}), &idx);
     assert_eq!(a, b);
 }
+
+/// The `cargo xtask validate --check` integrity rules (causes named, no shared file names, no
+/// verdict from a flagged point) hold for the fast studies.
+#[test]
+fn fast_studies_pass_the_audit() {
+    let studies: Vec<_> = all_studies()
+        .into_iter()
+        .filter(|s| s.cost == Cost::Fast)
+        .collect();
+    let results = geardyn_validate::run_studies(&studies, |_| {});
+    let problems = geardyn_validate::audit(&results);
+    assert!(
+        problems.is_empty(),
+        "{}",
+        problems
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+}

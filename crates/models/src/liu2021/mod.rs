@@ -40,6 +40,12 @@
 //! * [`integrate`] — the `timestep` engine (adaptive Dormand–Prince with the gap edges
 //!   `q = ±b̄` as located events) over whole periods `T = 2π/ω̄_c`.
 //!
+//! * [`solve_sweep`] / [`solve_point`] — the solution strategy in one call: time-integration
+//!   reference with its Poincaré motion type and a 100×-tighter-tolerance repeat, HBM cold, warm
+//!   from the time response and from converged neighbours, period-map stability, and flags
+//!   ([`HbmPoint::flag`], [`TimeReference::flag`]) instead of errors on non-convergence
+//!   ([`SweepStrategy`]).
+//!
 //! All give a [`Rattle`] (rsv, ppv). Which when: time integration is the reference for the
 //! rattle state from rest (≈ 20 ms per point in release); HBM is fast (≈ 3 ms on the paper
 //! basis, ≈ 20 ms on K = 65) and gives spectra and branches. From a cold start it stays on the
@@ -96,6 +102,7 @@ mod harmonic;
 mod integrate;
 mod model;
 mod params;
+mod strategy;
 
 pub use continuation::{
     BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedFold,
@@ -109,4 +116,8 @@ pub use integrate::{IntegrationOptions, TimeResponse, integrate};
 pub use model::{Model, Rattle, RattleState};
 pub use params::{
     BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries, table1,
+};
+pub use strategy::{
+    HbmOrigin, HbmPoint, Motion, SweepPoint, SweepStrategy, TimeReference, classify_section,
+    is_stable_multiplier, max_multiplier, solve_point, solve_sweep, time_reference,
 };

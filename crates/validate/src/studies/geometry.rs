@@ -4,7 +4,7 @@
 use gear_geometry::{KarpovPair, KarpovPairParams, LiuRig, PressureAngleForm, SpurPair};
 
 use crate::{
-    Claim, Comparison, Cost, Error, Figure, Paper, Reference, ResultExt, Series, Study,
+    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, Reference, ResultExt, Series, Study,
     StudyOutput, Table, Tolerance, ToleranceBand, Verdict, fmt_sig, fmt6, published,
 };
 
@@ -157,7 +157,7 @@ fn karpov_eq4() -> Result<StudyOutput, Error> {
     out.table(t);
     out.figure(
         Figure::new(
-            "delta-vs-b",
+            "delta-vs-b-curves",
             "Karpov Eq. (4): speed fluctuation δ vs B (u = 2)",
             ("B", "1"),
             ("δ", "1"),
@@ -182,6 +182,10 @@ fn karpov_eq4() -> Result<StudyOutput, Error> {
         ),
         Verdict::from_bool(spread < 0.01),
     ));
+    // the printed formula against the exact form: consistency, not reproduction
+    for c in &mut out.comparisons {
+        c.evidence = Evidence::Consistency;
+    }
     Ok(out)
 }
 
@@ -221,7 +225,7 @@ fn karpov_eq6() -> Result<StudyOutput, Error> {
     out.table(t);
     out.figure(
         Figure::new(
-            "emax-vs-xi",
+            "emax-vs-xi-curves",
             "Karpov Eq. (6): ε_max/ω1² vs ξ (u = 2, B = 0.01, j = 4)",
             ("ξ", "1"),
             ("ε_max/ω1²", "1"),
@@ -256,6 +260,10 @@ fn karpov_eq6() -> Result<StudyOutput, Error> {
         ),
         Verdict::from_bool(spread < 0.03 && decreasing),
     ));
+    // the printed formula against the exact form: consistency, not reproduction
+    for c in &mut out.comparisons {
+        c.evidence = Evidence::Consistency;
+    }
     Ok(out)
 }
 
@@ -271,30 +279,47 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
         v("table1.helix-angle")?.to_radians(),
     );
     // Kinematic parameters used by the model, against the table.
-    out.compare(Comparison::published(paper.value("table1.u")?, pair.u())?);
-    out.compare(Comparison::published(paper.value("table1.b")?, pair.b())?);
-    out.compare(Comparison::published(paper.value("table1.xi")?, pair.xi())?);
-    out.compare(Comparison::published(
-        paper.value("table1.j")?,
-        f64::from(pair.j()),
-    )?);
-    out.compare(Comparison::published(
-        paper.value("table1.z1")?,
-        f64::from(pair.z1()),
-    )?);
+    out.compare(
+        Comparison::published(paper.value("table1.u")?, pair.u())?
+            .class(Evidence::ByConstruction)
+            .note("read-back of the constructor's constant: cannot fail, not a check"),
+    );
+    out.compare(
+        Comparison::published(paper.value("table1.b")?, pair.b())?
+            .class(Evidence::ByConstruction)
+            .note("read-back of the constructor's constant: cannot fail, not a check"),
+    );
+    out.compare(
+        Comparison::published(paper.value("table1.xi")?, pair.xi())?
+            .class(Evidence::ByConstruction)
+            .note("read-back of the constructor's constant: cannot fail, not a check"),
+    );
+    out.compare(
+        Comparison::published(paper.value("table1.j")?, f64::from(pair.j()))?
+            .class(Evidence::ByConstruction)
+            .note("read-back of the constructor's constant: cannot fail, not a check"),
+    );
+    out.compare(
+        Comparison::published(paper.value("table1.z1")?, f64::from(pair.z1()))?
+            .class(Evidence::ByConstruction)
+            .note("read-back of the constructor's constant: cannot fail, not a check"),
+    );
     out.compare(
         Comparison::published(paper.value("table1.u")?, z2 / z1)?
-            .note("u recomputed as z2/z1 from the printed teeth numbers (second row)"),
+            .note("u recomputed as z2/z1 from the printed teeth numbers (second row)")
+            .class(Evidence::Consistency),
     );
     // Consistency of the printed helical-gear data.
     let r_from_module = mn * z1 / (2.0 * beta.cos());
     out.compare(
         Comparison::published(paper.value("table1.r")?, r_from_module)?
-            .note("r = m_n z1/(2 cos β) from the printed module, z1 and helix angle"),
+            .note("r = m_n z1/(2 cos β) from the printed module, z1 and helix angle")
+            .class(Evidence::Consistency),
     );
     out.compare(
         Comparison::published(paper.value("table1.ur")?, mn * z2 / (2.0 * beta.cos()))?
-            .note("ur = m_n z2/(2 cos β)"),
+            .note("ur = m_n z2/(2 cos β)")
+            .class(Evidence::Consistency),
     );
     out.compare(
         Comparison::published(
@@ -302,7 +327,8 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
             mn * (z1 + z2) / (2.0 * beta.cos()),
         )?
         .note("a = m_n (z1 + z2)/(2 cos β)")
-        .reading("R-KARPOV-TABLE1"),
+        .reading("R-KARPOV-TABLE1")
+        .class(Evidence::Consistency),
     );
     let a = v("table1.centre-distance")?;
     let beta_implied = (mn * (z1 + z2) / (2.0 * a)).acos().to_degrees();
@@ -311,7 +337,8 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
             .note(
                 "helix angle implied by a = 150 mm, m_n = 3 mm, z = 32/64: cos β = m_n(z1+z2)/(2a)",
             )
-            .reading("R-KARPOV-TABLE1"),
+            .reading("R-KARPOV-TABLE1")
+            .class(Evidence::Consistency),
     );
     out.compare(
         Comparison::published(
@@ -387,8 +414,22 @@ fn liu_table2() -> Result<StudyOutput, Error> {
         let key = rpm.id.trim_start_matches("table2.rpm.");
         let fc = paper.value(&format!("table2.theory.fc.{key}"))?;
         let fe = paper.value(&format!("table2.theory.fe.{key}"))?;
-        out.compare(Comparison::published(fc, fitted.centre_frequency(n))?.reading("R-LIU-TABLE2"));
-        out.compare(Comparison::published(fe, fitted.mesh_frequency(n))?.reading("R-LIU-TABLE2"));
+        out.compare(
+            Comparison::published(fc, fitted.centre_frequency(n))?
+                .reading("R-LIU-TABLE2")
+                .class(Evidence::Calibration(
+                    "rig constants belt ratio 21/16 and Z2 = 64, fitted to these columns"
+                        .to_owned(),
+                )),
+        );
+        out.compare(
+            Comparison::published(fe, fitted.mesh_frequency(n))?
+                .reading("R-LIU-TABLE2")
+                .class(Evidence::Calibration(
+                    "rig constants belt ratio 21/16 and Z2 = 64, fitted to these columns"
+                        .to_owned(),
+                )),
+        );
         let cp = Comparison::published(fc, printed.centre_frequency(n))?;
         let ep = Comparison::published(fe, printed.mesh_frequency(n))?;
         dev_printed.push((cp.verdict(), ep.verdict()));
@@ -448,7 +489,9 @@ fn liu_table2() -> Result<StudyOutput, Error> {
             fmt_sig(100.0 * worst, 3)
         ),
         Verdict::from_bool(worst < 0.1),
-    ));
+    )
+    .class(Evidence::Consistency)
+    .cause("printed experimental against printed theoretical columns (no model); 'agree' read as within 10 %"));
     Ok(out)
 }
 
@@ -468,8 +511,9 @@ fn yu_eq16() -> Result<StudyOutput, Error> {
     for id in ["sect23.alpha0", "table2.pressure-angle"] {
         out.compare(
             Comparison::published(paper.value(id)?, consistent.to_degrees())?
-                .note("consistent form arccos(a0 cos α0/a) at a = a0")
-                .reading("R-YU-EQ16"),
+                .note("consistent form arccos(a0 cos α0/a) at a = a0: returns the input α0")
+                .reading("R-YU-EQ16")
+                .class(Evidence::ByConstruction),
         );
     }
     out.compare(
@@ -505,7 +549,7 @@ fn yu_eq16() -> Result<StudyOutput, Error> {
     out.table(t);
     out.figure(
         Figure::new(
-            "alpha-vs-da",
+            "alpha-vs-da-curves",
             "Yu Eq. (16): operating pressure angle vs centre-distance change (m = 3 mm, 50/50)",
             ("Δa", "µm"),
             ("α", "deg"),

@@ -4,6 +4,7 @@ use crate::Study;
 
 mod geometry;
 mod karpov2017;
+mod karpov2017_kinematics;
 mod liu2021;
 pub(crate) mod user_models;
 mod yu2021;
@@ -12,6 +13,7 @@ mod yu2021_backlash;
 /// Every study, in report order (Karpov, Liu, Yu; geometry first within a paper).
 pub fn all_studies() -> Vec<Study> {
     let mut v = geometry::studies();
+    v.extend(karpov2017_kinematics::studies());
     v.extend(karpov2017::studies());
     v.extend(liu2021::studies());
     v.extend(yu2021_backlash::studies());

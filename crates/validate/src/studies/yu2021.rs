@@ -17,8 +17,8 @@ use models::yu2021::{
 use rayon::prelude::*;
 
 use crate::{
-    Claim, Comparison, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table,
-    Tolerance, Verdict, fmt_sig, published,
+    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
+    Table, Tolerance, Verdict, fmt_sig, published,
 };
 
 /// The studies of this file.
@@ -168,7 +168,15 @@ fn fig9() -> Result<StudyOutput, Error> {
         let key = format!("d{}", fmt_sig(10.0 * d, 2));
         out.compare(
             Comparison::published(paper.value(&format!("fig9.constant.{key}"))?, bs)?
-                .with_tolerance(Tolerance::approximate(0.1))
+                // "only 4.5", "only 4.9": printed digits; "almost 5": the about band
+                .with_tolerance(if key == "d16" {
+                    Tolerance::about("almost")
+                } else {
+                    Tolerance::printed(&paper.value(&format!("fig9.constant.{key}"))?.printed)?
+                })
+                .class(Evidence::Calibration(
+                    "b_n = b0/5 chosen on the smooth limit; b_s/b_n scales with it".to_owned(),
+                ))
                 .reading("R-YU-FIG9")
                 .reading("R-YU-FIG4")
                 .note("b_n = b0/5 calibrated on the smooth limit; b_s from Eq. (4)-(5)"),
@@ -178,7 +186,12 @@ fn fig9() -> Result<StudyOutput, Error> {
                 paper.value(&format!("fig9.dynamic-mean.{key}"))?,
                 resp.mean_backlash(),
             )?
-            .with_tolerance(Tolerance::approximate(0.1))
+            // "about 5.5", "fluctuating around 7.2", "about 9.2"
+            .with_tolerance(Tolerance::about(if key == "d14" {
+                "around"
+            } else {
+                "about"
+            }))
             .reading("R-YU-EQ6")
             .reading("R-YU-EQ8")
             .note("depends on the chosen bearing stiffness (1e8 N/m) and load (Table 2)"),
@@ -213,6 +226,7 @@ fn fig9() -> Result<StudyOutput, Error> {
             format!("min B(τ) ≥ b_s at every sample for D = 1.2, 1.4, 1.6: {always_greater} (Eq. 10 is a square root: b_dy ≥ 0 by construction)"),
             Verdict::from_bool(always_greater),
         )
+        .class(Evidence::ByConstruction)
         .reading("R-YU-EQ6"),
     );
     out.table(t);
@@ -252,7 +266,7 @@ fn fig10() -> Result<StudyOutput, Error> {
         ],
     );
     let mut fig = Figure::new(
-        "dte",
+        "dte_series",
         "Yu Fig. 10: DTE δ*(τ), ω* = 0.2",
         ("τ", "1"),
         ("δ*", "1"),
@@ -291,18 +305,40 @@ fn fig10() -> Result<StudyOutput, Error> {
             format!("mean DTE dynamic > constant at D = 1.2, 1.4, 1.6: {:?}", &larger[..3]),
             Verdict::from_bool(larger[..3].iter().all(|&x| x)),
         )
+        .class(Evidence::ByConstruction)
+        .cause("b_dy ≥ 0 adds to the backlash for any parameters, so the mean DTE grows")
         .reading("R-YU-EQ6"),
     );
-    let monotone = pp.windows(2).all(|w| w[1] <= w[0]);
+    // a step decides only when it exceeds the integration accuracy (relative 1e-6 of the
+    // value; the engine runs at rtol 1e-8): round-off cannot settle the verdict
+    let steps: Vec<f64> = pp.windows(2).map(|w| w[1] - w[0]).collect();
+    let undecided = pp
+        .windows(2)
+        .any(|w| (w[1] - w[0]).abs() <= 1e-6 * w[0].abs().max(w[1].abs()));
+    let monotone = pp
+        .windows(2)
+        .all(|w| w[0] - w[1] > 1e-6 * w[0].abs().max(w[1].abs()));
+    let verdict = if undecided {
+        Verdict::Inconclusive
+    } else {
+        Verdict::from_bool(monotone)
+    };
     out.claim(Claim::new(
         "The amplitude of vibration gets about 115 for D = 1.2, while decrease to 30 at D = 1.4. The tendency shows monotonous and the max amplitude is only about 18 and 16 with D = 1.6 and D = 1.8",
         "Sect. 4.2, Fig. 10",
         format!(
-            "peak-to-peak DTE (dynamic backlash) for D = 1.2, 1.4, 1.6, 1.8: {}; monotone decrease: {monotone}",
-            pp.iter().map(|x| fmt_sig(*x, 3)).collect::<Vec<_>>().join(", ")
+            "peak-to-peak DTE (dynamic backlash) for D = 1.2, 1.4, 1.6, 1.8: {}; steps {}; strict decrease (each step beyond 1e-6 relative): {monotone}",
+            pp.iter().map(|x| fmt_sig(*x, 3)).collect::<Vec<_>>().join(", "),
+            steps.iter().map(|x| fmt_sig(*x, 3)).collect::<Vec<_>>().join(", ")
         ),
-        Verdict::from_bool(monotone),
-    ));
+        verdict,
+    )
+    .cause(if undecided {
+        "a step is within the integration accuracy: the tendency cannot be decided"
+    } else {
+        "the current Yu dynamic model (under rework) gives these amplitudes; the paper's DTE scale is not stated"
+    })
+    .reading("R-YU-EQ6"));
     out.table(t);
     out.figure(fig);
     Ok(out)
@@ -369,7 +405,8 @@ fn curves(
             (NAMES[2], ylabel.1),
         ],
     );
-    let mut fig = Figure::new(name, title, ("ω*", "1"), ylabel);
+    // the figure's data CSV must not overwrite the table's: `<name>_curves`
+    let mut fig = Figure::new(&format!("{name}_curves"), title, ("ω*", "1"), ylabel);
     for (w, v) in omegas.iter().zip(values) {
         t.push_nums(&[*w, v[0], v[1], v[2]])?;
     }
@@ -444,7 +481,8 @@ fn fig13() -> Result<StudyOutput, Error> {
         "Sect. 4.4, Fig. 13",
         format!("{} (no experimental jump to compare with)", ev.join("; ")),
         Verdict::Inconclusive,
-    ));
+    )
+    .cause("the experimental DF points of Fig. 13 are not transcribed (no printed numbers; figure reading not done)"));
     Ok(out)
 }
 

@@ -2,8 +2,8 @@
 //! (backlash crate, Eq. 4–5).
 
 use crate::{
-    Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
-    fmt_sig, fmt6, published,
+    Claim, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table,
+    Verdict, fmt_sig, fmt6, published,
 };
 
 /// The studies of this file.
@@ -112,5 +112,12 @@ fn yu_fig4() -> Result<StudyOutput, Error> {
         ),
         Verdict::from_bool(claims.falls_with_g && claims.rises_with_d && range_g < range_d),
     ));
+    // The paper gives no parameters for Fig. 4 (b0, λ, L); the ones used were picked so that
+    // its statements hold, so these claims are calibration, not reproduction.
+    for c in &mut out.claims {
+        c.class = Evidence::Calibration(
+            "Fig. 4 surface parameters b0, λ, L (not given by the paper) chosen here".to_owned(),
+        );
+    }
     Ok(out)
 }

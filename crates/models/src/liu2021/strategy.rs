@@ -1,0 +1,511 @@
+//! Solution strategy for sweeps of the Liu model: the time-integration reference with its motion
+//! type and reproducibility, harmonic balance warm-started from the time response, sequential
+//! continuation from converged neighbours, the stability policy and what happens on
+//! non-convergence — in one call ([`solve_sweep`], [`solve_point`]).
+//!
+//! # Policy
+//!
+//! * **Reference** — time integration from the quasi-static contact position at rest
+//!   ([`integrate`]). Its motion type comes from the stroboscopic Poincaré section (one point per
+//!   excitation period `T = 2π/ω̄_c` after the transient): period-n if the section repeats with
+//!   period `n ≤ 4` within [`SweepStrategy::poincare_tol`], else non-periodic. The run is repeated
+//!   with the relative tolerance divided by [`SweepStrategy::refine_factor`] (100 by default); the
+//!   metrics are *reproducible* when the rattle state is the same and ppv agrees within
+//!   [`SweepStrategy::ppv_rel_tol`].
+//! * **Harmonic balance** — three columns: the paper basis from a cold start, the paper basis
+//!   warm-started from the harmonics of the time response (`HbmStart::FromTimeResponse`), and
+//!   optionally a full basis warm-started the same way. A warm column that did not converge is
+//!   retried from a converged neighbour along the sweep (`HbmStart::Given`), sweeping up and
+//!   down, at most [`SweepStrategy::neighbour_passes`] passes (sequential, so bit-identical for
+//!   any thread count).
+//! * **Stability** — of every converged column, by the period map of the ODE at the HBM state ([`shooting_multipliers`]):
+//!   stable when the largest multiplier modulus is `≤ 1 + hbm::STABILITY_TOLERANCE`.
+//! * **Non-convergence** — never an error: the point keeps `converged = false`, and
+//!   [`HbmPoint::flag`] / [`TimeReference::flag`] say why a point cannot carry a verdict.
+//!
+//! # Example
+//!
+//! ```no_run
+//! use geardyn_models::liu2021::{self, BaseRadius, SweepStrategy};
+//! let params: Vec<_> = [140.0, 160.0, 180.0]
+//!     .iter()
+//!     .map(|&w| {
+//!         let mut p = liu2021::table1();
+//!         p.readings.base_radius = BaseRadius::Mean;
+//!         p.omega1 = w;
+//!         p
+//!     })
+//!     .collect();
+//! let points = liu2021::solve_sweep(&params, &SweepStrategy::default())?;
+//! for p in &points {
+//!     println!("rsv {} ({:?}), flag {:?}", p.time.rattle.state.rsv(), p.time.motion, p.time.flag());
+//! }
+//! # Ok::<(), geardyn_models::Error>(())
+//! ```
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::continuation::shooting_multipliers;
+use super::harmonic::{HbmOptions, HbmResponse, HbmStart, solve_hbm_with};
+use super::integrate::{IntegrationOptions, TimeResponse, integrate};
+use super::model::{Model, Rattle};
+use super::params::Parameters;
+use crate::Error;
+
+/// Settings of [`solve_sweep`] / [`solve_point`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SweepStrategy {
+    /// Time integration of the reference (and of the warm starts).
+    pub integration: IntegrationOptions,
+    /// Harmonic balance on the paper basis (the cold and warm columns).
+    pub paper_hbm: HbmOptions,
+    /// Highest harmonic multiple `R` of the full basis `K = R·Z₂ + 2` ([`HbmOptions::full`]);
+    /// `None`: no full-basis column.
+    pub full_basis: Option<usize>,
+    /// Passes of neighbour continuation along the sweep (alternating up and down; stops early
+    /// when nothing changes).
+    pub neighbour_passes: usize,
+    /// Compute the period-map stability of converged warm/full solutions.
+    pub stability: bool,
+    /// Periods recorded for the stroboscopic Poincaré section (≥ 4 + 1 to accept period 4:
+    /// [`classify_section`] needs `n + 2` section points).
+    pub poincare_periods: usize,
+    /// Relative distance (to the section's spread plus the gap `b̄`) below which two section
+    /// points are the same.
+    pub poincare_tol: f64,
+    /// The reference is repeated with `rtol / refine_factor`.
+    pub refine_factor: f64,
+    /// ppv of the refined run must agree within this relative tolerance.
+    pub ppv_rel_tol: f64,
+}
+
+impl Default for SweepStrategy {
+    fn default() -> Self {
+        Self {
+            integration: IntegrationOptions::default(),
+            paper_hbm: HbmOptions::default(),
+            full_basis: Some(1),
+            neighbour_passes: 4,
+            stability: true,
+            poincare_periods: 6,
+            poincare_tol: 1e-4,
+            refine_factor: 100.0,
+            ppv_rel_tol: 1e-3,
+        }
+    }
+}
+
+/// Motion type of a time response from its stroboscopic Poincaré section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Motion {
+    /// The section repeats after `n` excitation periods.
+    Periodic(u32),
+    /// No repetition with `n ≤ 4` periods within the tolerance.
+    NonPeriodic,
+}
+
+impl Motion {
+    /// `period-1`, `period-2`, …, `non-periodic`.
+    pub fn label(self) -> String {
+        match self {
+            Motion::Periodic(n) => format!("period-{n}"),
+            Motion::NonPeriodic => "non-periodic".to_owned(),
+        }
+    }
+
+    /// Period multiple `n`, 0 for non-periodic (for tables).
+    pub fn period_multiple(self) -> u32 {
+        match self {
+            Motion::Periodic(n) => n,
+            Motion::NonPeriodic => 0,
+        }
+    }
+}
+
+/// Classify a stroboscopic section `(q_k, v_k)` (one point per period): the smallest `n ≤ 4`
+/// with `|x_{k+n} − x_k| ≤ tol·scale` for every `k` of the section, else non-periodic.
+/// Needs at least `n + 2` points to accept period `n`.
+pub fn classify_section(q: &[f64], v: &[f64], tol: f64, scale: f64) -> Motion {
+    let len = q.len().min(v.len());
+    for n in 1..=4usize {
+        if len < n + 2 {
+            break;
+        }
+        let repeats = (0..len - n).all(|k| {
+            (q[k + n] - q[k]).abs() <= tol * scale && (v[k + n] - v[k]).abs() <= tol * scale
+        });
+        if repeats {
+            return Motion::Periodic(n as u32);
+        }
+    }
+    Motion::NonPeriodic
+}
+
+/// The time-integration reference of one point.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TimeReference {
+    /// Rattle state and ppv over the recorded period.
+    pub rattle: Rattle,
+    /// Motion type from the Poincaré section.
+    pub motion: Motion,
+    /// The same metrics with the tolerance divided by the refine factor.
+    pub refined: Rattle,
+    /// Rattle state equal and ppv within the strategy's tolerance under the refined tolerance.
+    pub reproducible: bool,
+}
+
+impl TimeReference {
+    /// Why this point cannot carry a verdict, or `None` when it can: a non-periodic motion, a
+    /// period-n motion with `n > 1` (the one-period metrics do not describe it), or metrics that
+    /// change under the tightened tolerance.
+    pub fn flag(&self) -> Option<String> {
+        match self.motion {
+            Motion::NonPeriodic => Some("time integration: non-periodic motion".to_owned()),
+            Motion::Periodic(n) if n > 1 => Some(format!(
+                "time integration: period-{n} motion, one-period metrics do not describe it"
+            )),
+            Motion::Periodic(_) if !self.reproducible => Some(format!(
+                "time integration: metrics change under a tightened tolerance (rsv {} → {}, ppv {:.4} → {:.4})",
+                self.rattle.state.rsv(),
+                self.refined.state.rsv(),
+                self.rattle.ppv,
+                self.refined.ppv
+            )),
+            Motion::Periodic(_) => None,
+        }
+    }
+}
+
+/// How an HBM column's solution was obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum HbmOrigin {
+    /// From the quasi-static contact position.
+    Cold,
+    /// From the harmonics of the time-integrated period.
+    TimeResponse,
+    /// From a converged neighbouring sweep point.
+    Neighbour,
+}
+
+/// One harmonic-balance column of a sweep point.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct HbmPoint {
+    /// Rattle state and ppv of the (last) iterate.
+    pub rattle: Rattle,
+    /// Whether Newton converged.
+    pub converged: bool,
+    /// Where the converged solution started from.
+    pub origin: HbmOrigin,
+    /// Largest period-map multiplier modulus; `None` when not computed or not converged.
+    pub max_multiplier: Option<f64>,
+}
+
+impl HbmPoint {
+    fn of(r: &HbmResponse, origin: HbmOrigin) -> Self {
+        Self {
+            rattle: r.rattle,
+            converged: r.converged(),
+            origin,
+            max_multiplier: None,
+        }
+    }
+
+    /// Stability by the policy (`max |μ| ≤ 1 + hbm::STABILITY_TOLERANCE`); `None` when not
+    /// computed.
+    pub fn stable(&self) -> Option<bool> {
+        self.max_multiplier.map(is_stable_multiplier)
+    }
+
+    /// Why this column cannot carry a verdict (not converged, unstable, stability unknown), or
+    /// `None`.
+    pub fn flag(&self) -> Option<String> {
+        if !self.converged {
+            return Some("HBM not converged".to_owned());
+        }
+        match self.max_multiplier {
+            None => Some("HBM stability not computed".to_owned()),
+            Some(m) if !is_stable_multiplier(m) => Some(format!("HBM unstable (max |μ| = {m:.4})")),
+            Some(_) => None,
+        }
+    }
+}
+
+/// The stability threshold: a multiplier modulus `≤ 1 + hbm::STABILITY_TOLERANCE` is stable.
+pub fn is_stable_multiplier(max_modulus: f64) -> bool {
+    max_modulus <= 1.0 + hbm::STABILITY_TOLERANCE
+}
+
+/// Largest period-map multiplier modulus at a converged HBM state.
+pub fn max_multiplier(model: &Model, response: &HbmResponse) -> Result<f64, Error> {
+    let mu = shooting_multipliers(model, response)?;
+    Ok(mu.iter().map(|z| z[0].hypot(z[1])).fold(0.0, f64::max))
+}
+
+/// One solved sweep point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SweepPoint {
+    /// Time-integration reference.
+    pub time: TimeReference,
+    /// Paper basis, cold start.
+    pub cold: HbmPoint,
+    /// Paper basis, warm start (or neighbour).
+    pub warm: HbmPoint,
+    /// Full basis, warm start (or neighbour); `None` if the strategy has no full basis.
+    pub full: Option<HbmPoint>,
+    /// The recorded time response of the reference (for spectra and plots).
+    pub response: TimeResponse,
+    /// The cold paper-basis solution.
+    pub cold_solution: HbmResponse,
+    /// The warm paper-basis solution.
+    pub warm_solution: HbmResponse,
+    /// The full-basis solution.
+    pub full_solution: Option<HbmResponse>,
+}
+
+/// The time-integration reference of a model: metrics, Poincaré motion type and the refined run.
+pub fn time_reference(
+    model: &Model,
+    strategy: &SweepStrategy,
+) -> Result<(TimeReference, TimeResponse), Error> {
+    let opts = strategy.integration;
+    let ti = integrate(model, &opts)?;
+    let refined_opts = IntegrationOptions {
+        rtol: opts.rtol / strategy.refine_factor,
+        ..opts
+    };
+    let refined = integrate(model, &refined_opts)?.rattle;
+    let strobe = integrate(
+        model,
+        &IntegrationOptions {
+            record_periods: strategy.poincare_periods as f64,
+            sample_step: model.period(),
+            ..opts
+        },
+    )?;
+    let scale = (strobe.rattle.ppv + model.backlash.abs()).max(f64::MIN_POSITIVE);
+    let motion = classify_section(&strobe.q, &strobe.v, strategy.poincare_tol, scale);
+    let reproducible = refined.state == ti.rattle.state
+        && (refined.ppv - ti.rattle.ppv).abs()
+            <= strategy.ppv_rel_tol * refined.ppv.abs().max(model.backlash.abs());
+    Ok((
+        TimeReference {
+            rattle: ti.rattle,
+            motion,
+            refined,
+            reproducible,
+        },
+        ti,
+    ))
+}
+
+/// Solve one point without neighbours: reference, cold, warm and full columns, stability.
+pub fn solve_point(params: &Parameters, strategy: &SweepStrategy) -> Result<SweepPoint, Error> {
+    let m = params.model()?;
+    let (time, ti) = time_reference(&m, strategy)?;
+    let cold = solve_hbm_with(&m, &strategy.paper_hbm, HbmStart::Cold)?;
+    let warm = solve_hbm_with(&m, &strategy.paper_hbm, HbmStart::FromTimeResponse(&ti))?;
+    let full = match strategy.full_basis {
+        Some(r) => Some(solve_hbm_with(
+            &m,
+            &HbmOptions::full(&m, r),
+            HbmStart::FromTimeResponse(&ti),
+        )?),
+        None => None,
+    };
+    let mut point = SweepPoint {
+        time,
+        cold: HbmPoint::of(&cold, HbmOrigin::Cold),
+        warm: HbmPoint::of(&warm, HbmOrigin::TimeResponse),
+        full: full
+            .as_ref()
+            .map(|f| HbmPoint::of(f, HbmOrigin::TimeResponse)),
+        response: ti,
+        cold_solution: cold,
+        warm_solution: warm,
+        full_solution: full,
+    };
+    if strategy.stability {
+        add_stability(&m, &mut point)?;
+    }
+    Ok(point)
+}
+
+fn add_stability(m: &Model, p: &mut SweepPoint) -> Result<(), Error> {
+    if p.cold.converged {
+        p.cold.max_multiplier = Some(max_multiplier(m, &p.cold_solution)?);
+    }
+    if p.warm.converged {
+        p.warm.max_multiplier = Some(max_multiplier(m, &p.warm_solution)?);
+    }
+    if let (Some(f), Some(s)) = (p.full.as_mut(), p.full_solution.as_ref())
+        && f.converged
+    {
+        f.max_multiplier = Some(max_multiplier(m, s)?);
+    }
+    Ok(())
+}
+
+/// Solve a sweep (points in order along the swept parameter): every point in parallel
+/// ([`solve_point`] without stability), then neighbour continuation of the warm and full
+/// columns, then stability of the converged solutions. Deterministic for any thread count.
+pub fn solve_sweep(
+    params: &[Parameters],
+    strategy: &SweepStrategy,
+) -> Result<Vec<SweepPoint>, Error> {
+    let no_stab = SweepStrategy {
+        stability: false,
+        ..*strategy
+    };
+    let mut pts: Vec<SweepPoint> = params
+        .par_iter()
+        .map(|p| solve_point(p, &no_stab))
+        .collect::<Result<_, Error>>()?;
+    let models: Vec<Model> = params
+        .iter()
+        .map(Parameters::model)
+        .collect::<Result<_, Error>>()?;
+    fill_from_neighbours(&models, &mut pts, strategy, false)?;
+    if strategy.full_basis.is_some() {
+        fill_from_neighbours(&models, &mut pts, strategy, true)?;
+    }
+    if strategy.stability {
+        pts.par_iter_mut()
+            .zip(models.par_iter())
+            .try_for_each(|(p, m)| add_stability(m, p))?;
+    }
+    Ok(pts)
+}
+
+/// Sequential continuation along the sweep for the points whose warm start did not converge:
+/// start from a converged neighbour, sweeping up and down until nothing changes.
+fn fill_from_neighbours(
+    models: &[Model],
+    pts: &mut [SweepPoint],
+    strategy: &SweepStrategy,
+    full: bool,
+) -> Result<(), Error> {
+    let n = pts.len();
+    let converged = |p: &SweepPoint| {
+        if full {
+            p.full.is_some_and(|f| f.converged)
+        } else {
+            p.warm.converged
+        }
+    };
+    for pass in 0..strategy.neighbour_passes {
+        let mut changed = false;
+        let order: Vec<usize> = if pass % 2 == 0 {
+            (1..n).collect()
+        } else {
+            (0..n.saturating_sub(1)).rev().collect()
+        };
+        for i in order {
+            let j = if pass % 2 == 0 { i - 1 } else { i + 1 };
+            if converged(&pts[i]) || !converged(&pts[j]) {
+                continue;
+            }
+            let m = &models[i];
+            let (opts, start) = if full {
+                let Some(s) = pts[j].full_solution.clone() else {
+                    continue;
+                };
+                (HbmOptions::full(m, strategy.full_basis.unwrap_or(1)), s)
+            } else {
+                (strategy.paper_hbm, pts[j].warm_solution.clone())
+            };
+            let r = solve_hbm_with(m, &opts, HbmStart::Given(&start))?;
+            if r.converged() {
+                let hp = HbmPoint::of(&r, HbmOrigin::Neighbour);
+                if full {
+                    pts[i].full = Some(hp);
+                    pts[i].full_solution = Some(r);
+                } else {
+                    pts[i].warm = hp;
+                    pts[i].warm_solution = r;
+                }
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn section_classification() {
+        let q1 = [1.0; 6];
+        assert_eq!(classify_section(&q1, &q1, 1e-6, 1.0), Motion::Periodic(1));
+        let q2 = [1.0, -1.0, 1.0, -1.0, 1.0, -1.0];
+        let v0 = [0.0; 6];
+        assert_eq!(classify_section(&q2, &v0, 1e-6, 1.0), Motion::Periodic(2));
+        let qn = [0.1, 0.5, 0.9, 0.3, 0.7, 0.2, 0.8];
+        assert_eq!(classify_section(&qn, &v0, 1e-6, 1.0), Motion::NonPeriodic);
+        // too short to accept period 4
+        let q4 = [1.0, 2.0, 3.0, 4.0, 1.0];
+        assert_eq!(
+            classify_section(&q4, &v0[..5], 1e-6, 1.0),
+            Motion::NonPeriodic
+        );
+    }
+
+    #[test]
+    fn flags() {
+        let r = Rattle {
+            state: super::super::RattleState::NoRattle,
+            ppv: 1.0,
+            q_min: 0.0,
+            q_max: 1.0,
+        };
+        let mut h = HbmPoint {
+            rattle: r,
+            converged: false,
+            origin: HbmOrigin::Cold,
+            max_multiplier: None,
+        };
+        assert!(h.flag().unwrap().contains("not converged"));
+        h.converged = true;
+        assert!(h.flag().unwrap().contains("not computed"));
+        h.max_multiplier = Some(1.5);
+        assert!(h.flag().unwrap().contains("unstable"));
+        h.max_multiplier = Some(0.9);
+        assert!(h.flag().is_none());
+        let mut t = TimeReference {
+            rattle: r,
+            motion: Motion::Periodic(1),
+            refined: r,
+            reproducible: true,
+        };
+        assert!(t.flag().is_none());
+        t.motion = Motion::Periodic(2);
+        assert!(t.flag().unwrap().contains("period-2"));
+        t.motion = Motion::NonPeriodic;
+        assert!(t.flag().unwrap().contains("non-periodic"));
+        t.motion = Motion::Periodic(1);
+        t.reproducible = false;
+        assert!(t.flag().unwrap().contains("tightened"));
+    }
+
+    #[test]
+    fn one_point_below_threshold_is_clean() {
+        let mut p = super::super::table1();
+        p.readings.base_radius = super::super::BaseRadius::Mean;
+        p.omega1 = 120.0;
+        let s = SweepStrategy {
+            full_basis: None,
+            poincare_periods: 4,
+            ..SweepStrategy::default()
+        };
+        let pt = solve_point(&p, &s).unwrap();
+        assert_eq!(pt.time.motion, Motion::Periodic(1));
+        assert!(pt.time.flag().is_none(), "{:?}", pt.time.flag());
+        assert_eq!(pt.time.rattle.state.rsv(), 0);
+        assert!(pt.warm.converged && pt.warm.flag().is_none());
+    }
+}

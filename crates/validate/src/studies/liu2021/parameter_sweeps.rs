@@ -1,0 +1,200 @@
+//! Fig. 12–14: rattle state and ppv against e_r, ε and a_k.
+
+use super::{
+    Point, base, first_at_least, flags_of, rise_claim, sig, sweep, sweep_figures, sweep_table,
+};
+use crate::{Claim, Cost, Error, Paper, Study, StudyOutput, Verdict};
+
+pub(super) fn study() -> Study {
+    Study {
+        id: "liu2021-fig12-14-parameter-sweeps",
+        paper: Paper::Liu2021,
+        source: "Fig. 12, 13, 14, Sect. 3.4-3.6",
+        title: "Rattle state and ppv against e_r, ε and a_k (at ω1 = 140 and 160 rad/s)",
+        description: "Time integration (judged) and harmonic balance (paper basis cold/warm, \
+            full basis K = 65 warm; shown; table columns) over e_r = 0–40 µm, ε = 0–0.3 and \
+            a_k = k_r/k0 = 0.05–0.8, the other parameters from Table 1. Claims: the succession \
+            no → unilateral → bilateral rattle with e_r and ε, a ppv jump at the onset of \
+            bilateral rattle, and the paper's statement that a_k changes the rattle state little \
+            (unilateral throughout at 160, no rattle throughout at 140).",
+        cost: Cost::Heavy,
+        run,
+    }
+}
+
+/// Claim that the time-integration states are non-decreasing and pass through all three.
+fn succession_claim(out: &mut StudyOutput, text: &str, source: &str, unit: &str, pts: &[Point]) {
+    let monotone = pts.windows(2).all(|w| w[1].rsv() >= w[0].rsv());
+    let uni = first_at_least(pts, 1);
+    let bi = first_at_least(pts, 2);
+    let all = pts.first().is_some_and(|p| p.rsv() == 0) && bi.x.is_finite();
+    out.claim(
+        Claim::new(
+            text,
+            source,
+            format!(
+                "time integration: unilateral from {} {unit}, bilateral from {} {unit}; states {}",
+                sig(uni.x),
+                sig(bi.x),
+                if monotone {
+                    "non-decreasing"
+                } else {
+                    "not monotone (coexisting responses)"
+                }
+            ),
+            Verdict::from_bool(all),
+        )
+        .cause("succession of time-integration rattle states along the sweep")
+        .flagged_all(bi.flags),
+    );
+    let jump = pts.windows(2).find(|w| w[0].rsv() < 2 && w[1].rsv() == 2);
+    out.claim(
+        Claim::new(
+            "As the bilateral rattle arises, ppv increases suddenly.",
+            source,
+            jump.map_or("no onset of bilateral rattle".to_owned(), |w| {
+                format!(
+                    "ppv ratio across the onset ×{} ('suddenly' read as ×3 within one step)",
+                    sig(w[1].ppv() / w[0].ppv())
+                )
+            }),
+            Verdict::from_bool(jump.is_some_and(|w| w[1].ppv() > 3.0 * w[0].ppv())),
+        )
+        .cause("ppv ratio across the time-integration onset of bilateral rattle")
+        .flagged_all(jump.map_or_else(|| flags_of(pts), flags_of)),
+    );
+}
+
+fn run() -> Result<StudyOutput, Error> {
+    let mut out = StudyOutput::new();
+    let er: Vec<f64> = (0..=40).map(|i| 1e-6 * f64::from(i)).collect();
+    let pts = sweep(&er, |p, x| p.er = x)?;
+    succession_claim(
+        &mut out,
+        "As e_r increases, the NFG undergoes non-rattle, unilateral rattle and bilateral rattle in succession.",
+        "Sect. 3.4, Fig. 12",
+        "m",
+        &pts,
+    );
+    out.table(sweep_table("er", ("e_r", "m"), &pts)?);
+    sweep_figures(&mut out, "er", ("e_r", "m"), &pts);
+
+    let eps: Vec<f64> = (0..=30).map(|i| 0.01 * f64::from(i)).collect();
+    let pts = sweep(&eps, |p, x| p.eccentricity = x)?;
+    succession_claim(
+        &mut out,
+        "The NFG also undergoes the three rattle states with the increase in eccentric ratio.",
+        "Sect. 3.5, Fig. 13",
+        "",
+        &pts,
+    );
+    out.table(sweep_table("eps", ("epsilon", "1"), &pts)?);
+    sweep_figures(&mut out, "eps", ("epsilon", "1"), &pts);
+
+    // Fig. 13b: the circular face gear (ε = 0) against the NFG of Table 1, at 160 rad/s
+    let eps0 = base().eccentricity;
+    if let (Some(c), Some(nfg)) = (pts.first(), pts.iter().find(|p| (p.x - eps0).abs() < 1e-9)) {
+        out.claim(
+            Claim::new(
+                "Comparing it to Fig. 8a, the vibration amplitude of the circular face gear is much less than that of the NFG.",
+                "Sect. 3.5, Fig. 13b",
+                format!(
+                    "time integration at ω1 = 160 rad/s: ppv {} at ε = 0 against {} at ε = {} (ratio {}); 'much less' read as below half",
+                    sig(c.ppv()),
+                    sig(nfg.ppv()),
+                    sig(eps0),
+                    sig(c.ppv() / nfg.ppv())
+                ),
+                Verdict::from_bool(c.ppv() < 0.5 * nfg.ppv()),
+            )
+            .cause("ppv of the time-integration reference at ε = 0 and at Table 1's ε")
+            .flagged_all(flags_of([c, nfg])),
+        );
+    }
+    // Fig. 13c: ppv grows with ε before bilateral rattle, then drops while still bilateral
+    let onset = pts.iter().position(|p| p.rsv() == 2).unwrap_or(pts.len());
+    out.claim(rise_claim(
+        "The peak-to-peak value of the NFG grows with the increase in ε when it undergoes non-rattle and unilateral rattle vibration.",
+        "Sect. 3.5, Fig. 13c",
+        "ε before the first bilateral point",
+        &pts[..onset],
+    ));
+    let bil = &pts[onset..];
+    let peak = bil.iter().map(Point::ppv).fold(f64::NAN, f64::max);
+    let last = bil.last().map_or(f64::NAN, Point::ppv);
+    let still_bi = !bil.is_empty() && bil.iter().all(|p| p.rsv() == 2);
+    out.claim(
+        Claim::new(
+            "Then, as the eccentric ratio increases, the ppv of the NFG drops significantly. However, it is still in the bilateral rattle state.",
+            "Sect. 3.5, Fig. 13c",
+            format!(
+                "time integration after the bilateral onset: largest ppv {}, ppv at the end of the sweep {} (ratio {}), bilateral throughout: {still_bi}; 'drops significantly' read as below half the peak",
+                sig(peak),
+                sig(last),
+                sig(last / peak)
+            ),
+            Verdict::from_bool(still_bi && last < 0.5 * peak),
+        )
+        .cause("ppv and rsv of the time-integration reference beyond the bilateral onset")
+        .flagged_all(flags_of(bil)),
+    );
+
+    let ak: Vec<f64> = (1..=16).map(|i| 0.05 * f64::from(i)).collect();
+    // None: the critical speed at which the text says a_k changes the state
+    for (w, expected) in [(160.0, Some(1u8)), (140.0, Some(0u8)), (145.0, None)] {
+        let pts = sweep(&ak, |p, x| {
+            p.omega1 = w;
+            p.kr = x * p.k0;
+        })?;
+        // the text's range is a_k = 0.1–0.8 (the 0.05 point is shown, not judged)
+        let judged: Vec<Point> = pts.iter().filter(|p| p.x >= 0.1 - 1e-12).copied().collect();
+        let states: Vec<u8> = judged.iter().map(Point::rsv).collect();
+        let flags = flags_of(&judged);
+        match expected {
+            Some(e) => {
+                let same = states.iter().all(|&s| s == e);
+                out.claim(
+                    Claim::new(
+                        &format!(
+                            "At ω1 = {w} rad/s the rattle state stays {} for a_k = 0.1–0.8.",
+                            if e == 1 { "unilateral" } else { "non-rattle" }
+                        ),
+                        "Sect. 3.6, Fig. 14a",
+                        format!("time-integration rsv over a_k = 0.1…0.8: {states:?}"),
+                        Verdict::from_bool(same),
+                    )
+                    .reading("R-LIU-EQ11")
+                    .cause("the model's thresholds sit 15 rad/s below the paper's (R-LIU-EQ11), so 140 and 160 rad/s lie closer to a state change and a_k moves the state there")
+                    .flagged_all(flags.clone()),
+                );
+            }
+            None => {
+                let changes = states.windows(2).any(|s| s[0] != s[1]);
+                out.claim(
+                    Claim::new(
+                        "Under some critical conditions such as ω1 = 145 rad/s, the variation in a_k could lead to a change in the rattle state.",
+                        "Sect. 3.6, Fig. 14a",
+                        format!("time-integration rsv over a_k = 0.1…0.8 at 145 rad/s: {states:?}"),
+                        Verdict::from_bool(changes),
+                    )
+                    .reading("R-LIU-EQ11")
+                    .flagged_all(flags.clone()),
+                );
+            }
+        }
+        out.claim(
+            rise_claim(
+                &format!(
+                    "At ω1 = {w} rad/s the vibrational amplitudes of the NFG rise obviously as a_k increases."
+                ),
+                "Sect. 3.6, Fig. 14b",
+                "a_k = 0.1…0.8",
+                &judged,
+            ),
+        );
+        let name = format!("ak_{w}");
+        out.table(sweep_table(&name, ("a_k", "1"), &pts)?);
+        sweep_figures(&mut out, &name, ("a_k", "1"), &pts);
+    }
+    Ok(out)
+}
