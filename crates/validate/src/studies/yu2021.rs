@@ -31,7 +31,9 @@ pub fn studies() -> Vec<Study> {
             title: "Mean dynamic backlash vs constant backlash for D = 1.2, 1.4, 1.6",
             description: "Yu's 6-DOF model (consistent form) on the Table 2 rig with the fractal \
                 constant part of Eq. (5) (G = 1e-11 m, λ = 1.5, L = l_a = 1 mm, l_s = 1 µm, \
-                b0 = 30 µm as in the Fig. 4 study) at ω* = 0.2. The paper does not state b_n: we \
+                b0 = 30 µm as in the Fig. 4 study) at ω* = 0.2, mean mesh stiffness k_am(D) from Eq. (18) \
+                of the same surface (consistent form, mesh-stiffness leaf inputs, level 4e8 N/m \
+                at D = 1.5: FractalMeshStiffness::table2()). The paper does not state b_n: we \
                 take b_n = b0/5, so that the smooth-surface limit b_s → b0 equals the paper's \
                 'almost 5' (one calibrated scale). Mean of B/b_n over 20 mesh periods vs the \
                 means quoted in the text. Engine: `timestep` (Dormand–Prince 5(4), rtol 1e-8, \
@@ -64,7 +66,10 @@ pub fn studies() -> Vec<Study> {
                 `timestep` for all three curves (Dormand–Prince 5(4), rtol 1e-8, atol 1e-10, \
                 contact switches δ* = ±B as events; resolves Chen's fastest backlash term, \
                 ≈ 86 ω*, which fixed-step RK4 at 256 steps/period under-resolves). Chen's Table 1 \
-                response is irregular: its DF moves by a few % with the integrator.",
+                response is irregular: its DF moves by a few % with the integrator. The paper \
+                eliminates the surface topography for this comparison (Sect. 4.4), so k_am is \
+                Table 1's stated 3e8 N/m, not Eq. (18); Chen's a_z is swept in \
+                yu2021-chen-amplitude.",
             cost: Cost::Heavy,
             run: fig13,
         },
@@ -75,9 +80,12 @@ pub fn studies() -> Vec<Study> {
             title: "RMS of the DTE harmonics vs ω* for the proposed, Chen's and Kahraman–Singh models",
             description: "Yu2021Params::table2() (RMS rig; unstated values chosen). RMS of the first \
                 n = 4 mesh harmonics of the DTE (µm), 40 frequencies ω* = 0.4 … 1.4. Cao's \
-                force-dependent-stiffness model of the paper is not implemented; the \
-                constant-backlash Kahraman–Singh model stands in as the 'no dynamic backlash' \
-                reference. No experimental points are digitised. Engine: `timestep` for all \
+                model is not reproducible: the paper describes it only as 'force-dependent \
+                meshing stiffness with constant backlash' (Ref. [27], not in the seeds) and gives \
+                neither the stiffness law nor its parameters; the constant-backlash \
+                Kahraman–Singh model stands in as the 'no dynamic backlash' reference. The Table 2 \
+                rig has no fractal surface (the paper states none for Fig. 13–14), so k_am is the \
+                set's 4e8 N/m; the D-dependent model's DF/RMS curves are in yu2021-d-trends. No experimental points are digitised. Engine: `timestep` for all \
                 three curves (Dormand–Prince 5(4), rtol 1e-8, atol 1e-10, contact switches as \
                 events).",
             cost: Cost::Heavy,
@@ -504,7 +512,7 @@ fn fig14() -> Result<StudyOutput, Error> {
             "Cao's model has an obvious tendency that is larger than the experimental data. While the proposed model shows a slight fluctuation around the experimental data.",
             "Sect. 4.4, Fig. 14",
             format!(
-                "no experimental points and Cao's model not implemented; RMS(Yu) < RMS(constant-backlash K-S) at {below} of {} frequencies",
+                "no experimental points; Cao's model not reproducible (the paper gives only 'force-dependent meshing stiffness with constant backlash', Ref. [27] is not in the seeds); RMS(Yu) < RMS(constant-backlash K-S) at {below} of {} frequencies",
                 rms.len()
             ),
             Verdict::Inconclusive,
