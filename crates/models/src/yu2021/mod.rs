@@ -104,6 +104,7 @@ mod fractal;
 mod hbm;
 mod model;
 mod params;
+mod stiffness;
 
 pub use engines::Engine;
 pub use fractal::{
@@ -117,3 +118,4 @@ pub use model::{
     STATE_LEN, Yu2021Dimensionless, Yu2021Model, dead_zone,
 };
 pub use params::{BacklashSpec, Yu2021Params};
+pub use stiffness::FractalMeshStiffness;

@@ -9,6 +9,7 @@ mod liu2021;
 pub(crate) mod user_models;
 mod yu2021;
 mod yu2021_backlash;
+mod yu2021_scaling;
 
 /// Every study, in report order (Karpov, Liu, Yu; geometry first within a paper).
 pub fn all_studies() -> Vec<Study> {
@@ -18,6 +19,7 @@ pub fn all_studies() -> Vec<Study> {
     v.extend(liu2021::studies());
     v.extend(yu2021_backlash::studies());
     v.extend(yu2021::studies());
+    v.extend(yu2021_scaling::studies());
     v.sort_by_key(|s| s.paper);
     v
 }
