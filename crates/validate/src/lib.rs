@@ -101,9 +101,12 @@
 //!
 //! # User studies
 //!
-//! [`UserStudy`] reads the TOML study files of `cargo xtask study <file.toml>` (format in
-//! `docs/studies.md`): any model, parameter overrides, a sweep over one or two parameters, solver
-//! and settings.
+//! [`UserStudy`] reads the TOML study files of `geardyn study <file.toml>` (format in
+//! `docs/studies.md`, limits in `docs/reliability.md`): any model of [`REGISTRY`], parameter
+//! overrides and choices by name, a sweep over one or two parameters, solver and settings, the
+//! initial state. [`run_study_from_str`] parses, checks ([`prepare`]) and computes a study without
+//! writing; [`run_study_file`] is the whole command (output directory checked and locked first,
+//! atomic writes). [`run_validation`] is `cargo xtask validate` / `geardyn validate`.
 //!
 //! # References
 //!
