@@ -38,6 +38,20 @@ enum Cmd {
         /// Output directory (default: next to the study file, `<name>/`).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Compute only shard `i/n` and write its partial result (see docs/scaling.md).
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+    },
+    /// Merge shards' partial results into the outputs of the whole study.
+    Merge {
+        /// The study file the shards were computed from.
+        file: PathBuf,
+        /// Output directory (default: next to the study file, `<name>/`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// The partial results.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
     },
 }
 
@@ -51,7 +65,11 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.cmd {
         Cmd::Validate { check, filter } => cli::validate(&repo_root(), check, filter.as_deref()),
-        Cmd::Study { file, out } => cli::study(&file, out.as_deref()),
+        Cmd::Study { file, out, shard } => match shard {
+            Some(s) => cli::study_shard(&file, out.as_deref(), &s),
+            None => cli::study(&file, out.as_deref()),
+        },
+        Cmd::Merge { file, out, parts } => cli::merge(&file, out.as_deref(), &parts),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -163,6 +163,55 @@ pub fn study(file: &Path, out: Option<&Path>) -> Result<(), Failure> {
     Ok(())
 }
 
+/// `geardyn study FILE --shard i/n`: compute one shard and write its partial result (under
+/// `<out>-shards/`); resumable; merge the shards with [`merge`].
+pub fn study_shard(file: &Path, out: Option<&Path>, shard: &str) -> Result<(), Failure> {
+    let shard: validate::shard::ShardSpec = shard.parse()?;
+    let progress = StudyProgress(Mutex::new(StderrProgress::new("points")));
+    let path = validate::run_study_shard_file(file, out, shard, &progress)?;
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// `geardyn study FILE --sbatch N`: print a Slurm job-array script that runs the study as
+/// `N` shards (see `docs/scaling.md`).
+pub fn study_sbatch(
+    file: &Path,
+    out: Option<&Path>,
+    options: &validate::shard::SlurmOptions,
+) -> Result<(), Failure> {
+    let text = std::fs::read_to_string(file).map_err(|e| Failure {
+        message: format!("{}: {e}", file.display()),
+        code: 2,
+    })?;
+    let study = validate::UserStudy::parse(&text)?;
+    let dir = out.map_or_else(
+        || validate::default_out_dir(file, &study),
+        Path::to_path_buf,
+    );
+    print!(
+        "{}",
+        validate::shard::sbatch_script(file, &dir, &study.name, options)?
+    );
+    Ok(())
+}
+
+/// `geardyn merge FILE --out DIR PART...`: merge shards' partial results into the outputs of
+/// the whole study, identical to an unsharded run.
+pub fn merge(file: &Path, out: Option<&Path>, parts: &[std::path::PathBuf]) -> Result<(), Failure> {
+    let (output, written) = validate::merge_study_files(file, out, parts)?;
+    for f in &written.files {
+        println!("wrote {}", f.display());
+    }
+    if output.all_failed() {
+        return Err(Failure {
+            message: format!("every point ({}) failed", output.points),
+            code: EXIT_ALL_FAILED,
+        });
+    }
+    Ok(())
+}
+
 /// `geardyn validate [--check] [--filter F]` under the repository `root`.
 pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Failure> {
     let total = if let Some(f) = filter {

@@ -25,6 +25,37 @@ enum Cmd {
         /// Output directory (default: next to the study file, `<name>/`).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Compute only shard `i/n` (1-based) and write its partial result to
+        /// `<out>-shards/`; merge the shards with `geardyn merge`.
+        #[arg(long, value_name = "I/N", conflicts_with = "sbatch")]
+        shard: Option<String>,
+        /// Print a Slurm job-array script that runs the study as N shards (docs/scaling.md).
+        #[arg(long, value_name = "N")]
+        sbatch: Option<usize>,
+        /// Slurm: time limit per task (HH:MM:SS).
+        #[arg(long, default_value = "01:00:00", requires = "sbatch")]
+        sbatch_time: String,
+        /// Slurm: memory per task.
+        #[arg(long, default_value = "2G", requires = "sbatch")]
+        sbatch_mem: String,
+        /// Slurm: cores per task.
+        #[arg(long, default_value_t = 1, requires = "sbatch")]
+        sbatch_cpus: usize,
+        /// Slurm: partition.
+        #[arg(long, requires = "sbatch")]
+        sbatch_partition: Option<String>,
+    },
+    /// Merge shards' partial results into the outputs of the whole study (byte-identical to an
+    /// unsharded run).
+    Merge {
+        /// The study file the shards were computed from.
+        file: PathBuf,
+        /// Output directory (default: next to the study file, `<name>/`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// The partial results (`<out>-shards/*.part`).
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
     },
     /// List every model: parameters and units, choices and readings, methods, settings, outputs.
     Models {
@@ -51,7 +82,32 @@ enum Cmd {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.cmd {
-        Cmd::Study { file, out } => geardyn_cli::study(&file, out.as_deref()),
+        Cmd::Study {
+            file,
+            out,
+            shard,
+            sbatch,
+            sbatch_time,
+            sbatch_mem,
+            sbatch_cpus,
+            sbatch_partition,
+        } => match (shard, sbatch) {
+            (Some(s), _) => geardyn_cli::study_shard(&file, out.as_deref(), &s),
+            (None, Some(n)) => geardyn_cli::study_sbatch(
+                &file,
+                out.as_deref(),
+                &validate::shard::SlurmOptions {
+                    shards: n,
+                    time: sbatch_time,
+                    memory: sbatch_mem,
+                    cpus: sbatch_cpus,
+                    partition: sbatch_partition,
+                    ..validate::shard::SlurmOptions::default()
+                },
+            ),
+            (None, None) => geardyn_cli::study(&file, out.as_deref()),
+        },
+        Cmd::Merge { file, out, parts } => geardyn_cli::merge(&file, out.as_deref(), &parts),
         Cmd::Models { name, json } => {
             if json {
                 let v = match name {

@@ -37,7 +37,7 @@
 //! at most a budget `θ`, bounded with `Φ''` included (`a L + max|Φ''| L²/2 ≤ θ`,
 //! `a = 1 + |Φ'|` at the panel start). Every pair of panels is checked against one panel over
 //! the pair; the signed sum of the differences is the error estimate, and
-//! [`Karpov2017::duhamel`] halves `θ` until it is `≤ 1e-7·A` ([`KarpovResponse::error_estimate`]). 
+//! [`Karpov2017::duhamel`] halves `θ` until it is `≤ 1e-7·A` ([`KarpovResponse::error_estimate`]).
 //! The model also implements the shared system description `system::SecondOrderSystem`
 //! ([`Karpov2017::time_stepping`] wraps it for the `timestep` engine, states `[X, X']`) so the same
 //! response can be integrated step by step; the two agree to ~1e-8 (tests).

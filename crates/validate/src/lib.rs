@@ -151,11 +151,12 @@ pub use study::{
 pub use table::{Cell, Column, Table};
 pub use user::{
     FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_STEPS_BOUND, MAX_SWEEP_VALUES, MODELS,
-    Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, Sweep, UserStudy,
+    Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, StudyPlan, Sweep, UserStudy,
     UserStudyOutput, Value, Written, apply_overrides, apply_values, camel_to_kebab,
-    check_study_name, choice, compute, default_out_dir, display_name, field_names, kebab_to_camel,
-    lock_output_dir, model_spec, new_run_id, prepare, run_study_file, run_study_from_str,
-    run_user_study, variant_names, write_outputs,
+    check_study_name, choice, compute, compute_records, default_out_dir, display_name, field_names,
+    kebab_to_camel, lock_output_dir, merge_from_str, merge_study_files, model_spec, new_run_id,
+    prepare, run_shard_from_str, run_study_file, run_study_from_str, run_study_shard_file,
+    run_user_study, shard_path, variant_names, write_outputs,
 };
 
 #[cfg(test)]

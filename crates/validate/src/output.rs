@@ -118,7 +118,11 @@ pub fn run_validation(
         return Err(Error::Study(format!(
             "validate --check: {} integrity problem(s):\n{}",
             problems.len(),
-            problems.iter().map(|p| p.to_string()).collect::<Vec<_>>().join("\n")
+            problems
+                .iter()
+                .map(|p| p.to_string())
+                .collect::<Vec<_>>()
+                .join("\n")
         )));
     }
     warnings.extend(problems.iter().map(|p| format!("error: {p}")));
@@ -191,7 +195,11 @@ fn check_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>) -> Result<String,
     } else {
         Err(Error::Study(format!(
             "{}\n{} generated file(s) differ from the committed validation outputs/snapshots; {HINT}",
-            problems.iter().map(|p| p.to_string()).collect::<Vec<_>>().join("\n"),
+            problems
+                .iter()
+                .map(|p| p.to_string())
+                .collect::<Vec<_>>()
+                .join("\n"),
             problems.len()
         )))
     }

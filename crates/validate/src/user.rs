@@ -24,6 +24,8 @@ use serde::{Deserialize, Serialize, de::DeserializeOwned};
 
 use crate::error::{Error, check_name};
 use crate::figure::{Figure, Series};
+use crate::heatmap::{HeatScale, Heatmap};
+use crate::shard::{self, Journal, JournalHeader, PointRecord, ShardSpec};
 use crate::studies::user_models::{self, Job, ModelSpec};
 use crate::table::{Cell, Table};
 
@@ -461,6 +463,9 @@ pub struct UserStudyOutput {
     pub table: Table,
     /// One figure per output quantity (x = first sweep, one curve per second-sweep value).
     pub figures: Vec<Figure>,
+    /// For a two-parameter study with numeric sweeps: one heat map per output quantity
+    /// (`<name>_<output>_map.svg`; the rattle state `rsv` with categorical colours).
+    pub maps: Vec<Heatmap>,
     /// Points that failed (NaN rows in the table).
     pub failed: Vec<FailedPoint>,
     /// Number of points.
@@ -529,6 +534,129 @@ pub fn compute(
     prepared: Prepared,
     progress: Option<&(dyn Fn(usize, usize) + Sync)>,
 ) -> UserStudyOutput {
+    let (plan, records) = compute_records(prepared, ShardSpec::whole(), Vec::new(), None, progress);
+    // The whole study was computed: every record is there, in order.
+    let results = records.into_iter().map(record_result).collect();
+    assemble(&plan.study, &plan.outputs, &plan.xs, &plan.ys, results)
+}
+
+/// What a study renders from its point records: the study, its output columns and its grid —
+/// a [`Prepared`] study without its jobs (see [`crate::shard`]).
+#[derive(Debug, Clone)]
+pub struct StudyPlan {
+    study: UserStudy,
+    outputs: Vec<(String, String)>,
+    xs: Vec<Value>,
+    ys: Vec<Value>,
+}
+
+impl StudyPlan {
+    /// Number of points (`len(sweep) · len(sweep2)`).
+    pub fn len(&self) -> usize {
+        self.xs.len() * self.ys.len()
+    }
+
+    /// True if there is no point (never: a study has at least one).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The study.
+    pub fn study(&self) -> &UserStudy {
+        &self.study
+    }
+
+    /// The fingerprint that ties partial results and journals to this study: FNV-1a of the
+    /// study as parsed (canonical JSON: formatting and comments of the file do not count) and
+    /// of the geardyn version.
+    pub fn fingerprint(&self) -> String {
+        let canonical = serde_json::to_string(&self.study).unwrap_or_default();
+        shard::fingerprint(format!("{}\n{canonical}", env!("CARGO_PKG_VERSION")).as_bytes())
+    }
+
+    /// The header of a partial result (`Some(shard)`) or of a whole run's journal (`None`).
+    pub fn header(&self, shard: Option<ShardSpec>) -> JournalHeader {
+        JournalHeader::new(
+            &self.study.name,
+            self.fingerprint(),
+            self.len(),
+            self.outputs.iter().map(|(n, _)| n.clone()).collect(),
+            shard,
+        )
+    }
+
+    /// Render the outputs from the complete, ordered records (as [`shard::merge`] returns
+    /// them): byte for byte what an unsharded run writes.
+    pub fn render(&self, records: Vec<PointRecord>) -> Result<UserStudyOutput, Error> {
+        if records.len() != self.len() || records.iter().enumerate().any(|(k, r)| r.index != k) {
+            return Err(Error::Shard(format!(
+                "{} records for a study of {} points, or out of order",
+                records.len(),
+                self.len()
+            )));
+        }
+        if let Some(r) = records
+            .iter()
+            .find(|r| r.error.is_none() && r.values.len() != self.outputs.len())
+        {
+            return Err(Error::Shard(format!(
+                "point {} has {} values for {} outputs",
+                r.index,
+                r.values.len(),
+                self.outputs.len()
+            )));
+        }
+        let results = records.into_iter().map(record_result).collect();
+        Ok(assemble(
+            &self.study,
+            &self.outputs,
+            &self.xs,
+            &self.ys,
+            results,
+        ))
+    }
+
+    /// Check that partial results belong to this study (the fingerprint in their header).
+    pub fn check_header(&self, header: &JournalHeader) -> Result<(), Error> {
+        let mine = self.header(None);
+        if header.fingerprint != mine.fingerprint
+            || header.points != mine.points
+            || header.outputs != mine.outputs
+            || header.study != mine.study
+        {
+            return Err(Error::Shard(format!(
+                "partial results of study `{}` ({} points, fingerprint {}) do not belong to \
+                 this study file (`{}`, {} points, fingerprint {}): was the file changed?",
+                header.study,
+                header.points,
+                header.fingerprint,
+                mine.study,
+                mine.points,
+                mine.fingerprint
+            )));
+        }
+        Ok(())
+    }
+}
+
+fn record_result(r: PointRecord) -> Result<Vec<f64>, String> {
+    match r.error {
+        Some(e) => Err(e),
+        None => Ok(r.values),
+    }
+}
+
+/// Compute the points of one shard (`ShardSpec::whole()` for all) that are not in `done`, in
+/// parallel; each finished point is appended to `journal` when one is given (so that a killed
+/// run resumes from it). Returns the plan and the shard's records — `done` and the new ones —
+/// in index order. A point's failure (error, non-finite output, panic) is its record's message.
+pub fn compute_records(
+    prepared: Prepared,
+    shard: ShardSpec,
+    done: Vec<PointRecord>,
+    journal: Option<&Journal>,
+    progress: Option<&(dyn Fn(usize, usize) + Sync)>,
+) -> (StudyPlan, Vec<PointRecord>) {
     let Prepared {
         study,
         outputs,
@@ -536,12 +664,23 @@ pub fn compute(
         ys,
         jobs,
     } = prepared;
-    let total = jobs.len();
-    let done = std::sync::atomic::AtomicUsize::new(0);
+    let mut have: BTreeMap<usize, PointRecord> = done
+        .into_iter()
+        .filter(|r| shard.owns(r.index) && r.index < jobs.len())
+        .map(|r| (r.index, r))
+        .collect();
+    let todo: Vec<(usize, Result<Job, Error>)> = jobs
+        .into_iter()
+        .enumerate()
+        .filter(|(k, _)| shard.owns(*k) && !have.contains_key(k))
+        .collect();
+    let total = todo.len();
+    let counter = std::sync::atomic::AtomicUsize::new(0);
     let n_out = outputs.len();
-    let results: Vec<Result<Vec<f64>, String>> = jobs
+    let journal_error = std::sync::Mutex::new(None::<String>);
+    let new: Vec<PointRecord> = todo
         .into_par_iter()
-        .map(|job| {
+        .map(|(k, job)| {
             let r = match job {
                 Ok(job) => match catch_unwind(AssertUnwindSafe(job)) {
                     Ok(Ok(v)) if v.len() == n_out => match v.iter().position(|x| !x.is_finite()) {
@@ -558,14 +697,79 @@ pub fn compute(
                 },
                 Err(e) => Err(e.to_string()),
             };
-            let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            let rec = match r {
+                Ok(v) => PointRecord::ok(k, v),
+                Err(e) => PointRecord::failed(k, e),
+            };
+            if let Some(j) = journal {
+                if let Err(e) = j.record(&rec) {
+                    if let Ok(mut slot) = journal_error.lock() {
+                        slot.get_or_insert(e.to_string());
+                    }
+                }
+            }
+            let d = counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             if let Some(f) = progress {
                 f(d, total);
             }
-            r
+            rec
         })
         .collect();
-    assemble(&study, &outputs, &xs, &ys, results)
+    if let Ok(Some(e)) = journal_error.into_inner() {
+        // The journal only speeds up a restart: losing it costs recomputation, not results.
+        eprintln!("warning: journal not written ({e}); an interrupted run would start afresh");
+    }
+    for r in new {
+        have.insert(r.index, r);
+    }
+    (
+        StudyPlan {
+            study,
+            outputs,
+            xs,
+            ys,
+        },
+        have.into_values().collect(),
+    )
+}
+
+/// Compute shard `shard` of a study given as TOML text and return its partial result (the
+/// text `geardyn study FILE --shard i/n` writes): a header line and one line per point. For
+/// front ends that ship shards to workers (the Python package's Dask path).
+pub fn run_shard_from_str(toml: &str, shard: ShardSpec) -> Result<String, Error> {
+    let study = UserStudy::parse(toml)?;
+    let prepared = prepare(&study)?;
+    let (plan, records) = compute_records(prepared, shard, Vec::new(), None, None);
+    let mut text = shard::header_line(&plan.header(Some(shard)));
+    for r in &records {
+        text.push_str(&shard::record_line(r));
+    }
+    Ok(text)
+}
+
+/// Merge partial results (texts as [`run_shard_from_str`] returns them, or the contents of
+/// `.part` files) of the study given as TOML text into its outputs.
+pub fn merge_from_str(toml: &str, parts: &[String]) -> Result<UserStudyOutput, Error> {
+    let study = UserStudy::parse(toml)?;
+    let plan = plan_of(prepare(&study)?);
+    let mut read = Vec::with_capacity(parts.len());
+    for (k, text) in parts.iter().enumerate() {
+        let name = format!("partial result {}", k + 1);
+        let (h, recs) = shard::read_points(text, &name)?;
+        plan.check_header(&h)?;
+        read.push((name, h, recs));
+    }
+    let (_, records) = shard::merge(&read)?;
+    plan.render(records)
+}
+
+fn plan_of(prepared: Prepared) -> StudyPlan {
+    StudyPlan {
+        study: prepared.study,
+        outputs: prepared.outputs,
+        xs: prepared.xs,
+        ys: prepared.ys,
+    }
 }
 
 fn axis_unit(study: &UserStudy, parameter: &str) -> String {
@@ -677,6 +881,7 @@ fn assemble(
             figures.push(fig);
         }
     }
+    let maps = heat_maps(study, outputs, xs, ys, &results);
     let points = results.len();
     let summary = serde_json::json!({
         "study": study,
@@ -690,10 +895,73 @@ fn assemble(
         outputs: outputs.to_vec(),
         table,
         figures,
+        maps,
         failed,
         points,
         summary,
     }
+}
+
+/// The rattle-state labels of the categorical maps (`rsv`: 0, 1, 2).
+const RATTLE_STATES: [&str; 3] = ["no rattle", "unilateral", "bilateral"];
+
+/// Heat maps of a two-parameter study: one per output, over (first sweep × second sweep), when
+/// both sweeps are numeric and strictly monotone; otherwise none (the line figures remain).
+fn heat_maps(
+    study: &UserStudy,
+    outputs: &[(String, String)],
+    xs: &[Value],
+    ys: &[Value],
+    results: &[Result<Vec<f64>, String>],
+) -> Vec<Heatmap> {
+    let (Some(s1), Some(s2)) = (&study.sweep, &study.sweep2) else {
+        return Vec::new();
+    };
+    let nums = |v: &[Value]| v.iter().map(Value::as_num).collect::<Option<Vec<f64>>>();
+    let (Some(x), Some(y)) = (nums(xs), nums(ys)) else {
+        return Vec::new();
+    };
+    let (ux, uy) = (
+        axis_unit(study, &s1.parameter),
+        axis_unit(study, &s2.parameter),
+    );
+    let mut maps = Vec::new();
+    for (j, (name, unit)) in outputs.iter().enumerate() {
+        let z: Vec<f64> = results
+            .iter()
+            .map(|r| r.as_ref().map_or(f64::NAN, |v| v[j]))
+            .collect();
+        let scale = if name == "rsv" {
+            HeatScale::Categorical(
+                RATTLE_STATES
+                    .iter()
+                    .enumerate()
+                    .map(|(k, l)| (k as f64, (*l).to_owned()))
+                    .collect(),
+            )
+        } else {
+            HeatScale::Continuous
+        };
+        let title = format!("{}: {name}", study.name);
+        // A map that cannot be built (non-monotone sweep values, an unknown state) is left
+        // out; the CSV and the line figures carry the data.
+        if let Ok(m) = Heatmap::new(
+            &format!("{}_{}_map", study.name, sanitize(name)),
+            &title,
+            [
+                (s1.parameter.as_str(), ux.as_str()),
+                (s2.parameter.as_str(), uy.as_str()),
+                (name.as_str(), unit.as_str()),
+            ],
+            x.clone(),
+            y.clone(),
+            z,
+            scale,
+        ) {
+            maps.push(m);
+        }
+    }
+    maps
 }
 
 /// A number at 6 significant digits as a JSON number (`null` if not finite).
@@ -1066,7 +1334,33 @@ pub fn new_run_id() -> String {
 /// most a `.<name>.tmp-<run id>` directory beside the output, never a mixed output.
 pub fn write_outputs(out: &UserStudyOutput, lock: &OutputLock) -> Result<Written, Error> {
     let dir = lock.dir();
-    let run_id = new_run_id();
+    // Render everything first: the run id is the fingerprint of the files it stands for, so
+    // that the same study gives the same bytes however it was computed (whole, sharded and
+    // merged, resumed), and the JSON names exactly the set of files written with it.
+    let mut rendered: Vec<(String, Vec<u8>)> = Vec::new();
+    rendered.push((format!("{}.csv", out.name), out.table.to_csv().into_bytes()));
+    // A figure that cannot be drawn (e.g. a data range wider than f64) is reported in the
+    // summary; its data is in the CSV.
+    let mut not_drawn = Vec::new();
+    for f in &out.figures {
+        match f.to_svg() {
+            Ok(svg) => rendered.push((format!("{}.svg", f.name), svg.into_bytes())),
+            Err(e) => not_drawn.push(e.to_string()),
+        }
+    }
+    for m in &out.maps {
+        match m.to_svg() {
+            Ok(svg) => rendered.push((format!("{}.svg", m.name), svg.into_bytes())),
+            Err(e) => not_drawn.push(e.to_string()),
+        }
+    }
+    let mut all = Vec::new();
+    for (n, b) in &rendered {
+        all.extend_from_slice(n.as_bytes());
+        all.push(0);
+        all.extend_from_slice(b);
+    }
+    let run_id = format!("content-{}", crate::shard::fingerprint(&all));
     let name = dir
         .file_name()
         .and_then(|n| n.to_str())
@@ -1076,25 +1370,19 @@ pub fn write_outputs(out: &UserStudyOutput, lock: &OutputLock) -> Result<Written
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let tmp = parent.join(format!(".{name}.tmp-{run_id}"));
+    let unique = new_run_id();
+    let tmp = parent.join(format!(".{name}.tmp-{unique}"));
     std::fs::create_dir(&tmp).map_err(io(&tmp))?;
     let result = (|| {
         let mut files = Vec::new();
-        let mut put = |file: String, bytes: &[u8]| -> Result<(), Error> {
-            let p = tmp.join(&file);
+        let mut put = |file: &str, bytes: &[u8]| -> Result<(), Error> {
+            let p = tmp.join(file);
             std::fs::write(&p, bytes).map_err(io(&p))?;
             files.push(dir.join(file));
             Ok(())
         };
-        put(format!("{}.csv", out.name), out.table.to_csv().as_bytes())?;
-        // A figure that cannot be drawn (e.g. a data range wider than f64) is reported in the
-        // summary; its data is in the CSV.
-        let mut not_drawn = Vec::new();
-        for f in &out.figures {
-            match f.to_svg() {
-                Ok(svg) => put(format!("{}.svg", f.name), svg.as_bytes())?,
-                Err(e) => not_drawn.push(e.to_string()),
-            }
+        for (n, b) in &rendered {
+            put(n, b)?;
         }
         let mut summary = out.summary.clone();
         if let Some(o) = summary.as_object_mut() {
@@ -1103,8 +1391,11 @@ pub fn write_outputs(out: &UserStudyOutput, lock: &OutputLock) -> Result<Written
         }
         let json =
             serde_json::to_string_pretty(&summary).map_err(|e| Error::Study(e.to_string()))?;
-        put(format!("{}.json", out.name), format!("{json}\n").as_bytes())?;
-        put(MARKER.to_owned(), format!("{run_id}\n").as_bytes())?;
+        put(
+            &format!("{}.json", out.name),
+            format!("{json}\n").as_bytes(),
+        )?;
+        put(MARKER, format!("{run_id}\n").as_bytes())?;
         Ok(files)
     })();
     let files = match result {
@@ -1114,7 +1405,7 @@ pub fn write_outputs(out: &UserStudyOutput, lock: &OutputLock) -> Result<Written
             return Err(e);
         }
     };
-    let old = parent.join(format!(".{name}.old-{run_id}"));
+    let old = parent.join(format!(".{name}.old-{unique}"));
     if dir.exists() {
         std::fs::rename(dir, &old).map_err(io(dir))?;
     }
@@ -1166,10 +1457,127 @@ pub fn run_study_file(
     let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
     let lock = lock_output_dir(&dir)?;
     let prepared = prepare(&study)?;
-    progress.start(prepared.len());
+    // The journal lives beside the output directory (which is replaced atomically at the end)
+    // and under the same lock: a run stopped by SIGINT/SIGKILL resumes from it.
+    let journal_path = sibling(&dir, "journal");
+    let (journal, done) = Journal::open(&journal_path, &plan_ref(&prepared).header(None))?;
+    if !done.is_empty() {
+        eprintln!(
+            "resuming {}: {} of {} points taken from {}",
+            study.name,
+            done.len(),
+            prepared.len(),
+            journal_path.display()
+        );
+    }
+    progress.start(prepared.len() - done.len().min(prepared.len()));
     let cb = |d: usize, t: usize| progress.point(d, t);
-    let output = compute(prepared, Some(&cb));
+    let (plan, records) = compute_records(
+        prepared,
+        ShardSpec::whole(),
+        done,
+        Some(&journal),
+        Some(&cb),
+    );
     progress.finish();
+    let output = plan.render(records)?;
+    let written = write_outputs(&output, &lock)?;
+    journal.finish()?;
+    Ok((output, written))
+}
+
+/// `<parent>/.<name>.<what>` for an output directory `<parent>/<name>`.
+fn sibling(dir: &Path, what: &str) -> PathBuf {
+    let name = dir.file_name().and_then(|n| n.to_str()).unwrap_or("study");
+    let parent = match dir.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    parent.join(format!(".{name}.{what}"))
+}
+
+fn plan_ref(p: &Prepared) -> StudyPlan {
+    StudyPlan {
+        study: p.study.clone(),
+        outputs: p.outputs.clone(),
+        xs: p.xs.clone(),
+        ys: p.ys.clone(),
+    }
+}
+
+/// The partial-result file of shard `shard` of the study whose outputs go to `out`:
+/// `<out>-shards/<name>.shard-<i>-of-<n>.part`, beside the output directory (which a merge
+/// replaces atomically, so the parts cannot live inside it).
+pub fn shard_path(out: &Path, study: &UserStudy, shard: ShardSpec) -> PathBuf {
+    let mut dir = out.as_os_str().to_owned();
+    dir.push("-shards");
+    PathBuf::from(dir).join(format!(
+        "{}.shard-{}-of-{}.part",
+        study.name,
+        shard.index(),
+        shard.count()
+    ))
+}
+
+/// Run shard `shard` of a study file: its partial result is written point by point to
+/// [`shard_path`] (so a task that is stopped resumes where it was when it is run again) and
+/// the path is returned. Merge the shards with [`merge_study_files`].
+pub fn run_study_shard_file(
+    file: &Path,
+    out: Option<&Path>,
+    shard: ShardSpec,
+    progress: &dyn Progress,
+) -> Result<PathBuf, Error> {
+    let text = std::fs::read_to_string(file).map_err(io(file))?;
+    let study = UserStudy::parse(&text).map_err(|e| match e {
+        Error::StudyFile(m) => Error::StudyFile(format!("{}: {m}", file.display())),
+        e => e,
+    })?;
+    let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
+    let path = shard_path(&dir, &study, shard);
+    if let Some(p) = path.parent() {
+        std::fs::create_dir_all(p).map_err(io(p))?;
+    }
+    let prepared = prepare(&study)?;
+    let (journal, done) = Journal::open(&path, &plan_ref(&prepared).header(Some(shard)))?;
+    let owned = shard.points(prepared.len()).count();
+    progress.start(owned - done.len().min(owned));
+    let cb = |d: usize, t: usize| progress.point(d, t);
+    let _ = compute_records(prepared, shard, done, Some(&journal), Some(&cb));
+    progress.finish();
+    Ok(path)
+}
+
+/// Merge the partial results `parts` of the study file `file` and write its outputs to `out`
+/// (default [`default_out_dir`]) exactly as an unsharded run would.
+pub fn merge_study_files(
+    file: &Path,
+    out: Option<&Path>,
+    parts: &[PathBuf],
+) -> Result<(UserStudyOutput, Written), Error> {
+    let text = std::fs::read_to_string(file).map_err(io(file))?;
+    let study = UserStudy::parse(&text).map_err(|e| match e {
+        Error::StudyFile(m) => Error::StudyFile(format!("{}: {m}", file.display())),
+        e => e,
+    })?;
+    let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
+    let plan = plan_of(prepare(&study)?);
+    let mut read = Vec::with_capacity(parts.len());
+    for p in parts {
+        let t = std::fs::read_to_string(p).map_err(io(p))?;
+        let name = p.display().to_string();
+        let (h, recs) = shard::read_points(&t, &name)?;
+        if h.shard.is_none() {
+            return Err(Error::Shard(format!(
+                "{name} is the journal of an unfinished whole run, not a shard's partial result"
+            )));
+        }
+        plan.check_header(&h)?;
+        read.push((name, h, recs));
+    }
+    let (_, records) = shard::merge(&read)?;
+    let output = plan.render(records)?;
+    let lock = lock_output_dir(&dir)?;
     let written = write_outputs(&output, &lock)?;
     Ok((output, written))
 }

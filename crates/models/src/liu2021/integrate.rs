@@ -62,8 +62,8 @@ fn run(
 ) -> Result<timestep::Solution, Error> {
     // the model's one system description (`system::SecondOrderSystem`), made explicit
     let ode = timestep::Mechanical::new(*model).map_err(Error::from)?;
-    let sol = timestep::integrate(&timestep::FirstOrder(ode), t0, y0, t1, &opts)
-        .map_err(Error::from)?;
+    let sol =
+        timestep::integrate(&timestep::FirstOrder(ode), t0, y0, t1, &opts).map_err(Error::from)?;
     if !sol.status.is_success() {
         return Err(Error::Solver(format!(
             "liu2021 integration ended with {:?}",
