@@ -9,7 +9,7 @@ numpy arrays; errors as the typed exceptions of :mod:`geardyn.errors`.
 
 >>> import geardyn
 >>> liu = geardyn.Liu2021().with_params(omega1=120.0)
->>> r = liu.solve("hbm")
+>>> r = liu.solve("hbm", full_r=2)
 >>> int(r["rsv"]), bool(r["converged"])
 (0, True)
 
