@@ -454,6 +454,54 @@ fn run_study(py: Python<'_>, text: &str) -> String {
     })
 }
 
+/// Write a computed study's outputs into `out_dir` (checked and locked first): the files of
+/// `geardyn study`. Returns the JSON summary with the run id.
+fn write_into(out: &validate::UserStudyOutput, out_dir: &str) -> Res<Value> {
+    let lock = validate::lock_output_dir(std::path::Path::new(out_dir))?;
+    let written = validate::write_outputs(out, &lock)?;
+    let mut summary = out.summary.clone();
+    if let Some(o) = summary.as_object_mut() {
+        o.insert("run_id".to_owned(), json!(written.run_id));
+    }
+    Ok(summary)
+}
+
+/// `write_study(toml_text, out_dir)` → JSON summary; computes the study in this process and
+/// writes its CSV, SVG and JSON files to `out_dir`, as `geardyn study` does.
+#[pyfunction]
+fn write_study(py: Python<'_>, text: &str, out_dir: &str) -> String {
+    py.detach(|| {
+        envelope((|| {
+            let out = validate::run_study_from_str(text, &validate::RunOptions::default())?;
+            write_into(&out, out_dir)
+        })())
+    })
+}
+
+/// `run_study_shard(toml_text, index, count)` → the shard's partial result (text), as
+/// `geardyn study FILE --shard index/count` writes it.
+#[pyfunction]
+fn run_study_shard(py: Python<'_>, text: &str, index: usize, count: usize) -> String {
+    py.detach(|| {
+        envelope((|| {
+            let shard = validate::shard::ShardSpec::new(index, count)?;
+            Ok(json!(validate::run_shard_from_str(text, shard)?))
+        })())
+    })
+}
+
+/// `merge_study(toml_text, parts, out_dir)` → JSON summary; merges the partial results and
+/// writes the outputs to `out_dir`, byte-identical to `write_study` in one process.
+#[pyfunction]
+fn merge_study(py: Python<'_>, text: &str, parts: Vec<String>, out_dir: &str) -> String {
+    py.detach(|| {
+        envelope((|| {
+            let out = validate::merge_from_str(text, &parts)?;
+            write_into(&out, out_dir)
+        })())
+    })
+}
+
 /// The Rust side of the `geardyn` Python package.
 #[pymodule]
 fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -469,6 +517,9 @@ fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(run_study, m)?)?;
+    m.add_function(wrap_pyfunction!(write_study, m)?)?;
+    m.add_function(wrap_pyfunction!(run_study_shard, m)?)?;
+    m.add_function(wrap_pyfunction!(merge_study, m)?)?;
     Ok(())
 }
 

@@ -337,7 +337,7 @@ impl Karpov2017 {
         // 1 + ω(1 − B) (the smallest |Φ'| + 1), so at least this many panels are needed: refuse
         // at once what the budget cannot hold instead of running into it.
         let estimate = self.p.tau_end * (1.0 + self.p.omega * (1.0 - self.p.b)) / (2.0 * theta);
-        if !(estimate <= MAX_PANELS as f64) {
+        if estimate.is_nan() || estimate > MAX_PANELS as f64 {
             return Err(Error::Quadrature {
                 reason: format!(
                     "Duhamel integral: about {estimate:.3e} panels needed for tau_end = {} and \

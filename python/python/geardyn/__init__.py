@@ -39,6 +39,7 @@ __all__ = [
     "presets",
     "run_study",
     "run_study_file",
+    "write_study",
 ]
 
 
@@ -265,3 +266,10 @@ def run_study_file(path):
     """Run a study file."""
     with open(os.fspath(path), encoding="utf-8") as f:
         return run_study(f.read())
+
+
+def write_study(text, out_dir):
+    """Run a study given as TOML text in this process and write its files to ``out_dir``
+    (CSV, SVG, JSON summary), as ``geardyn study`` does. Returns the JSON summary as a dict.
+    For a study spread over many processes or machines, see :mod:`geardyn.dask`."""
+    return _unwrap(_geardyn.write_study(text, os.fspath(out_dir)))
