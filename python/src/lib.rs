@@ -295,7 +295,7 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
             let p: karpov2017::Karpov2017Params = with_overrides("karpov2017", &base, params)?;
             no_leftovers(method, s)?;
             let m = karpov2017::Karpov2017::new(p)?;
-            let r = m.duhamel();
+            let r = m.duhamel()?;
             let mut v = to_json(&r)?;
             if let Value::Object(o) = &mut v {
                 o.insert("converged".into(), Value::Bool(true));

@@ -407,6 +407,10 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
             fmt_sig(res[i5 * m + 2], 3),
         ),
         Verdict::Inconclusive,
+    )
+    .cause(
+        "Chen's fractal amplitude a_z is not stated in the paper (swept here) and Fig. 13/14 give \
+         no digitised experimental points, so 'much bigger' cannot be judged",
     ));
     Ok(out)
 }
