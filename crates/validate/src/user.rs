@@ -1449,11 +1449,7 @@ pub fn run_study_file(
     out: Option<&Path>,
     progress: &dyn Progress,
 ) -> Result<(UserStudyOutput, Written), Error> {
-    let text = std::fs::read_to_string(file).map_err(io(file))?;
-    let study = UserStudy::parse(&text).map_err(|e| match e {
-        Error::StudyFile(m) => Error::StudyFile(format!("{}: {m}", file.display())),
-        e => e,
-    })?;
+    let study = read_study(file)?;
     let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
     let lock = lock_output_dir(&dir)?;
     let prepared = prepare(&study)?;
@@ -1484,6 +1480,15 @@ pub fn run_study_file(
     let written = write_outputs(&output, &lock)?;
     journal.finish()?;
     Ok((output, written))
+}
+
+/// Read and check a study file; study-file errors name the file.
+fn read_study(file: &Path) -> Result<UserStudy, Error> {
+    let text = std::fs::read_to_string(file).map_err(io(file))?;
+    UserStudy::parse(&text).map_err(|e| match e {
+        Error::StudyFile(m) => Error::StudyFile(format!("{}: {m}", file.display())),
+        e => e,
+    })
 }
 
 /// `<parent>/.<name>.<what>` for an output directory `<parent>/<name>`.
@@ -1528,11 +1533,7 @@ pub fn run_study_shard_file(
     shard: ShardSpec,
     progress: &dyn Progress,
 ) -> Result<PathBuf, Error> {
-    let text = std::fs::read_to_string(file).map_err(io(file))?;
-    let study = UserStudy::parse(&text).map_err(|e| match e {
-        Error::StudyFile(m) => Error::StudyFile(format!("{}: {m}", file.display())),
-        e => e,
-    })?;
+    let study = read_study(file)?;
     let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
     let path = shard_path(&dir, &study, shard);
     if let Some(p) = path.parent() {
@@ -1555,11 +1556,7 @@ pub fn merge_study_files(
     out: Option<&Path>,
     parts: &[PathBuf],
 ) -> Result<(UserStudyOutput, Written), Error> {
-    let text = std::fs::read_to_string(file).map_err(io(file))?;
-    let study = UserStudy::parse(&text).map_err(|e| match e {
-        Error::StudyFile(m) => Error::StudyFile(format!("{}: {m}", file.display())),
-        e => e,
-    })?;
+    let study = read_study(file)?;
     let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
     let plan = plan_of(prepare(&study)?);
     let mut read = Vec::with_capacity(parts.len());
