@@ -223,6 +223,23 @@ fn no_leftovers(method: &str, s: BTreeMap<String, Value>) -> Res<()> {
 }
 
 /// Solve one point of a model by one method.
+/// The Yu 2021 inputs shared by both methods: parameters on top of Table 1, the model
+/// options (`settings["options"]`) and `ω*` (`settings["omega"]`, required: NaN is refused by
+/// the model).
+fn yu_inputs(
+    params: &Value,
+    s: &mut BTreeMap<String, Value>,
+) -> Res<(yu2021::Yu2021Params, yu2021::Options, f64)> {
+    let p = with_overrides("yu2021", &yu2021::Yu2021Params::table1(), params)?;
+    let o = with_overrides(
+        "yu2021 options",
+        &yu2021::Options::default(),
+        &s.remove("options").unwrap_or(Value::Null),
+    )?;
+    let omega = take_f64(s, "omega", f64::NAN)?;
+    Ok((p, o, omega))
+}
+
 fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> Res<Value> {
     let mut s = settings_map(settings)?;
     match (model, method) {
@@ -303,14 +320,7 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
             Ok(v)
         }
         ("yu2021", "time-stepping") | ("yu2021", "rk4") => {
-            let p: yu2021::Yu2021Params =
-                with_overrides("yu2021", &yu2021::Yu2021Params::table1(), params)?;
-            let o = with_overrides(
-                "yu2021 options",
-                &yu2021::Options::default(),
-                &s.remove("options").unwrap_or(Value::Null),
-            )?;
-            let omega = take_f64(&mut s, "omega", f64::NAN)?;
+            let (p, o, omega) = yu_inputs(params, &mut s)?;
             let mut run = yu2021::RunSettings::new(omega);
             run.transient_periods = take_f64(&mut s, "transient_periods", 200.0)? as usize;
             run.record_periods = take_f64(&mut s, "record_periods", 20.0)? as usize;
@@ -331,14 +341,7 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
             Ok(v)
         }
         ("yu2021", "hbm") => {
-            let p: yu2021::Yu2021Params =
-                with_overrides("yu2021", &yu2021::Yu2021Params::table1(), params)?;
-            let o = with_overrides(
-                "yu2021 options",
-                &yu2021::Options::default(),
-                &s.remove("options").unwrap_or(Value::Null),
-            )?;
-            let omega = take_f64(&mut s, "omega", f64::NAN)?;
+            let (p, o, omega) = yu_inputs(params, &mut s)?;
             let hs = with_overrides(
                 "yu2021 hbm settings",
                 &yu2021::HbmSettings::default(),
@@ -531,7 +534,10 @@ mod tests {
     fn merge_rejects_unknown_keys_and_keeps_nested_ones() {
         let mut base = json!({"a": 1.0, "r": {"x": "derived", "y": "mean"}});
         merge("", &mut base, &json!({"r": {"x": "printed_eq20"}})).unwrap();
-        assert_eq!(base, json!({"a": 1.0, "r": {"x": "printed_eq20", "y": "mean"}}));
+        assert_eq!(
+            base,
+            json!({"a": 1.0, "r": {"x": "printed_eq20", "y": "mean"}})
+        );
         let e = merge("", &mut base, &json!({"b": 2.0})).unwrap_err();
         assert_eq!(e.kind, Kind::Parameter);
         assert!(e.message.contains("`b`"));
