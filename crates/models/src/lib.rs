@@ -15,6 +15,7 @@ mod error;
 
 pub mod karpov2017;
 pub mod liu2021;
+pub mod motion;
 pub mod yu2021;
 
 pub use error::Error;

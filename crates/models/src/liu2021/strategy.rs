@@ -52,6 +52,7 @@ use super::integrate::{IntegrationOptions, TimeResponse, integrate};
 use super::model::{Model, Rattle};
 use super::params::Parameters;
 use crate::Error;
+pub use crate::motion::{Motion, classify_section};
 
 /// Settings of [`solve_sweep`] / [`solve_point`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -94,52 +95,6 @@ impl Default for SweepStrategy {
             ppv_rel_tol: 1e-3,
         }
     }
-}
-
-/// Motion type of a time response from its stroboscopic Poincaré section.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Motion {
-    /// The section repeats after `n` excitation periods.
-    Periodic(u32),
-    /// No repetition with `n ≤ 4` periods within the tolerance.
-    NonPeriodic,
-}
-
-impl Motion {
-    /// `period-1`, `period-2`, …, `non-periodic`.
-    pub fn label(self) -> String {
-        match self {
-            Motion::Periodic(n) => format!("period-{n}"),
-            Motion::NonPeriodic => "non-periodic".to_owned(),
-        }
-    }
-
-    /// Period multiple `n`, 0 for non-periodic (for tables).
-    pub fn period_multiple(self) -> u32 {
-        match self {
-            Motion::Periodic(n) => n,
-            Motion::NonPeriodic => 0,
-        }
-    }
-}
-
-/// Classify a stroboscopic section `(q_k, v_k)` (one point per period): the smallest `n ≤ 4`
-/// with `|x_{k+n} − x_k| ≤ tol·scale` for every `k` of the section, else non-periodic.
-/// Needs at least `n + 2` points to accept period `n`.
-pub fn classify_section(q: &[f64], v: &[f64], tol: f64, scale: f64) -> Motion {
-    let len = q.len().min(v.len());
-    for n in 1..=4usize {
-        if len < n + 2 {
-            break;
-        }
-        let repeats = (0..len - n).all(|k| {
-            (q[k + n] - q[k]).abs() <= tol * scale && (v[k + n] - v[k]).abs() <= tol * scale
-        });
-        if repeats {
-            return Motion::Periodic(n as u32);
-        }
-    }
-    Motion::NonPeriodic
 }
 
 /// The time-integration reference of one point.

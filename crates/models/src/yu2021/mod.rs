@@ -104,6 +104,7 @@ mod fractal;
 mod hbm;
 mod model;
 mod params;
+mod reference;
 mod stiffness;
 
 pub use engines::Engine;
@@ -118,4 +119,5 @@ pub use model::{
     STATE_LEN, Yu2021Dimensionless, Yu2021Model, dead_zone,
 };
 pub use params::{BacklashSpec, Yu2021Params};
+pub use reference::{Metrics, ReferenceCheck, ReferenceRun};
 pub use stiffness::FractalMeshStiffness;

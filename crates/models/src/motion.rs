@@ -1,0 +1,148 @@
+//! Motion type of a time response from its stroboscopic Poincaré sections, shared by the time
+//! references of the models (`liu2021::time_reference`, `yu2021::Yu2021Model::reference_run`).
+//!
+//! A steady response sampled `N` times per forcing period `T` is *period-n* when every
+//! stroboscopic section repeats after `n` periods: `|x_{k+n} − x_k| ≤ tol·scale` for all section
+//! points `x_k`. The smallest such `n ≤ 4` is reported; otherwise the motion is non-periodic
+//! (quasi-periodic, chaotic, or a transient that has not yet decayed — the test does not tell
+//! them apart, and none of them can carry a verdict that assumes periodicity).
+
+use serde::{Deserialize, Serialize};
+
+/// Largest period multiple the classification accepts.
+pub const MAX_PERIOD_MULTIPLE: usize = 4;
+
+/// Motion type of a time response from its stroboscopic Poincaré section.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Motion {
+    /// The section repeats after `n` excitation periods.
+    Periodic(u32),
+    /// No repetition with `n ≤ 4` periods within the tolerance.
+    NonPeriodic,
+}
+
+impl Motion {
+    /// `period-1`, `period-2`, …, `non-periodic`.
+    pub fn label(self) -> String {
+        match self {
+            Motion::Periodic(n) => format!("period-{n}"),
+            Motion::NonPeriodic => "non-periodic".to_owned(),
+        }
+    }
+
+    /// Period multiple `n`, 0 for non-periodic (for tables).
+    pub fn period_multiple(self) -> u32 {
+        match self {
+            Motion::Periodic(n) => n,
+            Motion::NonPeriodic => 0,
+        }
+    }
+}
+
+/// Classify a stroboscopic section `(q_k, v_k)` (one point per period): the smallest `n ≤ 4`
+/// with `|x_{k+n} − x_k| ≤ tol·scale` for every `k` of the section, else non-periodic.
+/// Needs at least `n + 2` points to accept period `n`.
+pub fn classify_section(q: &[f64], v: &[f64], tol: f64, scale: f64) -> Motion {
+    let len = q.len().min(v.len());
+    for n in 1..=MAX_PERIOD_MULTIPLE {
+        if len < n + 2 {
+            break;
+        }
+        let repeats = (0..len - n).all(|k| {
+            (q[k + n] - q[k]).abs() <= tol * scale && (v[k + n] - v[k]).abs() <= tol * scale
+        });
+        if repeats {
+            return Motion::Periodic(n as u32);
+        }
+    }
+    Motion::NonPeriodic
+}
+
+/// Classify a uniformly sampled record of whole periods (`samples_per_period` samples per
+/// forcing period, record starting at a period boundary) by the stroboscopic sections at every
+/// sampled phase at once: period-n when `|x_{i+n·N} − x_i| ≤ tol·scale` for every sample `i`
+/// of every series, with at least `n + 2` periods recorded. A stricter test than one section
+/// (every phase must repeat). Non-finite samples, an empty series list or `N = 0` give
+/// non-periodic.
+pub fn classify_record(
+    series: &[&[f64]],
+    samples_per_period: usize,
+    tol: f64,
+    scale: f64,
+) -> Motion {
+    let n_per = samples_per_period;
+    let len = series.iter().map(|s| s.len()).min().unwrap_or(0);
+    if n_per == 0 || series.is_empty() || series.iter().any(|s| s.iter().any(|x| !x.is_finite())) {
+        return Motion::NonPeriodic;
+    }
+    let periods = len / n_per;
+    for n in 1..=MAX_PERIOD_MULTIPLE {
+        if periods < n + 2 {
+            break;
+        }
+        let shift = n * n_per;
+        let used = periods * n_per;
+        let repeats = series
+            .iter()
+            .all(|s| (0..used - shift).all(|i| (s[i + shift] - s[i]).abs() <= tol * scale));
+        if repeats {
+            return Motion::Periodic(n as u32);
+        }
+    }
+    Motion::NonPeriodic
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wave(periods: usize, n: usize, sub: bool) -> Vec<f64> {
+        (0..periods * n)
+            .map(|i| {
+                let t = i as f64 / n as f64 * std::f64::consts::TAU;
+                t.sin() + if sub { 0.3 * (0.5 * t).cos() } else { 0.0 }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn record_classification_finds_the_period() {
+        let p1 = wave(8, 16, false);
+        assert_eq!(classify_record(&[&p1], 16, 1e-9, 1.0), Motion::Periodic(1));
+        let p2 = wave(8, 16, true);
+        assert_eq!(classify_record(&[&p2], 16, 1e-9, 1.0), Motion::Periodic(2));
+        // incommensurate component: non-periodic
+        let q: Vec<f64> = (0..8 * 16)
+            .map(|i| {
+                (i as f64 / 16.0 * std::f64::consts::TAU).sin() + 0.1 * (0.37 * i as f64).sin()
+            })
+            .collect();
+        assert_eq!(classify_record(&[&q], 16, 1e-6, 1.0), Motion::NonPeriodic);
+        // one repeating series is not enough when another does not repeat
+        assert_eq!(
+            classify_record(&[&p1, &q], 16, 1e-6, 1.0),
+            Motion::NonPeriodic
+        );
+    }
+
+    #[test]
+    fn record_classification_needs_enough_periods_and_finite_data() {
+        let p2 = wave(3, 16, true);
+        // period 2 needs 4 periods
+        assert_eq!(classify_record(&[&p2], 16, 1e-9, 1.0), Motion::NonPeriodic);
+        let mut p1 = wave(6, 16, false);
+        assert_eq!(classify_record(&[&p1], 0, 1e-9, 1.0), Motion::NonPeriodic);
+        assert_eq!(classify_record(&[], 16, 1e-9, 1.0), Motion::NonPeriodic);
+        p1[5] = f64::NAN;
+        assert_eq!(classify_record(&[&p1], 16, 1e-9, 1.0), Motion::NonPeriodic);
+    }
+
+    #[test]
+    fn section_classification() {
+        let q = [1.0, 2.0, 1.0, 2.0, 1.0];
+        let v = [0.0; 5];
+        assert_eq!(classify_section(&q, &v, 1e-12, 1.0), Motion::Periodic(2));
+        assert_eq!(Motion::Periodic(2).label(), "period-2");
+        assert_eq!(Motion::NonPeriodic.period_multiple(), 0);
+    }
+}
