@@ -10,6 +10,7 @@ pub(crate) mod user_models;
 mod yu2021;
 mod yu2021_backlash;
 mod yu2021_scaling;
+mod yu2021_topography;
 
 /// Every study, in report order (Karpov, Liu, Yu; geometry first within a paper).
 pub fn all_studies() -> Vec<Study> {
@@ -20,6 +21,7 @@ pub fn all_studies() -> Vec<Study> {
     v.extend(yu2021_backlash::studies());
     v.extend(yu2021::studies());
     v.extend(yu2021_scaling::studies());
+    v.extend(yu2021_topography::studies());
     v.sort_by_key(|s| s.paper);
     v
 }

@@ -12,7 +12,7 @@
 
 use models::yu2021::{
     BacklashSpec, BacklashUpdate, DynamicBacklashLaw, Engine, FractalMeshStiffness, FractalSurface,
-    Options, Response, RunSettings, Yu2021Model, Yu2021Params,
+    Options, ReferenceCheck, ReferenceRun, Response, RunSettings, Yu2021Model, Yu2021Params,
 };
 use rayon::prelude::*;
 
@@ -112,13 +112,23 @@ fn settings(omega: f64) -> RunSettings {
 /// through the `mesh-stiffness` leaf, level 4e8 N/m at D = 1.5, G = 1e-11 m), so that D acts on
 /// both the backlash and the stiffness.
 pub(crate) fn fractal_rig(d: f64) -> Result<Yu2021Params, Error> {
+    fractal_rig_with(d, G_FIG9)
+}
+
+/// The fractal roughness of Fig. 9 ("G = 1 × 10⁻¹¹ m", Sect. 4.1), used by every Fig. 9–12 run
+/// unless a study sweeps it.
+pub(crate) const G_FIG9: f64 = 1e-11;
+
+/// [`fractal_rig`] with fractal roughness `g` (m) for both the backlash (Eq. 4–5) and the
+/// stiffness (Eq. 18).
+pub(crate) fn fractal_rig_with(d: f64, g: f64) -> Result<Yu2021Params, Error> {
     let mut p = Yu2021Params::table2();
     p.nominal_length = B0 / 5.0;
     p.backlash = BacklashSpec::Fractal {
         b0: B0,
         surface: FractalSurface {
             dimension: d,
-            roughness: 1e-11,
+            roughness: g,
             lambda: 1.5,
             l_max: 1e-3,
             l_min: 1e-6,
@@ -140,6 +150,36 @@ fn engine_for(o: &Options) -> Engine {
     }
 }
 
+/// A run with its motion type and the repeat at a 100× tighter tolerance
+/// ([`Yu2021Model::reference_run`], [`ReferenceCheck::default`]).
+pub(crate) fn run_checked(p: &Yu2021Params, o: Options, omega: f64) -> Result<ReferenceRun, Error> {
+    Yu2021Model::new(p, o)
+        .context("Yu 2021 model")?
+        .reference_run(&settings(omega), &engine_for(&o), &ReferenceCheck::default())
+        .context("Yu 2021 checked run")
+}
+
+/// The flags of labelled checked runs (`label: reason`), for the rows that rest on them.
+pub(crate) fn run_flags<'a>(
+    runs: impl IntoIterator<Item = (String, &'a ReferenceRun)>,
+    periodic_needed: bool,
+) -> Vec<String> {
+    runs.into_iter()
+        .filter_map(|(label, r)| r.flag(periodic_needed).map(|f| format!("{label}: {f}")))
+        .collect()
+}
+
+/// The two reference columns every table of checked runs carries: the period multiple of the
+/// Poincaré motion type (0 = non-periodic) and the largest relative metric change under the
+/// 100× tighter tolerance.
+pub(crate) const CHECK_COLUMNS: [(&str, &str); 2] =
+    [("motion period (0 non-periodic)", "1"), ("metric change at 100x tighter tol", "1")];
+
+/// The values of [`CHECK_COLUMNS`] for one run.
+pub(crate) fn check_cells(r: &ReferenceRun) -> [f64; 2] {
+    [f64::from(r.motion.period_multiple()), r.max_change]
+}
+
 pub(crate) fn run(p: &Yu2021Params, o: Options, omega: f64) -> Result<Response, Error> {
     Yu2021Model::new(p, o)
         .context("Yu 2021 model")?
@@ -149,12 +189,12 @@ pub(crate) fn run(p: &Yu2021Params, o: Options, omega: f64) -> Result<Response, 
 
 fn fig9() -> Result<StudyOutput, Error> {
     let paper = published!("yu2021.toml")?;
-    let runs: Vec<Result<(f64, Response), Error>> = D_FIG9
+    let runs: Vec<Result<(f64, ReferenceRun), Error>> = D_FIG9
         .par_iter()
         .map(|&d| {
             let p = fractal_rig(d)?;
             let bs = p.backlash.constant_part().context("b_s")? / p.nominal_length;
-            Ok((bs, run(&p, Options::default(), 0.2)?))
+            Ok((bs, run_checked(&p, Options::default(), 0.2)?))
         })
         .collect();
     let mut out = StudyOutput::new();
@@ -166,6 +206,8 @@ fn fig9() -> Result<StudyOutput, Error> {
             ("mean B/b_n", "1"),
             ("min B/b_n", "1"),
             ("max B/b_n", "1"),
+            CHECK_COLUMNS[0],
+            CHECK_COLUMNS[1],
         ],
     );
     let mut fig = Figure::new(
@@ -176,8 +218,12 @@ fn fig9() -> Result<StudyOutput, Error> {
     );
     let mut always_greater = true;
     let mut parts: Vec<(f64, f64)> = Vec::new(); // (text, model) dynamic part b_dy = mean B − b_s
+    let mut all_flags = Vec::new();
     for (d, r) in D_FIG9.iter().zip(runs) {
-        let (bs, resp) = r?;
+        let (bs, checked) = r?;
+        let flags = run_flags([(format!("D = {d}"), &checked)], false);
+        all_flags.extend(flags.clone());
+        let resp = &checked.response;
         let key = format!("d{}", fmt_sig(10.0 * d, 2));
         out.compare(
             Comparison::published(paper.value(&format!("fig9.constant.{key}"))?, bs)?
@@ -208,6 +254,7 @@ fn fig9() -> Result<StudyOutput, Error> {
             .reading("R-YU-EQ6")
             .reading("R-YU-EQ8")
             .reading("R-YU-FIG10")
+            .flagged_all(flags)
             .note("depends on the chosen bearing stiffness (1e8 N/m) and load (Table 2)"),
         );
         let text_part = paper.value(&format!("fig9.dynamic-mean.{key}"))?.value
@@ -220,7 +267,8 @@ fn fig9() -> Result<StudyOutput, Error> {
             .copied()
             .fold(f64::NEG_INFINITY, f64::max);
         always_greater &= min >= bs;
-        t.push_nums(&[*d, bs, resp.mean_backlash(), min, max])?;
+        let [motion, change] = check_cells(&checked);
+        t.push_nums(&[*d, bs, resp.mean_backlash(), min, max, motion, change])?;
         let n = resp.steps_per_period * 4;
         let stride = (n / 200).max(1);
         let pts = resp
@@ -271,7 +319,8 @@ fn fig9() -> Result<StudyOutput, Error> {
             ),
             Verdict::from_bool(grows && close),
         )
-        .reading("R-YU-FIG10"),
+        .reading("R-YU-FIG10")
+        .flagged_all(all_flags),
     );
     out.table(t);
     out.figure(fig);
@@ -287,17 +336,32 @@ fn fig10() -> Result<StudyOutput, Error> {
         .iter()
         .flat_map(|&d| [(d, true), (d, false)])
         .collect();
-    let runs: Vec<Result<Response, Error>> = cases
+    let checked: Vec<Result<ReferenceRun, Error>> = cases
         .par_iter()
         .map(|&(d, dynamic)| {
-            run(
+            run_checked(
                 &fractal_rig(d)?,
                 if dynamic { Options::default() } else { off },
                 0.2,
             )
         })
         .collect();
-    let runs: Vec<Response> = runs.into_iter().collect::<Result<_, _>>()?;
+    let checked: Vec<ReferenceRun> = checked.into_iter().collect::<Result<_, _>>()?;
+    let flag_of = |i: usize| {
+        run_flags(
+            [(
+                format!(
+                    "D = {}, {} backlash",
+                    cases[i].0,
+                    if cases[i].1 { "dynamic" } else { "constant" }
+                ),
+                &checked[i],
+            )],
+            false,
+        )
+    };
+    let all_flags: Vec<String> = (0..cases.len()).flat_map(flag_of).collect();
+    let runs: Vec<&Response> = checked.iter().map(|c| &c.response).collect();
     let mut out = StudyOutput::new();
     let mut t = Table::new(
         "dte",
@@ -307,6 +371,10 @@ fn fig10() -> Result<StudyOutput, Error> {
             ("mean DTE constant", "1"),
             ("p-p DTE dynamic", "1"),
             ("p-p DTE constant", "1"),
+            ("motion period dynamic (0 non-periodic)", "1"),
+            ("metric change dynamic at 100x tighter tol", "1"),
+            ("motion period constant (0 non-periodic)", "1"),
+            ("metric change constant at 100x tighter tol", "1"),
         ],
     );
     let mut fig = Figure::new(
@@ -318,13 +386,18 @@ fn fig10() -> Result<StudyOutput, Error> {
     let mut larger = Vec::new();
     let mut pp = Vec::new();
     for (i, d) in D_FIG10.iter().enumerate() {
-        let (dy, co) = (&runs[2 * i], &runs[2 * i + 1]);
+        let (dy, co) = (runs[2 * i], runs[2 * i + 1]);
+        let (cd, cc) = (check_cells(&checked[2 * i]), check_cells(&checked[2 * i + 1]));
         t.push_nums(&[
             *d,
             dy.mean_dte(),
             co.mean_dte(),
             dy.dte_peak_to_peak(),
             co.dte_peak_to_peak(),
+            cd[0],
+            cd[1],
+            cc[0],
+            cc[1],
         ])?;
         larger.push(dy.mean_dte() > co.mean_dte());
         pp.push(dy.dte_peak_to_peak());
@@ -349,6 +422,7 @@ fn fig10() -> Result<StudyOutput, Error> {
             format!("mean DTE dynamic > constant at D = 1.2, 1.4, 1.6: {:?}", &larger[..3]),
             Verdict::from_bool(larger[..3].iter().all(|&x| x)),
         )
+        .flagged_all((0..6).flat_map(flag_of))
         .class(Evidence::ByConstruction)
         .cause("b_dy ≥ 0 adds to the backlash for any parameters, so the mean DTE grows")
         .reading("R-YU-EQ6"),
@@ -356,7 +430,7 @@ fn fig10() -> Result<StudyOutput, Error> {
     let paper = published!("yu2021.toml")?;
     for (i, d) in D_FIG10.iter().enumerate() {
         let key = format!("d{}", fmt_sig(10.0 * d, 2));
-        let dy = &runs[2 * i];
+        let dy = runs[2 * i];
         let mean = paper.value(&format!("fig10.mean.{key}"))?;
         let tol = if mean.value == 0.0 {
             Tolerance::stated(
@@ -370,6 +444,7 @@ fn fig10() -> Result<StudyOutput, Error> {
             Comparison::published(mean, dy.mean_dte())?
                 .with_tolerance(tol)
                 .reading("R-YU-FIG10")
+                .flagged_all(flag_of(2 * i))
                 .note("Eq. (18) stiffness (leaf defaults, 4e8 N/m at D = 1.5); mean DTE ≈ B + T*/√(1−ε²)"),
         );
         out.compare(
@@ -379,6 +454,7 @@ fn fig10() -> Result<StudyOutput, Error> {
             )?
             .with_tolerance(Tolerance::about("about"))
             .reading("R-YU-FIG10")
+            .flagged_all(flag_of(2 * i))
             .note("'amplitude' read as peak-to-peak; ≈ 2εT*/(1−ε²) while in contact"),
         );
     }
@@ -405,7 +481,8 @@ fn fig10() -> Result<StudyOutput, Error> {
             ),
             Verdict::from_bool(enlarged.iter().all(|&x| x)),
         )
-        .reading("R-YU-FIG10"),
+        .reading("R-YU-FIG10")
+        .flagged_all(all_flags.clone()),
     );
     // a step decides only when it exceeds the integration accuracy (relative 1e-6 of the
     // value; the engine runs at rtol 1e-8): round-off cannot settle the verdict
@@ -437,7 +514,8 @@ fn fig10() -> Result<StudyOutput, Error> {
         "the text's amplitudes need a load scale T* ≈ 63 that the stated parameters do not give (R-YU-FIG10)"
     })
     .reading("R-YU-EQ6")
-    .reading("R-YU-FIG10"));
+    .reading("R-YU-FIG10")
+    .flagged_all((0..cases.len()).step_by(2).flat_map(flag_of)));
     out.table(t);
     out.figure(fig);
     Ok(out)

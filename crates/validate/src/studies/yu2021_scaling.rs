@@ -13,12 +13,12 @@
 //! as events), state-dependent backlash, 200 transient + 20 recorded mesh periods.
 
 use models::yu2021::{
-    FractalContact, FractalForm, FractalMeshStiffness, Options, Response, Yu2021Params,
-    fractal_contact_stiffness,
+    FractalContact, FractalForm, FractalMeshStiffness, Options, ReferenceRun, Response,
+    Yu2021Params, fractal_contact_stiffness,
 };
 use rayon::prelude::*;
 
-use super::yu2021::{fractal_rig, run};
+use super::yu2021::{CHECK_COLUMNS, check_cells, fractal_rig, run, run_checked, run_flags};
 use crate::{
     Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
     fmt_sig, published,
@@ -256,23 +256,40 @@ fn d_trends() -> Result<StudyOutput, Error> {
     let jobs: Vec<(usize, f64)> = (0..cases.len())
         .flat_map(|c| omegas.iter().map(move |&w| (c, w)))
         .collect();
-    let res: Vec<Result<(f64, f64), Error>> = jobs
+    let checked: Vec<Result<ReferenceRun, Error>> = jobs
         .par_iter()
         .map(|&(c, w)| {
             let (d, load) = cases[c];
             let mut p = fractal_rig(d)?;
             p.torque = load;
-            let r = run(&p, Options::default(), w)?;
-            Ok((r.dynamic_factor(), r.rms(4)))
+            run_checked(&p, Options::default(), w)
         })
         .collect();
-    let res: Vec<(f64, f64)> = res.into_iter().collect::<Result<_, _>>()?;
+    let checked: Vec<ReferenceRun> = checked.into_iter().collect::<Result<_, _>>()?;
+    let res: Vec<(f64, f64)> = checked
+        .iter()
+        .map(|r| (r.metrics.dynamic_factor, r.metrics.rms))
+        .collect();
     let n = omegas.len();
     let mut out = StudyOutput::new();
     let label = |c: usize| {
         let (d, l) = cases[c];
         format!("D = {d}, T = {l} N·m")
     };
+    let mut checks = Table::new(
+        "checks",
+        &[
+            ("D", "1"),
+            ("load", "N·m"),
+            ("omega*", "1"),
+            CHECK_COLUMNS[0],
+            CHECK_COLUMNS[1],
+        ],
+    );
+    for (&(c, w), r) in jobs.iter().zip(&checked) {
+        let [motion, change] = check_cells(r);
+        checks.push_nums(&[cases[c].0, cases[c].1, w, motion, change])?;
+    }
     let mut cols: Vec<String> = vec!["omega*".to_owned()];
     for c in 0..cases.len() {
         cols.push(format!("DF {}", label(c)));
@@ -290,6 +307,7 @@ fn d_trends() -> Result<StudyOutput, Error> {
         t.push_nums(&row)?;
     }
     out.table(t);
+    out.table(checks);
     for (name, title, pick) in [
         ("df", "DF vs ω* per D and load (Eq. 18 stiffness)", 0usize),
         ("rms", "RMS (n = 4, b_n) vs ω* per D and load", 1usize),
@@ -329,7 +347,14 @@ fn d_trends() -> Result<StudyOutput, Error> {
             ),
             Verdict::from_bool(falls),
         )
-        .reading("R-YU-FIG10"),
+        .reading("R-YU-FIG10")
+        .flagged_all(run_flags(
+            jobs.iter()
+                .zip(&checked)
+                .filter(|((c, _), _)| *c < D4.len())
+                .map(|((c, w), r)| (format!("{}, ω* = {}", label(*c), fmt_sig(*w, 3)), r)),
+            true,
+        )),
     );
     Ok(out)
 }

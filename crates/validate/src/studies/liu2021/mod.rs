@@ -18,6 +18,7 @@ use models::liu2021::{
 use crate::{Error, Figure, ResultExt, Series, Study, StudyOutput, Table, Tolerance, fmt_sig};
 
 mod continuation;
+mod fig17;
 mod load_sweep;
 mod parameter_sweeps;
 mod readings_thresholds;
@@ -29,6 +30,7 @@ mod table2;
 pub fn studies() -> Vec<Study> {
     vec![
         table2::study(),
+        fig17::study(),
         speed_sweep::study(),
         continuation::study(),
         responses::study(),
