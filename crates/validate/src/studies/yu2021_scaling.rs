@@ -353,7 +353,7 @@ fn d_trends() -> Result<StudyOutput, Error> {
                 .zip(&checked)
                 .filter(|((c, _), _)| *c < D4.len())
                 .map(|((c, w), r)| (format!("{}, ω* = {}", label(*c), fmt_sig(*w, 3)), r)),
-            true,
+            false,
         )),
     );
     Ok(out)
