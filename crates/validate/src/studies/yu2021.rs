@@ -155,7 +155,11 @@ fn engine_for(o: &Options) -> Engine {
 pub(crate) fn run_checked(p: &Yu2021Params, o: Options, omega: f64) -> Result<ReferenceRun, Error> {
     Yu2021Model::new(p, o)
         .context("Yu 2021 model")?
-        .reference_run(&settings(omega), &engine_for(&o), &ReferenceCheck::default())
+        .reference_run(
+            &settings(omega),
+            &engine_for(&o),
+            &ReferenceCheck::default(),
+        )
         .context("Yu 2021 checked run")
 }
 
@@ -172,8 +176,10 @@ pub(crate) fn run_flags<'a>(
 /// The two reference columns every table of checked runs carries: the period multiple of the
 /// Poincaré motion type (0 = non-periodic) and the largest relative metric change under the
 /// 100× tighter tolerance.
-pub(crate) const CHECK_COLUMNS: [(&str, &str); 2] =
-    [("motion period (0 non-periodic)", "1"), ("metric change at 100x tighter tol", "1")];
+pub(crate) const CHECK_COLUMNS: [(&str, &str); 2] = [
+    ("motion period (0 non-periodic)", "1"),
+    ("metric change at 100x tighter tol", "1"),
+];
 
 /// The values of [`CHECK_COLUMNS`] for one run.
 pub(crate) fn check_cells(r: &ReferenceRun) -> [f64; 2] {
@@ -387,7 +393,10 @@ fn fig10() -> Result<StudyOutput, Error> {
     let mut pp = Vec::new();
     for (i, d) in D_FIG10.iter().enumerate() {
         let (dy, co) = (runs[2 * i], runs[2 * i + 1]);
-        let (cd, cc) = (check_cells(&checked[2 * i]), check_cells(&checked[2 * i + 1]));
+        let (cd, cc) = (
+            check_cells(&checked[2 * i]),
+            check_cells(&checked[2 * i + 1]),
+        );
         t.push_nums(&[
             *d,
             dy.mean_dte(),
@@ -552,7 +561,10 @@ fn sweep(p: &Yu2021Params, omegas: &[f64]) -> Result<Vec<[ReferenceRun; 3]>, Err
 /// The checks table of a three-model sweep (motion type and metric change per model and ω*) and
 /// the frequencies at which every model's run can carry a verdict (`flag(false)` is `None`),
 /// with the reasons of the others.
-fn sweep_checks(omegas: &[f64], runs: &[[ReferenceRun; 3]]) -> Result<(Table, Vec<bool>, Vec<String>), Error> {
+fn sweep_checks(
+    omegas: &[f64],
+    runs: &[[ReferenceRun; 3]],
+) -> Result<(Table, Vec<bool>, Vec<String>), Error> {
     let mut t = Table::new(
         "checks",
         &[

@@ -13,9 +13,7 @@ use models::motion::Motion;
 use models::yu2021::{DynamicBacklashLaw, Options, ReferenceRun, Response};
 use rayon::prelude::*;
 
-use super::yu2021::{
-    CHECK_COLUMNS, G_FIG9, check_cells, fractal_rig_with, run_checked, run_flags,
-};
+use super::yu2021::{CHECK_COLUMNS, G_FIG9, check_cells, fractal_rig_with, run_checked, run_flags};
 use crate::{
     Claim, Comparison, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table,
     Tolerance, Verdict, fmt_sig, published,
@@ -82,11 +80,14 @@ fn spectrum(r: &Response) -> Result<Vec<(f64, f64)>, Error> {
     let x: Vec<f64> = r.dte.iter().map(|v| v - mean).collect();
     let dt = match (r.tau.first(), r.tau.get(1)) {
         (Some(a), Some(b)) => b - a,
-        _ => return Err(Error::StudyFile("yu2021 spectrum: fewer than 2 samples".into())),
+        _ => {
+            return Err(Error::StudyFile(
+                "yu2021 spectrum: fewer than 2 samples".into(),
+            ));
+        }
     };
     let s = timestep::amplitude_spectrum(&x, dt).context("DTE spectrum")?;
-    Ok(s
-        .frequencies()
+    Ok(s.frequencies()
         .iter()
         .zip(&s.amplitude)
         .map(|(f, a)| (std::f64::consts::TAU * f, *a))
@@ -115,7 +116,10 @@ fn main_component(sp: &[(f64, f64)]) -> (f64, f64) {
 }
 
 fn list(v: &[f64]) -> String {
-    v.iter().map(|x| fmt_sig(*x, 3)).collect::<Vec<_>>().join(", ")
+    v.iter()
+        .map(|x| fmt_sig(*x, 3))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Strictly falling (each step beyond the integration accuracy), `None` when a step is within it.
@@ -349,7 +353,7 @@ fn fig11() -> Result<StudyOutput, Error> {
     );
     // Fig. 10 motion types: D = 1.2 periodic (both), D = 1.6 dynamic four-periodic and constant
     // quasi-periodic, D = 1.8 dynamic chaotic and constant periodic
-    let expect: [(usize, &str, fn(Motion) -> bool); 5] = [
+    let expect: [Expectation; 5] = [
         (0, "periodic", |m| matches!(m, Motion::Periodic(_))),
         (4, "four-periodic", |m| m == Motion::Periodic(4)),
         (5, "quasi-periodic", |m| m == Motion::NonPeriodic),
@@ -363,7 +367,11 @@ fn fig11() -> Result<StudyOutput, Error> {
                 "{}: text {want}, model {} ({})",
                 name(*i),
                 runs[*i].motion.label(),
-                if ok(runs[*i].motion) { "agrees" } else { "differs" }
+                if ok(runs[*i].motion) {
+                    "agrees"
+                } else {
+                    "differs"
+                }
             )
         })
         .collect();
@@ -388,6 +396,9 @@ fn fig11() -> Result<StudyOutput, Error> {
     Ok(out)
 }
 
+/// A motion type the text gives for one run: run index, the text's word, the test.
+type Expectation = (usize, &'static str, fn(Motion) -> bool);
+
 /// One period of the phase portrait `(δ*, δ*')` (the last recorded period) and the Poincaré
 /// points (period starts, from the second period on: the rate needs a left neighbour).
 struct Portrait {
@@ -402,10 +413,14 @@ fn portrait(r: &Response) -> Portrait {
     let len = r.dte.len().min(v.len());
     let start = len.saturating_sub(n);
     let orbit: Vec<(f64, f64)> = (start..len).map(|i| (r.dte[i], v[i])).collect();
-    let section = (1..len / n.max(1)).map(|k| (r.dte[k * n], v[k * n])).collect();
+    let section = (1..len / n.max(1))
+        .map(|k| (r.dte[k * n], v[k * n]))
+        .collect();
     let (lo, hi) = v[..len]
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(*x), b.max(*x)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(*x), b.max(*x))
+        });
     Portrait {
         orbit,
         section,
@@ -420,7 +435,9 @@ fn shape_distance(a: &Portrait, b: &Portrait) -> f64 {
             let (lo, hi) = o
                 .iter()
                 .map(f)
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(x), h.max(x)));
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                    (l.min(x), h.max(x))
+                });
             (lo, (hi - lo).max(f64::MIN_POSITIVE))
         };
         let ((x0, sx), (y0, sy)) = (span(|p| p.0), span(|p| p.1));
@@ -455,7 +472,11 @@ fn fig12() -> Result<StudyOutput, Error> {
         .map(|&(d, g, w)| {
             let p = fractal_rig_with(d, g)?;
             let bs = p.backlash.constant_part().context("b_s")? / p.nominal_length;
-            Ok((bs, p.mesh_stiffness, run_checked(&p, Options::default(), w)?))
+            Ok((
+                bs,
+                p.mesh_stiffness,
+                run_checked(&p, Options::default(), w)?,
+            ))
         })
         .collect();
     let runs: Vec<(f64, f64, ReferenceRun)> = runs.into_iter().collect::<Result<_, _>>()?;
@@ -515,8 +536,16 @@ fn fig12() -> Result<StudyOutput, Error> {
     }
     out.table(t);
     for (fname, title, idx) in [
-        ("portrait_d", "Yu Fig. 12(a): phase portraits, ω* = 0.31, G = 1e-11 m", &d_idx),
-        ("portrait_g", "Yu Fig. 12(b): phase portraits, ω* = 0.31, D = 1.5", &g_idx),
+        (
+            "portrait_d",
+            "Yu Fig. 12(a): phase portraits, ω* = 0.31, G = 1e-11 m",
+            &d_idx,
+        ),
+        (
+            "portrait_g",
+            "Yu Fig. 12(b): phase portraits, ω* = 0.31, D = 1.5",
+            &g_idx,
+        ),
     ] {
         let mut fig = Figure::new(fname, title, ("δ*", "1"), ("dδ*/dτ", "1"));
         let mut sec = Figure::new(
@@ -620,7 +649,10 @@ fn fig12() -> Result<StudyOutput, Error> {
         .cause("shape distance of the normalised portraits at equal phase (study description)")
         .flagged_all(flags(&g_idx, true)),
     );
-    let pps: Vec<f64> = g_idx.iter().map(|&i| runs[i].2.metrics.dte_peak_to_peak).collect();
+    let pps: Vec<f64> = g_idx
+        .iter()
+        .map(|&i| runs[i].2.metrics.dte_peak_to_peak)
+        .collect();
     let rising = falls(&pps.iter().rev().copied().collect::<Vec<_>>());
     out.claim(
         Claim::new(
@@ -641,10 +673,15 @@ fn fig12() -> Result<StudyOutput, Error> {
     let rel_spread = |v: &[f64]| {
         let (lo, hi) = v
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| (l.min(*x), h.max(*x)));
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                (l.min(*x), h.max(*x))
+            });
         (hi - lo) / lo.abs().max(f64::MIN_POSITIVE)
     };
-    let d_pp: Vec<f64> = d_idx.iter().map(|&i| runs[i].2.metrics.dte_peak_to_peak).collect();
+    let d_pp: Vec<f64> = d_idx
+        .iter()
+        .map(|&i| runs[i].2.metrics.dte_peak_to_peak)
+        .collect();
     let (sd, sg) = (rel_spread(&d_pp), rel_spread(&pps[..3]));
     let both: Vec<usize> = d_idx.iter().chain(&g_idx[..3]).copied().collect();
     out.claim(
@@ -716,7 +753,14 @@ mod tests {
 
     #[test]
     fn components_are_local_maxima_above_the_threshold() {
-        let sp = vec![(0.0, 5.0), (0.1, 0.001), (0.2, 1.0), (0.3, 0.0), (0.4, 0.02), (0.5, 0.005)];
+        let sp = vec![
+            (0.0, 5.0),
+            (0.1, 0.001),
+            (0.2, 1.0),
+            (0.3, 0.0),
+            (0.4, 0.02),
+            (0.5, 0.005),
+        ];
         let c = components(&sp);
         assert_eq!(c, vec![(0.2, 1.0), (0.4, 0.02)]);
         assert_eq!(main_component(&sp), (0.2, 1.0));
@@ -737,7 +781,11 @@ mod tests {
             rate_pp: 2.0,
         };
         let b = Portrait {
-            orbit: a.orbit.iter().map(|p| (3.0 * p.0 + 7.0, 0.5 * p.1)).collect(),
+            orbit: a
+                .orbit
+                .iter()
+                .map(|p| (3.0 * p.0 + 7.0, 0.5 * p.1))
+                .collect(),
             section: vec![],
             rate_pp: 1.0,
         };

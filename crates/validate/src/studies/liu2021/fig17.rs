@@ -53,8 +53,8 @@ fn run() -> Result<StudyOutput, Error> {
     };
     let (time, ti) = liu2021::time_reference(&m, &s).context("integration")?;
     let k = SAMPLES.min(ti.q.len());
-    let sp = timestep::amplitude_spectrum(&ti.q[..k], s.integration.sample_step)
-        .context("spectrum")?;
+    let sp =
+        timestep::amplitude_spectrum(&ti.q[..k], s.integration.sample_step).context("spectrum")?;
     let fc = rig.centre_frequency(rpm);
     let z2 = rig.z2 as usize;
     let amp = |k: usize| sp.amplitude.get(k).copied().unwrap_or(f64::NAN);
@@ -88,9 +88,10 @@ fn run() -> Result<StudyOutput, Error> {
     out.figure(fig);
     // dominant lines: largest below f_e/2 and largest above it
     let largest = |range: std::ops::RangeInclusive<usize>| {
-        range
-            .map(|k| (k, amp(k)))
-            .fold((0usize, f64::NEG_INFINITY), |b, x| if x.1 > b.1 { x } else { b })
+        range.map(|k| (k, amp(k))).fold(
+            (0usize, f64::NEG_INFINITY),
+            |b, x| if x.1 > b.1 { x } else { b },
+        )
     };
     let low = largest(1..=z2 / 2);
     let high = largest(z2 / 2 + 1..=kmax);
