@@ -1,7 +1,7 @@
 //! Table 2: amplitude ratio ξ = A_e/A_c, theory and experiment columns.
 
 use gear_geometry::LiuRig;
-use models::liu2021::{self, HbmOptions, IntegrationOptions, SweepStrategy};
+use models::liu2021::{self, HbmOptions, IntegrationOptions, SweepStrategy, TimeReference};
 use rayon::prelude::*;
 
 use super::{base, model, sig, strategy};
@@ -45,6 +45,33 @@ struct Row {
     rsv: u8,
 }
 
+/// The Sect. 3.8 rig point at motor speed `rpm`: Table 1 with T2 = 3 N·m and the rig's ratio
+/// and pinion speed; the time-integration reference (library strategy, 100× refinement and
+/// Poincaré motion type) and the amplitude spectrum of `q` over one steady excitation period
+/// sampled at [`SAMPLES`] points (bin k = k f_c).
+pub(super) fn rig_spectrum(
+    rig: &LiuRig,
+    rpm: f64,
+) -> Result<(liu2021::Model, TimeReference, timestep::Spectrum), Error> {
+    let mut p = base();
+    p.load_torque = 3.0;
+    p.ratio = f64::from(rig.z2) / f64::from(rig.z1);
+    p.omega1 = rig.pinion_angular_speed(rpm);
+    let m = model(&p)?;
+    let s = SweepStrategy {
+        integration: IntegrationOptions {
+            sample_step: m.period() / SAMPLES as f64,
+            ..IntegrationOptions::default()
+        },
+        ..strategy()
+    };
+    let (time, ti) = liu2021::time_reference(&m, &s).context("integration")?;
+    let k = SAMPLES.min(ti.q.len());
+    let sp =
+        timestep::amplitude_spectrum(&ti.q[..k], s.integration.sample_step).context("spectrum")?;
+    Ok((m, time, sp))
+}
+
 fn run() -> Result<StudyOutput, Error> {
     let paper = published!("liu2021.toml")?;
     let rig = LiuRig::liu2021_table2();
@@ -57,22 +84,7 @@ fn run() -> Result<StudyOutput, Error> {
     let rows: Vec<Row> = rpms
         .par_iter()
         .map(|(_, n)| {
-            let mut p = base();
-            p.load_torque = 3.0;
-            p.ratio = z2 / f64::from(rig.z1);
-            p.omega1 = rig.pinion_angular_speed(*n);
-            let m = model(&p)?;
-            let s = SweepStrategy {
-                integration: IntegrationOptions {
-                    sample_step: m.period() / SAMPLES as f64,
-                    ..IntegrationOptions::default()
-                },
-                ..strategy()
-            };
-            let (time, ti) = liu2021::time_reference(&m, &s).context("integration")?;
-            let k = SAMPLES.min(ti.q.len());
-            let sp = timestep::amplitude_spectrum(&ti.q[..k], s.integration.sample_step)
-                .context("spectrum")?;
+            let (m, time, sp) = rig_spectrum(&rig, *n)?;
             let a = |k: usize| sp.amplitude.get(k).copied().unwrap_or(f64::NAN);
             let hb = liu2021::solve_hbm(&m, &HbmOptions::default(), None).context("hbm")?;
             Ok(Row {
