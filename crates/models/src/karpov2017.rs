@@ -1225,11 +1225,11 @@ mod tests {
                 // the Gauss–Legendre pairs where the phase is slow carry the estimate
                 let err = (r.x - x).abs().max((r.v - v).abs());
                 assert!(
-                    err <= r.error_estimate + 1e-12 && err < 1e-9,
-                    "{ex:?} ω={omega}: {r:?} vs {x} {v}"
+                    err <= r.error_estimate + 1e-12 && err < 1e-10,
+                    "{ex:?} ω={omega}: error {err:e}, {r:?} vs {x} {v}"
                 );
                 assert!(r.levin_panels > 0, "{r:?}");
-                assert!(r.error_estimate < 1e-9, "{r:?}");
+                assert!(r.error_estimate <= DUHAMEL_RTOL * r.amplitude, "{r:?}");
             }
         }
     }
