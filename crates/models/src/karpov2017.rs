@@ -51,6 +51,7 @@
 //!   estimate ([`KarpovResponse::error_estimate`]) is the sum of the Levin bounds, the
 //!   Gauss–Legendre estimate and a rounding bound; [`Karpov2017::duhamel`] tightens the Levin
 //!   tolerance until it is `≤ 1e-7·A`.
+//!
 //! The model also implements the shared system description `system::SecondOrderSystem`
 //! ([`Karpov2017::time_stepping`] wraps it for the `timestep` engine, states `[X, X']`) so the same
 //! response can be integrated step by step; the two agree to ~1e-8 (tests).
@@ -319,9 +320,8 @@ impl Karpov2017 {
         if !(rtol.is_finite() && (1e-13..1.0).contains(&rtol)) {
             return Err(Error::invalid("karpov2017.rtol", "in [1e-13, 1)", rtol));
         }
-        let accept = |r: &KarpovResponse| {
-            r.error_estimate <= rtol * r.amplitude + 1e-14 * self.p.tau_end
-        };
+        let accept =
+            |r: &KarpovResponse| r.error_estimate <= rtol * r.amplitude + 1e-14 * self.p.tau_end;
         let mut eps = 0.5 * rtol;
         for _ in 0..4 {
             let r = self.run(PHASE_BUDGET, Some(LevinSettings { eps, span: 1.0 }))?;
@@ -1402,3 +1402,33 @@ mod tests {
     }
 }
 
+#[cfg(test)]
+mod figures {
+    use super::*;
+
+    /// Values for `docs/performance/models-karpov.md` (release: `cargo test -p geardyn-models
+    /// --release --lib karpov_levin_figures -- --ignored --nocapture`).
+    #[test]
+    #[ignore = "about 2 s in release; prints the figures of the performance page"]
+    fn karpov_levin_figures() {
+        for (ex, b) in [
+            (Excitation::PrintedPhase, 0.01),
+            (Excitation::PrintedPhase, 0.05),
+            (Excitation::AccumulatedPhase, 0.01),
+            (Excitation::AccumulatedPhase, 0.05),
+        ] {
+            let m = Karpov2017::fig3()
+                .with(|p| {
+                    p.excitation = ex;
+                    p.b = b
+                })
+                .unwrap();
+            let r = m.duhamel().unwrap();
+            println!(
+                "{ex:?} B={b}: A={:.10} X={:.10} X'={:.10} estimate={:.2e} GL panels={} Levin \
+                 panels={}",
+                r.amplitude, r.x, r.v, r.error_estimate, r.panels, r.levin_panels
+            );
+        }
+    }
+}

@@ -158,7 +158,7 @@ impl Levin {
         const ITER: usize = 12;
         let min = dpsi.iter().fold(f64::INFINITY, |m, d| m.min(d.abs()));
         // the iteration map has norm ~ h2·‖D‖/|ψ'| ≈ h2·0.1 N²/|ψ'| on the highest modes
-        if !(min > 0.2 * h2 * (N * N) as f64) {
+        if min.is_nan() || min <= 0.2 * h2 * (N * N) as f64 {
             return None;
         }
         let mut p: [C; N] = std::array::from_fn(|j| C::new(0.0, -1.0 / dpsi[j]));
@@ -174,7 +174,7 @@ impl Levin {
                 r[i] = dp * h2 + C::new(-dpsi[i] * p[i].im, dpsi[i] * p[i].re) - 1.0;
                 rmax = rmax.max(r[i].norm());
             }
-            if !(rmax < last) {
+            if rmax.is_nan() || rmax >= last {
                 return None;
             }
             if rmax <= 1e-14 {
@@ -246,7 +246,11 @@ mod tests {
             let e = |s: f64| C::new(0.0, kappa * s).exp();
             let r = lv.chirp(len, &dpsi, &dpsi_y, e(a), e(b)).unwrap();
             let exact = (e(b) - e(a)) / C::new(0.0, kappa);
-            assert!((r.value - exact).norm() < 1e-13, "{kappa}: {r:?}", r = r.value);
+            assert!(
+                (r.value - exact).norm() < 1e-13,
+                "{kappa}: {r:?}",
+                r = r.value
+            );
             assert!(r.truncation < 1e-12);
         }
     }
