@@ -706,6 +706,18 @@ impl Karpov2017 {
     }
 }
 
+/// Composite Simpson weight (without `h/3`) of point `i` of `0..=n` (`n` even); tests only.
+#[cfg(test)]
+fn simpson_weight(i: usize, n: usize) -> f64 {
+    if i == 0 || i == n {
+        1.0
+    } else if i % 2 == 1 {
+        4.0
+    } else {
+        2.0
+    }
+}
+
 /// Length of the fine panels of level `j`: `2θ·2^(−j/LEVELS_PER_OCTAVE)`.
 fn level_length(theta: f64, j: usize) -> f64 {
     2.0 * theta * (-(j as f64) / f64::from(LEVELS_PER_OCTAVE)).exp2()
@@ -1311,14 +1323,7 @@ mod tests {
         let h = 7.0 / n as f64;
         let mut s = 0.0;
         for i in 0..=n {
-            let w = if i == 0 || i == n {
-                1.0
-            } else if i % 2 == 1 {
-                4.0
-            } else {
-                2.0
-            };
-            s += w * m.excitation_frequency(i as f64 * h);
+            s += simpson_weight(i, n) * m.excitation_frequency(i as f64 * h);
         }
         s *= h / 3.0;
         assert!((s - m.phase(7.0)).abs() < 1e-10);

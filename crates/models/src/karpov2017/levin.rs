@@ -271,14 +271,7 @@ mod tests {
             let h = len / n as f64;
             let mut s = C::new(0.0, 0.0);
             for i in 0..=n {
-                let w = if i == 0 || i == n {
-                    1.0
-                } else if i % 2 == 1 {
-                    4.0
-                } else {
-                    2.0
-                };
-                s += e(a + i as f64 * h) * w;
+                s += e(a + i as f64 * h) * super::super::simpson_weight(i, n);
             }
             (r, s * (h / 3.0))
         };
