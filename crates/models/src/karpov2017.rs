@@ -1268,6 +1268,45 @@ mod tests {
         );
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(24))]
+        /// The Levin path ends with a finite result or a typed error on random parameters
+        /// (work bounded by the Gauss–Legendre panel estimate, as in the workspace fuzzer).
+        #[test]
+        fn levin_path_ends_on_random_inputs(
+            omega in 1e-3..50.0f64,
+            b in 0.0..0.99f64,
+            xi in 1.0001..100.0f64,
+            k in 1e-4..10.0f64,
+            tau_end in 0.5..150.0f64,
+            printed in proptest::bool::ANY,
+        ) {
+            let excitation = if printed {
+                Excitation::PrintedPhase
+            } else {
+                Excitation::AccumulatedPhase
+            };
+            let m = Karpov2017::fig3()
+                .with(|p| {
+                    *p = Karpov2017Params { omega, b, xi, k, tau_end, excitation, ..*p };
+                })
+                .unwrap();
+            if m.panel_estimate(PHASE_BUDGET) < 2e4 {
+                let set = LevinSettings { eps: 0.5 * DUHAMEL_RTOL, span: 1.0 };
+                match m.run(PHASE_BUDGET, Some(set)) {
+                    Ok(r) => proptest::prop_assert!(
+                        r.x.is_finite() && r.amplitude.is_finite() && r.error_estimate >= 0.0,
+                        "{r:?}"
+                    ),
+                    Err(e) => proptest::prop_assert!(
+                        matches!(e, Error::Quadrature { .. }),
+                        "{e}"
+                    ),
+                }
+            }
+        }
+    }
+
     #[test]
     fn settings_out_of_range_are_typed_errors() {
         let m = Karpov2017::fig3();
