@@ -114,6 +114,7 @@ mod deadzone;
 mod dynamic;
 mod error;
 mod fractal;
+mod law;
 
 pub use deadzone::{
     ContactRegion, DeadZone, DeadZoneEval, GapFn, HalfGap, Regularisation, contact_region,
@@ -128,6 +129,9 @@ pub use fractal::{
     CHEN_MAX_TERMS, ChenFractal, ConstantBacklashParams, ConstantPart, ConstantPartForm,
     Fig4Claims, Fig4Data, MeanHeight, Quadrature, SurfaceFractal, WmProfile, fig4_grid,
     mean_asperity_height, yu2021_fig4,
+};
+pub use law::{
+    Backlash, BacklashLaw, ChenBacklash, ContactEval, GapEval, RadiusModulatedBacklash, Smoothed,
 };
 
 #[cfg(test)]
