@@ -125,10 +125,9 @@ impl Stiffness {
         crate::error::positive("omega_e", omega_e)?;
         Ok(match self {
             Stiffness::Constant { k } => Stiffness::Constant { k: *k },
-            Stiffness::SingleHarmonic(l) => Stiffness::SingleHarmonic(SingleHarmonicStiffness {
-                omega_e,
-                ..*l
-            }),
+            Stiffness::SingleHarmonic(l) => {
+                Stiffness::SingleHarmonic(SingleHarmonicStiffness { omega_e, ..*l })
+            }
             Stiffness::Fourier(l) => Stiffness::Fourier(FourierStiffness::new(
                 l.k0(),
                 omega_e,
