@@ -8,7 +8,7 @@
 
 use std::collections::BTreeMap;
 
-use models::{karpov2017, liu2021, yu2021};
+use models::{karpov2017, liu2021, pair, yu2021};
 use serde::Serialize;
 
 use crate::user::{Limits, Method, Point, Solver, Value, apply_values};
@@ -144,7 +144,7 @@ pub struct ModelInfo {
 }
 
 /// Every model of `geardyn study`. Adding a model is one entry here.
-pub const REGISTRY: [ModelSpec; 4] = [
+pub const REGISTRY: [ModelSpec; 5] = [
     ModelSpec {
         name: "karpov2017-kinematics",
         description: "Karpov 2017 non-circular pair: speed fluctuation δ and peak acceleration ε_max",
@@ -172,6 +172,13 @@ pub const REGISTRY: [ModelSpec; 4] = [
         build: yu_build,
         describe: yu_describe,
         unit_of: yu_unit,
+    },
+    ModelSpec {
+        name: "generic-pair",
+        description: "Generic spur pair from the leaves (tooth-pair stiffness, constant backlash; 1-DOF or 6-DOF)",
+        build: pair_build,
+        describe: pair_describe,
+        unit_of: pair_unit,
     },
 ];
 
@@ -1301,6 +1308,252 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
         }
         m => Err(wrong_method(
             "yu2021",
+            m,
+            &[Method::TimeStepping, Method::Hbm],
+        )),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// generic-pair (models::pair, preset PairParams::example_spur, SI units)
+
+fn pair_unit(k: &str) -> &'static str {
+    match k {
+        "equivalent_mass" | "masses" => "kg",
+        "rp" | "rg" | "ste_amplitude" | "b" => "m",
+        "pressure_angle" | "ste_phase" => "rad",
+        "bearing_stiffness" => "N/m",
+        "bearing_damping" | "mesh_damping" => "N·s/m",
+        "static_force" => "N",
+        "mesh_frequency" => "rad/s",
+        _ => "1",
+    }
+}
+
+const PAIR_TS: &[SettingDef] = &[
+    SettingDef {
+        name: "transient_periods",
+        kind: Kind::Int {
+            lo: 0,
+            hi: 100_000,
+            default: Some(200),
+        },
+        doc: "mesh periods discarded",
+    },
+    SettingDef {
+        name: "record_periods",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 10_000,
+            default: Some(10),
+        },
+        doc: "mesh periods recorded",
+    },
+    SettingDef {
+        name: "samples_per_period",
+        kind: Kind::Int {
+            lo: 4,
+            hi: 100_000,
+            default: Some(64),
+        },
+        doc: "samples per recorded mesh period",
+    },
+    SettingDef {
+        name: "rtol",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-2,
+            default: 1e-9,
+        },
+        doc: "relative tolerance (Dormand–Prince 5(4), gap edges as events)",
+    },
+    SettingDef {
+        name: "atol",
+        kind: Kind::Num {
+            lo: 1e-20,
+            hi: 1e-2,
+            default: 1e-12,
+        },
+        doc: "absolute tolerance (units of the coordinates)",
+    },
+];
+
+const PAIR_HBM: &[SettingDef] = &[
+    SettingDef {
+        name: "harmonics",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 64,
+            default: Some(16),
+        },
+        doc: "harmonics H of the mesh frequency",
+    },
+    SettingDef {
+        name: "samples",
+        kind: Kind::Int {
+            lo: 6,
+            hi: 65_536,
+            default: Some(256),
+        },
+        doc: "AFT samples per period (≥ 4H + 2)",
+    },
+    SettingDef {
+        name: "tolerance",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e3,
+            default: 1e-6,
+        },
+        doc: "residual-norm tolerance (N)",
+    },
+];
+
+const PAIR_TS_OUT: &[(&str, &str)] = &[("df", "1"), ("mean_dte", "m"), ("dte_peak_to_peak", "m")];
+const PAIR_HBM_OUT: &[(&str, &str)] = &[
+    ("mean_u", "m"),
+    ("first_harmonic_amplitude", "m"),
+    ("converged", "1"),
+    ("residual_norm", "N"),
+];
+
+fn pair_describe() -> ModelInfo {
+    ModelInfo {
+        parameters: params_of(&pair::PairParams::example_spur(), pair_unit),
+        choices: vec![ChoiceInfo {
+            name: "dofs".into(),
+            options: vec!["torsional".into(), "transverse-torsional".into()],
+            default: "torsional".into(),
+            note: "1-DOF torsional or 6-DOF transverse-torsional".into(),
+        }],
+        methods: vec![
+            MethodInfo {
+                method: Method::TimeStepping,
+                settings: PAIR_TS.to_vec(),
+                outputs: outs(PAIR_TS_OUT),
+                initial: Some("[q, q'] (2 × number of DOFs)"),
+            },
+            MethodInfo {
+                method: Method::Hbm,
+                settings: PAIR_HBM.to_vec(),
+                outputs: outs(PAIR_HBM_OUT),
+                initial: None,
+            },
+        ],
+    }
+}
+
+/// A point of the generic pair: `dofs` (a choice) and the numbers of `PairParams`.
+fn pair_model(p: &Point) -> Result<(pair::GearPair, f64), Error> {
+    let mut fields = p.clone();
+    let dofs = match take_choice(&mut fields, "dofs", None)? {
+        None => pair::Dofs::Torsional,
+        Some(Value::Text(s)) if s == "torsional" => pair::Dofs::Torsional,
+        Some(Value::Text(s)) if s == "transverse-torsional" => pair::Dofs::TransverseTorsional,
+        Some(v) => {
+            return Err(Error::StudyFile(format!(
+                "`dofs` = {} is not an option; options: \"torsional\", \"transverse-torsional\"",
+                v.label()
+            )));
+        }
+    };
+    let mut params = apply_values(&pair::PairParams::example_spur(), &fields)?;
+    params.dofs = dofs;
+    let model = pair::GearPair::from_params(&params).context("generic-pair parameters")?;
+    Ok((model, params.static_force))
+}
+
+fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
+    let limits = ctx.limits;
+    match ctx.solver.method {
+        Method::TimeStepping => {
+            let s = Settings::read(
+                "generic-pair",
+                Method::TimeStepping,
+                PAIR_TS,
+                &ctx.solver.settings,
+                &[],
+            )?;
+            let settings = pair::TimeSettings {
+                transient_periods: s.u("transient_periods").unwrap_or(200) as usize,
+                record_periods: s.u("record_periods").unwrap_or(10) as usize,
+                samples_per_period: s.u("samples_per_period").unwrap_or(64) as usize,
+                rtol: s.f("rtol"),
+                atol: s.f("atol"),
+            };
+            let initial = ctx.initial.map(<[f64]>::to_vec);
+            Ok(Adapter {
+                outputs: outs(PAIR_TS_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let (model, f_s) = pair_model(p)?;
+                    // adaptive steps: at least 8 per mesh period (h_max = T/8)
+                    let periods = settings.transient_periods + settings.record_periods;
+                    need_steps("generic-pair", 8.0 * periods as f64, &limits)?;
+                    let initial = initial.clone();
+                    Ok(Box::new(move || {
+                        let r = model
+                            .time_response(&settings, initial.as_deref())
+                            .context("generic-pair time integration")?;
+                        let n = r.delta.len().max(1) as f64;
+                        let max = r.delta.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                        let min = r.delta.iter().copied().fold(f64::INFINITY, f64::min);
+                        Ok(vec![
+                            r.dynamic_factor(f_s),
+                            r.delta.iter().sum::<f64>() / n,
+                            max - min,
+                        ])
+                    }) as Job)
+                }),
+            })
+        }
+        Method::Hbm => {
+            no_initial("generic-pair", ctx)?;
+            let s = Settings::read(
+                "generic-pair",
+                Method::Hbm,
+                PAIR_HBM,
+                &ctx.solver.settings,
+                &[],
+            )?;
+            let h = s.u("harmonics").unwrap_or(16) as usize;
+            let samples = s.u("samples").unwrap_or(256) as usize;
+            if samples < 4 * h + 2 {
+                return Err(Error::StudyFile(format!(
+                    "generic-pair hbm: samples = {samples} must be >= 4·harmonics + 2 = {}",
+                    4 * h + 2
+                )));
+            }
+            let options = hbm::SolverOptions {
+                tolerance: s.f("tolerance"),
+                ..hbm::SolverOptions::default()
+            };
+            Ok(Adapter {
+                outputs: outs(PAIR_HBM_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let (model, _) = pair_model(p)?;
+                    Ok(Box::new(move || {
+                        let n = model.dofs().n();
+                        let mut z0 = vec![0.0; n * (2 * h + 1)];
+                        z0[..n].copy_from_slice(&model.static_state());
+                        let mut problem = model
+                            .hbm_problem(h, samples)
+                            .context("generic-pair harmonic balance")?;
+                        let sol = problem
+                            .solve(&z0, &options)
+                            .map_err(models::Error::from)
+                            .context("generic-pair harmonic balance")?;
+                        let c = &sol.coefficients;
+                        Ok(vec![
+                            c[0],
+                            c[n].hypot(c[2 * n]),
+                            if sol.converged { 1.0 } else { 0.0 },
+                            sol.residual_norm,
+                        ])
+                    }) as Job)
+                }),
+            })
+        }
+        m => Err(wrong_method(
+            "generic-pair",
             m,
             &[Method::TimeStepping, Method::Hbm],
         )),
