@@ -282,37 +282,27 @@ impl<L: BacklashLaw> BacklashLaw for Smoothed<L> {
     }
 }
 
-impl<L: BacklashLaw + ?Sized> BacklashLaw for &L {
-    #[inline]
-    fn half_gap(&self, t: f64, c: &CentreDisplacement) -> Result<GapEval, Error> {
-        (**self).half_gap(t, c)
-    }
-    fn depends_on_centres(&self) -> bool {
-        (**self).depends_on_centres()
-    }
-    fn depends_on_time(&self) -> bool {
-        (**self).depends_on_time()
-    }
-    fn dead_zone(&self) -> DeadZone {
-        (**self).dead_zone()
-    }
+/// A law behind a reference or a box is the same law.
+macro_rules! forward_law {
+    ($($ty:ty),*) => {$(
+        impl<L: BacklashLaw + ?Sized> BacklashLaw for $ty {
+            #[inline]
+            fn half_gap(&self, t: f64, c: &CentreDisplacement) -> Result<GapEval, Error> {
+                (**self).half_gap(t, c)
+            }
+            fn depends_on_centres(&self) -> bool {
+                (**self).depends_on_centres()
+            }
+            fn depends_on_time(&self) -> bool {
+                (**self).depends_on_time()
+            }
+            fn dead_zone(&self) -> DeadZone {
+                (**self).dead_zone()
+            }
+        }
+    )*};
 }
-
-impl<L: BacklashLaw + ?Sized> BacklashLaw for Box<L> {
-    #[inline]
-    fn half_gap(&self, t: f64, c: &CentreDisplacement) -> Result<GapEval, Error> {
-        (**self).half_gap(t, c)
-    }
-    fn depends_on_centres(&self) -> bool {
-        (**self).depends_on_centres()
-    }
-    fn depends_on_time(&self) -> bool {
-        (**self).depends_on_time()
-    }
-    fn dead_zone(&self) -> DeadZone {
-        (**self).dead_zone()
-    }
-}
+forward_law!(&L, Box<L>);
 
 /// Every law of this crate in one enum: the serde form of a backlash law (e.g. in a study
 /// file), itself a [`BacklashLaw`].

@@ -56,25 +56,31 @@ pub struct MeshTimed<C> {
     pub omega_e: f64,
 }
 
-impl StiffnessLaw for MeshTimed<ToothPairStiffness> {
+/// A curve over the mesh phase `u` (mesh periods) with its slope.
+pub trait PhaseCurve {
+    /// `(k(u), dk/du)`.
+    fn at_phase(&self, u: f64) -> (f64, f64);
+}
+
+impl PhaseCurve for ToothPairStiffness {
     #[inline]
-    fn stiffness_and_rate(&self, t: f64) -> (f64, f64) {
-        let u = self.omega_e * t / TAU;
-        (
-            self.curve.value_at_phase(u),
-            self.omega_e / TAU * self.curve.rate_at_phase(u),
-        )
+    fn at_phase(&self, u: f64) -> (f64, f64) {
+        (self.value_at_phase(u), self.rate_at_phase(u))
     }
 }
 
-impl StiffnessLaw for MeshTimed<NfgToothPairStiffness> {
+impl PhaseCurve for NfgToothPairStiffness {
+    #[inline]
+    fn at_phase(&self, u: f64) -> (f64, f64) {
+        (self.value_at_phase(u), self.rate_at_phase(u))
+    }
+}
+
+impl<C: PhaseCurve> StiffnessLaw for MeshTimed<C> {
     #[inline]
     fn stiffness_and_rate(&self, t: f64) -> (f64, f64) {
-        let u = self.omega_e * t / TAU;
-        (
-            self.curve.value_at_phase(u),
-            self.omega_e / TAU * self.curve.rate_at_phase(u),
-        )
+        let (k, dk) = self.curve.at_phase(self.omega_e * t / TAU);
+        (k, self.omega_e / TAU * dk)
     }
 }
 

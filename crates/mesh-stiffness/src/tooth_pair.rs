@@ -283,25 +283,26 @@ impl NfgToothPairStiffness {
     /// Stiffness \[N/m\] at mesh phase `u` \[mesh periods\] counted from the start of period 0
     /// (periodic with period `Z₂`). At a period boundary the value is that of the new period.
     pub fn value_at_phase(&self, u: f64) -> f64 {
+        let (c, v) = self.curve_at(u);
+        c.value_at_phase(v)
+    }
+
+    /// The period curve at mesh phase `u` and the phase within it.
+    fn curve_at(&self, u: f64) -> (ToothPairStiffness, f64) {
         let z = self.teeth as f64;
         let u = u.rem_euclid(z);
         let j = (u.floor() as usize).min(self.teeth - 1);
         match self.period_curve(j) {
-            Ok(c) => c.value_at_phase(u - j as f64),
+            Ok(c) => (c, u - j as f64),
             // unreachable: every period was validated in `new`; fall back to the base curve
-            Err(_) => self.base.value_at_phase(u),
+            Err(_) => (self.base, u),
         }
     }
 
     /// `dk/du` at mesh phase `u` (the period curve's [`ToothPairStiffness::rate_at_phase`]).
     pub fn rate_at_phase(&self, u: f64) -> f64 {
-        let z = self.teeth as f64;
-        let u = u.rem_euclid(z);
-        let j = (u.floor() as usize).min(self.teeth - 1);
-        match self.period_curve(j) {
-            Ok(c) => c.rate_at_phase(u - j as f64),
-            Err(_) => self.base.rate_at_phase(u),
-        }
+        let (c, v) = self.curve_at(u);
+        c.rate_at_phase(v)
     }
 
     /// One NFG revolution: `Z₂ × samples_per_period` samples (end point excluded). Fit it with

@@ -152,12 +152,6 @@ fn check(field: &str, v: f64, ok: bool, bound: &str) -> Result<(), Error> {
 impl GearPair<Stiffness, Backlash> {
     /// Build from serde parameters (validated).
     pub fn from_params(p: &PairParams) -> Result<Self, Error> {
-        check(
-            "mesh_frequency",
-            p.mesh_frequency,
-            p.mesh_frequency > 0.0,
-            "> 0",
-        )?;
         let stiffness = p
             .stiffness
             .at_mesh_frequency(p.mesh_frequency)
@@ -280,6 +274,12 @@ impl<S: StiffnessLaw, B: BacklashLaw> GearPair<S, B> {
     /// The backlash law.
     pub fn backlash_law(&self) -> &B {
         &self.backlash
+    }
+
+    /// `diag(0, v)` over the pair's coordinates (bearings act on the centres only).
+    fn bearing_matrix(&self, v: &[f64; 4]) -> DMatrix<f64> {
+        let n = self.dofs.n();
+        DMatrix::from_fn(n, n, |i, j| if i == j && i > 0 { v[i - 1] } else { 0.0 })
     }
 
     fn centres(&self, q: &[f64]) -> CentreDisplacement {
@@ -493,7 +493,7 @@ impl Default for TimeSettings {
     fn default() -> Self {
         Self {
             transient_periods: 200,
-            record_periods: 10,
+            record_periods: 20,
             samples_per_period: 64,
             rtol: 1e-9,
             atol: 1e-12,
@@ -590,24 +590,10 @@ impl<S: StiffnessLaw + Retime, B: BacklashLaw + Retime> system::SecondOrderSyste
         DMatrix::from_fn(n, n, |i, j| if i == j { self.mass[i] } else { 0.0 })
     }
     fn damping(&self) -> DMatrix<f64> {
-        let n = self.dofs.n();
-        DMatrix::from_fn(n, n, |i, j| {
-            if i == j && i > 0 {
-                self.bearing_damping[i - 1]
-            } else {
-                0.0
-            }
-        })
+        self.bearing_matrix(&self.bearing_damping)
     }
     fn stiffness(&self) -> DMatrix<f64> {
-        let n = self.dofs.n();
-        DMatrix::from_fn(n, n, |i, j| {
-            if i == j && i > 0 {
-                self.bearing_stiffness[i - 1]
-            } else {
-                0.0
-            }
-        })
+        self.bearing_matrix(&self.bearing_stiffness)
     }
     fn nonlinear_force(&self, t: f64, q: &[f64], qd: &[f64], g: &mut [f64]) {
         let m = self.mesh(t, q, qd);

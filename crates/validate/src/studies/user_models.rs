@@ -232,6 +232,28 @@ fn choice_info<E: serde::de::DeserializeOwned + Serialize>(
     }
 }
 
+/// The two methods of the spur-pair models: time stepping (with an initial state) and HBM.
+fn time_stepping_and_hbm(
+    ts: (&[SettingDef], &[(&str, &str)]),
+    initial: &'static str,
+    hbm: (&[SettingDef], &[(&str, &str)]),
+) -> Vec<MethodInfo> {
+    vec![
+        MethodInfo {
+            method: Method::TimeStepping,
+            settings: ts.0.to_vec(),
+            outputs: outs(ts.1),
+            initial: Some(initial),
+        },
+        MethodInfo {
+            method: Method::Hbm,
+            settings: hbm.0.to_vec(),
+            outputs: outs(hbm.1),
+            initial: None,
+        },
+    ]
+}
+
 fn wrong_method(model: &str, m: Method, allowed: &[Method]) -> Error {
     Error::StudyFile(format!(
         "{model} has no solver.method = \"{}\"; use {}",
@@ -935,6 +957,39 @@ fn yu_unit(k: &str) -> &'static str {
     }
 }
 
+/// Mesh periods discarded (time stepping of the spur-pair models).
+const TRANSIENT_PERIODS: SettingDef = SettingDef {
+    name: "transient_periods",
+    kind: Kind::Int {
+        lo: 0,
+        hi: 100_000,
+        default: Some(200),
+    },
+    doc: "mesh periods discarded",
+};
+
+/// Mesh periods recorded (time stepping of the spur-pair models).
+const RECORD_PERIODS: SettingDef = SettingDef {
+    name: "record_periods",
+    kind: Kind::Int {
+        lo: 1,
+        hi: 10_000,
+        default: Some(20),
+    },
+    doc: "mesh periods recorded",
+};
+
+/// AFT samples per period (harmonic balance of the spur-pair models; default: the model's).
+const AFT_SAMPLES: SettingDef = SettingDef {
+    name: "samples",
+    kind: Kind::Int {
+        lo: 6,
+        hi: 65_536,
+        default: None,
+    },
+    doc: "AFT samples per period (≥ 4H + 2)",
+};
+
 const YU_VARIANTS: &[&str] = &["yu", "kahraman-singh", "chen", "yu-as-printed"];
 
 const YU_TS: &[SettingDef] = &[
@@ -947,24 +1002,8 @@ const YU_TS: &[SettingDef] = &[
         doc: "rk4: the model's fixed-step RK4; timestep: Dormand–Prince 5(4) with the contact \
               switches located as events",
     },
-    SettingDef {
-        name: "transient_periods",
-        kind: Kind::Int {
-            lo: 0,
-            hi: 100_000,
-            default: Some(200),
-        },
-        doc: "mesh periods discarded",
-    },
-    SettingDef {
-        name: "record_periods",
-        kind: Kind::Int {
-            lo: 1,
-            hi: 10_000,
-            default: Some(20),
-        },
-        doc: "mesh periods recorded",
-    },
+    TRANSIENT_PERIODS,
+    RECORD_PERIODS,
     SettingDef {
         name: "steps_per_period",
         kind: Kind::Int {
@@ -1013,15 +1052,7 @@ const YU_HBM: &[SettingDef] = &[
         },
         doc: "harmonics H of ω* (default of HbmSettings)",
     },
-    SettingDef {
-        name: "samples",
-        kind: Kind::Int {
-            lo: 6,
-            hi: 65_536,
-            default: None,
-        },
-        doc: "AFT samples per period (≥ 4H + 2)",
-    },
+    AFT_SAMPLES,
     SettingDef {
         name: "tolerance",
         kind: Kind::Num {
@@ -1102,20 +1133,11 @@ fn yu_describe() -> ModelInfo {
                 note: "infinitely stiff bearings (flag)".into(),
             },
         ],
-        methods: vec![
-            MethodInfo {
-                method: Method::TimeStepping,
-                settings: YU_TS.to_vec(),
-                outputs: outs(YU_TS_OUT),
-                initial: Some("the state vector of the model (yu2021::STATE_LEN numbers)"),
-            },
-            MethodInfo {
-                method: Method::Hbm,
-                settings: YU_HBM.to_vec(),
-                outputs: outs(YU_HBM_OUT),
-                initial: None,
-            },
-        ],
+        methods: time_stepping_and_hbm(
+            (YU_TS, YU_TS_OUT),
+            "the state vector of the model (yu2021::STATE_LEN numbers)",
+            (YU_HBM, YU_HBM_OUT),
+        ),
     }
 }
 
@@ -1331,24 +1353,8 @@ fn pair_unit(k: &str) -> &'static str {
 }
 
 const PAIR_TS: &[SettingDef] = &[
-    SettingDef {
-        name: "transient_periods",
-        kind: Kind::Int {
-            lo: 0,
-            hi: 100_000,
-            default: Some(200),
-        },
-        doc: "mesh periods discarded",
-    },
-    SettingDef {
-        name: "record_periods",
-        kind: Kind::Int {
-            lo: 1,
-            hi: 10_000,
-            default: Some(10),
-        },
-        doc: "mesh periods recorded",
-    },
+    TRANSIENT_PERIODS,
+    RECORD_PERIODS,
     SettingDef {
         name: "samples_per_period",
         kind: Kind::Int {
@@ -1388,15 +1394,7 @@ const PAIR_HBM: &[SettingDef] = &[
         },
         doc: "harmonics H of the mesh frequency",
     },
-    SettingDef {
-        name: "samples",
-        kind: Kind::Int {
-            lo: 6,
-            hi: 65_536,
-            default: Some(256),
-        },
-        doc: "AFT samples per period (≥ 4H + 2)",
-    },
+    AFT_SAMPLES,
     SettingDef {
         name: "tolerance",
         kind: Kind::Num {
@@ -1425,20 +1423,11 @@ fn pair_describe() -> ModelInfo {
             default: "torsional".into(),
             note: "1-DOF torsional or 6-DOF transverse-torsional".into(),
         }],
-        methods: vec![
-            MethodInfo {
-                method: Method::TimeStepping,
-                settings: PAIR_TS.to_vec(),
-                outputs: outs(PAIR_TS_OUT),
-                initial: Some("[q, q'] (2 × number of DOFs)"),
-            },
-            MethodInfo {
-                method: Method::Hbm,
-                settings: PAIR_HBM.to_vec(),
-                outputs: outs(PAIR_HBM_OUT),
-                initial: None,
-            },
-        ],
+        methods: time_stepping_and_hbm(
+            (PAIR_TS, PAIR_TS_OUT),
+            "[q, q'] (2 × number of DOFs)",
+            (PAIR_HBM, PAIR_HBM_OUT),
+        ),
     }
 }
 
@@ -1475,7 +1464,7 @@ fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
             )?;
             let settings = pair::TimeSettings {
                 transient_periods: s.u("transient_periods").unwrap_or(200) as usize,
-                record_periods: s.u("record_periods").unwrap_or(10) as usize,
+                record_periods: s.u("record_periods").unwrap_or(20) as usize,
                 samples_per_period: s.u("samples_per_period").unwrap_or(64) as usize,
                 rtol: s.f("rtol"),
                 atol: s.f("atol"),
