@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 
-use super::params::check_pos;
+use crate::error::check_pos;
 
 pub use mesh_stiffness::{CurvatureCoefficient, FractalContact, FractalForm};
 
