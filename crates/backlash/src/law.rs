@@ -331,6 +331,24 @@ pub enum Backlash {
 }
 
 impl Backlash {
+    /// Check the fields (they are public, e.g. from serde) with the laws' checked
+    /// constructors; the error names the field and the bound.
+    pub fn validate(&self) -> Result<(), Error> {
+        match self {
+            Backlash::Constant { b } => finite("b", *b).map(|_| ()),
+            Backlash::Fractal(p) => finite("b_s", p.b_s).map(|_| ()),
+            Backlash::Chen(l) => {
+                ChenBacklash::new(l.b_s, l.amplitude, l.omega, l.fractal).map(|_| ())
+            }
+            Backlash::RadiusModulated(l) => {
+                RadiusModulatedBacklash::new(l.b, l.beta, l.omega).map(|_| ())
+            }
+            Backlash::Dynamic(l) => {
+                DynamicBacklash::new(l.geometry, l.b_s, l.form, l.law, l.policy).map(|_| ())
+            }
+        }
+    }
+
     fn as_law(&self) -> &dyn BacklashLaw {
         match self {
             Backlash::Constant { b } => b,

@@ -125,6 +125,36 @@ pub enum Stiffness {
 }
 
 impl Stiffness {
+    /// Check the fields (they are public, e.g. from serde) with the laws' checked
+    /// constructors; the error names the field and the bound.
+    pub fn validate(&self) -> Result<()> {
+        match self {
+            Stiffness::Constant { k } => crate::error::finite("k", *k).map(|_| ()),
+            Stiffness::SingleHarmonic(l) => {
+                SingleHarmonicStiffness::new(l.k0, l.k_r, l.omega_e, l.phi_m, l.waveform)
+                    .map(|_| ())
+            }
+            // validated by its serde form (`try_from`) and its constructor
+            Stiffness::Fourier(_) => Ok(()),
+            Stiffness::ToothPair(l) => {
+                let c = &l.curve;
+                ToothPairStiffness::new(c.contact_ratio, c.k_single, c.k_double, c.smoothing)
+                    .map(|_| ())
+            }
+            Stiffness::Nfg(l) => {
+                let c = &l.curve;
+                NfgToothPairStiffness::new(
+                    c.base,
+                    c.teeth,
+                    c.eccentricity,
+                    c.contact_ratio_sensitivity,
+                    c.stiffness_sensitivity,
+                )
+                .map(|_| ())
+            }
+        }
+    }
+
     /// The same law at mesh frequency `omega_e` (> 0, finite): every law keeps its shape over
     /// the mesh phase; a constant is unchanged.
     pub fn at_mesh_frequency(&self, omega_e: f64) -> Result<Self> {

@@ -152,6 +152,14 @@ fn check(field: &str, v: f64, ok: bool, bound: &str) -> Result<(), Error> {
 impl GearPair<Stiffness, Backlash> {
     /// Build from serde parameters (validated).
     pub fn from_params(p: &PairParams) -> Result<Self, Error> {
+        p.stiffness.validate().map_err(|source| Error::Stiffness {
+            context: "pair.stiffness",
+            source,
+        })?;
+        p.backlash.validate().map_err(|source| Error::Backlash {
+            context: "pair.backlash",
+            source,
+        })?;
         let stiffness = p
             .stiffness
             .at_mesh_frequency(p.mesh_frequency)
@@ -1032,8 +1040,26 @@ mod tests {
         bad.dofs = Dofs::TransverseTorsional;
         bad.masses = [0.0, 1.0];
         assert!(GearPair::from_params(&bad).is_err());
-        let mut bad = p;
+        let mut bad = p.clone();
         bad.mesh_frequency = f64::NAN;
+        assert!(GearPair::from_params(&bad).is_err());
+        // laws from serde are checked with their constructors
+        let mut bad = p.clone();
+        bad.backlash = Backlash::RadiusModulated(backlash::RadiusModulatedBacklash {
+            b: 1.0,
+            beta: 1.0,
+            omega: 1.0,
+        });
+        let e = GearPair::from_params(&bad).unwrap_err().to_string();
+        assert!(e.contains("beta"), "{e}");
+        let mut bad = p;
+        bad.stiffness = Stiffness::SingleHarmonic(mesh_stiffness::SingleHarmonicStiffness {
+            k0: 1.0,
+            k_r: -1.0,
+            omega_e: 1.0,
+            phi_m: 0.0,
+            waveform: mesh_stiffness::Waveform::Sine,
+        });
         assert!(GearPair::from_params(&bad).is_err());
     }
 }
