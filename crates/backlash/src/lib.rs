@@ -65,6 +65,11 @@
 //! A negative radicand in Eq. (6) is handled by a [`RadicandPolicy`] (default: clamp to 0);
 //! no NaN leaves the crate for finite inputs.
 //!
+//! **Backlash laws** ([`BacklashLaw`]): every gap above as one trait, `half_gap(t, c)` with
+//! `∂b/∂t` and `∂b/∂c`, plus the dead-zone corner treatment: `f64` (constant), [`ConstantPart`]
+//! (Eq. 5), [`ChenBacklash`] (`b_s + a_z z(ωt)`), [`RadiusModulatedBacklash`] (Liu Eq. 11–12,
+//! `b/(1 + β cos ωt)`), [`DynamicBacklash`], [`Smoothed`]; [`Backlash`] is their serde enum.
+//!
 //! ## Which method when
 //!
 //! * Time stepping: the exact [`dead_zone`] plus [`switching_functions`] for event location.
