@@ -1416,7 +1416,18 @@ const PAIR_HBM_OUT: &[(&str, &str)] = &[
 
 fn pair_describe() -> ModelInfo {
     ModelInfo {
-        parameters: params_of(&pair::PairParams::example_spur(), pair_unit),
+        parameters: {
+            // the top-level numbers, the geometry and the constant half gap `b`
+            let p = pair::PairParams::example_spur();
+            let mut v = params_of(&p, pair_unit);
+            v.extend(params_of(&p.geometry, pair_unit));
+            v.push(ParamInfo {
+                name: "b".into(),
+                unit: "m".into(),
+                default: "5e-5 (half gap of the constant backlash law)".into(),
+            });
+            v
+        },
         choices: vec![ChoiceInfo {
             name: "dofs".into(),
             options: vec!["torsional".into(), "transverse-torsional".into()],
