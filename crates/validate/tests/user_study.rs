@@ -396,6 +396,8 @@ fn generic_pair_example_runs_and_columns_match_library() {
     p.mesh_frequency = 16000.0;
     let settings = TimeSettings {
         transient_periods: 40,
+        record_periods: 10,
+        samples_per_period: 64,
         ..TimeSettings::default()
     };
     let r = GearPair::from_params(&p)
