@@ -122,6 +122,18 @@ pub(crate) fn check_nonneg(field: &str, v: f64) -> Result<(), Error> {
     }
 }
 
+/// `Ok` if a `timestep` run completed, else [`Error::Solver`] naming `who` and the status.
+pub(crate) fn completed(s: &timestep::Solution, who: &str) -> Result<(), Error> {
+    if s.status.is_success() {
+        Ok(())
+    } else {
+        Err(Error::Solver(format!(
+            "{who} timestep engine stopped: {:?}",
+            s.status
+        )))
+    }
+}
+
 impl From<hbm::HbmError> for Error {
     fn from(source: hbm::HbmError) -> Self {
         Error::Hbm {

@@ -424,16 +424,7 @@ impl<S: StiffnessLaw, B: BacklashLaw> GearPair<S, B> {
             .with_events(true)
             .with_h_max(period / 8.0)
             .with_output(timestep::Output::Final);
-        let ok = |s: &timestep::Solution| {
-            if s.status.is_success() {
-                Ok(())
-            } else {
-                Err(Error::Solver(format!(
-                    "pair timestep engine stopped: {:?}",
-                    s.status
-                )))
-            }
-        };
+        let ok = |s: &timestep::Solution| crate::error::completed(s, "pair");
         let t0 = settings.transient_periods as f64 * period;
         let tr = timestep::integrate(&sys, 0.0, &y0, t0, &opts).map_err(e)?;
         ok(&tr)?;
