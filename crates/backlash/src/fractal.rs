@@ -654,6 +654,20 @@ impl ChenFractal {
         s
     }
 
+    /// `(z(t), z'(t))`, `z'(t) = Σ λ^{(D−1)k} cos(λ^k t)`, truncated as [`Self::value`].
+    pub fn value_and_derivative(&self, t: f64) -> (f64, f64) {
+        let r = self.gamma.powf(self.d - 2.0);
+        let (mut a, mut w, mut s, mut ds) = (1.0, 1.0, 0.0, 0.0);
+        for _ in 0..self.n_terms.min(CHEN_MAX_TERMS) {
+            let (sn, cs) = (w * t).sin_cos();
+            s += a * sn;
+            ds += a * w * cs;
+            a *= r;
+            w *= self.gamma;
+        }
+        (s, ds)
+    }
+
     /// Checked [`Self::value`].
     pub fn try_value(&self, t: f64) -> Result<f64, Error> {
         Ok(self.value(finite("t", t)?))

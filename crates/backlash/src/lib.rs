@@ -65,6 +65,11 @@
 //! A negative radicand in Eq. (6) is handled by a [`RadicandPolicy`] (default: clamp to 0);
 //! no NaN leaves the crate for finite inputs.
 //!
+//! **Backlash laws** ([`BacklashLaw`]): every gap above as one trait, `half_gap(t, c)` with
+//! `∂b/∂t` and `∂b/∂c`, plus the dead-zone corner treatment: `f64` (constant), [`ConstantPart`]
+//! (Eq. 5), [`ChenBacklash`] (`b_s + a_z z(ωt)`), [`RadiusModulatedBacklash`] (Liu Eq. 11–12,
+//! `b/(1 + β cos ωt)`), [`DynamicBacklash`], [`Smoothed`]; [`Backlash`] is their serde enum.
+//!
 //! ## Which method when
 //!
 //! * Time stepping: the exact [`dead_zone`] plus [`switching_functions`] for event location.
@@ -114,6 +119,7 @@ mod deadzone;
 mod dynamic;
 mod error;
 mod fractal;
+mod law;
 
 pub use deadzone::{
     ContactRegion, DeadZone, DeadZoneEval, GapFn, HalfGap, Regularisation, contact_region,
@@ -128,6 +134,9 @@ pub use fractal::{
     CHEN_MAX_TERMS, ChenFractal, ConstantBacklashParams, ConstantPart, ConstantPartForm,
     Fig4Claims, Fig4Data, MeanHeight, Quadrature, SurfaceFractal, WmProfile, fig4_grid,
     mean_asperity_height, yu2021_fig4,
+};
+pub use law::{
+    Backlash, BacklashLaw, ChenBacklash, ContactEval, GapEval, RadiusModulatedBacklash, Smoothed,
 };
 
 #[cfg(test)]

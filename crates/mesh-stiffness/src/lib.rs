@@ -114,7 +114,7 @@ mod tooth_pair;
 pub use contact::{CurvatureCoefficient, FractalContact, FractalForm, HertzLineContact};
 pub use error::{Error, Result};
 pub use fit::{FourierFit, FourierFitter, fit_fourier, fit_single_harmonic};
-pub use law::StiffnessLaw;
+pub use law::{MeshTimed, PhaseCurve, Stiffness, StiffnessLaw};
 pub use series::{FourierStiffness, FourierStiffnessData, SingleHarmonicStiffness, Waveform};
 pub use tooth_pair::{NfgToothPairStiffness, ToothPairStiffness};
 

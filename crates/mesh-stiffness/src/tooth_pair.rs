@@ -22,6 +22,16 @@ fn smooth_step(x: f64, s: f64) -> f64 {
     }
 }
 
+/// Derivative of [`smooth_step`] in `x` (0 off the ramp and for a sharp step).
+#[inline]
+fn smooth_step_rate(x: f64, s: f64) -> f64 {
+    if s > 0.0 && x.abs() < 0.5 * s {
+        0.5 * PI / s * (PI * x / s).cos()
+    } else {
+        0.0
+    }
+}
+
 /// Classic alternating single/double tooth-pair mesh stiffness: a rectangular wave per mesh
 /// period (Liu 2021 Sect. 3.1, Fig. 7: "the alternation rule of one and two pairs of teeth").
 ///
@@ -104,6 +114,17 @@ impl ToothPairStiffness {
         let s = self.smoothing;
         let ind = smooth_step(u, s) - smooth_step(u - w, s) + smooth_step(u - 1.0, s);
         self.k_single + (self.k_double - self.k_single) * ind
+    }
+
+    /// `dk/du` \[N/m per mesh period\] at mesh phase `u`: 0 on the flats and at a sharp jump
+    /// (the jump is a Dirac the law does not report), the ramp's slope with smoothing.
+    #[inline]
+    pub fn rate_at_phase(&self, u: f64) -> f64 {
+        let u = u.rem_euclid(1.0);
+        let w = self.double_fraction();
+        let s = self.smoothing;
+        let d = smooth_step_rate(u, s) - smooth_step_rate(u - w, s) + smooth_step_rate(u - 1.0, s);
+        (self.k_double - self.k_single) * d
     }
 
     /// Stiffness \[N/m\] at time `t` \[s\] for mesh angular frequency `ω_e` \[rad/s\].
@@ -262,14 +283,26 @@ impl NfgToothPairStiffness {
     /// Stiffness \[N/m\] at mesh phase `u` \[mesh periods\] counted from the start of period 0
     /// (periodic with period `Z₂`). At a period boundary the value is that of the new period.
     pub fn value_at_phase(&self, u: f64) -> f64 {
+        let (c, v) = self.curve_at(u);
+        c.value_at_phase(v)
+    }
+
+    /// The period curve at mesh phase `u` and the phase within it.
+    fn curve_at(&self, u: f64) -> (ToothPairStiffness, f64) {
         let z = self.teeth as f64;
         let u = u.rem_euclid(z);
         let j = (u.floor() as usize).min(self.teeth - 1);
         match self.period_curve(j) {
-            Ok(c) => c.value_at_phase(u - j as f64),
+            Ok(c) => (c, u - j as f64),
             // unreachable: every period was validated in `new`; fall back to the base curve
-            Err(_) => self.base.value_at_phase(u),
+            Err(_) => (self.base, u),
         }
+    }
+
+    /// `dk/du` at mesh phase `u` (the period curve's [`ToothPairStiffness::rate_at_phase`]).
+    pub fn rate_at_phase(&self, u: f64) -> f64 {
+        let (c, v) = self.curve_at(u);
+        c.rate_at_phase(v)
     }
 
     /// One NFG revolution: `Z₂ × samples_per_period` samples (end point excluded). Fit it with

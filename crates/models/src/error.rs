@@ -104,6 +104,36 @@ impl Error {
     }
 }
 
+/// `v` finite and `> 0`; the error names `field`.
+pub(crate) fn check_pos(field: &str, v: f64) -> Result<(), Error> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(field, "> 0 and finite", v))
+    }
+}
+
+/// `v` finite and `>= 0`; the error names `field`.
+pub(crate) fn check_nonneg(field: &str, v: f64) -> Result<(), Error> {
+    if v >= 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(field, ">= 0 and finite", v))
+    }
+}
+
+/// `Ok` if a `timestep` run completed, else [`Error::Solver`] naming `who` and the status.
+pub(crate) fn completed(s: &timestep::Solution, who: &str) -> Result<(), Error> {
+    if s.status.is_success() {
+        Ok(())
+    } else {
+        Err(Error::Solver(format!(
+            "{who} timestep engine stopped: {:?}",
+            s.status
+        )))
+    }
+}
+
 impl From<hbm::HbmError> for Error {
     fn from(source: hbm::HbmError) -> Self {
         Error::Hbm {

@@ -1061,22 +1061,14 @@ mod tests {
         .unwrap()
     }
 
-    /// Independent check without the `timestep` crate: classical RK4 with a small fixed step.
+    /// Fixed-step classical RK4 (`timestep::Method::Rk4`, the workspace's one RK4).
     fn rk4(m: &Karpov2017, tau_end: f64, h: f64) -> (f64, f64) {
-        let f = |t: f64, x: f64, v: f64| (v, m.forcing(t) - x);
-        let n = (tau_end / h).ceil() as usize;
-        let h = tau_end / n as f64;
-        let (mut x, mut v) = (0.0, 0.0);
-        for i in 0..n {
-            let t = i as f64 * h;
-            let (a1, b1) = f(t, x, v);
-            let (a2, b2) = f(t + 0.5 * h, x + 0.5 * h * a1, v + 0.5 * h * b1);
-            let (a3, b3) = f(t + 0.5 * h, x + 0.5 * h * a2, v + 0.5 * h * b2);
-            let (a4, b4) = f(t + h, x + h * a3, v + h * b3);
-            x += h / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
-            v += h / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4);
-        }
-        (x, v)
+        let opts = Options::default()
+            .with_method(Method::Rk4 { h })
+            .with_output(Output::Final);
+        let sys = m.time_stepping().unwrap();
+        let y = timestep::integrate(&sys, 0.0, &[0.0, 0.0], tau_end, &opts).unwrap();
+        (y.y_final[0], y.y_final[1])
     }
 
     #[test]

@@ -6,6 +6,8 @@
 //!   gears (Karpov et al. 2017, MMT 114:1).
 //! * [`yu2021`] — spur pair with dynamic, fractal backlash, 6-DOF transverse-torsional
 //!   (Yu, Sun, Li, Wu 2021).
+//! * [`pair`] — a generic spur pair composed from a geometry, a stiffness law, a backlash law
+//!   and the degrees of freedom; the papers' models are presets of it where the physics allows.
 //!
 //! Each model: a dimensional parameter struct (SI, serde, validated), the paper's parameter set
 //! as a named constructor, the dimensionless form built in one place, and adapters to both
@@ -16,6 +18,7 @@ mod error;
 pub mod karpov2017;
 pub mod liu2021;
 pub mod motion;
+pub mod pair;
 pub mod yu2021;
 
 pub use error::Error;

@@ -379,3 +379,60 @@ fn outputs_are_written_atomically_and_locked() {
     assert!(other.join("mine.txt").exists());
     let _ = std::fs::remove_dir_all(&base);
 }
+
+/// Generic pair: the shipped example runs (a reduced copy: 2 frequencies), every column
+/// against the library call, and the HBM columns against `hbm_problem` directly.
+#[test]
+fn generic_pair_example_runs_and_columns_match_library() {
+    use models::pair::{Dofs, GearPair, PairParams, TimeSettings};
+    let text = include_str!("../../../validation/examples/generic-pair-df-vs-frequency.toml")
+        .replace("steps = 8", "steps = 2")
+        .replace("transient_periods = 200", "transient_periods = 40");
+    let out = run(&text);
+    assert_eq!(out.table.rows.len(), 2 * 2);
+    assert!(out.failed.is_empty());
+    let mut p = PairParams::example_spur();
+    p.dofs = Dofs::TransverseTorsional;
+    p.mesh_frequency = 16000.0;
+    let settings = TimeSettings {
+        transient_periods: 40,
+        record_periods: 10,
+        samples_per_period: 64,
+        ..TimeSettings::default()
+    };
+    let r = GearPair::from_params(&p)
+        .unwrap()
+        .time_response(&settings, None)
+        .unwrap();
+    let df = col(&out, "df");
+    assert!(df.contains(&r.dynamic_factor(p.static_force)), "{df:?}");
+    let mean = r.delta.iter().sum::<f64>() / r.delta.len() as f64;
+    assert!(col(&out, "mean_dte").contains(&mean));
+
+    let out = run(
+        "name = \"g\"\nmodel = \"generic-pair\"\n[overrides]\nmesh_frequency = 1000.0\n\
+         [solver]\nmethod = \"hbm\"\n[solver.settings]\nharmonics = 8\nsamples = 64\n",
+    );
+    p.dofs = Dofs::Torsional;
+    p.mesh_frequency = 1000.0;
+    let pair = GearPair::from_params(&p).unwrap();
+    let mut z0 = vec![0.0; 17];
+    z0[0] = pair.static_state()[0];
+    let sol = pair
+        .hbm_problem(8, 64)
+        .unwrap()
+        .solve(
+            &z0,
+            &hbm::SolverOptions {
+                tolerance: 1e-6,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+    assert_eq!(col(&out, "mean_u")[0], sol.coefficients[0]);
+    assert_eq!(col(&out, "converged")[0], 1.0);
+    assert_eq!(
+        col(&out, "first_harmonic_amplitude")[0],
+        sol.coefficients[1].hypot(sol.coefficients[2])
+    );
+}

@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::params::{BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries};
 use crate::Error;
-use backlash::dead_zone;
+use backlash::{BacklashLaw, dead_zone};
 
 /// The dimensionless single-degree-of-freedom NFG model (Eq. 9):
 ///
@@ -167,13 +167,28 @@ impl Model {
         km * r * r / (1.0 + 0.5 * self.beta * self.beta)
     }
 
-    /// Dimensionless half backlash `b̄(τ)` (Eq. 12), per the [`BaseRadius`] reading.
+    /// The half backlash of Eq. (11)–(12) as the `backlash` leaf's law:
+    /// `b̄(τ) = (b/L)/(1 + β cos(ω̄_c τ))` ([`BaseRadius::TimeVarying`]) or `b/L`
+    /// ([`BaseRadius::Mean`], `β = 0` in the law).
+    #[inline]
+    pub fn backlash_law(&self) -> backlash::RadiusModulatedBacklash {
+        backlash::RadiusModulatedBacklash {
+            b: self.backlash,
+            beta: match self.readings.base_radius {
+                BaseRadius::TimeVarying => self.beta,
+                BaseRadius::Mean => 0.0,
+            },
+            omega: self.omega_c,
+        }
+    }
+
+    /// Dimensionless half backlash `b̄(τ)` (Eq. 12), per the [`BaseRadius`] reading, from
+    /// [`Model::backlash_law`] (NaN for a non-finite `τ`).
     #[inline]
     pub fn backlash_at(&self, tau: f64) -> f64 {
-        match self.readings.base_radius {
-            BaseRadius::TimeVarying => self.backlash / self.radius_ratio(tau),
-            BaseRadius::Mean => self.backlash,
-        }
+        self.backlash_law()
+            .half_gap(tau, &backlash::CentreDisplacement::default())
+            .map_or(f64::NAN, |g| g.b)
     }
 
     /// Rigid angular acceleration `d²θ₂/dτ²` (Eq. 20) per the readings.
@@ -387,6 +402,35 @@ mod tests {
             let r = m.radius_ratio(tau);
             let want = leaf.eval(tau) * r * r / (1.0 + 0.5 * m.beta * m.beta);
             assert_eq!(m.stiffness(tau).to_bits(), want.to_bits());
+        }
+    }
+
+    /// The model's `b̄(τ)` is the leaf's law, and equals the closed form `(b/L)/(r_b2/L)` of
+    /// Eq. (11)–(12) under both readings.
+    #[test]
+    fn leaf_and_model_backlash_are_the_same_number() {
+        for base_radius in [BaseRadius::TimeVarying, BaseRadius::Mean] {
+            let mut p = table1();
+            p.readings.base_radius = base_radius;
+            let m = p.model().unwrap();
+            for tau in [0.0, 0.37, 5.1, 123.4] {
+                let want = match base_radius {
+                    BaseRadius::TimeVarying => m.backlash / m.radius_ratio(tau),
+                    _ => m.backlash,
+                };
+                let b = m.backlash_at(tau);
+                assert!((b - want).abs() <= 1e-15 * want, "{base_radius:?} {tau}");
+                let leaf = backlash::RadiusModulatedBacklash::new(
+                    p.half_backlash / p.mean_base_radius().unwrap(),
+                    m.backlash_law().beta,
+                    m.omega_c,
+                )
+                .unwrap();
+                let g = leaf
+                    .half_gap(tau, &backlash::CentreDisplacement::default())
+                    .unwrap();
+                assert_eq!(g.b.to_bits(), b.to_bits());
+            }
         }
     }
 

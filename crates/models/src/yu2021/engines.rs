@@ -109,16 +109,7 @@ impl Yu2021Model {
         // the RK4 grid: sample k at τ = k h, k = transient·n … (transient + record)·n − 1
         let start = settings.transient_periods * n;
         let t_rec = start as f64 * h;
-        let check = |s: &timestep::Solution| {
-            if s.status.is_success() {
-                Ok(())
-            } else {
-                Err(Error::Solver(format!(
-                    "yu2021 timestep engine stopped: {:?}",
-                    s.status
-                )))
-            }
-        };
+        let check = |s: &timestep::Solution| crate::error::completed(s, "yu2021");
         let tr = timestep::integrate(&sys, 0.0, &y0, t_rec, &opts).map_err(engine_error)?;
         check(&tr)?;
         let m = settings.record_periods * n;

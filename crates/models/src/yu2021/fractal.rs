@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 
-use super::params::check_pos;
+use crate::error::check_pos;
 
 pub use mesh_stiffness::{CurvatureCoefficient, FractalContact, FractalForm};
 
@@ -72,12 +72,16 @@ pub fn fractal_mean_height(s: &FractalSurface) -> Result<f64, Error> {
 /// Chen's fractal backlash function, Eq. (3): `z(t) = Σ_{k=0}^{K-1} λ^{(D-2)k} sin(λ^k t)`,
 /// truncated at `K = 12` terms with `λ = 1.5` (the `backlash` leaf's [`backlash::ChenFractal`]).
 pub fn chen_z(dimension: f64, t: f64) -> f64 {
+    chen_fractal(dimension).value(t)
+}
+
+/// Chen's `z` of Eq. (3) as the model truncates it: `λ = 1.5`, 12 terms.
+pub(crate) fn chen_fractal(dimension: f64) -> backlash::ChenFractal {
     backlash::ChenFractal {
         d: dimension,
         gamma: 1.5,
         n_terms: 12,
     }
-    .value(t)
 }
 
 /// Fractal contact stiffness `k_c` of Eq. (18) (N/m as Yu uses it), from the

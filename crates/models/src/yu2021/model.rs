@@ -1,11 +1,11 @@
 //! Dimensionless Yu 2021 models, their right-hand sides and the closed-loop time integration.
 
+use backlash::BacklashLaw;
 use mesh_stiffness::StiffnessLaw;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
 
-use super::fractal::chen_z;
 use super::params::Yu2021Params;
 
 /// Which of the three spur-pair models of Yu's comparison (Sec. 4.4) to solve.
@@ -435,48 +435,57 @@ impl Yu2021Model {
         }
     }
 
-    /// Pressure angle and backlash of a state (Eq. 9–11, 16). For the torsional models and
-    /// locked centres the centre terms vanish.
-    pub fn geometry(&self, omega: f64, tau: f64, s: &[f64; STATE_LEN]) -> MeshGeometry {
+    /// The backlash law of this model at `ω*` as the `backlash` leaf's [`backlash::Backlash`]
+    /// (lengths over `b_n`, time `τ`): Kahraman–Singh a constant `b_s`; Chen
+    /// [`backlash::ChenBacklash`] `b_s + a_z z(ω*τ)` (`λ = 1.5`, 12 terms, as [`chen_z`](super::chen_z)); Yu
+    /// the dynamic law [`Yu2021Model::dynamic_backlash_law`] (a constant `b_s` for
+    /// [`DynamicBacklashLaw::Off`]). [`Yu2021Model::geometry`] evaluates it through
+    /// [`backlash::BacklashLaw`].
+    pub fn backlash_law(&self, omega: f64) -> backlash::Backlash {
         let p = &self.params;
         match self.options.kind {
-            ModelKind::KahramanSingh => MeshGeometry {
-                alpha: p.alpha0,
-                alpha_rate: 0.0,
-                centre_change: 0.0,
-                dynamic_part: 0.0,
-                backlash: p.backlash,
+            ModelKind::KahramanSingh => backlash::Backlash::Constant { b: p.backlash },
+            ModelKind::ChenFractal => backlash::Backlash::Chen(backlash::ChenBacklash {
+                b_s: p.backlash,
+                amplitude: p.chen_amplitude,
+                omega,
+                fractal: super::fractal::chen_fractal(p.chen_dimension),
+            }),
+            ModelKind::Yu => match self.options.dynamic_backlash {
+                DynamicBacklashLaw::Off => backlash::Backlash::Constant { b: p.backlash },
+                _ => backlash::Backlash::Dynamic(self.dynamic_backlash_law()),
             },
-            ModelKind::ChenFractal => {
-                let z = chen_z(p.chen_dimension, tau * omega);
-                MeshGeometry {
-                    alpha: p.alpha0,
-                    alpha_rate: 0.0,
-                    centre_change: 0.0,
-                    dynamic_part: p.chen_amplitude * z,
-                    backlash: (p.backlash + p.chen_amplitude * z).max(0.0),
-                }
-            }
+        }
+    }
+
+    /// Pressure angle and backlash of a state (Eq. 9–11, 16). For the torsional models and
+    /// locked centres the centre terms vanish. The half gap is [`Yu2021Model::backlash_law`]'s
+    /// ([`backlash::BacklashLaw::half_gap`]), clamped at 0; a non-finite state gives a
+    /// non-finite backlash (the engines report it).
+    pub fn geometry(&self, omega: f64, tau: f64, s: &[f64; STATE_LEN]) -> MeshGeometry {
+        let p = &self.params;
+        let c = backlash::CentreDisplacement::new(s[1], s[2], s[3], s[4]);
+        let gap = self
+            .backlash_law(omega)
+            .half_gap(tau, &c)
+            .map_or(f64::NAN, |g| g.b);
+        let (alpha, alpha_rate, centre_change) = match self.options.kind {
+            ModelKind::KahramanSingh | ModelKind::ChenFractal => (p.alpha0, 0.0, 0.0),
             ModelKind::Yu => {
-                // Eq. (8)–(11), (16) from the `backlash` leaf
+                // Eq. (8)–(9), (16) from the `backlash` leaf's pair geometry
                 let law = self.dynamic_backlash_law();
-                let c = backlash::CentreDisplacement::new(s[1], s[2], s[3], s[4]);
                 let (a, da, grad_a) = law.geometry.centre_distance_with(&c, law.centre_distance);
                 let a_rate: f64 = grad_a.iter().zip(&s[6..]).map(|(g, v)| g * v).sum();
                 let (alpha, dalpha_da) = law.geometry.pressure_angle(a, law.law);
-                let dyn_part = match self.options.dynamic_backlash {
-                    DynamicBacklashLaw::Off => 0.0,
-                    // a non-finite state gives a non-finite backlash (the engines report it)
-                    _ => law.eval(&c).map_or(f64::NAN, |e| e.b_dy),
-                };
-                MeshGeometry {
-                    alpha,
-                    alpha_rate: dalpha_da * a_rate,
-                    centre_change: da,
-                    dynamic_part: dyn_part,
-                    backlash: (p.backlash + dyn_part).max(0.0),
-                }
+                (alpha, dalpha_da * a_rate, da)
             }
+        };
+        MeshGeometry {
+            alpha,
+            alpha_rate,
+            centre_change,
+            dynamic_part: gap - p.backlash,
+            backlash: gap.max(0.0),
         }
     }
 
@@ -744,7 +753,10 @@ mod tests {
                         .dynamic_backlash_law()
                         .eval(&backlash::CentreDisplacement::new(0.4, -0.2, -0.3, 0.1))
                         .unwrap();
-                    assert_eq!(g.dynamic_part.to_bits(), leaf.b_dy.to_bits(), "{o:?}");
+                    assert!(
+                        (g.dynamic_part - leaf.b_dy).abs() <= 1e-15 * m.params.backlash,
+                        "{o:?}"
+                    );
                     assert_eq!(g.centre_change.to_bits(), leaf.delta_a.to_bits());
                     assert_eq!(
                         g.backlash.to_bits(),
@@ -778,6 +790,29 @@ mod tests {
             let bound = 3.0 * x * x / a0 + 1e-12 * x.abs();
             assert!((g.dynamic_part - lin).abs() <= bound, "{x}");
             assert!((e.b_dy - lin).abs() <= bound, "{x}: {} vs {lin}", e.b_dy);
+        }
+    }
+
+    /// Chen's and Kahraman–Singh's backlash are the leaf's laws: the same number as the
+    /// closed forms `b_s + a_z z(ω*τ)` (with the model's `z`) and `b_s`.
+    #[test]
+    fn leaf_and_model_time_varying_backlash_are_the_same_number() {
+        let params = Yu2021Params::table1();
+        let chen = Yu2021Model::new(&params, Options::chen()).unwrap();
+        let ks = Yu2021Model::new(&params, Options::kahraman_singh()).unwrap();
+        let p = chen.params;
+        let s = [0.0; STATE_LEN];
+        for (w, tau) in [(0.9, 0.0), (1.3, 0.77), (0.4, 31.0)] {
+            let want =
+                p.backlash + p.chen_amplitude * super::super::chen_z(p.chen_dimension, tau * w);
+            assert_eq!(
+                chen.geometry(w, tau, &s).backlash.to_bits(),
+                want.max(0.0).to_bits()
+            );
+            assert_eq!(
+                ks.geometry(w, tau, &s).backlash.to_bits(),
+                p.backlash.to_bits()
+            );
         }
     }
 

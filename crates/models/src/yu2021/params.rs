@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
+use crate::error::{check_nonneg, check_pos};
 
 use super::fractal::{FractalSurface, fractal_mean_height};
 
@@ -101,22 +102,6 @@ pub struct Yu2021Params {
     pub chen_amplitude: f64,
     /// Fractal dimension `D` used in Chen's `z(t)`, Eq. (3).
     pub chen_dimension: f64,
-}
-
-pub(crate) fn check_pos(field: &str, v: f64) -> Result<(), Error> {
-    if v > 0.0 && v.is_finite() {
-        Ok(())
-    } else {
-        Err(Error::invalid(field, "> 0 and finite", v))
-    }
-}
-
-pub(crate) fn check_nonneg(field: &str, v: f64) -> Result<(), Error> {
-    if v >= 0.0 && v.is_finite() {
-        Ok(())
-    } else {
-        Err(Error::invalid(field, ">= 0 and finite", v))
-    }
 }
 
 impl Yu2021Params {

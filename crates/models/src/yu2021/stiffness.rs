@@ -21,7 +21,8 @@ use serde::{Deserialize, Serialize};
 use crate::Error;
 
 use super::fractal::{FractalContact, FractalForm, FractalSurface, fractal_contact_stiffness};
-use super::params::{BacklashSpec, Yu2021Params, check_pos};
+use super::params::{BacklashSpec, Yu2021Params};
+use crate::error::check_pos;
 
 /// Mean mesh stiffness from Eq. (18) with one calibrated level (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

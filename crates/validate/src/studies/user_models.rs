@@ -8,7 +8,7 @@
 
 use std::collections::BTreeMap;
 
-use models::{karpov2017, liu2021, yu2021};
+use models::{karpov2017, liu2021, pair, yu2021};
 use serde::Serialize;
 
 use crate::user::{Limits, Method, Point, Solver, Value, apply_values};
@@ -144,7 +144,7 @@ pub struct ModelInfo {
 }
 
 /// Every model of `geardyn study`. Adding a model is one entry here.
-pub const REGISTRY: [ModelSpec; 4] = [
+pub const REGISTRY: [ModelSpec; 5] = [
     ModelSpec {
         name: "karpov2017-kinematics",
         description: "Karpov 2017 non-circular pair: speed fluctuation δ and peak acceleration ε_max",
@@ -172,6 +172,13 @@ pub const REGISTRY: [ModelSpec; 4] = [
         build: yu_build,
         describe: yu_describe,
         unit_of: yu_unit,
+    },
+    ModelSpec {
+        name: "generic-pair",
+        description: "Generic spur pair from the leaves (tooth-pair stiffness, constant backlash; 1-DOF or 6-DOF)",
+        build: pair_build,
+        describe: pair_describe,
+        unit_of: pair_unit,
     },
 ];
 
@@ -223,6 +230,28 @@ fn choice_info<E: serde::de::DeserializeOwned + Serialize>(
         default: d,
         note: note.to_owned(),
     }
+}
+
+/// The two methods of the spur-pair models: time stepping (with an initial state) and HBM.
+fn time_stepping_and_hbm(
+    ts: (&[SettingDef], &[(&str, &str)]),
+    initial: &'static str,
+    hbm: (&[SettingDef], &[(&str, &str)]),
+) -> Vec<MethodInfo> {
+    vec![
+        MethodInfo {
+            method: Method::TimeStepping,
+            settings: ts.0.to_vec(),
+            outputs: outs(ts.1),
+            initial: Some(initial),
+        },
+        MethodInfo {
+            method: Method::Hbm,
+            settings: hbm.0.to_vec(),
+            outputs: outs(hbm.1),
+            initial: None,
+        },
+    ]
 }
 
 fn wrong_method(model: &str, m: Method, allowed: &[Method]) -> Error {
@@ -928,6 +957,39 @@ fn yu_unit(k: &str) -> &'static str {
     }
 }
 
+/// Mesh periods discarded (time stepping of the spur-pair models).
+const TRANSIENT_PERIODS: SettingDef = SettingDef {
+    name: "transient_periods",
+    kind: Kind::Int {
+        lo: 0,
+        hi: 100_000,
+        default: Some(200),
+    },
+    doc: "mesh periods discarded",
+};
+
+/// Mesh periods recorded (time stepping of the spur-pair models).
+const RECORD_PERIODS: SettingDef = SettingDef {
+    name: "record_periods",
+    kind: Kind::Int {
+        lo: 1,
+        hi: 10_000,
+        default: Some(20),
+    },
+    doc: "mesh periods recorded",
+};
+
+/// AFT samples per period (harmonic balance of the spur-pair models; default: the model's).
+const AFT_SAMPLES: SettingDef = SettingDef {
+    name: "samples",
+    kind: Kind::Int {
+        lo: 6,
+        hi: 65_536,
+        default: None,
+    },
+    doc: "AFT samples per period (≥ 4H + 2)",
+};
+
 const YU_VARIANTS: &[&str] = &["yu", "kahraman-singh", "chen", "yu-as-printed"];
 
 const YU_TS: &[SettingDef] = &[
@@ -940,24 +1002,8 @@ const YU_TS: &[SettingDef] = &[
         doc: "rk4: the model's fixed-step RK4; timestep: Dormand–Prince 5(4) with the contact \
               switches located as events",
     },
-    SettingDef {
-        name: "transient_periods",
-        kind: Kind::Int {
-            lo: 0,
-            hi: 100_000,
-            default: Some(200),
-        },
-        doc: "mesh periods discarded",
-    },
-    SettingDef {
-        name: "record_periods",
-        kind: Kind::Int {
-            lo: 1,
-            hi: 10_000,
-            default: Some(20),
-        },
-        doc: "mesh periods recorded",
-    },
+    TRANSIENT_PERIODS,
+    RECORD_PERIODS,
     SettingDef {
         name: "steps_per_period",
         kind: Kind::Int {
@@ -1006,15 +1052,7 @@ const YU_HBM: &[SettingDef] = &[
         },
         doc: "harmonics H of ω* (default of HbmSettings)",
     },
-    SettingDef {
-        name: "samples",
-        kind: Kind::Int {
-            lo: 6,
-            hi: 65_536,
-            default: None,
-        },
-        doc: "AFT samples per period (≥ 4H + 2)",
-    },
+    AFT_SAMPLES,
     SettingDef {
         name: "tolerance",
         kind: Kind::Num {
@@ -1095,20 +1133,11 @@ fn yu_describe() -> ModelInfo {
                 note: "infinitely stiff bearings (flag)".into(),
             },
         ],
-        methods: vec![
-            MethodInfo {
-                method: Method::TimeStepping,
-                settings: YU_TS.to_vec(),
-                outputs: outs(YU_TS_OUT),
-                initial: Some("the state vector of the model (yu2021::STATE_LEN numbers)"),
-            },
-            MethodInfo {
-                method: Method::Hbm,
-                settings: YU_HBM.to_vec(),
-                outputs: outs(YU_HBM_OUT),
-                initial: None,
-            },
-        ],
+        methods: time_stepping_and_hbm(
+            (YU_TS, YU_TS_OUT),
+            "the state vector of the model (yu2021::STATE_LEN numbers)",
+            (YU_HBM, YU_HBM_OUT),
+        ),
     }
 }
 
@@ -1301,6 +1330,230 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
         }
         m => Err(wrong_method(
             "yu2021",
+            m,
+            &[Method::TimeStepping, Method::Hbm],
+        )),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// generic-pair (models::pair, preset PairParams::example_spur, SI units)
+
+fn pair_unit(k: &str) -> &'static str {
+    match k {
+        "equivalent_mass" | "masses" => "kg",
+        "rp" | "rg" | "ste_amplitude" | "b" => "m",
+        "pressure_angle" | "ste_phase" => "rad",
+        "bearing_stiffness" => "N/m",
+        "bearing_damping" | "mesh_damping" => "N·s/m",
+        "static_force" => "N",
+        "mesh_frequency" => "rad/s",
+        _ => "1",
+    }
+}
+
+const PAIR_TS: &[SettingDef] = &[
+    TRANSIENT_PERIODS,
+    RECORD_PERIODS,
+    SettingDef {
+        name: "samples_per_period",
+        kind: Kind::Int {
+            lo: 4,
+            hi: 100_000,
+            default: Some(64),
+        },
+        doc: "samples per recorded mesh period",
+    },
+    SettingDef {
+        name: "rtol",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-2,
+            default: 1e-9,
+        },
+        doc: "relative tolerance (Dormand–Prince 5(4), gap edges as events)",
+    },
+    SettingDef {
+        name: "atol",
+        kind: Kind::Num {
+            lo: 1e-20,
+            hi: 1e-2,
+            default: 1e-12,
+        },
+        doc: "absolute tolerance (units of the coordinates)",
+    },
+];
+
+const PAIR_HBM: &[SettingDef] = &[
+    SettingDef {
+        name: "harmonics",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 64,
+            default: Some(16),
+        },
+        doc: "harmonics H of the mesh frequency",
+    },
+    AFT_SAMPLES,
+    SettingDef {
+        name: "tolerance",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e3,
+            default: 1e-6,
+        },
+        doc: "residual-norm tolerance (N)",
+    },
+];
+
+const PAIR_TS_OUT: &[(&str, &str)] = &[("df", "1"), ("mean_dte", "m"), ("dte_peak_to_peak", "m")];
+const PAIR_HBM_OUT: &[(&str, &str)] = &[
+    ("mean_u", "m"),
+    ("first_harmonic_amplitude", "m"),
+    ("converged", "1"),
+    ("residual_norm", "N"),
+];
+
+fn pair_describe() -> ModelInfo {
+    ModelInfo {
+        parameters: {
+            // the top-level numbers, the geometry and the constant half gap `b`
+            let p = pair::PairParams::example_spur();
+            let mut v = params_of(&p, pair_unit);
+            v.extend(params_of(&p.geometry, pair_unit));
+            v.push(ParamInfo {
+                name: "b".into(),
+                unit: "m".into(),
+                default: "5e-5 (half gap of the constant backlash law)".into(),
+            });
+            v
+        },
+        choices: vec![ChoiceInfo {
+            name: "dofs".into(),
+            options: vec!["torsional".into(), "transverse-torsional".into()],
+            default: "torsional".into(),
+            note: "1-DOF torsional or 6-DOF transverse-torsional".into(),
+        }],
+        methods: time_stepping_and_hbm(
+            (PAIR_TS, PAIR_TS_OUT),
+            "[q, q'] (2 × number of DOFs)",
+            (PAIR_HBM, PAIR_HBM_OUT),
+        ),
+    }
+}
+
+/// A point of the generic pair: `dofs` (a choice) and the numbers of `PairParams`.
+fn pair_model(p: &Point) -> Result<(pair::GearPair, f64), Error> {
+    let mut fields = p.clone();
+    let dofs = match take_choice(&mut fields, "dofs", None)? {
+        None => pair::Dofs::Torsional,
+        Some(Value::Text(s)) if s == "torsional" => pair::Dofs::Torsional,
+        Some(Value::Text(s)) if s == "transverse-torsional" => pair::Dofs::TransverseTorsional,
+        Some(v) => {
+            return Err(Error::StudyFile(format!(
+                "`dofs` = {} is not an option; options: \"torsional\", \"transverse-torsional\"",
+                v.label()
+            )));
+        }
+    };
+    let mut params = apply_values(&pair::PairParams::example_spur(), &fields)?;
+    params.dofs = dofs;
+    let model = pair::GearPair::from_params(&params).context("generic-pair parameters")?;
+    Ok((model, params.static_force))
+}
+
+fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
+    let limits = ctx.limits;
+    match ctx.solver.method {
+        Method::TimeStepping => {
+            let s = Settings::read(
+                "generic-pair",
+                Method::TimeStepping,
+                PAIR_TS,
+                &ctx.solver.settings,
+                &[],
+            )?;
+            let settings = pair::TimeSettings {
+                transient_periods: s.u("transient_periods").unwrap_or(200) as usize,
+                record_periods: s.u("record_periods").unwrap_or(20) as usize,
+                samples_per_period: s.u("samples_per_period").unwrap_or(64) as usize,
+                rtol: s.f("rtol"),
+                atol: s.f("atol"),
+            };
+            let initial = ctx.initial.map(<[f64]>::to_vec);
+            Ok(Adapter {
+                outputs: outs(PAIR_TS_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let (model, f_s) = pair_model(p)?;
+                    // adaptive steps: at least 8 per mesh period (h_max = T/8)
+                    let periods = settings.transient_periods + settings.record_periods;
+                    need_steps("generic-pair", 8.0 * periods as f64, &limits)?;
+                    let initial = initial.clone();
+                    Ok(Box::new(move || {
+                        let r = model
+                            .time_response(&settings, initial.as_deref())
+                            .context("generic-pair time integration")?;
+                        let n = r.delta.len().max(1) as f64;
+                        let max = r.delta.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                        let min = r.delta.iter().copied().fold(f64::INFINITY, f64::min);
+                        Ok(vec![
+                            r.dynamic_factor(f_s),
+                            r.delta.iter().sum::<f64>() / n,
+                            max - min,
+                        ])
+                    }) as Job)
+                }),
+            })
+        }
+        Method::Hbm => {
+            no_initial("generic-pair", ctx)?;
+            let s = Settings::read(
+                "generic-pair",
+                Method::Hbm,
+                PAIR_HBM,
+                &ctx.solver.settings,
+                &[],
+            )?;
+            let h = s.u("harmonics").unwrap_or(16) as usize;
+            let samples = s.u("samples").unwrap_or(256) as usize;
+            if samples < 4 * h + 2 {
+                return Err(Error::StudyFile(format!(
+                    "generic-pair hbm: samples = {samples} must be >= 4·harmonics + 2 = {}",
+                    4 * h + 2
+                )));
+            }
+            let options = hbm::SolverOptions {
+                tolerance: s.f("tolerance"),
+                ..hbm::SolverOptions::default()
+            };
+            Ok(Adapter {
+                outputs: outs(PAIR_HBM_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let (model, _) = pair_model(p)?;
+                    Ok(Box::new(move || {
+                        let n = model.dofs().n();
+                        let mut z0 = vec![0.0; n * (2 * h + 1)];
+                        z0[..n].copy_from_slice(&model.static_state());
+                        let mut problem = model
+                            .hbm_problem(h, samples)
+                            .context("generic-pair harmonic balance")?;
+                        let sol = problem
+                            .solve(&z0, &options)
+                            .map_err(models::Error::from)
+                            .context("generic-pair harmonic balance")?;
+                        let c = &sol.coefficients;
+                        Ok(vec![
+                            c[0],
+                            c[n].hypot(c[2 * n]),
+                            if sol.converged { 1.0 } else { 0.0 },
+                            sol.residual_norm,
+                        ])
+                    }) as Job)
+                }),
+            })
+        }
+        m => Err(wrong_method(
+            "generic-pair",
             m,
             &[Method::TimeStepping, Method::Hbm],
         )),
