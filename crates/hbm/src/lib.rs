@@ -107,6 +107,7 @@
 mod basis;
 mod continuation;
 mod error;
+mod plans;
 mod problem;
 mod solution;
 mod solve;

@@ -4,8 +4,7 @@ use crate::error::check_positive;
 use crate::{Basis, CoefficientKind, HbmError, SecondOrderSystem};
 use nalgebra::DMatrix;
 use num_complex::Complex;
-use rustfft::{Fft, FftPlanner};
-use std::f64::consts::PI;
+use rustfft::Fft;
 use std::sync::Arc;
 
 /// A harmonic balance problem: a system, a basis, a base frequency `ω` and an AFT grid, with
@@ -60,13 +59,16 @@ struct Workspace {
     /// spectra of the Jacobian entries: jq_hat[(i*n + j)*N + l]
     jq_hat: Vec<Complex<f64>>,
     jv_hat: Vec<Complex<f64>>,
+    /// the coefficients the samples `q`, `qd`, `h` and `hc` belong to (valid if `last_valid`):
+    /// a Newton iteration asks for the residual and Jacobian at the point its line search has
+    /// just evaluated, which then costs no AFT
+    last_z: Vec<f64>,
+    last_valid: bool,
 }
 
 impl Workspace {
     fn new(n: usize, n_grid: usize, nc: usize, tab_len: usize) -> Self {
-        let mut planner = FftPlanner::new();
-        let fwd = planner.plan_fft_forward(n_grid);
-        let inv = planner.plan_fft_inverse(n_grid);
+        let (fwd, inv) = crate::plans::plans(n_grid);
         let len = fwd
             .get_inplace_scratch_len()
             .max(inv.get_inplace_scratch_len());
@@ -88,6 +90,8 @@ impl Workspace {
             jv: vec![0.0; n_grid * n * n],
             jq_hat: vec![Complex::default(); n_grid * n * n],
             jv_hat: vec![Complex::default(); n_grid * n * n],
+            last_z: Vec::with_capacity(nc * n),
+            last_valid: false,
         }
     }
 }
@@ -166,22 +170,20 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         let n = self.n;
         let len = self.system.time_table_len();
         let nn = self.ws.n_grid;
+        self.ws.last_valid = false;
         if self.ws.tab_len != len {
             self.ws.tab_len = len;
             self.ws.ttab = vec![0.0; nn * len];
         }
+        self.system
+            .tabulate_grid(self.omega, nn, &mut self.ws.ftab, &mut self.ws.ttab);
         for m in 0..nn {
-            let t = self.time(m);
-            let f = &mut self.ws.ftab[m * n..(m + 1) * n];
-            self.system.forcing(t, f);
-            let row = &mut self.ws.ttab[m * len..(m + 1) * len];
-            if len > 0 {
-                self.system.fill_time_table(t, row);
-            }
+            let f = &self.ws.ftab[m * n..(m + 1) * n];
+            let row = &self.ws.ttab[m * len..(m + 1) * len];
             if f.iter().chain(row.iter()).any(|x| !x.is_finite()) {
                 return Err(HbmError::NonFinite {
                     what: "forcing or time table",
-                    time: t,
+                    time: self.time(m),
                 });
             }
         }
@@ -274,7 +276,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
 
     /// Time of grid sample `m`.
     fn time(&self, m: usize) -> f64 {
-        2.0 * PI * m as f64 / (self.ws.n_grid as f64 * self.omega)
+        system::grid_time(self.omega, self.ws.n_grid, m)
     }
 
     /// Coefficients → time samples of `q` and `q'` (one packed inverse FFT per DOF).
@@ -395,9 +397,15 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 time: 0.0,
             });
         }
-        self.synthesize(z);
-        self.sample_forces()?;
-        self.analyse_forces();
+        if !(self.ws.last_valid && self.ws.last_z == z) {
+            self.ws.last_valid = false;
+            self.synthesize(z);
+            self.sample_forces()?;
+            self.analyse_forces();
+            self.ws.last_z.clear();
+            self.ws.last_z.extend_from_slice(z);
+            self.ws.last_valid = true;
+        }
         self.assemble_residual(z, r);
         Ok(())
     }
@@ -451,17 +459,23 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         for e in 0..nsq {
             for src in 0..2 {
                 let samples = if src == 0 { &self.ws.jq } else { &self.ws.jv };
+                let out = if src == 0 {
+                    &mut self.ws.jq_hat
+                } else {
+                    &mut self.ws.jv_hat
+                };
+                // an entry that is zero at every sample (e.g. ∂g/∂q' of a force without
+                // damping terms) has a zero spectrum: the FFT is skipped, the result is the same
+                if (0..nn).all(|m| samples[m * nsq + e] == 0.0) {
+                    out[e * nn..(e + 1) * nn].fill(Complex::default());
+                    continue;
+                }
                 for m in 0..nn {
                     self.ws.buf[m] = Complex::new(samples[m * nsq + e] * scale, 0.0);
                 }
                 self.ws
                     .fwd
                     .process_with_scratch(&mut self.ws.buf, &mut self.ws.scratch);
-                let out = if src == 0 {
-                    &mut self.ws.jq_hat
-                } else {
-                    &mut self.ws.jv_hat
-                };
                 out[e * nn..(e + 1) * nn].copy_from_slice(&self.ws.buf);
             }
         }

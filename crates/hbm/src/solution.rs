@@ -4,7 +4,6 @@ use crate::solve::{NonlinearEquations, solve_equations};
 use crate::{Basis, HbmError, HbmProblem, SecondOrderSystem, SolverOptions, Stability};
 use nalgebra::DMatrix;
 use num_complex::Complex;
-use rustfft::FftPlanner;
 use std::f64::consts::PI;
 
 /// A periodic solution `q(t) = a_0 + Σ a_k cos(kωt) + b_k sin(kωt)` and how its solve ended.
@@ -131,8 +130,9 @@ impl PeriodicSolution {
     /// consistent coefficients).
     fn time_series_fft(&self, n_points: usize) -> TimeSeries {
         let n = self.n_dof;
-        let inv = FftPlanner::new().plan_fft_inverse(n_points);
+        let (_, inv) = crate::plans::plans(n_points);
         let mut buf = vec![Complex::<f64>::default(); n_points];
+        let mut scratch = vec![Complex::<f64>::default(); inv.get_inplace_scratch_len()];
         let mut ts = TimeSeries {
             time: (0..n_points)
                 .map(|m| self.period() * m as f64 / n_points as f64)
@@ -140,23 +140,56 @@ impl PeriodicSolution {
             displacement: Vec::with_capacity(n),
             velocity: Vec::with_capacity(n),
         };
-        let z = &self.coefficients;
         for i in 0..n {
-            buf.fill(Complex::default());
-            buf[0] = Complex::new(z[i], 0.0);
-            for (j, &k) in self.basis.harmonics().iter().enumerate() {
-                let (a, b) = (z[(2 * j + 1) * n + i], z[(2 * j + 2) * n + i]);
-                // q: X = (a − ib)/2 at +k; q': Y = kω(b + ia)/2; packed as X + iY
-                let x = Complex::new(a, -b) * 0.5;
-                let y = Complex::new(b, a) * (0.5 * k as f64 * self.omega);
-                buf[k] += x + Complex::<f64>::i() * y;
-                buf[(n_points - k) % n_points] += x.conj() + Complex::<f64>::i() * y.conj();
-            }
-            inv.process(&mut buf);
+            self.samples_fft(i, &*inv, &mut buf, &mut scratch);
             ts.displacement.push(buf.iter().map(|c| c.re).collect());
             ts.velocity.push(buf.iter().map(|c| c.im).collect());
         }
         ts
+    }
+
+    /// `q_i + i q'_i` at the `buf.len()` samples of one period, by the inverse FFT `inv` of that
+    /// size (needs `buf.len() > 2 k_max` and consistent coefficients).
+    fn samples_fft(
+        &self,
+        i: usize,
+        inv: &dyn rustfft::Fft<f64>,
+        buf: &mut [Complex<f64>],
+        scratch: &mut [Complex<f64>],
+    ) {
+        let (n, n_points, z) = (self.n_dof, buf.len(), &self.coefficients);
+        buf.fill(Complex::default());
+        buf[0] = Complex::new(z[i], 0.0);
+        for (j, &k) in self.basis.harmonics().iter().enumerate() {
+            let (a, b) = (z[(2 * j + 1) * n + i], z[(2 * j + 2) * n + i]);
+            // q: X = (a − ib)/2 at +k; q': Y = kω(b + ia)/2; packed as X + iY
+            let x = Complex::new(a, -b) * 0.5;
+            let y = Complex::new(b, a) * (0.5 * k as f64 * self.omega);
+            buf[k] += x + Complex::<f64>::i() * y;
+            buf[(n_points - k) % n_points] += x.conj() + Complex::<f64>::i() * y.conj();
+        }
+        inv.process_with_scratch(buf, scratch);
+    }
+
+    /// The displacement of DOF `dof` at the `n_points` sample times `t_m = m T / n_points` of
+    /// [`time_series`](Self::time_series) (the same values), without the times and velocities;
+    /// `None` for an invalid DOF. Cheap metrics (extrema, contact states) of a solution use it.
+    pub fn displacement_samples(&self, dof: usize, n_points: usize) -> Option<Vec<f64>> {
+        if dof >= self.n_dof {
+            return None;
+        }
+        let n_points = n_points.max(2);
+        if n_points > 2 * self.basis.max_harmonic()
+            && self.coefficients.len() == self.n_dof * self.basis.n_coefficients()
+        {
+            let (_, inv) = crate::plans::plans(n_points);
+            let mut buf = vec![Complex::<f64>::default(); n_points];
+            let mut scratch = vec![Complex::<f64>::default(); inv.get_inplace_scratch_len()];
+            self.samples_fft(dof, &*inv, &mut buf, &mut scratch);
+            return Some(buf.iter().map(|c| c.re).collect());
+        }
+        let ts = self.time_series(n_points);
+        ts.displacement.into_iter().nth(dof)
     }
 
     /// Default number of samples for extrema: `max(512, 16 k_max)`.
