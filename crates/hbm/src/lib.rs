@@ -37,6 +37,21 @@
 //! * **Output**: coefficients, [`PeriodicSolution::time_series`], peak-to-peak values,
 //!   [`PeriodicSolution::harmonic_amplitudes`], truncation indicators
 //!   ([`PeriodicSolution::spectral_tail`], [`HbmProblem::truncation_estimate`]).
+//! * **Accuracy of every solution**: [`PeriodicSolution::residual_norm`] `‖r‖₂` (how well the
+//!   retained harmonics balance) and [`PeriodicSolution::truncation`] (how much of the force the
+//!   basis discards), from the AFT spectrum `ĥ_{i,k}` of `h_i = g_i − f_i` at the solution:
+//!
+//!   ```text
+//!   ε = sqrt( Σ_i Σ_{k∈T} |ĥ_{i,k}|² ) / sqrt( Σ_i Σ_{k∈B₀} |ĥ_{i,k}|² ),
+//!   B₀ = {0} ∪ basis,   T = {1 ≤ k < N/2} \ B₀.
+//!   ```
+//!
+//!   `ε = 0` for a linear system forced inside the basis; for `q = A cos θ` of a Duffing
+//!   oscillator on `{0, 1}`, `ε = (γA³/4)/|¾γA³ − F|` (the cubed cosine's 3rd harmonic); `ε ~ 1`
+//!   for an impact on a short basis. It is an indicator, not an error bound: what the response
+//!   loses is `ε` filtered by the linear part (`|K − (kω)²M + ikωC|⁻¹` at the discarded `k`);
+//!   [`HbmProblem::truncation_estimate`] measures the response change directly, at the cost of
+//!   a solve in a larger basis.
 //! * **Sweeps**: [`parallel_sweep`] (rayon), bit-identical for any thread count.
 //!
 //! ## Which method when

@@ -64,6 +64,12 @@ struct Workspace {
     /// just evaluated, which then costs no AFT
     last_z: Vec<f64>,
     last_valid: bool,
+    /// `in_basis[k]`: DFT bin `k` (`k < N`) is the constant or a retained harmonic
+    in_basis: Vec<bool>,
+    /// `Σ |ĥ_k|²` over the retained bins and over the discarded bins below Nyquist, of the
+    /// last AFT (all DOFs)
+    spectrum_kept: f64,
+    spectrum_tail: f64,
 }
 
 impl Workspace {
@@ -92,6 +98,9 @@ impl Workspace {
             jv_hat: vec![Complex::default(); n_grid * n * n],
             last_z: Vec::with_capacity(nc * n),
             last_valid: false,
+            in_basis: vec![false; n_grid],
+            spectrum_kept: 0.0,
+            spectrum_tail: 0.0,
         }
     }
 }
@@ -159,8 +168,20 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             k: DMatrix::zeros(n, n),
             ws: Workspace::new(n, n_grid, nc, 0),
         };
+        p.mark_basis();
         p.refresh_matrices()?;
         Ok(p)
+    }
+
+    /// Mark the DFT bins of the constant and the retained harmonics.
+    fn mark_basis(&mut self) {
+        let nn = self.ws.n_grid;
+        self.ws.in_basis.fill(false);
+        self.ws.in_basis[0] = true;
+        for &k in self.basis.harmonics() {
+            self.ws.in_basis[k % nn] = true;
+            self.ws.in_basis[(nn - k % nn) % nn] = true;
+        }
     }
 
     /// Tabulate the time-only functions on the AFT grid: the forcing `f(t_m)` and the system's
@@ -339,6 +360,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         let n = self.n;
         let nn = self.ws.n_grid;
         let scale = 1.0 / nn as f64;
+        let (mut kept, mut tail) = (0.0, 0.0);
         for i in 0..n {
             for m in 0..nn {
                 self.ws.buf[m] = Complex::new(self.ws.h[m * n + i], 0.0);
@@ -346,6 +368,15 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             self.ws
                 .fwd
                 .process_with_scratch(&mut self.ws.buf, &mut self.ws.scratch);
+            // truncation indicator: bins 0 ≤ k < N/2 (the upper half mirrors them)
+            for k in 0..nn.div_ceil(2) {
+                let p = self.ws.buf[k].norm_sqr();
+                if self.ws.in_basis[k] {
+                    kept += p;
+                } else {
+                    tail += p;
+                }
+            }
             self.ws.hc[i] = self.ws.buf[0].re * scale;
             for (j, &k) in self.basis.harmonics().iter().enumerate() {
                 let hk = self.ws.buf[k % nn];
@@ -353,6 +384,35 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 self.ws.hc[(2 * j + 2) * n + i] = -2.0 * hk.im * scale;
             }
         }
+        self.ws.spectrum_kept = kept;
+        self.ws.spectrum_tail = tail;
+    }
+
+    /// Truncation indicator of the coefficients `z`: the relative size of the part of the
+    /// force spectrum the basis discards,
+    ///
+    /// ```text
+    /// ε = sqrt( Σ_i Σ_{k∈T} |ĥ_{i,k}|² ) / sqrt( Σ_i Σ_{k∈B₀} |ĥ_{i,k}|² )
+    /// ```
+    ///
+    /// with `ĥ_{i,k}` the DFT of `h_i = g_i − f_i` on the AFT grid, `B₀` the constant and the
+    /// retained harmonics, `T` every other bin `1 ≤ k < N/2`; 0 when `h` vanishes. The
+    /// residual only balances `B₀`; `ε` says how much of the force it ignores (0 for a linear
+    /// system whose forcing lies in the basis, of order 1 when the basis misses most of the
+    /// force, e.g. a hard impact on a short basis). Costs one AFT unless `z` is the point the
+    /// last residual was evaluated at.
+    ///
+    /// # Errors
+    /// As [`HbmProblem::residual`].
+    pub fn truncation_indicator(&mut self, z: &[f64]) -> Result<f64, HbmError> {
+        let mut r = vec![0.0; self.n_unknowns()];
+        self.residual(z, &mut r)?;
+        let (kept, tail) = (self.ws.spectrum_kept, self.ws.spectrum_tail);
+        Ok(if kept + tail > 0.0 {
+            (tail / kept.max(f64::MIN_POSITIVE)).sqrt()
+        } else {
+            0.0
+        })
     }
 
     /// Assemble the residual from `z` and the force coefficients already in the workspace.
@@ -564,6 +624,7 @@ impl<S: SecondOrderSystem + Clone> Clone for HbmProblem<S> {
                 ftab: self.ws.ftab.clone(),
                 ttab: self.ws.ttab.clone(),
                 tab_len: self.ws.tab_len,
+                in_basis: self.ws.in_basis.clone(),
                 ..Workspace::new(self.n, self.ws.n_grid, self.basis.n_coefficients(), 0)
             },
         }

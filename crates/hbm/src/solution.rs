@@ -24,6 +24,11 @@ pub struct PeriodicSolution {
     pub iterations: u64,
     /// Final residual norm `‖r‖₂`.
     pub residual_norm: f64,
+    /// Truncation indicator `ε` at the final coefficients: the relative size of the force
+    /// harmonics the basis discards ([`HbmProblem::truncation_indicator`], equation in the crate
+    /// docs); NaN where it could not be evaluated (absent in data written before it existed).
+    #[cfg_attr(feature = "serde", serde(default = "nan"))]
+    pub truncation: f64,
     /// Termination reason, in words.
     pub termination: String,
     /// Floquet stability, when computed.
@@ -344,6 +349,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             });
         }
         let (report, _) = solve_equations(HbmEquations(self), z0.to_vec(), options)?;
+        let truncation = self.truncation_indicator(&report.x).unwrap_or(f64::NAN);
         Ok(PeriodicSolution {
             basis: self.basis().clone(),
             omega: self.omega(),
@@ -352,6 +358,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             converged: report.converged,
             iterations: report.iterations,
             residual_norm: report.residual_norm,
+            truncation,
             termination: report.termination,
             stability: None,
         })
@@ -408,6 +415,12 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             refined,
         })
     }
+}
+
+/// Serde default of [`PeriodicSolution::truncation`]: not known.
+#[cfg(feature = "serde")]
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// `max − min` of the samples.

@@ -1047,6 +1047,7 @@ const YU_HBM_OUT: &[(&str, &str)] = &[
     ("first_harmonic_amplitude", "1"),
     ("converged", "1"),
     ("residual_norm", "1"),
+    ("truncation", "1"),
 ];
 
 fn yu_describe() -> ModelInfo {
@@ -1294,6 +1295,7 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                             a1,
                             if s.converged { 1.0 } else { 0.0 },
                             s.residual_norm,
+                            s.truncation,
                         ])
                     }) as Job)
                 }),
