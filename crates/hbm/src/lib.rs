@@ -122,6 +122,7 @@
 mod basis;
 mod continuation;
 mod error;
+mod krylov;
 mod plans;
 mod problem;
 mod solution;
@@ -142,11 +143,12 @@ pub use continuation::{
     Branch, BranchPoint, ContinuationEnd, ContinuationOptions, ContinuationParameter, FoldPoint,
 };
 pub use error::HbmError;
+pub use krylov::KrylovOptions;
 pub use problem::HbmProblem;
 pub use solution::{HarmonicAmplitude, PeriodicSolution, TimeSeries, TruncationEstimate};
 pub use solve::{
-    Broyden, Method, Newton, NonlinearEquations, SolveReport, SolverOptions, SolverState,
-    solve_equations,
+    AUTO_KRYLOV_UNKNOWNS, Broyden, Method, Newton, NonlinearEquations, SolveReport, SolverOptions,
+    SolverState, solve_equations,
 };
 pub use stability::{STABILITY_TOLERANCE, Stability};
 pub use sweep::parallel_sweep;

@@ -5,6 +5,7 @@ use crate::{Basis, CoefficientKind, HbmError, SecondOrderSystem};
 use nalgebra::DMatrix;
 use num_complex::Complex;
 use rustfft::Fft;
+use std::mem::take;
 use std::sync::Arc;
 
 /// A harmonic balance problem: a system, a basis, a base frequency `ω` and an AFT grid, with
@@ -70,6 +71,12 @@ struct Workspace {
     /// last AFT (all DOFs)
     spectrum_kept: f64,
     spectrum_tail: f64,
+    /// Jacobian-vector products: samples of `δq`, `δq'`, `δh` and coefficients of `δh`
+    /// (sized on first use)
+    vq: Vec<f64>,
+    vqd: Vec<f64>,
+    vh: Vec<f64>,
+    vhc: Vec<f64>,
 }
 
 impl Workspace {
@@ -101,6 +108,10 @@ impl Workspace {
             in_basis: vec![false; n_grid],
             spectrum_kept: 0.0,
             spectrum_tail: 0.0,
+            vq: Vec::new(),
+            vqd: Vec::new(),
+            vh: Vec::new(),
+            vhc: Vec::new(),
         }
     }
 }
@@ -302,6 +313,13 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
 
     /// Coefficients → time samples of `q` and `q'` (one packed inverse FFT per DOF).
     fn synthesize(&mut self, z: &[f64]) {
+        let (mut q, mut qd) = (take(&mut self.ws.q), take(&mut self.ws.qd));
+        self.synthesize_into(z, &mut q, &mut qd);
+        (self.ws.q, self.ws.qd) = (q, qd);
+    }
+
+    /// Coefficients `z` → samples `q[m·n + i]`, `qd[m·n + i]`.
+    fn synthesize_into(&mut self, z: &[f64], q: &mut [f64], qd: &mut [f64]) {
         let n = self.n;
         let nn = self.ws.n_grid;
         let w = self.omega;
@@ -323,8 +341,8 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 .inv
                 .process_with_scratch(&mut self.ws.buf, &mut self.ws.scratch);
             for m in 0..nn {
-                self.ws.q[m * n + i] = self.ws.buf[m].re;
-                self.ws.qd[m * n + i] = self.ws.buf[m].im;
+                q[m * n + i] = self.ws.buf[m].re;
+                qd[m * n + i] = self.ws.buf[m].im;
             }
         }
     }
@@ -357,13 +375,23 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
 
     /// Time samples of `h` → coefficients `hc`.
     fn analyse_forces(&mut self) {
+        let (h, mut hc) = (take(&mut self.ws.h), take(&mut self.ws.hc));
+        let (kept, tail) = self.analyse_into(&h, &mut hc);
+        (self.ws.h, self.ws.hc) = (h, hc);
+        self.ws.spectrum_kept = kept;
+        self.ws.spectrum_tail = tail;
+    }
+
+    /// Samples `h[m·n + i]` → coefficients `hc[c·n + i]`; returns `Σ|ĥ_k|²` over the retained
+    /// and over the discarded bins below Nyquist.
+    fn analyse_into(&mut self, h: &[f64], hc: &mut [f64]) -> (f64, f64) {
         let n = self.n;
         let nn = self.ws.n_grid;
         let scale = 1.0 / nn as f64;
         let (mut kept, mut tail) = (0.0, 0.0);
         for i in 0..n {
             for m in 0..nn {
-                self.ws.buf[m] = Complex::new(self.ws.h[m * n + i], 0.0);
+                self.ws.buf[m] = Complex::new(h[m * n + i], 0.0);
             }
             self.ws
                 .fwd
@@ -377,15 +405,14 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                     tail += p;
                 }
             }
-            self.ws.hc[i] = self.ws.buf[0].re * scale;
+            hc[i] = self.ws.buf[0].re * scale;
             for (j, &k) in self.basis.harmonics().iter().enumerate() {
                 let hk = self.ws.buf[k % nn];
-                self.ws.hc[(2 * j + 1) * n + i] = 2.0 * hk.re * scale;
-                self.ws.hc[(2 * j + 2) * n + i] = -2.0 * hk.im * scale;
+                hc[(2 * j + 1) * n + i] = 2.0 * hk.re * scale;
+                hc[(2 * j + 2) * n + i] = -2.0 * hk.im * scale;
             }
         }
-        self.ws.spectrum_kept = kept;
-        self.ws.spectrum_tail = tail;
+        (kept, tail)
     }
 
     /// Truncation indicator of the coefficients `z`: the relative size of the part of the
@@ -417,8 +444,12 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
 
     /// Assemble the residual from `z` and the force coefficients already in the workspace.
     fn assemble_residual(&self, z: &[f64], r: &mut [f64]) {
+        self.assemble(&self.ws.hc, z, r);
+    }
+
+    /// `r = L(ω) z + hc`: the linear part of the residual plus force coefficients `hc`.
+    fn assemble(&self, hc: &[f64], z: &[f64], r: &mut [f64]) {
         let n = self.n;
-        let hc = &self.ws.hc;
         for i in 0..n {
             let mut s = hc[i];
             for j in 0..n {
@@ -494,26 +525,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         let n = self.n;
         let nn = self.ws.n_grid;
         let nsq = n * n;
-        let len = self.ws.tab_len;
-        // sample the force Jacobians
-        for m in 0..nn {
-            let t = self.time(m);
-            let ws = &mut self.ws;
-            let q = &ws.q[m * n..(m + 1) * n];
-            let qd = &ws.qd[m * n..(m + 1) * n];
-            let row = &ws.ttab[m * len..(m + 1) * len];
-            let (a, b) = (
-                &mut ws.jq[m * nsq..(m + 1) * nsq],
-                &mut ws.jv[m * nsq..(m + 1) * nsq],
-            );
-            self.system.force_jacobian_tabulated(t, row, q, qd, a, b);
-            if a.iter().chain(b.iter()).any(|x| !x.is_finite()) {
-                return Err(HbmError::NonFinite {
-                    what: "force Jacobian",
-                    time: t,
-                });
-            }
-        }
+        self.sample_jacobians()?;
         // spectra of each entry
         let scale = 1.0 / nn as f64;
         for e in 0..nsq {
@@ -602,6 +614,87 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             }
         }
         Ok(())
+    }
+
+    /// Sample the force Jacobians `∂g/∂q`, `∂g/∂q'` at the samples of the last residual.
+    fn sample_jacobians(&mut self) -> Result<(), HbmError> {
+        let n = self.n;
+        let nsq = n * n;
+        let len = self.ws.tab_len;
+        for m in 0..self.ws.n_grid {
+            let t = self.time(m);
+            let ws = &mut self.ws;
+            let q = &ws.q[m * n..(m + 1) * n];
+            let qd = &ws.qd[m * n..(m + 1) * n];
+            let row = &ws.ttab[m * len..(m + 1) * len];
+            let (a, b) = (
+                &mut ws.jq[m * nsq..(m + 1) * nsq],
+                &mut ws.jv[m * nsq..(m + 1) * nsq],
+            );
+            self.system.force_jacobian_tabulated(t, row, q, qd, a, b);
+            if a.iter().chain(b.iter()).any(|x| !x.is_finite()) {
+                return Err(HbmError::NonFinite {
+                    what: "force Jacobian",
+                    time: t,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Evaluate the residual at `z` into `r` and sample the force Jacobians there, for
+    /// [`jacobian_times`](Self::jacobian_times); returns the period means `(J̄_q, J̄_v)` of
+    /// `∂g/∂q` and `∂g/∂q'` (row-major `n × n`), the harmonic-diagonal part of the Jacobian.
+    pub(crate) fn prepare_jacobian_products(
+        &mut self,
+        z: &[f64],
+        r: &mut [f64],
+    ) -> Result<(Vec<f64>, Vec<f64>), HbmError> {
+        self.residual(z, r)?;
+        self.sample_jacobians()?;
+        let (n, nn) = (self.n, self.ws.n_grid);
+        let nsq = n * n;
+        let (mut mq, mut mv) = (vec![0.0; nsq], vec![0.0; nsq]);
+        for m in 0..nn {
+            for e in 0..nsq {
+                mq[e] += self.ws.jq[m * nsq + e];
+                mv[e] += self.ws.jv[m * nsq + e];
+            }
+        }
+        for e in 0..nsq {
+            mq[e] /= nn as f64;
+            mv[e] /= nn as f64;
+        }
+        Ok((mq, mv))
+    }
+
+    /// `out = J v`, the exact product of the AFT Jacobian (at the point of the last
+    /// [`prepare_jacobian_products`](Self::prepare_jacobian_products)) with `v`, by AFT:
+    /// `δh(t_m) = ∂g/∂q(t_m) δq(t_m) + ∂g/∂q'(t_m) δq'(t_m)`, `2n` FFTs, no matrix.
+    pub(crate) fn jacobian_times(&mut self, v: &[f64], out: &mut [f64]) {
+        let (n, nn) = (self.n, self.ws.n_grid);
+        let nsq = n * n;
+        let (mut dq, mut dqd) = (take(&mut self.ws.vq), take(&mut self.ws.vqd));
+        dq.resize(nn * n, 0.0);
+        dqd.resize(nn * n, 0.0);
+        self.synthesize_into(v, &mut dq, &mut dqd);
+        let mut dh = take(&mut self.ws.vh);
+        dh.resize(nn * n, 0.0);
+        for m in 0..nn {
+            for i in 0..n {
+                let mut s = 0.0;
+                for j in 0..n {
+                    s += self.ws.jq[m * nsq + i * n + j] * dq[m * n + j]
+                        + self.ws.jv[m * nsq + i * n + j] * dqd[m * n + j];
+                }
+                dh[m * n + i] = s;
+            }
+        }
+        let mut dhc = take(&mut self.ws.vhc);
+        dhc.resize(self.n_unknowns(), 0.0);
+        self.analyse_into(&dh, &mut dhc);
+        self.assemble(&dhc, v, out);
+        (self.ws.vq, self.ws.vqd, self.ws.vh, self.ws.vhc) = (dq, dqd, dh, dhc);
     }
 
     /// The system's mass, damping and stiffness matrices as currently cached.

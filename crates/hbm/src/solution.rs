@@ -1,7 +1,9 @@
 //! Solving one periodic response, and what a solution can tell.
 
 use crate::solve::{NonlinearEquations, solve_equations};
-use crate::{Basis, HbmError, HbmProblem, SecondOrderSystem, SolverOptions, Stability};
+use crate::{
+    Basis, HbmError, HbmProblem, KrylovOptions, Method, SecondOrderSystem, SolverOptions, Stability,
+};
 use nalgebra::DMatrix;
 use num_complex::Complex;
 use std::f64::consts::PI;
@@ -348,20 +350,75 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 got: z0.len(),
             });
         }
+        let krylov = match options.method {
+            Method::NewtonKrylov => true,
+            Method::Auto => self.n_unknowns() >= crate::AUTO_KRYLOV_UNKNOWNS,
+            _ => false,
+        };
+        if krylov {
+            return self.solve_newton_krylov(z0, options, &KrylovOptions::default());
+        }
         let (report, _) = solve_equations(HbmEquations(self), z0.to_vec(), options)?;
-        let truncation = self.truncation_indicator(&report.x).unwrap_or(f64::NAN);
-        Ok(PeriodicSolution {
+        Ok(self.solution_of(
+            report.x,
+            report.converged,
+            report.iterations,
+            report.residual_norm,
+            report.termination,
+        ))
+    }
+
+    /// [`solve`](Self::solve) by [`Method::NewtonKrylov`] with explicit bounds of the inner
+    /// GMRES solve (`options.method` is ignored).
+    ///
+    /// # Errors
+    /// As [`HbmProblem::solve`]; invalid `krylov` bounds; [`HbmError::KrylovNotConverged`]
+    /// when a linear solve misses its tolerance within `krylov.max_products`.
+    pub fn solve_newton_krylov(
+        &mut self,
+        z0: &[f64],
+        options: &SolverOptions,
+        krylov: &KrylovOptions,
+    ) -> Result<PeriodicSolution, HbmError> {
+        if z0.len() != self.n_unknowns() {
+            return Err(HbmError::DimensionMismatch {
+                what: "initial coefficients",
+                expected: self.n_unknowns(),
+                got: z0.len(),
+            });
+        }
+        let rep = self.newton_krylov(z0, options, krylov)?;
+        Ok(self.solution_of(
+            rep.x,
+            rep.converged,
+            rep.iterations,
+            rep.residual_norm,
+            rep.termination,
+        ))
+    }
+
+    /// Wrap a solver's final iterate, with its truncation indicator.
+    fn solution_of(
+        &mut self,
+        x: Vec<f64>,
+        converged: bool,
+        iterations: u64,
+        residual_norm: f64,
+        termination: String,
+    ) -> PeriodicSolution {
+        let truncation = self.truncation_indicator(&x).unwrap_or(f64::NAN);
+        PeriodicSolution {
             basis: self.basis().clone(),
             omega: self.omega(),
             n_dof: self.n_dof(),
-            coefficients: report.x,
-            converged: report.converged,
-            iterations: report.iterations,
-            residual_norm: report.residual_norm,
+            coefficients: x,
+            converged,
+            iterations,
+            residual_norm,
             truncation,
-            termination: report.termination,
+            termination,
             stability: None,
-        })
+        }
     }
 
     /// A zero initial guess of the right length.
