@@ -48,17 +48,20 @@ pub enum Method {
     /// [`HbmProblem::solve_newton_krylov`](crate::HbmProblem::solve_newton_krylov)); a linear
     /// solve that misses its tolerance is [`HbmError::KrylovNotConverged`]. Only an
     /// [`HbmProblem`](crate::HbmProblem) can take it: [`solve_equations`] on other equations
-    /// runs [`Method::Newton`] instead. Faster than the dense path from a few hundred unknowns
-    /// on (see [`Method::Auto`]).
+    /// runs [`Method::Newton`] instead. On a Duffing oscillator it is faster than the dense path
+    /// from `H ≈ 30` on and 130× faster at `H = 400` (see [`Method::Auto`]); a weakly
+    /// preconditioned (strongly non-smooth) problem needs more products per step.
     NewtonKrylov,
     /// [`Method::NewtonKrylov`] for problems with at least [`AUTO_KRYLOV_UNKNOWNS`] unknowns,
     /// [`Method::Newton`] below (the crossover measured in `docs/performance/hbm.md`).
     Auto,
 }
 
-/// Number of unknowns from which [`Method::Auto`] takes [`Method::NewtonKrylov`]: the measured
-/// crossover of the dense and Jacobian-free paths (`docs/performance/hbm.md`).
-pub const AUTO_KRYLOV_UNKNOWNS: usize = 201;
+/// Number of unknowns from which [`Method::Auto`] takes [`Method::NewtonKrylov`]: `H = 50` of a
+/// one-DOF full basis. The measured crossover of the dense and Jacobian-free paths on a Duffing
+/// oscillator lies between `H = 20` (dense 1.5× faster) and `H = 50` (Krylov 2.4× faster);
+/// `docs/performance/hbm.md` has the table.
+pub const AUTO_KRYLOV_UNKNOWNS: usize = 101;
 
 /// Options of a nonlinear solve.
 #[derive(Debug, Clone, Copy, PartialEq)]

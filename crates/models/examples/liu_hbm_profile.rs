@@ -28,6 +28,21 @@ fn main() {
     let m = p.model().expect("Table 1 is valid");
     let reps = 2000;
     let opts = HbmOptions::default();
+    if std::env::args().nth(1).as_deref() == Some("json") {
+        // the problem and the solution for the scipy peer (docs/peers/liu_hbm_scipy.py)
+        let sol = liu2021::solve_hbm(&m, &opts, None).expect("solves");
+        let out = serde_json::json!({
+            "model": m,
+            "harmonics": sol.solution.basis.harmonics(),
+            "grid": 1024,
+            "tol": opts.tol,
+            "coefficients": sol.solution.coefficients,
+            "ppv": sol.rattle.ppv,
+            "rsv": sol.rattle.state.rsv(),
+        });
+        println!("{out}");
+        return;
+    }
     if std::env::args().nth(1).as_deref() == Some("solves") {
         // for an instruction-count profile: `valgrind --tool=callgrind … solves`
         for _ in 0..50 {
