@@ -197,11 +197,7 @@ pub(super) fn rattle_of(model: &Model, sol: &hbm::PeriodicSolution) -> Rattle {
     // the displacement only, by one inverse FFT; the times as in `time_series`
     let q = sol.displacement_samples(0, n).unwrap_or_default();
     let period = sol.period();
-    model.rattle(
-        q.iter()
-            .enumerate()
-            .map(|(m, &q)| (period * m as f64 / n as f64, q)),
-    )
+    model.rattle_of_period(period, &q)
 }
 
 /// The engine problem of `model` on `basis` (AFT grid per [`HbmOptions::samples`]).

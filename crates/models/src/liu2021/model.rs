@@ -344,6 +344,42 @@ pub struct Rattle {
 }
 
 impl Model {
+    /// [`rattle`](Self::rattle) of samples `q[m]` at `τ_m = m T / M` (`M = q.len()`) of one
+    /// period `T`. With a constant backlash ([`BaseRadius::Mean`]) the state follows from the
+    /// extrema alone (`q_max > b̄`: bilateral, `q_max ≥ −b̄`: unilateral), the same result
+    /// without a comparison per sample.
+    pub fn rattle_of_period(&self, period: f64, q: &[f64]) -> Rattle {
+        let n = q.len();
+        match self.readings.base_radius {
+            BaseRadius::Mean => {
+                let (q_min, q_max) = q
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                        (a.min(x), b.max(x))
+                    });
+                let b = self.backlash;
+                let state = if q_max > b {
+                    RattleState::Bilateral
+                } else if q_max >= -b {
+                    RattleState::Unilateral
+                } else {
+                    RattleState::NoRattle
+                };
+                Rattle {
+                    state,
+                    ppv: q_max - q_min,
+                    q_min,
+                    q_max,
+                }
+            }
+            BaseRadius::TimeVarying => self.rattle(
+                q.iter()
+                    .enumerate()
+                    .map(|(m, &q)| (period * m as f64 / n as f64, q)),
+            ),
+        }
+    }
+
     /// Classify samples `(τ, q)` of one steady period (Sect. 3.2).
     pub fn rattle<I: IntoIterator<Item = (f64, f64)>>(&self, samples: I) -> Rattle {
         let mut q_min = f64::INFINITY;
@@ -451,6 +487,35 @@ mod tests {
             let r = m.radius_ratio(tau);
             let want = leaf.eval(tau) * r * r / (1.0 + 0.5 * m.beta * m.beta);
             assert_eq!(m.stiffness(tau).to_bits(), want.to_bits());
+        }
+    }
+
+    #[test]
+    fn rattle_of_period_equals_the_sample_loop() {
+        for base_radius in [BaseRadius::Mean, BaseRadius::TimeVarying] {
+            let mut p = table1();
+            p.readings.base_radius = base_radius;
+            let m = p.model().unwrap();
+            let b = m.backlash;
+            let t = m.period();
+            // no rattle, unilateral, bilateral, and a NaN sample
+            for (mean, amp) in [(-3.0 * b, 0.5 * b), (-b, 0.5 * b), (0.0, 2.0 * b)] {
+                let mut q: Vec<f64> = (0..256)
+                    .map(|i| mean + amp * (0.3 * f64::from(i)).sin())
+                    .collect();
+                for extra in [None, Some(f64::NAN)] {
+                    if let Some(x) = extra {
+                        q[7] = x;
+                    }
+                    let fast = m.rattle_of_period(t, &q);
+                    let slow = m.rattle(
+                        q.iter()
+                            .enumerate()
+                            .map(|(i, &q)| (t * i as f64 / 256.0, q)),
+                    );
+                    assert_eq!(fast, slow, "{base_radius:?} {mean} {amp}");
+                }
+            }
         }
     }
 
