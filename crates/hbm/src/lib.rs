@@ -29,6 +29,14 @@
 //! * **Solvers**: [`Newton`] with a backtracking line search (default) and [`Broyden`]
 //!   (inverse update, Liu's choice), both argmin 0.11 `Solver`s run by argmin's `Executor`;
 //!   non-convergence is returned in [`PeriodicSolution::converged`].
+//! * **Large bases**: [`Method::NewtonKrylov`] never forms the Jacobian: each Newton step is a
+//!   restarted GMRES solve of `J δ = −r` with products `J v` by AFT
+//!   (`δh(t_m) = ∂g/∂q(t_m) δq(t_m) + ∂g/∂q'(t_m) δq'(t_m)`, exact for the discrete residual),
+//!   right-preconditioned by the harmonic-diagonal Jacobian of the period-mean force Jacobians
+//!   `J̄_q`, `J̄_v`: per harmonic `k` the block `[[D, kωC̄], [−kωC̄, D]]`, `D = K + J̄_q − (kω)²M`,
+//!   `C̄ = C + J̄_v`. `O(N log N)` per product instead of `O(n_z³)` per step; bounded by
+//!   [`KrylovOptions`], a missed linear tolerance is [`HbmError::KrylovNotConverged`].
+//!   [`Method::Auto`] switches at [`AUTO_KRYLOV_UNKNOWNS`].
 //! * **Continuation** ([`HbmProblem::continuation`]): pseudo-arclength in `ω` or in any named
 //!   parameter, with step control; goes round folds and reports them ([`FoldPoint`]) — the jump
 //!   phenomenon Liu reports at the onset of bilateral rattle.

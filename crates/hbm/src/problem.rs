@@ -295,7 +295,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         self.refresh_matrices()
     }
 
-    fn check_len(&self, what: &'static str, len: usize) -> Result<(), HbmError> {
+    pub(crate) fn check_len(&self, what: &'static str, len: usize) -> Result<(), HbmError> {
         if len != self.n_unknowns() {
             return Err(HbmError::DimensionMismatch {
                 what,

@@ -190,10 +190,11 @@ impl PeriodicSolution {
             && self.coefficients.len() == self.n_dof * self.basis.n_coefficients()
         {
             let (_, inv) = crate::plans::plans(n_points);
-            let mut buf = vec![Complex::<f64>::default(); n_points];
-            let mut scratch = vec![Complex::<f64>::default(); inv.get_inplace_scratch_len()];
-            self.samples_fft(dof, &*inv, &mut buf, &mut scratch);
-            return Some(buf.iter().map(|c| c.re).collect());
+            let scratch = inv.get_inplace_scratch_len();
+            return Some(crate::plans::with_buffers(n_points, scratch, |buf, scr| {
+                self.samples_fft(dof, &*inv, buf, scr);
+                buf.iter().map(|c| c.re).collect()
+            }));
         }
         let ts = self.time_series(n_points);
         ts.displacement.into_iter().nth(dof)
@@ -343,13 +344,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         z0: &[f64],
         options: &SolverOptions,
     ) -> Result<PeriodicSolution, HbmError> {
-        if z0.len() != self.n_unknowns() {
-            return Err(HbmError::DimensionMismatch {
-                what: "initial coefficients",
-                expected: self.n_unknowns(),
-                got: z0.len(),
-            });
-        }
+        self.check_len("initial coefficients", z0.len())?;
         let krylov = match options.method {
             Method::NewtonKrylov => true,
             Method::Auto => self.n_unknowns() >= crate::AUTO_KRYLOV_UNKNOWNS,
@@ -380,13 +375,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         options: &SolverOptions,
         krylov: &KrylovOptions,
     ) -> Result<PeriodicSolution, HbmError> {
-        if z0.len() != self.n_unknowns() {
-            return Err(HbmError::DimensionMismatch {
-                what: "initial coefficients",
-                expected: self.n_unknowns(),
-                got: z0.len(),
-            });
-        }
+        self.check_len("initial coefficients", z0.len())?;
         let rep = self.newton_krylov(z0, options, krylov)?;
         Ok(self.solution_of(
             rep.x,

@@ -320,6 +320,20 @@ pub enum RattleState {
 }
 
 impl RattleState {
+    /// The state of one sample `q` in a gap of half width `b`: back flank (`q > b`), in the gap
+    /// (`−b ≤ q ≤ b`), drive flank. The state of a period is the largest over its samples, so
+    /// with a constant `b` it is the state of `max q`.
+    #[inline]
+    pub fn of(q: f64, b: f64) -> Self {
+        if q > b {
+            RattleState::Bilateral
+        } else if q >= -b {
+            RattleState::Unilateral
+        } else {
+            RattleState::NoRattle
+        }
+    }
+
     /// The paper's rattle state value rsv (0, 1 or 2).
     pub fn rsv(self) -> u8 {
         match self {
@@ -357,16 +371,8 @@ impl Model {
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
                         (a.min(x), b.max(x))
                     });
-                let b = self.backlash;
-                let state = if q_max > b {
-                    RattleState::Bilateral
-                } else if q_max >= -b {
-                    RattleState::Unilateral
-                } else {
-                    RattleState::NoRattle
-                };
                 Rattle {
-                    state,
+                    state: RattleState::of(q_max, self.backlash),
                     ppv: q_max - q_min,
                     q_min,
                     q_max,
@@ -388,15 +394,7 @@ impl Model {
         for (tau, q) in samples {
             q_min = q_min.min(q);
             q_max = q_max.max(q);
-            let b = self.backlash_at(tau);
-            let s = if q > b {
-                RattleState::Bilateral
-            } else if q >= -b {
-                RattleState::Unilateral
-            } else {
-                RattleState::NoRattle
-            };
-            state = state.max(s);
+            state = state.max(RattleState::of(q, self.backlash_at(tau)));
         }
         Rattle {
             state,
