@@ -9,10 +9,13 @@ use rustfft::{Fft, FftPlanner};
 use std::cell::RefCell;
 use std::sync::Arc;
 
+/// A complex FFT buffer.
+type Buffer = Vec<Complex<f64>>;
+
 thread_local! {
     static PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
     /// signal and scratch buffers of [`with_buffers`], kept between calls
-    static BUFFERS: RefCell<(Vec<Complex<f64>>, Vec<Complex<f64>>)> =
+    static BUFFERS: RefCell<(Buffer, Buffer)> =
         const { RefCell::new((Vec::new(), Vec::new())) };
 }
 
