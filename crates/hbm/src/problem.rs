@@ -350,38 +350,27 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
     /// Sample `h = g − f` on the grid.
     fn sample_forces(&mut self) -> Result<(), HbmError> {
         let n = self.n;
-        let (mut g, mut h) = (take(&mut self.ws.gtmp), take(&mut self.ws.h));
-        let mut out = Ok(());
+        let len = self.ws.tab_len;
         for m in 0..self.ws.n_grid {
-            let (t, row, q, qd) = self.sample_inputs(m);
-            self.system.nonlinear_force_tabulated(t, row, q, qd, &mut g);
+            let t = self.time(m);
+            let ws = &mut self.ws;
+            let q = &ws.q[m * n..(m + 1) * n];
+            let qd = &ws.qd[m * n..(m + 1) * n];
+            let row = &ws.ttab[m * len..(m + 1) * len];
+            self.system
+                .nonlinear_force_tabulated(t, row, q, qd, &mut ws.gtmp);
             for i in 0..n {
-                let v = g[i] - self.ws.ftab[m * n + i];
-                h[m * n + i] = v;
-                if !v.is_finite() && out.is_ok() {
-                    out = Err(HbmError::NonFinite {
+                let v = ws.gtmp[i] - ws.ftab[m * n + i];
+                if !v.is_finite() {
+                    return Err(HbmError::NonFinite {
                         what: "nonlinear force or forcing",
                         time: t,
                     });
                 }
-            }
-            if out.is_err() {
-                break;
+                ws.h[m * n + i] = v;
             }
         }
-        (self.ws.gtmp, self.ws.h) = (g, h);
-        out
-    }
-
-    /// Time, time-table row, `q` and `q'` of sample `m` (of the last synthesis).
-    fn sample_inputs(&self, m: usize) -> (f64, &[f64], &[f64], &[f64]) {
-        let (n, len) = (self.n, self.ws.tab_len);
-        (
-            self.time(m),
-            &self.ws.ttab[m * len..(m + 1) * len],
-            &self.ws.q[m * n..(m + 1) * n],
-            &self.ws.qd[m * n..(m + 1) * n],
-        )
+        Ok(())
     }
 
     /// Time samples of `h` → coefficients `hc`.
@@ -629,26 +618,28 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
 
     /// Sample the force Jacobians `∂g/∂q`, `∂g/∂q'` at the samples of the last residual.
     fn sample_jacobians(&mut self) -> Result<(), HbmError> {
-        let nsq = self.n * self.n;
-        let (mut jq, mut jv) = (take(&mut self.ws.jq), take(&mut self.ws.jv));
-        let mut out = Ok(());
+        let n = self.n;
+        let nsq = n * n;
+        let len = self.ws.tab_len;
         for m in 0..self.ws.n_grid {
-            let (t, row, q, qd) = self.sample_inputs(m);
+            let t = self.time(m);
+            let ws = &mut self.ws;
+            let q = &ws.q[m * n..(m + 1) * n];
+            let qd = &ws.qd[m * n..(m + 1) * n];
+            let row = &ws.ttab[m * len..(m + 1) * len];
             let (a, b) = (
-                &mut jq[m * nsq..(m + 1) * nsq],
-                &mut jv[m * nsq..(m + 1) * nsq],
+                &mut ws.jq[m * nsq..(m + 1) * nsq],
+                &mut ws.jv[m * nsq..(m + 1) * nsq],
             );
             self.system.force_jacobian_tabulated(t, row, q, qd, a, b);
             if a.iter().chain(b.iter()).any(|x| !x.is_finite()) {
-                out = Err(HbmError::NonFinite {
+                return Err(HbmError::NonFinite {
                     what: "force Jacobian",
                     time: t,
                 });
-                break;
             }
         }
-        (self.ws.jq, self.ws.jv) = (jq, jv);
-        out
+        Ok(())
     }
 
     /// Evaluate the residual at `z` into `r` and sample the force Jacobians there, for
