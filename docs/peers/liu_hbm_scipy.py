@@ -54,6 +54,21 @@ def residual(z, s):
     return out
 
 
+def truncation(z, s):
+    """ε = ‖ĥ outside the basis, 1 ≤ k < N/2‖ / ‖ĥ on {0} ∪ basis‖ (the hbm crate's definition)."""
+    ks, n, b = s["ks"], s["n"], s["b"]
+    spec = np.zeros(n // 2 + 1, complex)
+    spec[0] = z[0] * n
+    spec[ks] = (z[1::2] - 1j * z[2::2]) * (n / 2)
+    q = np.fft.irfft(spec, n)
+    dz = np.where(q > b, q - b, np.where(q < -b, q + b, 0.0))
+    hh = np.abs(np.fft.rfft(s["stiff"] * dz - s["forcing"])[: (n + 1) // 2]) ** 2
+    kept = np.zeros(len(hh), bool)
+    kept[0] = True
+    kept[ks] = True
+    return np.sqrt(hh[~kept].sum() / hh[kept].sum())
+
+
 def metrics(z, s, n_out=4096):
     ks = s["ks"]
     spec = np.zeros(n_out // 2 + 1, complex)
@@ -82,6 +97,8 @@ def main():
     s0 = setup(p)
     print(f"residual of geardyn's solution in this script: {np.linalg.norm(residual(ref, s0)):.3e}"
           f" (geardyn's tolerance {target:.3e})")
+    print(f"truncation indicator at geardyn's solution: {truncation(ref, s0):.4e}"
+          f" (geardyn {p.get('truncation', float('nan')):.4e})")
     for xtol in [1.49012e-8, 1e-10, 1e-12]:
         sol, (ppv, rsv), s = cold_solve(p, xtol)
         res = np.linalg.norm(residual(sol.x, s))

@@ -44,6 +44,7 @@ fn main() {
             "harmonics": sol.solution.basis.harmonics(),
             "grid": 1024,
             "tol": opts.tol,
+            "truncation": sol.solution.truncation,
             "coefficients": sol.solution.coefficients,
             "ppv": sol.rattle.ppv,
             "rsv": sol.rattle.state.rsv(),
