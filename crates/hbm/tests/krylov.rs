@@ -13,6 +13,18 @@ fn opts(method: Method) -> SolverOptions {
     }
 }
 
+/// Hardening Duffing oscillator near its resonance at ω = 1.3.
+fn duffing() -> (f64, Duffing) {
+    let omega = 1.3;
+    let sys = Duffing {
+        zeta: 0.05,
+        gamma: 1.0,
+        force: 0.3,
+        omega,
+    };
+    (omega, sys)
+}
+
 /// Max |a − b| over max |b|.
 fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
     let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -24,13 +36,7 @@ fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
 
 #[test]
 fn krylov_agrees_with_dense_newton_on_duffing_near_resonance() {
-    let omega = 1.3;
-    let sys = Duffing {
-        zeta: 0.05,
-        gamma: 1.0,
-        force: 0.3,
-        omega,
-    };
+    let (omega, sys) = duffing();
     let mut p1 = HbmProblem::new(sys.clone(), Basis::full(1).unwrap(), omega).unwrap();
     let mut g = p1.zero_guess();
     g[1] = 0.8;
@@ -83,13 +89,7 @@ fn krylov_agrees_with_dense_newton_on_a_dead_zone() {
 
 #[test]
 fn a_starved_linear_solve_is_a_typed_error_and_bad_bounds_are_rejected() {
-    let omega = 1.3;
-    let sys = Duffing {
-        zeta: 0.05,
-        gamma: 1.0,
-        force: 0.3,
-        omega,
-    };
+    let (omega, sys) = duffing();
     let mut p = HbmProblem::new(sys, Basis::full(20).unwrap(), omega).unwrap();
     let mut z0 = p.zero_guess();
     z0[1] = 0.8;
@@ -144,13 +144,7 @@ fn a_starved_linear_solve_is_a_typed_error_and_bad_bounds_are_rejected() {
 
 #[test]
 fn auto_takes_the_dense_path_below_the_crossover() {
-    let omega = 1.3;
-    let sys = Duffing {
-        zeta: 0.05,
-        gamma: 1.0,
-        force: 0.3,
-        omega,
-    };
+    let (omega, sys) = duffing();
     let mut p = HbmProblem::new(sys, Basis::full(5).unwrap(), omega).unwrap();
     assert!(p.n_unknowns() < geardyn_hbm::AUTO_KRYLOV_UNKNOWNS);
     let mut z0 = p.zero_guess();
