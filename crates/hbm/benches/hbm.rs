@@ -137,6 +137,25 @@ fn benches(c: &mut Criterion) {
         })
     });
 
+    // 2b. dense Newton (LU) vs Jacobian-free Newton–Krylov, H = 50…400, same start
+    for h in [10usize, 20, 50, 100, 200, 400] {
+        let basis = Basis::full(h).expect("basis");
+        let mut ph = HbmProblem::new(Duffing { omega }, basis.clone(), omega).expect("problem");
+        let zh = s1.embed(&basis);
+        for method in [Method::Newton, Method::NewtonKrylov] {
+            let o = SolverOptions {
+                method,
+                ..SolverOptions::default()
+            };
+            let s = ph.solve(&zh, &o).expect("solve");
+            assert!(s.converged, "{method:?} H = {h}: {}", s.termination);
+            println!("H={h} {method:?}: {} iterations", s.iterations);
+            group.bench_function(format!("duffing_h{h}_{method:?}"), |b| {
+                b.iter(|| black_box(ph.solve(black_box(&zh), &o).expect("solve")))
+            });
+        }
+    }
+
     // 3. 150-point continuation of the Duffing response (H = 5), with Floquet stability
     let copts = ContinuationOptions {
         max_points: 150,

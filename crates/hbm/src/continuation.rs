@@ -397,6 +397,8 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                     parameter: y[nz] + 0.5 * t[nz] * sigma,
                 });
             }
+            set_lambda(aug.p, aug.which, yn[nz])?;
+            let truncation = aug.p.truncation_indicator(&yn[..nz]).unwrap_or(f64::NAN);
             let sol = PeriodicSolution {
                 basis: aug.p.basis().clone(),
                 omega: aug.p.omega(),
@@ -405,6 +407,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 converged: true,
                 iterations: report.iterations,
                 residual_norm: report.residual_norm,
+                truncation,
                 termination: report.termination.clone(),
                 stability: None,
             };

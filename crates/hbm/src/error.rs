@@ -59,6 +59,21 @@ pub enum HbmError {
         /// The message of the underlying error.
         message: String,
     },
+    /// The inner GMRES solve of [`Method::NewtonKrylov`](crate::Method::NewtonKrylov) did not
+    /// reach its tolerance within [`KrylovOptions::max_products`](crate::KrylovOptions)
+    /// (raise the bound or the restart length, or use the dense [`Method::Newton`](crate::Method)).
+    #[error(
+        "GMRES did not converge in Newton iteration {newton_iteration}: relative residual \
+         {relative_residual} after {products} Jacobian-vector products"
+    )]
+    KrylovNotConverged {
+        /// The Newton iteration (from 1) whose linear solve failed.
+        newton_iteration: u64,
+        /// Jacobian-vector products spent.
+        products: usize,
+        /// `‖J δ + r‖ / ‖r‖` reached.
+        relative_residual: f64,
+    },
     /// The system rejected a base frequency or parameter value (see
     /// [`SystemError`](crate::SystemError)).
     #[error("system: {0}")]

@@ -29,6 +29,14 @@
 //! * **Solvers**: [`Newton`] with a backtracking line search (default) and [`Broyden`]
 //!   (inverse update, Liu's choice), both argmin 0.11 `Solver`s run by argmin's `Executor`;
 //!   non-convergence is returned in [`PeriodicSolution::converged`].
+//! * **Large bases**: [`Method::NewtonKrylov`] never forms the Jacobian: each Newton step is a
+//!   restarted GMRES solve of `J δ = −r` with products `J v` by AFT
+//!   (`δh(t_m) = ∂g/∂q(t_m) δq(t_m) + ∂g/∂q'(t_m) δq'(t_m)`, exact for the discrete residual),
+//!   right-preconditioned by the harmonic-diagonal Jacobian of the period-mean force Jacobians
+//!   `J̄_q`, `J̄_v`: per harmonic `k` the block `[[D, kωC̄], [−kωC̄, D]]`, `D = K + J̄_q − (kω)²M`,
+//!   `C̄ = C + J̄_v`. `O(N log N)` per product instead of `O(n_z³)` per step; bounded by
+//!   [`KrylovOptions`], a missed linear tolerance is [`HbmError::KrylovNotConverged`].
+//!   [`Method::Auto`] switches at [`AUTO_KRYLOV_UNKNOWNS`].
 //! * **Continuation** ([`HbmProblem::continuation`]): pseudo-arclength in `ω` or in any named
 //!   parameter, with step control; goes round folds and reports them ([`FoldPoint`]) — the jump
 //!   phenomenon Liu reports at the onset of bilateral rattle.
@@ -37,6 +45,21 @@
 //! * **Output**: coefficients, [`PeriodicSolution::time_series`], peak-to-peak values,
 //!   [`PeriodicSolution::harmonic_amplitudes`], truncation indicators
 //!   ([`PeriodicSolution::spectral_tail`], [`HbmProblem::truncation_estimate`]).
+//! * **Accuracy of every solution**: [`PeriodicSolution::residual_norm`] `‖r‖₂` (how well the
+//!   retained harmonics balance) and [`PeriodicSolution::truncation`] (how much of the force the
+//!   basis discards), from the AFT spectrum `ĥ_{i,k}` of `h_i = g_i − f_i` at the solution:
+//!
+//!   ```text
+//!   ε = sqrt( Σ_i Σ_{k∈T} |ĥ_{i,k}|² ) / sqrt( Σ_i Σ_{k∈B₀} |ĥ_{i,k}|² ),
+//!   B₀ = {0} ∪ basis,   T = {1 ≤ k < N/2} \ B₀.
+//!   ```
+//!
+//!   `ε = 0` for a linear system forced inside the basis; for `q = A cos θ` of a Duffing
+//!   oscillator on `{0, 1}`, `ε = (γA³/4)/|¾γA³ − F|` (the cubed cosine's 3rd harmonic); `ε ~ 1`
+//!   for an impact on a short basis. It is an indicator, not an error bound: what the response
+//!   loses is `ε` filtered by the linear part (`|K − (kω)²M + ikωC|⁻¹` at the discarded `k`);
+//!   [`HbmProblem::truncation_estimate`] measures the response change directly, at the cost of
+//!   a solve in a larger basis.
 //! * **Sweeps**: [`parallel_sweep`] (rayon), bit-identical for any thread count.
 //!
 //! ## Which method when
@@ -107,6 +130,8 @@
 mod basis;
 mod continuation;
 mod error;
+mod krylov;
+mod plans;
 mod problem;
 mod solution;
 mod solve;
@@ -126,11 +151,12 @@ pub use continuation::{
     Branch, BranchPoint, ContinuationEnd, ContinuationOptions, ContinuationParameter, FoldPoint,
 };
 pub use error::HbmError;
+pub use krylov::KrylovOptions;
 pub use problem::HbmProblem;
 pub use solution::{HarmonicAmplitude, PeriodicSolution, TimeSeries, TruncationEstimate};
 pub use solve::{
-    Broyden, Method, Newton, NonlinearEquations, SolveReport, SolverOptions, SolverState,
-    solve_equations,
+    AUTO_KRYLOV_UNKNOWNS, Broyden, Method, Newton, NonlinearEquations, SolveReport, SolverOptions,
+    SolverState, solve_equations,
 };
 pub use stability::{STABILITY_TOLERANCE, Stability};
 pub use sweep::parallel_sweep;

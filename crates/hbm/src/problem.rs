@@ -4,8 +4,8 @@ use crate::error::check_positive;
 use crate::{Basis, CoefficientKind, HbmError, SecondOrderSystem};
 use nalgebra::DMatrix;
 use num_complex::Complex;
-use rustfft::{Fft, FftPlanner};
-use std::f64::consts::PI;
+use rustfft::Fft;
+use std::mem::take;
 use std::sync::Arc;
 
 /// A harmonic balance problem: a system, a basis, a base frequency `ω` and an AFT grid, with
@@ -60,13 +60,28 @@ struct Workspace {
     /// spectra of the Jacobian entries: jq_hat[(i*n + j)*N + l]
     jq_hat: Vec<Complex<f64>>,
     jv_hat: Vec<Complex<f64>>,
+    /// the coefficients the samples `q`, `qd`, `h` and `hc` belong to (valid if `last_valid`):
+    /// a Newton iteration asks for the residual and Jacobian at the point its line search has
+    /// just evaluated, which then costs no AFT
+    last_z: Vec<f64>,
+    last_valid: bool,
+    /// `in_basis[k]`: DFT bin `k` (`k < N`) is the constant or a retained harmonic
+    in_basis: Vec<bool>,
+    /// `Σ |ĥ_k|²` over the retained bins and over the discarded bins below Nyquist, of the
+    /// last AFT (all DOFs)
+    spectrum_kept: f64,
+    spectrum_tail: f64,
+    /// Jacobian-vector products: samples of `δq`, `δq'`, `δh` and coefficients of `δh`
+    /// (sized on first use)
+    vq: Vec<f64>,
+    vqd: Vec<f64>,
+    vh: Vec<f64>,
+    vhc: Vec<f64>,
 }
 
 impl Workspace {
     fn new(n: usize, n_grid: usize, nc: usize, tab_len: usize) -> Self {
-        let mut planner = FftPlanner::new();
-        let fwd = planner.plan_fft_forward(n_grid);
-        let inv = planner.plan_fft_inverse(n_grid);
+        let (fwd, inv) = crate::plans::plans(n_grid);
         let len = fwd
             .get_inplace_scratch_len()
             .max(inv.get_inplace_scratch_len());
@@ -88,6 +103,15 @@ impl Workspace {
             jv: vec![0.0; n_grid * n * n],
             jq_hat: vec![Complex::default(); n_grid * n * n],
             jv_hat: vec![Complex::default(); n_grid * n * n],
+            last_z: Vec::with_capacity(nc * n),
+            last_valid: false,
+            in_basis: vec![false; n_grid],
+            spectrum_kept: 0.0,
+            spectrum_tail: 0.0,
+            vq: Vec::new(),
+            vqd: Vec::new(),
+            vh: Vec::new(),
+            vhc: Vec::new(),
         }
     }
 }
@@ -155,8 +179,20 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             k: DMatrix::zeros(n, n),
             ws: Workspace::new(n, n_grid, nc, 0),
         };
+        p.mark_basis();
         p.refresh_matrices()?;
         Ok(p)
+    }
+
+    /// Mark the DFT bins of the constant and the retained harmonics.
+    fn mark_basis(&mut self) {
+        let nn = self.ws.n_grid;
+        self.ws.in_basis.fill(false);
+        self.ws.in_basis[0] = true;
+        for &k in self.basis.harmonics() {
+            self.ws.in_basis[k % nn] = true;
+            self.ws.in_basis[(nn - k % nn) % nn] = true;
+        }
     }
 
     /// Tabulate the time-only functions on the AFT grid: the forcing `f(t_m)` and the system's
@@ -166,22 +202,20 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         let n = self.n;
         let len = self.system.time_table_len();
         let nn = self.ws.n_grid;
+        self.ws.last_valid = false;
         if self.ws.tab_len != len {
             self.ws.tab_len = len;
             self.ws.ttab = vec![0.0; nn * len];
         }
+        self.system
+            .tabulate_grid(self.omega, nn, &mut self.ws.ftab, &mut self.ws.ttab);
         for m in 0..nn {
-            let t = self.time(m);
-            let f = &mut self.ws.ftab[m * n..(m + 1) * n];
-            self.system.forcing(t, f);
-            let row = &mut self.ws.ttab[m * len..(m + 1) * len];
-            if len > 0 {
-                self.system.fill_time_table(t, row);
-            }
+            let f = &self.ws.ftab[m * n..(m + 1) * n];
+            let row = &self.ws.ttab[m * len..(m + 1) * len];
             if f.iter().chain(row.iter()).any(|x| !x.is_finite()) {
                 return Err(HbmError::NonFinite {
                     what: "forcing or time table",
-                    time: t,
+                    time: self.time(m),
                 });
             }
         }
@@ -261,7 +295,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         self.refresh_matrices()
     }
 
-    fn check_len(&self, what: &'static str, len: usize) -> Result<(), HbmError> {
+    pub(crate) fn check_len(&self, what: &'static str, len: usize) -> Result<(), HbmError> {
         if len != self.n_unknowns() {
             return Err(HbmError::DimensionMismatch {
                 what,
@@ -274,11 +308,18 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
 
     /// Time of grid sample `m`.
     fn time(&self, m: usize) -> f64 {
-        2.0 * PI * m as f64 / (self.ws.n_grid as f64 * self.omega)
+        system::grid_time(self.omega, self.ws.n_grid, m)
     }
 
     /// Coefficients → time samples of `q` and `q'` (one packed inverse FFT per DOF).
     fn synthesize(&mut self, z: &[f64]) {
+        let (mut q, mut qd) = (take(&mut self.ws.q), take(&mut self.ws.qd));
+        self.synthesize_into(z, &mut q, &mut qd);
+        (self.ws.q, self.ws.qd) = (q, qd);
+    }
+
+    /// Coefficients `z` → samples `q[m·n + i]`, `qd[m·n + i]`.
+    fn synthesize_into(&mut self, z: &[f64], q: &mut [f64], qd: &mut [f64]) {
         let n = self.n;
         let nn = self.ws.n_grid;
         let w = self.omega;
@@ -300,8 +341,8 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 .inv
                 .process_with_scratch(&mut self.ws.buf, &mut self.ws.scratch);
             for m in 0..nn {
-                self.ws.q[m * n + i] = self.ws.buf[m].re;
-                self.ws.qd[m * n + i] = self.ws.buf[m].im;
+                q[m * n + i] = self.ws.buf[m].re;
+                qd[m * n + i] = self.ws.buf[m].im;
             }
         }
     }
@@ -334,29 +375,81 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
 
     /// Time samples of `h` → coefficients `hc`.
     fn analyse_forces(&mut self) {
+        let (h, mut hc) = (take(&mut self.ws.h), take(&mut self.ws.hc));
+        let (kept, tail) = self.analyse_into(&h, &mut hc);
+        (self.ws.h, self.ws.hc) = (h, hc);
+        self.ws.spectrum_kept = kept;
+        self.ws.spectrum_tail = tail;
+    }
+
+    /// Samples `h[m·n + i]` → coefficients `hc[c·n + i]`; returns `Σ|ĥ_k|²` over the retained
+    /// and over the discarded bins below Nyquist.
+    fn analyse_into(&mut self, h: &[f64], hc: &mut [f64]) -> (f64, f64) {
         let n = self.n;
         let nn = self.ws.n_grid;
         let scale = 1.0 / nn as f64;
+        let (mut kept, mut tail) = (0.0, 0.0);
         for i in 0..n {
             for m in 0..nn {
-                self.ws.buf[m] = Complex::new(self.ws.h[m * n + i], 0.0);
+                self.ws.buf[m] = Complex::new(h[m * n + i], 0.0);
             }
             self.ws
                 .fwd
                 .process_with_scratch(&mut self.ws.buf, &mut self.ws.scratch);
-            self.ws.hc[i] = self.ws.buf[0].re * scale;
+            // truncation indicator: bins 0 ≤ k < N/2 (the upper half mirrors them)
+            for k in 0..nn.div_ceil(2) {
+                let p = self.ws.buf[k].norm_sqr();
+                if self.ws.in_basis[k] {
+                    kept += p;
+                } else {
+                    tail += p;
+                }
+            }
+            hc[i] = self.ws.buf[0].re * scale;
             for (j, &k) in self.basis.harmonics().iter().enumerate() {
                 let hk = self.ws.buf[k % nn];
-                self.ws.hc[(2 * j + 1) * n + i] = 2.0 * hk.re * scale;
-                self.ws.hc[(2 * j + 2) * n + i] = -2.0 * hk.im * scale;
+                hc[(2 * j + 1) * n + i] = 2.0 * hk.re * scale;
+                hc[(2 * j + 2) * n + i] = -2.0 * hk.im * scale;
             }
         }
+        (kept, tail)
+    }
+
+    /// Truncation indicator of the coefficients `z`: the relative size of the part of the
+    /// force spectrum the basis discards,
+    ///
+    /// ```text
+    /// ε = sqrt( Σ_i Σ_{k∈T} |ĥ_{i,k}|² ) / sqrt( Σ_i Σ_{k∈B₀} |ĥ_{i,k}|² )
+    /// ```
+    ///
+    /// with `ĥ_{i,k}` the DFT of `h_i = g_i − f_i` on the AFT grid, `B₀` the constant and the
+    /// retained harmonics, `T` every other bin `1 ≤ k < N/2`; 0 when `h` vanishes. The
+    /// residual only balances `B₀`; `ε` says how much of the force it ignores (0 for a linear
+    /// system whose forcing lies in the basis, of order 1 when the basis misses most of the
+    /// force, e.g. a hard impact on a short basis). Costs one AFT unless `z` is the point the
+    /// last residual was evaluated at.
+    ///
+    /// # Errors
+    /// As [`HbmProblem::residual`].
+    pub fn truncation_indicator(&mut self, z: &[f64]) -> Result<f64, HbmError> {
+        let mut r = vec![0.0; self.n_unknowns()];
+        self.residual(z, &mut r)?;
+        let (kept, tail) = (self.ws.spectrum_kept, self.ws.spectrum_tail);
+        Ok(if kept + tail > 0.0 {
+            (tail / kept.max(f64::MIN_POSITIVE)).sqrt()
+        } else {
+            0.0
+        })
     }
 
     /// Assemble the residual from `z` and the force coefficients already in the workspace.
     fn assemble_residual(&self, z: &[f64], r: &mut [f64]) {
+        self.assemble(&self.ws.hc, z, r);
+    }
+
+    /// `r = L(ω) z + hc`: the linear part of the residual plus force coefficients `hc`.
+    fn assemble(&self, hc: &[f64], z: &[f64], r: &mut [f64]) {
         let n = self.n;
-        let hc = &self.ws.hc;
         for i in 0..n {
             let mut s = hc[i];
             for j in 0..n {
@@ -395,9 +488,15 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 time: 0.0,
             });
         }
-        self.synthesize(z);
-        self.sample_forces()?;
-        self.analyse_forces();
+        if !(self.ws.last_valid && self.ws.last_z == z) {
+            self.ws.last_valid = false;
+            self.synthesize(z);
+            self.sample_forces()?;
+            self.analyse_forces();
+            self.ws.last_z.clear();
+            self.ws.last_z.extend_from_slice(z);
+            self.ws.last_valid = true;
+        }
         self.assemble_residual(z, r);
         Ok(())
     }
@@ -426,42 +525,29 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         let n = self.n;
         let nn = self.ws.n_grid;
         let nsq = n * n;
-        let len = self.ws.tab_len;
-        // sample the force Jacobians
-        for m in 0..nn {
-            let t = self.time(m);
-            let ws = &mut self.ws;
-            let q = &ws.q[m * n..(m + 1) * n];
-            let qd = &ws.qd[m * n..(m + 1) * n];
-            let row = &ws.ttab[m * len..(m + 1) * len];
-            let (a, b) = (
-                &mut ws.jq[m * nsq..(m + 1) * nsq],
-                &mut ws.jv[m * nsq..(m + 1) * nsq],
-            );
-            self.system.force_jacobian_tabulated(t, row, q, qd, a, b);
-            if a.iter().chain(b.iter()).any(|x| !x.is_finite()) {
-                return Err(HbmError::NonFinite {
-                    what: "force Jacobian",
-                    time: t,
-                });
-            }
-        }
+        self.sample_jacobians()?;
         // spectra of each entry
         let scale = 1.0 / nn as f64;
         for e in 0..nsq {
             for src in 0..2 {
                 let samples = if src == 0 { &self.ws.jq } else { &self.ws.jv };
+                let out = if src == 0 {
+                    &mut self.ws.jq_hat
+                } else {
+                    &mut self.ws.jv_hat
+                };
+                // an entry that is zero at every sample (e.g. ∂g/∂q' of a force without
+                // damping terms) has a zero spectrum: the FFT is skipped, the result is the same
+                if (0..nn).all(|m| samples[m * nsq + e] == 0.0) {
+                    out[e * nn..(e + 1) * nn].fill(Complex::default());
+                    continue;
+                }
                 for m in 0..nn {
                     self.ws.buf[m] = Complex::new(samples[m * nsq + e] * scale, 0.0);
                 }
                 self.ws
                     .fwd
                     .process_with_scratch(&mut self.ws.buf, &mut self.ws.scratch);
-                let out = if src == 0 {
-                    &mut self.ws.jq_hat
-                } else {
-                    &mut self.ws.jv_hat
-                };
                 out[e * nn..(e + 1) * nn].copy_from_slice(&self.ws.buf);
             }
         }
@@ -530,6 +616,87 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         Ok(())
     }
 
+    /// Sample the force Jacobians `∂g/∂q`, `∂g/∂q'` at the samples of the last residual.
+    fn sample_jacobians(&mut self) -> Result<(), HbmError> {
+        let n = self.n;
+        let nsq = n * n;
+        let len = self.ws.tab_len;
+        for m in 0..self.ws.n_grid {
+            let t = self.time(m);
+            let ws = &mut self.ws;
+            let q = &ws.q[m * n..(m + 1) * n];
+            let qd = &ws.qd[m * n..(m + 1) * n];
+            let row = &ws.ttab[m * len..(m + 1) * len];
+            let (a, b) = (
+                &mut ws.jq[m * nsq..(m + 1) * nsq],
+                &mut ws.jv[m * nsq..(m + 1) * nsq],
+            );
+            self.system.force_jacobian_tabulated(t, row, q, qd, a, b);
+            if a.iter().chain(b.iter()).any(|x| !x.is_finite()) {
+                return Err(HbmError::NonFinite {
+                    what: "force Jacobian",
+                    time: t,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Evaluate the residual at `z` into `r` and sample the force Jacobians there, for
+    /// [`jacobian_times`](Self::jacobian_times); returns the period means `(J̄_q, J̄_v)` of
+    /// `∂g/∂q` and `∂g/∂q'` (row-major `n × n`), the harmonic-diagonal part of the Jacobian.
+    pub(crate) fn prepare_jacobian_products(
+        &mut self,
+        z: &[f64],
+        r: &mut [f64],
+    ) -> Result<(Vec<f64>, Vec<f64>), HbmError> {
+        self.residual(z, r)?;
+        self.sample_jacobians()?;
+        let (n, nn) = (self.n, self.ws.n_grid);
+        let nsq = n * n;
+        let (mut mq, mut mv) = (vec![0.0; nsq], vec![0.0; nsq]);
+        for m in 0..nn {
+            for e in 0..nsq {
+                mq[e] += self.ws.jq[m * nsq + e];
+                mv[e] += self.ws.jv[m * nsq + e];
+            }
+        }
+        for e in 0..nsq {
+            mq[e] /= nn as f64;
+            mv[e] /= nn as f64;
+        }
+        Ok((mq, mv))
+    }
+
+    /// `out = J v`, the exact product of the AFT Jacobian (at the point of the last
+    /// [`prepare_jacobian_products`](Self::prepare_jacobian_products)) with `v`, by AFT:
+    /// `δh(t_m) = ∂g/∂q(t_m) δq(t_m) + ∂g/∂q'(t_m) δq'(t_m)`, `2n` FFTs, no matrix.
+    pub(crate) fn jacobian_times(&mut self, v: &[f64], out: &mut [f64]) {
+        let (n, nn) = (self.n, self.ws.n_grid);
+        let nsq = n * n;
+        let (mut dq, mut dqd) = (take(&mut self.ws.vq), take(&mut self.ws.vqd));
+        dq.resize(nn * n, 0.0);
+        dqd.resize(nn * n, 0.0);
+        self.synthesize_into(v, &mut dq, &mut dqd);
+        let mut dh = take(&mut self.ws.vh);
+        dh.resize(nn * n, 0.0);
+        for m in 0..nn {
+            for i in 0..n {
+                let mut s = 0.0;
+                for j in 0..n {
+                    s += self.ws.jq[m * nsq + i * n + j] * dq[m * n + j]
+                        + self.ws.jv[m * nsq + i * n + j] * dqd[m * n + j];
+                }
+                dh[m * n + i] = s;
+            }
+        }
+        let mut dhc = take(&mut self.ws.vhc);
+        dhc.resize(self.n_unknowns(), 0.0);
+        self.analyse_into(&dh, &mut dhc);
+        self.assemble(&dhc, v, out);
+        (self.ws.vq, self.ws.vqd, self.ws.vh, self.ws.vhc) = (dq, dqd, dh, dhc);
+    }
+
     /// The system's mass, damping and stiffness matrices as currently cached.
     pub(crate) fn matrices(&self) -> (&DMatrix<f64>, &DMatrix<f64>, &DMatrix<f64>) {
         (&self.m, &self.c, &self.k)
@@ -550,6 +717,7 @@ impl<S: SecondOrderSystem + Clone> Clone for HbmProblem<S> {
                 ftab: self.ws.ftab.clone(),
                 ttab: self.ws.ttab.clone(),
                 tab_len: self.ws.tab_len,
+                in_basis: self.ws.in_basis.clone(),
                 ..Workspace::new(self.n, self.ws.n_grid, self.basis.n_coefficients(), 0)
             },
         }

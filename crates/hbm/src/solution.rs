@@ -1,10 +1,11 @@
 //! Solving one periodic response, and what a solution can tell.
 
 use crate::solve::{NonlinearEquations, solve_equations};
-use crate::{Basis, HbmError, HbmProblem, SecondOrderSystem, SolverOptions, Stability};
+use crate::{
+    Basis, HbmError, HbmProblem, KrylovOptions, Method, SecondOrderSystem, SolverOptions, Stability,
+};
 use nalgebra::DMatrix;
 use num_complex::Complex;
-use rustfft::FftPlanner;
 use std::f64::consts::PI;
 
 /// A periodic solution `q(t) = a_0 + Σ a_k cos(kωt) + b_k sin(kωt)` and how its solve ended.
@@ -25,6 +26,11 @@ pub struct PeriodicSolution {
     pub iterations: u64,
     /// Final residual norm `‖r‖₂`.
     pub residual_norm: f64,
+    /// Truncation indicator `ε` at the final coefficients: the relative size of the force
+    /// harmonics the basis discards ([`HbmProblem::truncation_indicator`], equation in the crate
+    /// docs); NaN where it could not be evaluated (absent in data written before it existed).
+    #[cfg_attr(feature = "serde", serde(default = "nan"))]
+    pub truncation: f64,
     /// Termination reason, in words.
     pub termination: String,
     /// Floquet stability, when computed.
@@ -131,8 +137,9 @@ impl PeriodicSolution {
     /// consistent coefficients).
     fn time_series_fft(&self, n_points: usize) -> TimeSeries {
         let n = self.n_dof;
-        let inv = FftPlanner::new().plan_fft_inverse(n_points);
+        let (_, inv) = crate::plans::plans(n_points);
         let mut buf = vec![Complex::<f64>::default(); n_points];
+        let mut scratch = vec![Complex::<f64>::default(); inv.get_inplace_scratch_len()];
         let mut ts = TimeSeries {
             time: (0..n_points)
                 .map(|m| self.period() * m as f64 / n_points as f64)
@@ -140,23 +147,57 @@ impl PeriodicSolution {
             displacement: Vec::with_capacity(n),
             velocity: Vec::with_capacity(n),
         };
-        let z = &self.coefficients;
         for i in 0..n {
-            buf.fill(Complex::default());
-            buf[0] = Complex::new(z[i], 0.0);
-            for (j, &k) in self.basis.harmonics().iter().enumerate() {
-                let (a, b) = (z[(2 * j + 1) * n + i], z[(2 * j + 2) * n + i]);
-                // q: X = (a − ib)/2 at +k; q': Y = kω(b + ia)/2; packed as X + iY
-                let x = Complex::new(a, -b) * 0.5;
-                let y = Complex::new(b, a) * (0.5 * k as f64 * self.omega);
-                buf[k] += x + Complex::<f64>::i() * y;
-                buf[(n_points - k) % n_points] += x.conj() + Complex::<f64>::i() * y.conj();
-            }
-            inv.process(&mut buf);
+            self.samples_fft(i, &*inv, &mut buf, &mut scratch);
             ts.displacement.push(buf.iter().map(|c| c.re).collect());
             ts.velocity.push(buf.iter().map(|c| c.im).collect());
         }
         ts
+    }
+
+    /// `q_i + i q'_i` at the `buf.len()` samples of one period, by the inverse FFT `inv` of that
+    /// size (needs `buf.len() > 2 k_max` and consistent coefficients).
+    fn samples_fft(
+        &self,
+        i: usize,
+        inv: &dyn rustfft::Fft<f64>,
+        buf: &mut [Complex<f64>],
+        scratch: &mut [Complex<f64>],
+    ) {
+        let (n, n_points, z) = (self.n_dof, buf.len(), &self.coefficients);
+        buf.fill(Complex::default());
+        buf[0] = Complex::new(z[i], 0.0);
+        for (j, &k) in self.basis.harmonics().iter().enumerate() {
+            let (a, b) = (z[(2 * j + 1) * n + i], z[(2 * j + 2) * n + i]);
+            // q: X = (a − ib)/2 at +k; q': Y = kω(b + ia)/2; packed as X + iY
+            let x = Complex::new(a, -b) * 0.5;
+            let y = Complex::new(b, a) * (0.5 * k as f64 * self.omega);
+            buf[k] += x + Complex::<f64>::i() * y;
+            buf[(n_points - k) % n_points] += x.conj() + Complex::<f64>::i() * y.conj();
+        }
+        inv.process_with_scratch(buf, scratch);
+    }
+
+    /// The displacement of DOF `dof` at the `n_points` sample times `t_m = m T / n_points` of
+    /// [`time_series`](Self::time_series) (the same values), without the times and velocities;
+    /// `None` for an invalid DOF. Cheap metrics (extrema, contact states) of a solution use it.
+    pub fn displacement_samples(&self, dof: usize, n_points: usize) -> Option<Vec<f64>> {
+        if dof >= self.n_dof {
+            return None;
+        }
+        let n_points = n_points.max(2);
+        if n_points > 2 * self.basis.max_harmonic()
+            && self.coefficients.len() == self.n_dof * self.basis.n_coefficients()
+        {
+            let (_, inv) = crate::plans::plans(n_points);
+            let scratch = inv.get_inplace_scratch_len();
+            return Some(crate::plans::with_buffers(n_points, scratch, |buf, scr| {
+                self.samples_fft(dof, &*inv, buf, scr);
+                buf.iter().map(|c| c.re).collect()
+            }));
+        }
+        let ts = self.time_series(n_points);
+        ts.displacement.into_iter().nth(dof)
     }
 
     /// Default number of samples for extrema: `max(512, 16 k_max)`.
@@ -303,25 +344,70 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         z0: &[f64],
         options: &SolverOptions,
     ) -> Result<PeriodicSolution, HbmError> {
-        if z0.len() != self.n_unknowns() {
-            return Err(HbmError::DimensionMismatch {
-                what: "initial coefficients",
-                expected: self.n_unknowns(),
-                got: z0.len(),
-            });
+        self.check_len("initial coefficients", z0.len())?;
+        let krylov = match options.method {
+            Method::NewtonKrylov => true,
+            Method::Auto => self.n_unknowns() >= crate::AUTO_KRYLOV_UNKNOWNS,
+            _ => false,
+        };
+        if krylov {
+            return self.solve_newton_krylov(z0, options, &KrylovOptions::default());
         }
         let (report, _) = solve_equations(HbmEquations(self), z0.to_vec(), options)?;
-        Ok(PeriodicSolution {
+        Ok(self.solution_of(
+            report.x,
+            report.converged,
+            report.iterations,
+            report.residual_norm,
+            report.termination,
+        ))
+    }
+
+    /// [`solve`](Self::solve) by [`Method::NewtonKrylov`] with explicit bounds of the inner
+    /// GMRES solve (`options.method` is ignored).
+    ///
+    /// # Errors
+    /// As [`HbmProblem::solve`]; invalid `krylov` bounds; [`HbmError::KrylovNotConverged`]
+    /// when a linear solve misses its tolerance within `krylov.max_products`.
+    pub fn solve_newton_krylov(
+        &mut self,
+        z0: &[f64],
+        options: &SolverOptions,
+        krylov: &KrylovOptions,
+    ) -> Result<PeriodicSolution, HbmError> {
+        self.check_len("initial coefficients", z0.len())?;
+        let rep = self.newton_krylov(z0, options, krylov)?;
+        Ok(self.solution_of(
+            rep.x,
+            rep.converged,
+            rep.iterations,
+            rep.residual_norm,
+            rep.termination,
+        ))
+    }
+
+    /// Wrap a solver's final iterate, with its truncation indicator.
+    fn solution_of(
+        &mut self,
+        x: Vec<f64>,
+        converged: bool,
+        iterations: u64,
+        residual_norm: f64,
+        termination: String,
+    ) -> PeriodicSolution {
+        let truncation = self.truncation_indicator(&x).unwrap_or(f64::NAN);
+        PeriodicSolution {
             basis: self.basis().clone(),
             omega: self.omega(),
             n_dof: self.n_dof(),
-            coefficients: report.x,
-            converged: report.converged,
-            iterations: report.iterations,
-            residual_norm: report.residual_norm,
-            termination: report.termination,
+            coefficients: x,
+            converged,
+            iterations,
+            residual_norm,
+            truncation,
+            termination,
             stability: None,
-        })
+        }
     }
 
     /// A zero initial guess of the right length.
@@ -375,6 +461,12 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             refined,
         })
     }
+}
+
+/// Serde default of [`PeriodicSolution::truncation`]: not known.
+#[cfg(feature = "serde")]
+fn nan() -> f64 {
+    f64::NAN
 }
 
 /// `max − min` of the samples.

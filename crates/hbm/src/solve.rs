@@ -41,7 +41,27 @@ pub enum Method {
     /// Broyden's ("good") method with inverse updates, started from the analytic Jacobian
     /// (Liu et al. 2021, Sect. 2.5). Restarts from a fresh Jacobian when a step fails.
     Broyden,
+    /// Jacobian-free Newton–Krylov for large bases: each Newton step solved by GMRES on exact
+    /// AFT Jacobian-vector products with a harmonic-block preconditioner (the force Jacobians'
+    /// period means), no dense Jacobian; the same line search as [`Method::Newton`]. Bounds of
+    /// the inner solve: [`KrylovOptions::default`](crate::KrylovOptions) (or
+    /// [`HbmProblem::solve_newton_krylov`](crate::HbmProblem::solve_newton_krylov)); a linear
+    /// solve that misses its tolerance is [`HbmError::KrylovNotConverged`]. Only an
+    /// [`HbmProblem`](crate::HbmProblem) can take it: [`solve_equations`] on other equations
+    /// runs [`Method::Newton`] instead. On a Duffing oscillator it is faster than the dense path
+    /// from `H ≈ 30` on and 130× faster at `H = 400` (see [`Method::Auto`]); a weakly
+    /// preconditioned (strongly non-smooth) problem needs more products per step.
+    NewtonKrylov,
+    /// [`Method::NewtonKrylov`] for problems with at least [`AUTO_KRYLOV_UNKNOWNS`] unknowns,
+    /// [`Method::Newton`] below (the crossover measured in `docs/performance/hbm.md`).
+    Auto,
 }
+
+/// Number of unknowns from which [`Method::Auto`] takes [`Method::NewtonKrylov`]: `H = 50` of a
+/// one-DOF full basis. The measured crossover of the dense and Jacobian-free paths on a Duffing
+/// oscillator lies between `H = 20` (dense 1.5× faster) and `H = 50` (Krylov 2.4× faster);
+/// `docs/performance/hbm.md` has the table.
+pub const AUTO_KRYLOV_UNKNOWNS: usize = 101;
 
 /// Options of a nonlinear solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -99,7 +119,7 @@ pub struct SolveReport {
     pub termination: String,
 }
 
-fn norm(v: &[f64]) -> f64 {
+pub(crate) fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
@@ -160,7 +180,7 @@ fn init_state<O: NonlinearEquations>(
 }
 
 /// Backtracking line search along `dx`: returns the accepted step length or `None`.
-fn line_search<O: NonlinearEquations>(
+pub(crate) fn line_search<O: NonlinearEquations>(
     o: &mut O,
     x: &[f64],
     dx: &[f64],
@@ -424,7 +444,9 @@ pub fn solve_equations<O: NonlinearEquations>(
     let tol = options.tolerance;
     let max_iters = options.max_iters;
     let (mut problem, mut state) = match options.method {
-        Method::Newton => run(equations, Newton::new(tol)?, x0, max_iters)?,
+        Method::Newton | Method::NewtonKrylov | Method::Auto => {
+            run(equations, Newton::new(tol)?, x0, max_iters)?
+        }
         Method::Broyden => run(equations, Broyden::new(tol)?, x0, max_iters)?,
     };
     let residual_norm = state.get_cost();

@@ -180,6 +180,19 @@ pub trait SecondOrderSystem {
         self.force_jacobian(t, q, qd, dg_dq, dg_dqd);
     }
 
+    /// Tabulates the forcing and the time table on the harmonic balance grid
+    /// `t_m = 2π m / (N ω)` ([`grid_time`]), `m = 0..N`: `forcing[m·n + i] = f_i(t_m)` and
+    /// `table[m·L + l]` = row `l` of [`fill_time_table`](Self::fill_time_table) at `t_m`
+    /// (`L` = [`time_table_len`](Self::time_table_len)).
+    ///
+    /// Default: sample by sample ([`tabulate_pointwise`]). Override it when the time functions
+    /// are cheaper on the whole grid (e.g. `sin(2π k m/N)` from one table of the unit circle
+    /// instead of a `sin` call per function and sample); the values must equal the pointwise
+    /// ones to round-off.
+    fn tabulate_grid(&self, omega: f64, n_grid: usize, forcing: &mut [f64], table: &mut [f64]) {
+        tabulate_pointwise(self, omega, n_grid, forcing, table);
+    }
+
     /// Number of contact-event (gap) functions (default 0).
     fn n_events(&self) -> usize {
         0
@@ -224,6 +237,37 @@ pub trait SecondOrderSystem {
         Err(SystemError::UnknownParameter {
             name: name.to_string(),
         })
+    }
+}
+
+/// Sample `m` of the harmonic balance grid of `n_grid` points per period `2π/ω`:
+/// `t_m = 2π m / (N ω)`.
+#[inline]
+pub fn grid_time(omega: f64, n_grid: usize, m: usize) -> f64 {
+    2.0 * std::f64::consts::PI * m as f64 / (n_grid as f64 * omega)
+}
+
+/// The default of [`SecondOrderSystem::tabulate_grid`]: [`forcing`](SecondOrderSystem::forcing)
+/// and [`fill_time_table`](SecondOrderSystem::fill_time_table) at every [`grid_time`].
+/// Slices shorter than `N n` and `N L` are filled as far as they reach.
+pub fn tabulate_pointwise<S: SecondOrderSystem + ?Sized>(
+    system: &S,
+    omega: f64,
+    n_grid: usize,
+    forcing: &mut [f64],
+    table: &mut [f64],
+) {
+    let (n, len) = (system.n_dof(), system.time_table_len());
+    for m in 0..n_grid {
+        let t = grid_time(omega, n_grid, m);
+        if let Some(f) = forcing.get_mut(m * n..(m + 1) * n) {
+            system.forcing(t, f);
+        }
+        if len > 0 {
+            if let Some(row) = table.get_mut(m * len..(m + 1) * len) {
+                system.fill_time_table(t, row);
+            }
+        }
     }
 }
 

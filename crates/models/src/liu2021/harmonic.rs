@@ -147,6 +147,20 @@ impl system::SecondOrderSystem for Model {
         row[0] = self.stiffness(t);
         row[1] = self.backlash_at(t);
     }
+    /// On the engine's grid of `ω = ω̄_c` (every harmonic balance of this model) the time
+    /// functions come from one quarter of the unit circle ([`Model::tabulate_period`]); any
+    /// other grid is tabulated sample by sample.
+    fn tabulate_grid(&self, omega: f64, n_grid: usize, forcing: &mut [f64], table: &mut [f64]) {
+        if omega.to_bits() == self.omega_c.to_bits() // the grid of this very model
+            && n_grid % 4 == 0
+            && forcing.len() >= n_grid
+            && table.len() >= 2 * n_grid
+        {
+            self.tabulate_period(n_grid, &mut forcing[..n_grid], &mut table[..2 * n_grid]);
+        } else {
+            system::tabulate_pointwise(self, omega, n_grid, forcing, table);
+        }
+    }
     fn nonlinear_force_tabulated(
         &self,
         _t: f64,
@@ -180,13 +194,10 @@ impl system::SecondOrderSystem for Model {
 /// Rattle metrics of an engine solution.
 pub(super) fn rattle_of(model: &Model, sol: &hbm::PeriodicSolution) -> Rattle {
     let n = (32 * sol.basis.max_harmonic()).max(4096);
-    let ts = sol.time_series(n);
-    model.rattle(
-        ts.time
-            .iter()
-            .copied()
-            .zip(ts.displacement[0].iter().copied()),
-    )
+    // the displacement only, by one inverse FFT; the times as in `time_series`
+    let q = sol.displacement_samples(0, n).unwrap_or_default();
+    let period = sol.period();
+    model.rattle_of_period(period, &q)
 }
 
 /// The engine problem of `model` on `basis` (AFT grid per [`HbmOptions::samples`]).
@@ -404,6 +415,44 @@ mod tests {
                     (a[0].to_bits(), b[0].to_bits()),
                     (at[0].to_bits(), bt[0].to_bits())
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn grid_tabulation_equals_pointwise_for_every_reading() {
+        use super::super::params::{BaseRadius, ErrorTerm, RigidAcceleration, RigidSeries};
+        use hbm::SecondOrderSystem;
+        for base_radius in [BaseRadius::TimeVarying, BaseRadius::Mean] {
+            for error_term in [ErrorTerm::Printed, ErrorTerm::Derived] {
+                for rigid_series in [RigidSeries::TwoTerms, RigidSeries::Exact] {
+                    for ra in [RigidAcceleration::Derived, RigidAcceleration::PrintedEq20] {
+                        let mut p = table1();
+                        p.readings.base_radius = base_radius;
+                        p.readings.error_term = error_term;
+                        p.readings.rigid_series = rigid_series;
+                        p.readings.rigid_acceleration = ra;
+                        let m = p.model().unwrap();
+                        let n = 1024;
+                        let (mut f, mut t) = (vec![0.0; n], vec![0.0; 2 * n]);
+                        let (mut fp, mut tp) = (vec![0.0; n], vec![0.0; 2 * n]);
+                        m.tabulate_grid(m.omega_c, n, &mut f, &mut t);
+                        system::tabulate_pointwise(&m, m.omega_c, n, &mut fp, &mut tp);
+                        // round-off of angles up to 2π Z₂ (~1e-13) times the forcing scale
+                        let fs = residual_scale(&m);
+                        for i in 0..n {
+                            assert!((f[i] - fp[i]).abs() < 1e-12 * fs, "{i}: {} {}", f[i], fp[i]);
+                        }
+                        for i in 0..2 * n {
+                            assert!((t[i] - tp[i]).abs() < 1e-12, "{i}: {} {}", t[i], tp[i]);
+                        }
+                        // another grid (not a multiple of 4) goes sample by sample: equal bits
+                        let (mut f3, mut t3) = (vec![0.0; 998], vec![0.0; 2 * 998]);
+                        m.tabulate_grid(m.omega_c, 998, &mut f3, &mut t3);
+                        system::tabulate_pointwise(&m, m.omega_c, 998, &mut fp, &mut tp);
+                        assert_eq!(f3[..], fp[..998]);
+                    }
+                }
             }
         }
     }

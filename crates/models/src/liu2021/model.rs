@@ -195,11 +195,21 @@ impl Model {
     pub fn rigid_acceleration(&self, tau: f64) -> f64 {
         let x = self.omega_c * tau;
         match self.readings.rigid_series {
-            RigidSeries::TwoTerms => self.b1 * x.sin() + self.b2 * (2.0 * x).sin(),
+            RigidSeries::TwoTerms => self.rigid_acceleration_trig(x.sin(), 0.0, (2.0 * x).sin()),
+            RigidSeries::Exact => self.rigid_acceleration_trig(x.sin(), x.cos(), 0.0),
+        }
+    }
+
+    /// [`rigid_acceleration`](Self::rigid_acceleration) from `sin x`, `cos x` and `sin 2x`,
+    /// `x = ω̄_c τ` (`cos x` is used by the exact series only, `sin 2x` by the two terms only).
+    #[inline]
+    fn rigid_acceleration_trig(&self, sx: f64, cx: f64, s2x: f64) -> f64 {
+        match self.readings.rigid_series {
+            RigidSeries::TwoTerms => self.b1 * sx + self.b2 * s2x,
             RigidSeries::Exact => {
                 let e = self.eccentricity;
-                let d = 1.0 + 2.0 * e * x.cos() + e * e;
-                let num = 2.0 * e * (1.0 - e * e) * x.sin();
+                let d = 1.0 + 2.0 * e * cx + e * e;
+                let num = 2.0 * e * (1.0 - e * e) * sx;
                 match self.readings.rigid_acceleration {
                     RigidAcceleration::PrintedEq20 => self.omega_c * num / d,
                     // Derived (others are rejected by `Model::new`)
@@ -212,26 +222,80 @@ impl Model {
     /// Transmission-error term `d²ē/dτ²` as it enters the right side of Eq. (9).
     pub fn error_acceleration(&self, tau: f64) -> f64 {
         let ph = self.omega_e * tau + self.phase_error;
+        let x = self.omega_c * tau;
         match (self.readings.error_term, self.readings.base_radius) {
-            (ErrorTerm::Printed, BaseRadius::Mean) => self.b3 * ph.sin(),
+            (_, BaseRadius::Mean) => self.error_acceleration_trig(ph.sin(), 0.0, 0.0, 0.0),
             (ErrorTerm::Printed, BaseRadius::TimeVarying) => {
-                self.b3 * ph.sin() / self.radius_ratio(tau)
+                self.error_acceleration_trig(ph.sin(), 0.0, 0.0, x.cos())
             }
-            (ErrorTerm::Derived, BaseRadius::Mean) => -self.b3 * ph.sin(),
+            (ErrorTerm::Derived, BaseRadius::TimeVarying) => {
+                self.error_acceleration_trig(ph.sin(), ph.cos(), x.sin(), x.cos())
+            }
+        }
+    }
+
+    /// [`error_acceleration`](Self::error_acceleration) from `sin φ`, `cos φ`
+    /// (`φ = ω̄_e τ + φ_e`), `sin x` and `cos x` (`x = ω̄_c τ`); each reading reads only the
+    /// values it needs.
+    #[inline]
+    fn error_acceleration_trig(&self, sph: f64, cph: f64, sx: f64, cx: f64) -> f64 {
+        match (self.readings.error_term, self.readings.base_radius) {
+            (ErrorTerm::Printed, BaseRadius::Mean) => self.b3 * sph,
+            (ErrorTerm::Printed, BaseRadius::TimeVarying) => self.b3 * sph / (1.0 + self.beta * cx),
+            (ErrorTerm::Derived, BaseRadius::Mean) => -self.b3 * sph,
             (ErrorTerm::Derived, BaseRadius::TimeVarying) => {
                 // e/L = a sin(ph), r = 1 + beta cos(wc tau): (e/r)'' exactly
                 let a = self.error;
                 let (we, wc, be) = (self.omega_e, self.omega_c, self.beta);
-                let e = a * ph.sin();
-                let de = a * we * ph.cos();
-                let dde = -a * we * we * ph.sin();
-                let x = wc * tau;
-                let r = 1.0 + be * x.cos();
-                let dr = -be * wc * x.sin();
-                let ddr = -be * wc * wc * x.cos();
+                let e = a * sph;
+                let de = a * we * cph;
+                let dde = -a * we * we * sph;
+                let r = 1.0 + be * cx;
+                let dr = -be * wc * sx;
+                let ddr = -be * wc * wc * cx;
                 dde / r - 2.0 * de * dr / (r * r)
                     + e * (2.0 * dr * dr / (r * r * r) - ddr / (r * r))
             }
+        }
+    }
+
+    /// `[F(τ_m), b̄(τ_m)]` and `f_r(τ_m)` on the grid `τ_m = m T / N`, `T = 2π/ω̄_c`
+    /// (`N` a multiple of 4): the same functions as [`stiffness`](Self::stiffness),
+    /// [`backlash_at`](Self::backlash_at) and [`forcing`](Self::forcing), equal to round-off,
+    /// but with every `sin`/`cos` taken from one quarter of the unit circle
+    /// (`ω̄_e τ_m = 2π Z₂ m/N`, phases by the addition theorem): `N/4` `sin_cos` calls instead
+    /// of about six transcendental calls per sample.
+    pub(super) fn tabulate_period(&self, n_grid: usize, forcing: &mut [f64], table: &mut [f64]) {
+        let quarter = n_grid / 4;
+        let mut circle = vec![(0.0, 0.0); n_grid];
+        for r in 0..quarter {
+            let (s, c) = (2.0 * std::f64::consts::PI * r as f64 / n_grid as f64).sin_cos();
+            circle[r] = (s, c);
+            circle[r + quarter] = (c, -s);
+            circle[r + 2 * quarter] = (-s, -c);
+            circle[r + 3 * quarter] = (-c, s);
+        }
+        let (spm, cpm) = self.phase_stiffness.sin_cos();
+        let (spe, cpe) = self.phase_error.sin_cos();
+        let z2 = self.z2 as usize;
+        let scale = 1.0 + 0.5 * self.beta * self.beta;
+        for (m, (f, row)) in forcing
+            .iter_mut()
+            .zip(table.chunks_exact_mut(2))
+            .enumerate()
+        {
+            let (sx, cx) = circle[m];
+            let s2x = circle[(2 * m) % n_grid].0;
+            let (sz, cz) = circle[(z2 * m) % n_grid];
+            let r = 1.0 + self.beta * cx;
+            row[0] = (1.0 + self.ak * (sz * cpm + cz * spm)) * r * r / scale;
+            row[1] = match self.readings.base_radius {
+                BaseRadius::TimeVarying => self.backlash / r,
+                BaseRadius::Mean => self.backlash,
+            };
+            let (sph, cph) = (sz * cpe + cz * spe, cz * cpe - sz * spe);
+            *f = -self.b0 - self.rigid_acceleration_trig(sx, cx, s2x)
+                + self.error_acceleration_trig(sph, cph, sx, cx);
         }
     }
 
@@ -271,6 +335,20 @@ pub enum RattleState {
 }
 
 impl RattleState {
+    /// The state of one sample `q` in a gap of half width `b`: back flank (`q > b`), in the gap
+    /// (`−b ≤ q ≤ b`), drive flank. The state of a period is the largest over its samples, so
+    /// with a constant `b` it is the state of `max q`.
+    #[inline]
+    pub fn of(q: f64, b: f64) -> Self {
+        if q > b {
+            RattleState::Bilateral
+        } else if q >= -b {
+            RattleState::Unilateral
+        } else {
+            RattleState::NoRattle
+        }
+    }
+
     /// The paper's rattle state value rsv (0, 1 or 2).
     pub fn rsv(self) -> u8 {
         match self {
@@ -295,6 +373,34 @@ pub struct Rattle {
 }
 
 impl Model {
+    /// [`rattle`](Self::rattle) of samples `q[m]` at `τ_m = m T / M` (`M = q.len()`) of one
+    /// period `T`. With a constant backlash ([`BaseRadius::Mean`]) the state follows from the
+    /// extrema alone (`q_max > b̄`: bilateral, `q_max ≥ −b̄`: unilateral), the same result
+    /// without a comparison per sample.
+    pub fn rattle_of_period(&self, period: f64, q: &[f64]) -> Rattle {
+        let n = q.len();
+        match self.readings.base_radius {
+            BaseRadius::Mean => {
+                let (q_min, q_max) = q
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                        (a.min(x), b.max(x))
+                    });
+                Rattle {
+                    state: RattleState::of(q_max, self.backlash),
+                    ppv: q_max - q_min,
+                    q_min,
+                    q_max,
+                }
+            }
+            BaseRadius::TimeVarying => self.rattle(
+                q.iter()
+                    .enumerate()
+                    .map(|(m, &q)| (period * m as f64 / n as f64, q)),
+            ),
+        }
+    }
+
     /// Classify samples `(τ, q)` of one steady period (Sect. 3.2).
     pub fn rattle<I: IntoIterator<Item = (f64, f64)>>(&self, samples: I) -> Rattle {
         let mut q_min = f64::INFINITY;
@@ -303,15 +409,7 @@ impl Model {
         for (tau, q) in samples {
             q_min = q_min.min(q);
             q_max = q_max.max(q);
-            let b = self.backlash_at(tau);
-            let s = if q > b {
-                RattleState::Bilateral
-            } else if q >= -b {
-                RattleState::Unilateral
-            } else {
-                RattleState::NoRattle
-            };
-            state = state.max(s);
+            state = state.max(RattleState::of(q, self.backlash_at(tau)));
         }
         Rattle {
             state,
@@ -430,6 +528,35 @@ mod tests {
                     .half_gap(tau, &backlash::CentreDisplacement::default())
                     .unwrap();
                 assert_eq!(g.b.to_bits(), b.to_bits());
+            }
+        }
+    }
+
+    #[test]
+    fn rattle_of_period_equals_the_sample_loop() {
+        for base_radius in [BaseRadius::Mean, BaseRadius::TimeVarying] {
+            let mut p = table1();
+            p.readings.base_radius = base_radius;
+            let m = p.model().unwrap();
+            let b = m.backlash;
+            let t = m.period();
+            // no rattle, unilateral, bilateral, and a NaN sample
+            for (mean, amp) in [(-3.0 * b, 0.5 * b), (-b, 0.5 * b), (0.0, 2.0 * b)] {
+                let mut q: Vec<f64> = (0..256)
+                    .map(|i| mean + amp * (0.3 * f64::from(i)).sin())
+                    .collect();
+                for extra in [None, Some(f64::NAN)] {
+                    if let Some(x) = extra {
+                        q[7] = x;
+                    }
+                    let fast = m.rattle_of_period(t, &q);
+                    let slow = m.rattle(
+                        q.iter()
+                            .enumerate()
+                            .map(|(i, &q)| (t * i as f64 / 256.0, q)),
+                    );
+                    assert_eq!(fast, slow, "{base_radius:?} {mean} {amp}");
+                }
             }
         }
     }

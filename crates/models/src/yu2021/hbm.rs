@@ -70,6 +70,14 @@ pub struct HbmSolution {
     pub iterations: usize,
     /// Final residual norm.
     pub residual_norm: f64,
+    /// Truncation indicator of the engine ([`hbm::PeriodicSolution::truncation`]): the relative
+    /// size of the force harmonics above the basis (NaN in data written before it existed).
+    #[serde(default = "f64_nan")]
+    pub truncation: f64,
+}
+
+fn f64_nan() -> f64 {
+    f64::NAN
 }
 
 impl HbmSolution {
@@ -387,6 +395,7 @@ impl Yu2021Model {
             converged: sol.converged,
             iterations: usize::try_from(sol.iterations).unwrap_or(usize::MAX),
             residual_norm: sol.residual_norm,
+            truncation: sol.truncation,
         })
     }
 }

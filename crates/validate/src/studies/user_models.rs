@@ -1085,6 +1085,7 @@ const YU_HBM_OUT: &[(&str, &str)] = &[
     ("first_harmonic_amplitude", "1"),
     ("converged", "1"),
     ("residual_norm", "1"),
+    ("truncation", "1"),
 ];
 
 fn yu_describe() -> ModelInfo {
@@ -1323,6 +1324,7 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                             a1,
                             if s.converged { 1.0 } else { 0.0 },
                             s.residual_norm,
+                            s.truncation,
                         ])
                     }) as Job)
                 }),
