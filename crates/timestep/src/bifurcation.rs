@@ -161,14 +161,19 @@ pub struct BifurcationPoint {
     pub final_state: Vec<f64>,
 }
 
-/// One point: build the system, classify from `y0`.
-fn point<S: OdeSystem>(
-    built: Result<(S, f64)>,
+/// One point of a bifurcation diagram: the section of `sys` (forcing period `period`) from
+/// `y0` at `t = 0`, classified ([`classify_motion`]). What [`bifurcation_sweep`] does per
+/// parameter value; a caller that distributes points itself (the study files' shards) calls
+/// it directly.
+pub fn bifurcation_point<S: OdeSystem + ?Sized>(
+    sys: &S,
+    period: f64,
     y0: &[f64],
     bo: &BifurcationOptions,
     opts: &Options,
 ) -> Result<BifurcationPoint> {
-    let (sys, period) = built?;
+    bo.check(y0.len())?;
+    check_finite_slice("initial state", y0)?;
     if sys.dim() != y0.len() {
         return Err(Error::DimensionMismatch {
             name: "initial state (bound: the system's dimension)",
@@ -176,7 +181,7 @@ fn point<S: OdeSystem>(
             got: y0.len(),
         });
     }
-    let c = classify_motion(&sys, 0.0, y0, &bo.classify(period), opts)?;
+    let c = classify_motion(sys, 0.0, y0, &bo.classify(period), opts)?;
     let dim = c.section.dim;
     let last = c.section.len() - 1;
     Ok(BifurcationPoint {
@@ -193,6 +198,16 @@ fn point<S: OdeSystem>(
             .collect(),
         final_state: c.section.point(last).to_vec(),
     })
+}
+
+fn point<S: OdeSystem>(
+    built: Result<(S, f64)>,
+    y0: &[f64],
+    bo: &BifurcationOptions,
+    opts: &Options,
+) -> Result<BifurcationPoint> {
+    let (sys, period) = built?;
+    bifurcation_point(&sys, period, y0, bo, opts)
 }
 
 /// Bifurcation diagram over `params`: for each parameter `system(p)` returns the system and

@@ -105,7 +105,8 @@ mod sweep;
 mod system;
 
 pub use bifurcation::{
-    BifurcationOptions, BifurcationPoint, MAX_PERIODS, MAX_SECTION_POINTS, Start, bifurcation_sweep,
+    BifurcationOptions, BifurcationPoint, MAX_PERIODS, MAX_SECTION_POINTS, Start,
+    bifurcation_point, bifurcation_sweep,
 };
 pub use driver::integrate;
 pub use error::{Error, Result};

@@ -243,28 +243,12 @@ impl Model {
     }
 }
 
-/// Rattle state value `rsv` (Sect. 3.2): 0 no rattle, 1 unilateral, 2 bilateral.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RattleState {
-    /// `q < −b̄` throughout: the drive flanks never separate (rsv = 0).
-    NoRattle,
-    /// The flanks separate (`q ≥ −b̄` somewhere) but never reach the back flank (rsv = 1).
-    Unilateral,
-    /// Back-flank contact `q > b̄` occurs (rsv = 2).
-    Bilateral,
-}
-
-impl RattleState {
-    /// The paper's rattle state value rsv (0, 1 or 2).
-    pub fn rsv(self) -> u8 {
-        match self {
-            RattleState::NoRattle => 0,
-            RattleState::Unilateral => 1,
-            RattleState::Bilateral => 2,
-        }
-    }
-}
+/// Rattle state value `rsv` (Sect. 3.2): the workspace's one [`timestep::RattleState`]. This
+/// model's classifier ([`Model::rattle`]) knows the drive flank (`q < −b̄`): `NoRattle` when
+/// `q < −b̄` throughout, `Unilateral` when the flanks separate (`q ≥ −b̄` somewhere) but never
+/// reach the back flank, `Bilateral` when back-flank contact `q > b̄` occurs; never
+/// `NoContact`.
+pub use timestep::RattleState;
 
 /// Rattle state and peak-to-peak value of one steady period.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -96,50 +96,15 @@ impl Default for SweepStrategy {
     }
 }
 
-/// Motion type of a time response from its stroboscopic Poincaré section.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Motion {
-    /// The section repeats after `n` excitation periods.
-    Periodic(u32),
-    /// No repetition with `n ≤ 4` periods within the tolerance.
-    NonPeriodic,
-}
-
-impl Motion {
-    /// `period-1`, `period-2`, …, `non-periodic`.
-    pub fn label(self) -> String {
-        match self {
-            Motion::Periodic(n) => format!("period-{n}"),
-            Motion::NonPeriodic => "non-periodic".to_owned(),
-        }
-    }
-
-    /// Period multiple `n`, 0 for non-periodic (for tables).
-    pub fn period_multiple(self) -> u32 {
-        match self {
-            Motion::Periodic(n) => n,
-            Motion::NonPeriodic => 0,
-        }
-    }
-}
+/// Motion type of a time response: the workspace's one [`timestep::Motion`] (this strategy's
+/// section test gives `Periodic(n)` or `NonPeriodic`).
+pub use timestep::Motion;
 
 /// Classify a stroboscopic section `(q_k, v_k)` (one point per period): the smallest `n ≤ 4`
 /// with `|x_{k+n} − x_k| ≤ tol·scale` for every `k` of the section, else non-periodic.
-/// Needs at least `n + 2` points to accept period `n`.
+/// Needs at least `n + 2` points to accept period `n` ([`timestep::detect_period_abs`]).
 pub fn classify_section(q: &[f64], v: &[f64], tol: f64, scale: f64) -> Motion {
-    let len = q.len().min(v.len());
-    for n in 1..=4usize {
-        if len < n + 2 {
-            break;
-        }
-        let repeats = (0..len - n).all(|k| {
-            (q[k + n] - q[k]).abs() <= tol * scale && (v[k + n] - v[k]).abs() <= tol * scale
-        });
-        if repeats {
-            return Motion::Periodic(n as u32);
-        }
-    }
-    Motion::NonPeriodic
+    timestep::detect_period_abs(q, v, 4, tol * scale)
 }
 
 /// The time-integration reference of one point.
@@ -161,7 +126,6 @@ impl TimeReference {
     /// change under the tightened tolerance.
     pub fn flag(&self) -> Option<String> {
         match self.motion {
-            Motion::NonPeriodic => Some("time integration: non-periodic motion".to_owned()),
             Motion::Periodic(n) if n > 1 => Some(format!(
                 "time integration: period-{n} motion, one-period metrics do not describe it"
             )),
@@ -173,6 +137,7 @@ impl TimeReference {
                 self.refined.ppv
             )),
             Motion::Periodic(_) => None,
+            other => Some(format!("time integration: {} motion", other.label())),
         }
     }
 }
