@@ -63,6 +63,8 @@ pub struct BifurcationOptions {
     pub lyapunov_intervals: usize,
     /// λ above which a non-periodic motion is chaotic (per unit time).
     pub lyapunov_threshold: f64,
+    /// State magnitude of the problem (> 0; see [`ClassifyOptions::scale`]).
+    pub scale: f64,
     /// Compute λ at periodic points too (negative there; a diagram of λ against the parameter).
     pub lyapunov_always: bool,
     /// Independent points or sequential continuation.
@@ -71,7 +73,7 @@ pub struct BifurcationOptions {
 
 impl BifurcationOptions {
     /// Coordinate `coordinate`, 200 transient periods, 64 section points, period ≤ 16, tol 1e-5,
-    /// 300 Lyapunov intervals, threshold 0.01 per unit time, λ only when not periodic,
+    /// 300 Lyapunov intervals, threshold 0.01 per unit time, scale 1, λ only when not periodic,
     /// independent points (the defaults of [`ClassifyOptions::new`]).
     pub fn new(coordinate: usize) -> Self {
         let c = ClassifyOptions::new(1.0);
@@ -83,6 +85,7 @@ impl BifurcationOptions {
             tol: c.tol,
             lyapunov_intervals: c.lyapunov_intervals,
             lyapunov_threshold: c.lyapunov_threshold,
+            scale: c.scale,
             lyapunov_always: false,
             start: Start::Independent,
         }
@@ -123,6 +126,9 @@ impl BifurcationOptions {
         if !(self.tol.is_finite() && self.tol > 0.0) {
             return bad("tol", "finite and > 0", self.tol);
         }
+        if !(self.scale.is_finite() && self.scale > 0.0) {
+            return bad("scale", "finite and > 0", self.scale);
+        }
         if !self.lyapunov_threshold.is_finite() {
             return bad("lyapunov_threshold", "finite", self.lyapunov_threshold);
         }
@@ -138,6 +144,7 @@ impl BifurcationOptions {
             tol: self.tol,
             lyapunov_intervals: self.lyapunov_intervals,
             lyapunov_threshold: self.lyapunov_threshold,
+            scale: self.scale,
             lyapunov_always: self.lyapunov_always,
         }
     }
@@ -301,6 +308,7 @@ mod tests {
             |b: &mut BifurcationOptions| b.max_period = 64,
             |b: &mut BifurcationOptions| b.tol = f64::NAN,
             |b: &mut BifurcationOptions| b.lyapunov_intervals = 0,
+            |b: &mut BifurcationOptions| b.scale = 0.0,
             |b: &mut BifurcationOptions| b.lyapunov_threshold = f64::INFINITY,
             |b: &mut BifurcationOptions| b.transient_periods = MAX_PERIODS + 1,
         ] {

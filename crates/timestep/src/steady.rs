@@ -360,8 +360,19 @@ where
 /// Smallest `n ≤ max_period` such that the section repeats after `n` points to `tol`
 /// (`|P_{k+n} − P_k|_∞ ≤ tol·(1 + max|P|)` for all `k`), or `None`.
 pub fn detect_period(section: &PoincareSection, max_period: usize, tol: f64) -> Option<usize> {
+    detect_period_scaled(section, max_period, tol, 1.0)
+}
+
+/// As [`detect_period`] with the tolerance relative to `scale + max|P|` (`scale` = the state
+/// magnitude of the problem; 1 in [`detect_period`]).
+fn detect_period_scaled(
+    section: &PoincareSection,
+    max_period: usize,
+    tol: f64,
+    scale: f64,
+) -> Option<usize> {
     let m = section.len();
-    let scale = 1.0 + inf_norm(&section.points);
+    let scale = scale + inf_norm(&section.points);
     (1..=max_period).find(|&n| {
         n < m
             && (0..m - n)
@@ -552,6 +563,10 @@ pub struct ClassifyOptions {
     pub lyapunov_intervals: usize,
     /// λ above which the motion is chaotic (per unit time).
     pub lyapunov_threshold: f64,
+    /// State magnitude `s` of the problem (> 0): the periodicity test is
+    /// `|P_{k+n} − P_k|_∞ ≤ tol·(s + max|P|)` and the Lyapunov separation `d0 = 10⁻⁷·(s + |y|)`;
+    /// 1 for states of order one, the gap half-width for a backlash coordinate in metres.
+    pub scale: f64,
     /// Compute λ for periodic motions too (then negative for a stable cycle: its decay rate);
     /// otherwise only when the section does not repeat.
     pub lyapunov_always: bool,
@@ -570,6 +585,7 @@ impl ClassifyOptions {
             tol: 1e-5,
             lyapunov_intervals: 300,
             lyapunov_threshold: 0.01,
+            scale: 1.0,
             lyapunov_always: false,
         }
     }
@@ -615,7 +631,8 @@ pub fn classify_motion<S: OdeSystem + ?Sized>(
         });
     }
     check_finite_slice("Poincaré section", &section.points)?;
-    let periodic = detect_period(&section, co.max_period, co.tol);
+    check_positive("scale", co.scale)?;
+    let periodic = detect_period_scaled(&section, co.max_period, co.tol, co.scale);
     if let (Some(p), false) = (periodic, co.lyapunov_always) {
         return Ok(Classification {
             motion: Motion::Periodic(p),
@@ -625,7 +642,7 @@ pub fn classify_motion<S: OdeSystem + ?Sized>(
     }
     let ts = section.t[0];
     let ys = section.point(0).to_vec();
-    let scale = 1.0 + inf_norm(&ys);
+    let scale = co.scale + inf_norm(&ys);
     let lo = LyapunovOptions {
         d0: 1e-7 * scale,
         interval: co.period,

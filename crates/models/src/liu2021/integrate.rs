@@ -95,7 +95,8 @@ fn system(
 /// after `bifurcation.transient_periods`, with its motion type and Lyapunov exponent
 /// ([`timestep::bifurcation_point`]); integrator settings `rtol` and `max_step` of `options`,
 /// start `options.initial` (default: the quasi-static contact position at rest). The other
-/// fields of `options` (transient, recorded window) are not used.
+/// fields of `options` (transient, recorded window) are not used. The state scale of the
+/// tolerances is the gap half-width `b̄` (`q` is of its order).
 pub fn bifurcation_point(
     model: &Model,
     options: &IntegrationOptions,
@@ -103,8 +104,11 @@ pub fn bifurcation_point(
 ) -> Result<timestep::BifurcationPoint, Error> {
     let (sys, opts) = system(model, options)?;
     let (q0, v0) = options.initial.unwrap_or((model.static_position(0.0), 0.0));
-    timestep::bifurcation_point(&sys, model.period(), &[q0, v0], bifurcation, &opts)
-        .map_err(Error::from)
+    let bo = timestep::BifurcationOptions {
+        scale: model.backlash.abs().max(f64::MIN_POSITIVE),
+        ..*bifurcation
+    };
+    timestep::bifurcation_point(&sys, model.period(), &[q0, v0], &bo, &opts).map_err(Error::from)
 }
 
 fn run(
