@@ -535,11 +535,14 @@ impl Motion {
         if !(code.is_finite() && code.fract() == 0.0) {
             return None;
         }
-        match code {
-            c if c >= 1.0 && c <= u32::MAX as f64 => Some(Motion::Periodic(c as usize)),
-            c if c == 0.0 => Some(Motion::QuasiPeriodic),
-            c if c == -1.0 => Some(Motion::Chaotic),
-            c if c == -2.0 => Some(Motion::NonPeriodic),
+        if (1.0..=f64::from(u32::MAX)).contains(&code) {
+            return Some(Motion::Periodic(code as usize));
+        }
+        // an integral value in [-2, 0]: exactly one of the three codes
+        match code as i64 {
+            0 => Some(Motion::QuasiPeriodic),
+            -1 => Some(Motion::Chaotic),
+            -2 => Some(Motion::NonPeriodic),
             _ => None,
         }
     }

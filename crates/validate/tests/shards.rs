@@ -212,7 +212,12 @@ fn sharded_bifurcation_study_merges_to_the_unsharded_outputs() {
     let (a, b) = (files(&whole), files(&sharded));
     assert_eq!(
         a.keys().collect::<Vec<_>>(),
-        [".geardyn-study", "bif.csv", "bif.json", "bif_bifurcation.svg"]
+        [
+            ".geardyn-study",
+            "bif.csv",
+            "bif.json",
+            "bif_bifurcation.svg"
+        ]
     );
     assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
     for (k, v) in &a {
