@@ -111,8 +111,9 @@ pub use bifurcation::{
 pub use driver::integrate;
 pub use error::{Error, Result};
 pub use metrics::{
-    RattleState, dynamic_factor, fourier_projection, harmonic_amplitudes_of_projection,
-    peak_to_peak, rattle_state, rattle_state_with_gap, rms, rms_of_harmonics,
+    RattleState, dynamic_factor, fourier_projection, fourier_projection_at,
+    harmonic_amplitudes_of_projection, peak_to_peak, rattle_state, rattle_state_with_gap, rms,
+    rms_of_harmonics,
 };
 pub use options::{Method, Options, Output};
 pub use problems::{BouncingBall, DeadZoneOscillator, Duffing, LinearOscillator};

@@ -153,6 +153,20 @@ pub fn rms_of_harmonics(amplitudes: &[f64]) -> Result<f64> {
 /// over whole periods of `2π/ω` and `N > 2h`; the amplitude of harmonic `j` is
 /// `hypot(a_j, b_j)` ([`harmonic_amplitudes_of_projection`]).
 pub fn fourier_projection(t: &[f64], x: &[f64], omega: f64, h: usize) -> Result<Vec<f64>> {
+    let harmonics: Vec<usize> = (1..=h).collect();
+    fourier_projection_at(t, x, omega, &harmonics)
+}
+
+/// As [`fourier_projection`] onto a chosen set of harmonics `k_1, k_2, …` (e.g. the sparse
+/// basis of a harmonic-balance solution): `[c_0, a_{k_1}, b_{k_1}, a_{k_2}, b_{k_2}, …]`, with
+/// `a_k = (2/N) Σ x_i cos(kωt_i)` and `b_k = (2/N) Σ x_i sin(kωt_i)`. Exact when the samples
+/// are uniform over whole periods and `N > 2·max k`.
+pub fn fourier_projection_at(
+    t: &[f64],
+    x: &[f64],
+    omega: f64,
+    harmonics: &[usize],
+) -> Result<Vec<f64>> {
     nonempty("signal", x)?;
     check_finite_slice("time", t)?;
     check_finite("omega", omega)?;
@@ -164,17 +178,17 @@ pub fn fourier_projection(t: &[f64], x: &[f64], omega: f64, h: usize) -> Result<
         });
     }
     let n = x.len() as f64;
-    let mut c = vec![0.0; 2 * h + 1];
+    let mut c = vec![0.0; 2 * harmonics.len() + 1];
     c[0] = x.iter().sum::<f64>() / n;
-    for j in 1..=h {
+    for (j, &k) in harmonics.iter().enumerate() {
         let (mut a, mut b) = (0.0, 0.0);
         for (ti, xi) in t.iter().zip(x) {
-            let (s, co) = (j as f64 * omega * ti).sin_cos();
+            let (s, co) = (k as f64 * omega * ti).sin_cos();
             a += xi * co;
             b += xi * s;
         }
-        c[2 * j - 1] = 2.0 * a / n;
-        c[2 * j] = 2.0 * b / n;
+        c[2 * j + 1] = 2.0 * a / n;
+        c[2 * j + 2] = 2.0 * b / n;
     }
     Ok(c)
 }
@@ -241,6 +255,12 @@ mod tests {
         assert!((amp[0] - 1.2).abs() < 1e-13 && amp[1].abs() < 1e-13);
         assert!((amp[2] - 0.4).abs() < 1e-13);
         assert!(fourier_projection(&t[1..], &x, w, 3).is_err());
+        // a sparse set: harmonics 3 and 1, in that order
+        let sparse = fourier_projection_at(&t, &x, w, &[3, 1]).unwrap();
+        let want = [0.3, 0.0, -0.4, 1.2, 0.0];
+        for (a, b) in sparse.iter().zip(want) {
+            assert!((a - b).abs() < 1e-13, "{sparse:?}");
+        }
         assert!(fourier_projection(&[], &[], w, 3).is_err());
     }
 
