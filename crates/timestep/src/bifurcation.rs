@@ -51,42 +51,22 @@ pub const MAX_PERIODS: usize = 10_000_000;
 pub struct BifurcationOptions {
     /// Index of the state component whose section values are kept (e.g. 0: displacement).
     pub coordinate: usize,
-    /// Forcing periods discarded before the section.
-    pub transient_periods: usize,
-    /// Section points kept (≥ 2, ≤ [`MAX_SECTION_POINTS`]).
-    pub n_points: usize,
-    /// Largest period-`n` tested (≥ 1, < `n_points`).
-    pub max_period: usize,
-    /// Relative tolerance of the periodicity test ([`crate::detect_period`]).
-    pub tol: f64,
-    /// Renormalisation intervals (forcing periods) of the Lyapunov exponent (≥ 1).
-    pub lyapunov_intervals: usize,
-    /// λ above which a non-periodic motion is chaotic (per unit time).
-    pub lyapunov_threshold: f64,
-    /// State magnitude of the problem (> 0; see [`ClassifyOptions::scale`]).
-    pub scale: f64,
-    /// Compute λ at periodic points too (negative there; a diagram of λ against the parameter).
-    pub lyapunov_always: bool,
+    /// The classification of every point ([`classify_motion`]): transient, section points
+    /// (≤ [`MAX_SECTION_POINTS`]), period test, Lyapunov exponent, state scale.
+    /// `classify.period` is not used: each point's period comes from the system builder.
+    pub classify: ClassifyOptions,
     /// Independent points or sequential continuation.
     pub start: Start,
 }
 
 impl BifurcationOptions {
-    /// Coordinate `coordinate`, 200 transient periods, 64 section points, period ≤ 16, tol 1e-5,
-    /// 300 Lyapunov intervals, threshold 0.01 per unit time, scale 1, λ only when not periodic,
-    /// independent points (the defaults of [`ClassifyOptions::new`]).
+    /// Coordinate `coordinate`, the defaults of [`ClassifyOptions::new`] (200 transient
+    /// periods, 64 section points, period ≤ 16, tol 1e-5, 300 Lyapunov intervals, threshold
+    /// 0.01 per unit time, scale 1, λ only when not periodic), independent points.
     pub fn new(coordinate: usize) -> Self {
-        let c = ClassifyOptions::new(1.0);
         Self {
             coordinate,
-            transient_periods: c.transient_periods,
-            n_points: c.n_points,
-            max_period: c.max_period,
-            tol: c.tol,
-            lyapunov_intervals: c.lyapunov_intervals,
-            lyapunov_threshold: c.lyapunov_threshold,
-            scale: c.scale,
-            lyapunov_always: false,
+            classify: ClassifyOptions::new(1.0),
             start: Start::Independent,
         }
     }
@@ -96,6 +76,7 @@ impl BifurcationOptions {
         let bad = |name: &'static str, bound: &'static str, value: f64| {
             Err(Error::InvalidParameter { name, bound, value })
         };
+        let c = &self.classify;
         if self.coordinate >= dim {
             return Err(Error::DimensionMismatch {
                 name: "coordinate index (bound: the state dimension)",
@@ -103,50 +84,36 @@ impl BifurcationOptions {
                 got: self.coordinate,
             });
         }
-        if !(2..=MAX_SECTION_POINTS).contains(&self.n_points) {
-            return bad("n_points", "in [2, 100000]", self.n_points as f64);
+        if !(2..=MAX_SECTION_POINTS).contains(&c.n_points) {
+            return bad("n_points", "in [2, 100000]", c.n_points as f64);
         }
-        if self.max_period == 0 || self.max_period >= self.n_points {
-            return bad("max_period", ">= 1 and < n_points", self.max_period as f64);
+        if c.max_period == 0 || c.max_period >= c.n_points {
+            return bad("max_period", ">= 1 and < n_points", c.max_period as f64);
         }
-        if self.transient_periods > MAX_PERIODS {
+        if c.transient_periods > MAX_PERIODS {
             return bad(
                 "transient_periods",
                 "<= 10000000",
-                self.transient_periods as f64,
+                c.transient_periods as f64,
             );
         }
-        if !(1..=MAX_PERIODS).contains(&self.lyapunov_intervals) {
+        if !(1..=MAX_PERIODS).contains(&c.lyapunov_intervals) {
             return bad(
                 "lyapunov_intervals",
                 "in [1, 10000000]",
-                self.lyapunov_intervals as f64,
+                c.lyapunov_intervals as f64,
             );
         }
-        if !(self.tol.is_finite() && self.tol > 0.0) {
-            return bad("tol", "finite and > 0", self.tol);
+        if !(c.tol.is_finite() && c.tol > 0.0) {
+            return bad("tol", "finite and > 0", c.tol);
         }
-        if !(self.scale.is_finite() && self.scale > 0.0) {
-            return bad("scale", "finite and > 0", self.scale);
+        if !(c.scale.is_finite() && c.scale > 0.0) {
+            return bad("scale", "finite and > 0", c.scale);
         }
-        if !self.lyapunov_threshold.is_finite() {
-            return bad("lyapunov_threshold", "finite", self.lyapunov_threshold);
+        if !c.lyapunov_threshold.is_finite() {
+            return bad("lyapunov_threshold", "finite", c.lyapunov_threshold);
         }
         Ok(())
-    }
-
-    fn classify(&self, period: f64) -> ClassifyOptions {
-        ClassifyOptions {
-            period,
-            transient_periods: self.transient_periods,
-            n_points: self.n_points,
-            max_period: self.max_period,
-            tol: self.tol,
-            lyapunov_intervals: self.lyapunov_intervals,
-            lyapunov_threshold: self.lyapunov_threshold,
-            scale: self.scale,
-            lyapunov_always: self.lyapunov_always,
-        }
     }
 }
 
@@ -157,7 +124,7 @@ pub struct BifurcationPoint {
     /// Motion type.
     pub motion: Motion,
     /// Largest Lyapunov exponent (per unit time); `None` at a periodic point unless
-    /// [`BifurcationOptions::lyapunov_always`].
+    /// [`ClassifyOptions::lyapunov_always`].
     pub lyapunov: Option<f64>,
     /// Forcing period `T` of this point.
     pub period: f64,
@@ -188,7 +155,11 @@ pub fn bifurcation_point<S: OdeSystem + ?Sized>(
             got: y0.len(),
         });
     }
-    let c = classify_motion(sys, 0.0, y0, &bo.classify(period), opts)?;
+    let co = ClassifyOptions {
+        period,
+        ..bo.classify
+    };
+    let c = classify_motion(sys, 0.0, y0, &co, opts)?;
     let dim = c.section.dim;
     let last = c.section.len() - 1;
     Ok(BifurcationPoint {
@@ -228,9 +199,9 @@ fn point<S: OdeSystem>(
 /// // Duffing, Holmes' double-well case, period-1 at γ = 0.20 and period-2 at γ = 0.28
 /// let gammas = [0.20, 0.28];
 /// let mut bo = BifurcationOptions::new(0);
-/// bo.transient_periods = 100;
-/// bo.n_points = 16;
-/// bo.max_period = 4;
+/// bo.classify.transient_periods = 100;
+/// bo.classify.n_points = 16;
+/// bo.classify.max_period = 4;
 /// let pts = bifurcation_sweep(
 ///     &gammas,
 ///     |&g| {
@@ -303,14 +274,14 @@ mod tests {
         assert!(ok.check(2).is_ok());
         assert!(ok.check(1).is_err());
         for f in [
-            |b: &mut BifurcationOptions| b.n_points = 1,
-            |b: &mut BifurcationOptions| b.max_period = 0,
-            |b: &mut BifurcationOptions| b.max_period = 64,
-            |b: &mut BifurcationOptions| b.tol = f64::NAN,
-            |b: &mut BifurcationOptions| b.lyapunov_intervals = 0,
-            |b: &mut BifurcationOptions| b.scale = 0.0,
-            |b: &mut BifurcationOptions| b.lyapunov_threshold = f64::INFINITY,
-            |b: &mut BifurcationOptions| b.transient_periods = MAX_PERIODS + 1,
+            |b: &mut BifurcationOptions| b.classify.n_points = 1,
+            |b: &mut BifurcationOptions| b.classify.max_period = 0,
+            |b: &mut BifurcationOptions| b.classify.max_period = 64,
+            |b: &mut BifurcationOptions| b.classify.tol = f64::NAN,
+            |b: &mut BifurcationOptions| b.classify.lyapunov_intervals = 0,
+            |b: &mut BifurcationOptions| b.classify.scale = 0.0,
+            |b: &mut BifurcationOptions| b.classify.lyapunov_threshold = f64::INFINITY,
+            |b: &mut BifurcationOptions| b.classify.transient_periods = MAX_PERIODS + 1,
         ] {
             let mut b = ok;
             f(&mut b);

@@ -9,9 +9,9 @@ fn opts() -> Options {
 
 fn bo(coordinate: usize) -> BifurcationOptions {
     let mut b = BifurcationOptions::new(coordinate);
-    b.transient_periods = 100;
-    b.n_points = 32;
-    b.lyapunov_intervals = 150;
+    b.classify.transient_periods = 100;
+    b.classify.n_points = 32;
+    b.classify.lyapunov_intervals = 150;
     b
 }
 
@@ -120,7 +120,7 @@ fn weakly_forced_backlash_oscillator_is_period_one() {
         b: 1.0,
     };
     let mut b = bo(0);
-    b.lyapunov_always = true;
+    b.classify.lyapunov_always = true;
     let pts = bifurcation_sweep(
         &[0.01, 0.02],
         |&f_amp| {
@@ -151,9 +151,9 @@ fn continuation_up_and_down_shows_hysteresis() {
     let run = |start| {
         let mut b = bo(0);
         b.start = start;
-        b.transient_periods = 60;
-        b.n_points = 8;
-        b.max_period = 4;
+        b.classify.transient_periods = 60;
+        b.classify.n_points = 8;
+        b.classify.max_period = 4;
         bifurcation_sweep(
             &omegas,
             |&omega| {
@@ -235,11 +235,11 @@ fn a_failed_point_is_a_failed_row_and_continuation_restarts() {
 fn independent_sweep_is_bit_identical_for_any_thread_count() {
     let gammas: Vec<f64> = (0..6).map(|i| 0.26 + 0.05 * i as f64).collect();
     let mut b = bo(1);
-    b.transient_periods = 40;
-    b.n_points = 12;
-    b.max_period = 4;
-    b.lyapunov_intervals = 20;
-    b.lyapunov_always = true;
+    b.classify.transient_periods = 40;
+    b.classify.n_points = 12;
+    b.classify.max_period = 4;
+    b.classify.lyapunov_intervals = 20;
+    b.classify.lyapunov_always = true;
     let run = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

@@ -117,14 +117,14 @@ impl BifurcationSpec {
         }
         let mut o = timestep::BifurcationOptions::new(0);
         // the ranges above are inside the engine's (usize, ≤ MAX_PERIODS)
-        o.n_points = self.points as usize;
-        o.transient_periods = self.transient_periods as usize;
-        o.max_period = self.max_period as usize;
-        o.tol = self.tol;
-        o.lyapunov_intervals = self.lyapunov_intervals as usize;
-        o.lyapunov_threshold = self.lyapunov_threshold;
+        o.classify.n_points = self.points as usize;
+        o.classify.transient_periods = self.transient_periods as usize;
+        o.classify.max_period = self.max_period as usize;
+        o.classify.tol = self.tol;
+        o.classify.lyapunov_intervals = self.lyapunov_intervals as usize;
+        o.classify.lyapunov_threshold = self.lyapunov_threshold;
         // λ at every point, so that the `lambda` column is a number in every successful row
-        o.lyapunov_always = true;
+        o.classify.lyapunov_always = true;
         Ok(o)
     }
 
@@ -264,10 +264,14 @@ mod tests {
     fn keys_are_checked() {
         let o = spec("").unwrap();
         assert_eq!(
-            (o.n_points, o.max_period, o.transient_periods),
+            (
+                o.classify.n_points,
+                o.classify.max_period,
+                o.classify.transient_periods
+            ),
             (32, 8, 200)
         );
-        assert!(o.lyapunov_always);
+        assert!(o.classify.lyapunov_always);
         for bad in [
             "points = 1",
             "points = 1001",

@@ -92,7 +92,7 @@ fn system(
 
 /// One point of a bifurcation diagram of Eq. (9): the stroboscopic section (period
 /// `T = 2π/ω̄_c`, [`Model::period`]) of coordinate `bifurcation.coordinate` (0: `q`, 1: `q'`)
-/// after `bifurcation.transient_periods`, with its motion type and Lyapunov exponent
+/// after `bifurcation.classify.transient_periods`, with its motion type and Lyapunov exponent
 /// ([`timestep::bifurcation_point`]); integrator settings `rtol` and `max_step` of `options`,
 /// start `options.initial` (default: the quasi-static contact position at rest). The other
 /// fields of `options` (transient, recorded window) are not used. The state scale of the
@@ -104,10 +104,8 @@ pub fn bifurcation_point(
 ) -> Result<timestep::BifurcationPoint, Error> {
     let (sys, opts) = system(model, options)?;
     let (q0, v0) = options.initial.unwrap_or((model.static_position(0.0), 0.0));
-    let bo = timestep::BifurcationOptions {
-        scale: model.backlash.abs().max(f64::MIN_POSITIVE),
-        ..*bifurcation
-    };
+    let mut bo = *bifurcation;
+    bo.classify.scale = model.backlash.abs().max(f64::MIN_POSITIVE);
     timestep::bifurcation_point(&sys, model.period(), &[q0, v0], &bo, &opts).map_err(Error::from)
 }
 

@@ -876,11 +876,12 @@ fn liu_bifurcation_build(
     let coordinate = BIFURCATION[0].coordinates[bo.coordinate];
     let (bo, limits) = (*bo, ctx.limits);
     Ok(Adapter {
-        outputs: crate::bifurcation::outputs(coordinate, "1", bo.n_points),
+        outputs: crate::bifurcation::outputs(coordinate, "1", bo.classify.n_points),
         prepare: Box::new(move |p: &Point| {
             let model = liu_model(p)?;
             // periods integrated: transient and section, twice the Lyapunov intervals
-            let periods = (bo.transient_periods + bo.n_points + 2 * bo.lyapunov_intervals) as f64;
+            let c = bo.classify;
+            let periods = (c.transient_periods + c.n_points + 2 * c.lyapunov_intervals) as f64;
             need_steps(
                 "liu2021 bifurcation",
                 periods * model.period() / opts.max_step,
