@@ -7,55 +7,18 @@
 //! (quasi-periodic, chaotic, or a transient that has not yet decayed — the test does not tell
 //! them apart, and none of them can carry a verdict that assumes periodicity).
 
-use serde::{Deserialize, Serialize};
-
 /// Largest period multiple the classification accepts.
 pub const MAX_PERIOD_MULTIPLE: usize = 4;
 
-/// Motion type of a time response from its stroboscopic Poincaré section.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Motion {
-    /// The section repeats after `n` excitation periods.
-    Periodic(u32),
-    /// No repetition with `n ≤ 4` periods within the tolerance.
-    NonPeriodic,
-}
-
-impl Motion {
-    /// `period-1`, `period-2`, …, `non-periodic`.
-    pub fn label(self) -> String {
-        match self {
-            Motion::Periodic(n) => format!("period-{n}"),
-            Motion::NonPeriodic => "non-periodic".to_owned(),
-        }
-    }
-
-    /// Period multiple `n`, 0 for non-periodic (for tables).
-    pub fn period_multiple(self) -> u32 {
-        match self {
-            Motion::Periodic(n) => n,
-            Motion::NonPeriodic => 0,
-        }
-    }
-}
+/// Motion type of a time response: the workspace's one [`timestep::Motion`] (the section tests
+/// here give `Periodic(n)` or `NonPeriodic`).
+pub use timestep::Motion;
 
 /// Classify a stroboscopic section `(q_k, v_k)` (one point per period): the smallest `n ≤ 4`
 /// with `|x_{k+n} − x_k| ≤ tol·scale` for every `k` of the section, else non-periodic.
-/// Needs at least `n + 2` points to accept period `n`.
+/// Needs at least `n + 2` points to accept period `n` ([`timestep::detect_period_abs`]).
 pub fn classify_section(q: &[f64], v: &[f64], tol: f64, scale: f64) -> Motion {
-    let len = q.len().min(v.len());
-    for n in 1..=MAX_PERIOD_MULTIPLE {
-        if len < n + 2 {
-            break;
-        }
-        let repeats = (0..len - n).all(|k| {
-            (q[k + n] - q[k]).abs() <= tol * scale && (v[k + n] - v[k]).abs() <= tol * scale
-        });
-        if repeats {
-            return Motion::Periodic(n as u32);
-        }
-    }
-    Motion::NonPeriodic
+    timestep::detect_period_abs(q, v, MAX_PERIOD_MULTIPLE, tol * scale)
 }
 
 /// Classify a uniformly sampled record of whole periods (`samples_per_period` samples per
@@ -86,7 +49,7 @@ pub fn classify_record(
             .iter()
             .all(|s| (0..used - shift).all(|i| (s[i + shift] - s[i]).abs() <= tol * scale));
         if repeats {
-            return Motion::Periodic(n as u32);
+            return Motion::Periodic(n);
         }
     }
     Motion::NonPeriodic

@@ -45,6 +45,10 @@ pub enum Error {
         /// Number supplied.
         got: usize,
     },
+    /// A user's system could not be built for one parameter value (e.g. a model constructor
+    /// refused it); the message is the model's.
+    #[error("system not built: {0}")]
+    System(String),
 }
 
 /// Result alias for this crate.

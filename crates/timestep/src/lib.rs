@@ -28,6 +28,11 @@
 //!   two-trajectory renormalisation ([`largest_lyapunov`], Benettin et al. 1980), each
 //!   trajectory integrated with event location — valid for piecewise-smooth systems without
 //!   a saltation matrix.
+//! * **Bifurcation diagrams** ([`bifurcation_sweep`]): for each parameter value the
+//!   stroboscopic section `x_j(kT)` of one coordinate with its [`Motion`] (period-n,
+//!   quasi-periodic, chaotic) and λ; independent points in parallel (bit-identical for any
+//!   thread count) or sequential continuation up/down ([`Start`]) to show hysteresis; a failed
+//!   point is an `Err` in its slot, not a lost sweep.
 //! * **Spectra** ([`amplitude_spectrum`], rustfft): one-sided, a sine of amplitude `A` shows
 //!   `A`; [`harmonic_amplitudes`] reads harmonic `h` from bin `h·n_periods`.
 //! * **Metrics**: peak-to-peak ([`peak_to_peak`], Liu's ppv), rattle state ([`rattle_state`],
@@ -84,6 +89,7 @@
 //! ```
 #![deny(missing_docs)]
 
+mod bifurcation;
 mod driver;
 mod error;
 mod metrics;
@@ -98,11 +104,16 @@ mod stepper;
 mod sweep;
 mod system;
 
+pub use bifurcation::{
+    BifurcationOptions, BifurcationPoint, MAX_PERIODS, MAX_SECTION_POINTS, Start,
+    bifurcation_point, bifurcation_sweep,
+};
 pub use driver::integrate;
 pub use error::{Error, Result};
 pub use metrics::{
-    RattleState, dynamic_factor, fourier_projection, harmonic_amplitudes_of_projection,
-    peak_to_peak, rattle_state, rattle_state_with_gap, rms, rms_of_harmonics,
+    RattleState, dynamic_factor, fourier_projection, fourier_projection_at,
+    harmonic_amplitudes_of_projection, peak_to_peak, rattle_state, rattle_state_with_gap, rms,
+    rms_of_harmonics,
 };
 pub use options::{Method, Options, Output};
 pub use problems::{BouncingBall, DeadZoneOscillator, Duffing, LinearOscillator};
@@ -110,8 +121,8 @@ pub use solution::{Event, Solution, Stats, Status};
 pub use spectrum::{Spectrum, amplitude_spectrum, harmonic_amplitudes};
 pub use steady::{
     Classification, ClassifyOptions, LyapunovEstimate, LyapunovOptions, Motion, PoincareSection,
-    SteadyOptions, SteadyState, Transient, classify_motion, detect_period, largest_lyapunov,
-    poincare_stroboscopic, poincare_surface, steady_state,
+    SteadyOptions, SteadyState, Transient, classify_motion, detect_period, detect_period_abs,
+    largest_lyapunov, poincare_stroboscopic, poincare_surface, steady_state,
 };
 pub use sweep::sweep;
 #[cfg(feature = "parallel")]

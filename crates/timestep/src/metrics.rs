@@ -25,31 +25,46 @@ pub fn peak_to_peak(x: &[f64]) -> Result<f64> {
     Ok(hi - lo)
 }
 
-/// Rattle state of a backlash coordinate (Liu et al. 2021, §4, "rsv").
+/// Rattle state of a backlash coordinate (Liu et al. 2021, Sect. 3.2, "rsv"): the one rattle
+/// state of the workspace (the Liu 2021 model classifies into it too).
 ///
 /// With relative displacement `x` and gap edges `±b` (dead zone `|x| ≤ b`), contact on the
-/// upper flank means `x > b`, on the lower flank `x < −b`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// upper flank means `x > b`, on the lower flank `x < −b`. Ordered by rsv (so that the worst
+/// state of a record is the `max` of its samples' states); serde names in snake_case
+/// (`no_rattle`, `unilateral`, `no_contact`, `bilateral`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum RattleState {
     /// Permanent contact on one flank, never separating (rsv = 0).
     NoRattle,
     /// Contact on one flank only, with separations into the gap (rsv = 1).
     Unilateral,
+    /// Never in contact (pure free flight); only [`rattle_state`] (flank-agnostic) gives it.
+    NoContact,
     /// Contact on both flanks (rsv = 2).
     Bilateral,
-    /// Never in contact (pure free flight); not among Liu's three states.
-    NoContact,
 }
 
 impl RattleState {
-    /// Liu's rattle-state value: 0, 1, 2; `None` for [`RattleState::NoContact`].
-    pub fn rsv(self) -> Option<u8> {
+    /// Liu's rattle-state value: 0, 1, 2. [`RattleState::NoContact`] counts as 1: in Liu's
+    /// definition rsv 1 means "the flanks are apart somewhere and the back flank is never
+    /// reached", which free flight satisfies (Sect. 3.2; `docs/readings/timestep.md`).
+    pub fn rsv(self) -> u8 {
         match self {
-            RattleState::NoRattle => Some(0),
-            RattleState::Unilateral => Some(1),
-            RattleState::Bilateral => Some(2),
-            RattleState::NoContact => None,
+            RattleState::NoRattle => 0,
+            RattleState::Unilateral | RattleState::NoContact => 1,
+            RattleState::Bilateral => 2,
+        }
+    }
+
+    /// `no rattle`, `unilateral`, `no contact`, `bilateral`.
+    pub fn label(self) -> &'static str {
+        match self {
+            RattleState::NoRattle => "no rattle",
+            RattleState::Unilateral => "unilateral",
+            RattleState::NoContact => "no contact",
+            RattleState::Bilateral => "bilateral",
         }
     }
 }
@@ -138,6 +153,20 @@ pub fn rms_of_harmonics(amplitudes: &[f64]) -> Result<f64> {
 /// over whole periods of `2π/ω` and `N > 2h`; the amplitude of harmonic `j` is
 /// `hypot(a_j, b_j)` ([`harmonic_amplitudes_of_projection`]).
 pub fn fourier_projection(t: &[f64], x: &[f64], omega: f64, h: usize) -> Result<Vec<f64>> {
+    let harmonics: Vec<usize> = (1..=h).collect();
+    fourier_projection_at(t, x, omega, &harmonics)
+}
+
+/// As [`fourier_projection`] onto a chosen set of harmonics `k_1, k_2, …` (e.g. the sparse
+/// basis of a harmonic-balance solution): `[c_0, a_{k_1}, b_{k_1}, a_{k_2}, b_{k_2}, …]`, with
+/// `a_k = (2/N) Σ x_i cos(kωt_i)` and `b_k = (2/N) Σ x_i sin(kωt_i)`. Exact when the samples
+/// are uniform over whole periods and `N > 2·max k`.
+pub fn fourier_projection_at(
+    t: &[f64],
+    x: &[f64],
+    omega: f64,
+    harmonics: &[usize],
+) -> Result<Vec<f64>> {
     nonempty("signal", x)?;
     check_finite_slice("time", t)?;
     check_finite("omega", omega)?;
@@ -149,17 +178,17 @@ pub fn fourier_projection(t: &[f64], x: &[f64], omega: f64, h: usize) -> Result<
         });
     }
     let n = x.len() as f64;
-    let mut c = vec![0.0; 2 * h + 1];
+    let mut c = vec![0.0; 2 * harmonics.len() + 1];
     c[0] = x.iter().sum::<f64>() / n;
-    for j in 1..=h {
+    for (j, &k) in harmonics.iter().enumerate() {
         let (mut a, mut b) = (0.0, 0.0);
         for (ti, xi) in t.iter().zip(x) {
-            let (s, co) = (j as f64 * omega * ti).sin_cos();
+            let (s, co) = (k as f64 * omega * ti).sin_cos();
             a += xi * co;
             b += xi * s;
         }
-        c[2 * j - 1] = 2.0 * a / n;
-        c[2 * j] = 2.0 * b / n;
+        c[2 * j + 1] = 2.0 * a / n;
+        c[2 * j + 2] = 2.0 * b / n;
     }
     Ok(c)
 }
@@ -188,17 +217,21 @@ mod tests {
     fn rattle_states() {
         let b = 1.0;
         let contact = [1.5, 2.0, 1.2];
-        assert_eq!(rattle_state(&contact, b, 0.0).unwrap().rsv(), Some(0));
+        assert_eq!(rattle_state(&contact, b, 0.0).unwrap().rsv(), 0);
         let neg = [-1.5, -2.0, -1.2];
         assert_eq!(rattle_state(&neg, b, 0.0).unwrap(), RattleState::NoRattle);
         let uni = [1.5, 0.0, 1.2];
-        assert_eq!(rattle_state(&uni, b, 0.0).unwrap().rsv(), Some(1));
+        assert_eq!(rattle_state(&uni, b, 0.0).unwrap().rsv(), 1);
         let bi = [1.5, 0.0, -1.2];
-        assert_eq!(rattle_state(&bi, b, 0.0).unwrap().rsv(), Some(2));
+        assert_eq!(rattle_state(&bi, b, 0.0).unwrap().rsv(), 2);
         assert_eq!(
             rattle_state(&[0.0, 0.5], b, 0.0).unwrap(),
             RattleState::NoContact
         );
+        assert_eq!(RattleState::NoContact.rsv(), 1);
+        // ordered by rsv: the worst state of a record is the max
+        assert!(RattleState::NoRattle < RattleState::Unilateral);
+        assert!(RattleState::NoContact < RattleState::Bilateral);
         assert!(rattle_state(&[], b, 0.0).is_err());
         assert!(rattle_state(&[1.0], f64::NAN, 0.0).is_err());
     }
@@ -222,6 +255,12 @@ mod tests {
         assert!((amp[0] - 1.2).abs() < 1e-13 && amp[1].abs() < 1e-13);
         assert!((amp[2] - 0.4).abs() < 1e-13);
         assert!(fourier_projection(&t[1..], &x, w, 3).is_err());
+        // a sparse set: harmonics 3 and 1, in that order
+        let sparse = fourier_projection_at(&t, &x, w, &[3, 1]).unwrap();
+        let want = [0.3, 0.0, -0.4, 1.2, 0.0];
+        for (a, b) in sparse.iter().zip(want) {
+            assert!((a - b).abs() < 1e-13, "{sparse:?}");
+        }
         assert!(fourier_projection(&[], &[], w, 3).is_err());
     }
 

@@ -3,7 +3,7 @@
 use std::cell::RefCell;
 
 use crate::driver::integrate;
-use crate::error::{Error, Result, check_positive};
+use crate::error::{Error, Result, check_finite_slice, check_positive};
 use crate::options::{Options, Output};
 use crate::solution::{Event, Stats, Status};
 use crate::system::{Direction, EventAction, OdeSystem};
@@ -360,13 +360,44 @@ where
 /// Smallest `n ≤ max_period` such that the section repeats after `n` points to `tol`
 /// (`|P_{k+n} − P_k|_∞ ≤ tol·(1 + max|P|)` for all `k`), or `None`.
 pub fn detect_period(section: &PoincareSection, max_period: usize, tol: f64) -> Option<usize> {
+    detect_period_scaled(section, max_period, tol, 1.0)
+}
+
+/// As [`detect_period`] with the tolerance relative to `scale + max|P|` (`scale` = the state
+/// magnitude of the problem; 1 in [`detect_period`]).
+fn detect_period_scaled(
+    section: &PoincareSection,
+    max_period: usize,
+    tol: f64,
+    scale: f64,
+) -> Option<usize> {
     let m = section.len();
-    let scale = 1.0 + inf_norm(&section.points);
+    let scale = scale + inf_norm(&section.points);
     (1..=max_period).find(|&n| {
         n < m
             && (0..m - n)
                 .all(|k| inf_norm_diff(section.point(k + n), section.point(k)) <= tol * scale)
     })
+}
+
+/// As [`detect_period`] on a two-coordinate section `(q_k, v_k)` with an absolute tolerance:
+/// the smallest `n ≤ max_period` with `|q_{k+n} − q_k| ≤ tol` and `|v_{k+n} − v_k| ≤ tol` for
+/// every `k`, accepted only with at least `n + 2` points (so that the repetition is seen
+/// twice); else [`Motion::NonPeriodic`]. No Lyapunov exponent: a cheap test for sweeps whose
+/// one-period metrics need period-1 motion.
+pub fn detect_period_abs(q: &[f64], v: &[f64], max_period: usize, tol: f64) -> Motion {
+    let len = q.len().min(v.len());
+    for n in 1..=max_period {
+        if len < n + 2 {
+            break;
+        }
+        let repeats =
+            (0..len - n).all(|k| (q[k + n] - q[k]).abs() <= tol && (v[k + n] - v[k]).abs() <= tol);
+        if repeats {
+            return Motion::Periodic(n);
+        }
+    }
+    Motion::NonPeriodic
 }
 
 /// Settings of [`largest_lyapunov`].
@@ -447,8 +478,14 @@ pub fn largest_lyapunov<S: OdeSystem + ?Sized>(
     Ok(LyapunovEstimate { value, history })
 }
 
-/// Kind of steady motion.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Kind of steady motion, from the stroboscopic Poincaré section (one point per forcing
+/// period) and, when it does not repeat, the largest Lyapunov exponent.
+///
+/// The one motion type of the workspace: [`classify_motion`] gives all but
+/// [`Motion::NonPeriodic`]; a section test without a Lyapunov exponent
+/// ([`detect_period_abs`], used by the Liu 2021 model's sweep strategy) gives `Periodic(n)` or
+/// `NonPeriodic`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[non_exhaustive]
 pub enum Motion {
@@ -458,6 +495,57 @@ pub enum Motion {
     QuasiPeriodic,
     /// Largest Lyapunov exponent > threshold.
     Chaotic,
+    /// Not periodic up to the tested order, not classified further (no Lyapunov exponent).
+    NonPeriodic,
+}
+
+impl Motion {
+    /// `period-1`, `period-2`, …, `quasi-periodic`, `chaotic`, `non-periodic` (the labels of
+    /// the validation tables and study outputs).
+    pub fn label(self) -> String {
+        match self {
+            Motion::Periodic(n) => format!("period-{n}"),
+            Motion::QuasiPeriodic => "quasi-periodic".to_owned(),
+            Motion::Chaotic => "chaotic".to_owned(),
+            Motion::NonPeriodic => "non-periodic".to_owned(),
+        }
+    }
+
+    /// Period multiple `n`, 0 when not periodic (for tables).
+    pub fn period_multiple(self) -> u32 {
+        match self {
+            Motion::Periodic(n) => u32::try_from(n).unwrap_or(u32::MAX),
+            _ => 0,
+        }
+    }
+
+    /// A number for a table cell: `n ≥ 1` for period-`n`, 0 quasi-periodic, −1 chaotic, −2
+    /// non-periodic (inverse: [`Motion::from_code`]).
+    pub fn code(self) -> f64 {
+        match self {
+            Motion::Periodic(n) => n as f64,
+            Motion::QuasiPeriodic => 0.0,
+            Motion::Chaotic => -1.0,
+            Motion::NonPeriodic => -2.0,
+        }
+    }
+
+    /// The motion of a [`Motion::code`]; `None` for a number that is no code.
+    pub fn from_code(code: f64) -> Option<Self> {
+        if !(code.is_finite() && code.fract() == 0.0) {
+            return None;
+        }
+        if (1.0..=f64::from(u32::MAX)).contains(&code) {
+            return Some(Motion::Periodic(code as usize));
+        }
+        // an integral value in [-2, 0]: exactly one of the three codes
+        match code as i64 {
+            0 => Some(Motion::QuasiPeriodic),
+            -1 => Some(Motion::Chaotic),
+            -2 => Some(Motion::NonPeriodic),
+            _ => None,
+        }
+    }
 }
 
 /// Settings of [`classify_motion`].
@@ -478,11 +566,19 @@ pub struct ClassifyOptions {
     pub lyapunov_intervals: usize,
     /// λ above which the motion is chaotic (per unit time).
     pub lyapunov_threshold: f64,
+    /// State magnitude `s` of the problem (> 0): the periodicity test is
+    /// `|P_{k+n} − P_k|_∞ ≤ tol·(s + max|P|)` and the Lyapunov separation `d0 = 10⁻⁷·(s + |y|)`;
+    /// 1 for states of order one, the gap half-width for a backlash coordinate in metres.
+    pub scale: f64,
+    /// Compute λ for periodic motions too (then negative for a stable cycle: its decay rate);
+    /// otherwise only when the section does not repeat.
+    pub lyapunov_always: bool,
 }
 
 impl ClassifyOptions {
     /// Defaults for forcing period `period`: 200 transient periods, 64 points, period ≤ 16,
-    /// tol 1e-5, 300 Lyapunov intervals, threshold 0.01 per unit time.
+    /// tol 1e-5, 300 Lyapunov intervals, threshold 0.01 per unit time, λ only when not
+    /// periodic.
     pub fn new(period: f64) -> Self {
         Self {
             period,
@@ -492,6 +588,8 @@ impl ClassifyOptions {
             tol: 1e-5,
             lyapunov_intervals: 300,
             lyapunov_threshold: 0.01,
+            scale: 1.0,
+            lyapunov_always: false,
         }
     }
 }
@@ -527,14 +625,18 @@ pub fn classify_motion<S: OdeSystem + ?Sized>(
         co.n_points,
         opts,
     )?;
-    if section.is_empty() {
+    // an integration that stopped early (step limit, non-finite state) leaves a short section
+    if section.is_empty() || section.len() < co.n_points {
         return Err(Error::TooFewSamples {
-            name: "Poincaré section",
-            needed: 2,
-            got: 0,
+            name: "Poincaré section (integration stopped early?)",
+            needed: co.n_points.max(2),
+            got: section.len(),
         });
     }
-    if let Some(p) = detect_period(&section, co.max_period, co.tol) {
+    check_finite_slice("Poincaré section", &section.points)?;
+    check_positive("scale", co.scale)?;
+    let periodic = detect_period_scaled(&section, co.max_period, co.tol, co.scale);
+    if let (Some(p), false) = (periodic, co.lyapunov_always) {
         return Ok(Classification {
             motion: Motion::Periodic(p),
             lyapunov: None,
@@ -543,14 +645,16 @@ pub fn classify_motion<S: OdeSystem + ?Sized>(
     }
     let ts = section.t[0];
     let ys = section.point(0).to_vec();
-    let scale = 1.0 + inf_norm(&ys);
+    let scale = co.scale + inf_norm(&ys);
     let lo = LyapunovOptions {
         d0: 1e-7 * scale,
         interval: co.period,
         n_intervals: co.lyapunov_intervals,
     };
     let ly = largest_lyapunov(sys, ts, &ys, &lo, opts)?;
-    let motion = if ly.value > co.lyapunov_threshold {
+    let motion = if let Some(p) = periodic {
+        Motion::Periodic(p)
+    } else if ly.value > co.lyapunov_threshold {
         Motion::Chaotic
     } else {
         Motion::QuasiPeriodic

@@ -116,6 +116,7 @@
 #![deny(missing_docs)]
 
 mod audit;
+pub mod bifurcation;
 mod error;
 mod figure;
 mod format;
@@ -130,6 +131,7 @@ mod table;
 mod user;
 
 pub use audit::{Problem, audit, audit_output, output_files};
+pub use bifurcation::{BifurcationSpec, MAX_BIFURCATION_PERIODS, MAX_BIFURCATION_POINTS};
 pub use error::{Error, ResultExt};
 pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
 pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
@@ -141,8 +143,8 @@ pub use render::{
 };
 pub use studies::all_studies;
 pub use studies::user_models::{
-    Adapter, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo, ModelSpec, ParamInfo, Preparer,
-    REGISTRY, SettingDef, describe_all,
+    Adapter, BIFURCATION, BifurcationModel, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo,
+    ModelSpec, ParamInfo, Preparer, REGISTRY, SettingDef, describe_all,
 };
 pub use study::{
     ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance,

@@ -22,6 +22,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize, de::DeserializeOwned};
 
+use crate::bifurcation::{self, BifurcationSpec};
 use crate::error::{Error, check_name};
 use crate::figure::{Figure, Series};
 use crate::heatmap::{HeatScale, Heatmap};
@@ -257,6 +258,10 @@ pub struct UserStudy {
     /// Work limits.
     #[serde(default)]
     pub limits: Limits,
+    /// A bifurcation study: Poincaré sections and motion types instead of the model's outputs
+    /// (see [`crate::bifurcation`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bifurcation: Option<BifurcationSpec>,
 }
 
 impl UserStudy {
@@ -283,6 +288,16 @@ impl UserStudy {
             )));
         }
         model_spec(&s.model)?;
+        if let Some(b) = &s.bifurcation {
+            b.options()?;
+            if s.sweep2.is_some() {
+                return Err(Error::StudyFile(
+                    "a [bifurcation] study sweeps one parameter: remove [sweep2] (one study per \
+                     value of the second parameter)"
+                        .to_owned(),
+                ));
+            }
+        }
         let n1 = s
             .sweep
             .as_ref()
@@ -395,7 +410,28 @@ pub fn prepare(study: &UserStudy) -> Result<Prepared, Error> {
         initial: study.initial.as_deref(),
         limits: study.limits,
     };
-    let adapter = (spec.build)(&ctx)?;
+    let adapter = match &study.bifurcation {
+        None => (spec.build)(&ctx)?,
+        Some(b) => {
+            let bm = user_models::BIFURCATION
+                .iter()
+                .find(|m| m.name == spec.name)
+                .ok_or_else(|| {
+                    Error::StudyFile(format!(
+                        "model `{}` has no [bifurcation] study; models with one: {}",
+                        spec.name,
+                        user_models::BIFURCATION
+                            .iter()
+                            .map(|m| m.name)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ))
+                })?;
+            let mut bo = b.options()?;
+            bo.coordinate = b.coordinate_index(spec.name, bm.coordinates)?;
+            (bm.build)(&ctx, &bo)?
+        }
+    };
     let xs = match &study.sweep {
         Some(s) => s.points()?,
         None => vec![Value::Num(f64::NAN)],
@@ -789,6 +825,7 @@ fn assemble(
         Value::Num(x) => Cell::Num(*x),
         other => Cell::Text(other.label()),
     };
+    let bif = study.bifurcation.is_some();
     let mut cols: Vec<(String, String)> = Vec::new();
     for s in [&study.sweep, &study.sweep2].into_iter().flatten() {
         cols.push((s.parameter.clone(), axis_unit(study, &s.parameter)));
@@ -811,6 +848,9 @@ fn assemble(
                 at.insert(s.parameter.clone(), y.clone());
             }
             match &results[k] {
+                Ok(v) if bif => {
+                    row.extend(v.iter().enumerate().map(|(j, &z)| bifurcation::cell(j, z)))
+                }
                 Ok(v) => row.extend(v.iter().map(|&z| Cell::Num(z))),
                 Err(e) => {
                     failed.push(FailedPoint {
@@ -847,7 +887,7 @@ fn assemble(
             name.clone(),
             serde_json::json!({"unit": unit, "min": json_num(lo), "max": json_num(hi)}),
         );
-        if let Some(s) = &study.sweep {
+        if let (Some(s), false) = (&study.sweep, bif) {
             let fname = format!("{}_{}", study.name, sanitize(name));
             let x_unit = axis_unit(study, &s.parameter);
             let mut fig = Figure::new(
@@ -880,6 +920,21 @@ fn assemble(
             }
             figures.push(fig);
         }
+    }
+    if let (Some(s), true) = (&study.sweep, bif) {
+        // the section columns share the coordinate's name (`q_1`, `q_2`, …) and unit
+        let (cname, cunit) = outputs
+            .get(bifurcation::LEADING)
+            .map(|(n, u)| (n.trim_end_matches("_1"), u.as_str()))
+            .unwrap_or(("section", ""));
+        figures.push(bifurcation::figure(
+            &format!("{}_bifurcation", study.name),
+            &format!("{}: bifurcation diagram", study.name),
+            (&s.parameter, &axis_unit(study, &s.parameter)),
+            (&format!("{cname}(kT)"), cunit),
+            &x_num,
+            &results,
+        ));
     }
     let maps = heat_maps(study, outputs, xs, ys, &results);
     let points = results.len();

@@ -170,3 +170,75 @@ fn a_stopped_run_resumes_without_recomputing_finished_points() {
     );
     let _ = std::fs::remove_dir_all(&root);
 }
+
+/// A small bifurcation study of the Liu model (4 speeds across the rattle onset, few periods:
+/// a plumbing check, not a converged diagram).
+const BIFURCATION: &str = r#"
+name = "bif"
+model = "liu2021"
+
+[overrides]
+load_torque = 30.0
+
+[sweep]
+parameter = "omega1"
+values = [140.0, 160.0, 170.0, 190.0]
+
+[bifurcation]
+points = 4
+max_period = 2
+transient_periods = 3
+lyapunov_intervals = 2
+
+[solver]
+method = "time-stepping"
+"#;
+
+#[test]
+fn sharded_bifurcation_study_merges_to_the_unsharded_outputs() {
+    let root = scratch("bifurcation");
+    let file = root.join("bif.toml");
+    std::fs::write(&file, BIFURCATION).unwrap();
+    let whole = root.join("whole");
+    let sharded = root.join("sharded");
+    let n = Count(AtomicUsize::new(0));
+    run_study_file(&file, Some(&whole), &n).unwrap();
+    let parts: Vec<PathBuf> = (1..=3)
+        .map(|i| {
+            run_study_shard_file(&file, Some(&sharded), ShardSpec::new(i, 3).unwrap(), &n).unwrap()
+        })
+        .collect();
+    merge_study_files(&file, Some(&sharded), &parts).unwrap();
+    let (a, b) = (files(&whole), files(&sharded));
+    assert_eq!(
+        a.keys().collect::<Vec<_>>(),
+        [
+            ".geardyn-study",
+            "bif.csv",
+            "bif.json",
+            "bif_bifurcation.svg"
+        ]
+    );
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
+    for (k, v) in &a {
+        assert!(
+            v == &b[k],
+            "{k} differs between the whole and the merged run"
+        );
+    }
+    let csv = String::from_utf8(a["bif.csv"].clone()).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert_eq!(
+        header,
+        "omega1 [rad/s],motion,period [1],lambda [1],q_1 [1],q_2 [1],q_3 [1],q_4 [1]"
+    );
+    // every row has a motion label
+    for line in csv.lines().skip(1) {
+        let motion = line.split(',').nth(1).unwrap();
+        assert!(
+            motion.starts_with("period-") || motion == "quasi-periodic" || motion == "chaotic",
+            "{line}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}

@@ -436,3 +436,50 @@ fn generic_pair_example_runs_and_columns_match_library() {
         sol.coefficients[1].hypot(sol.coefficients[2])
     );
 }
+
+#[test]
+fn bifurcation_study_errors_name_the_key() {
+    let base = r#"
+name = "b"
+model = "liu2021"
+[sweep]
+parameter = "omega1"
+values = [140.0, 150.0]
+[bifurcation]
+points = 4
+max_period = 2
+transient_periods = 2
+lyapunov_intervals = 2
+[solver]
+method = "time-stepping"
+"#;
+    let err = |text: &str| {
+        let s = geardyn_validate::UserStudy::parse(text)
+            .and_then(|s| geardyn_validate::prepare(&s).map(|_| ()));
+        s.unwrap_err().to_string()
+    };
+    assert!(err(&base.replace("points = 4", "points = 4\ntypo = 1")).contains("typo"));
+    assert!(err(&base.replace("points = 4", "points = 1")).contains("bifurcation.points"));
+    assert!(
+        err(&base.replace("[bifurcation]", "[bifurcation]\ncoordinate = \"x\"")).contains("q'")
+    );
+    assert!(
+        err(&base.replace("model = \"liu2021\"", "model = \"karpov2017\""))
+            .contains("no [bifurcation]")
+    );
+    assert!(err(&base.replace("\"time-stepping\"", "\"hbm\"")).contains("time-stepping"));
+    assert!(
+        err(&format!("{base}[solver.settings]\ntransient_periods = 3\n"))
+            .contains("transient_periods")
+    );
+    assert!(
+        err(&base.replace(
+            "[solver]",
+            "[sweep2]\nparameter = \"load_torque\"\nvalues = [1.0]\n[solver]"
+        ))
+        .contains("sweep2")
+    );
+    // a valid one parses and prepares
+    let s = geardyn_validate::UserStudy::parse(base).unwrap();
+    assert_eq!(geardyn_validate::prepare(&s).unwrap().len(), 2);
+}

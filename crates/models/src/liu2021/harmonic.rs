@@ -247,7 +247,6 @@ pub fn coefficients_from_time_response(
     basis: &Basis,
 ) -> Result<Vec<f64>, Error> {
     let b = basis.to_hbm(model.z2)?;
-    let mut z = vec![0.0; b.n_coefficients()];
     let t0 = *response
         .tau
         .first()
@@ -264,17 +263,12 @@ pub fn coefficients_from_time_response(
             b.max_harmonic()
         )));
     }
-    let w = 1.0 / n as f64;
-    for i in 0..n {
-        let (t, q) = (response.tau[i] - t0, response.q[i]);
-        z[0] += w * q;
-        for (j, &k) in b.harmonics().iter().enumerate() {
-            let x = k as f64 * model.omega_c * (t + t0);
-            z[2 * j + 1] += 2.0 * w * q * x.cos();
-            z[2 * j + 2] += 2.0 * w * q * x.sin();
-        }
-    }
-    Ok(z)
+    let q = response
+        .q
+        .get(..n)
+        .ok_or_else(|| Error::Solver("liu2021: fewer displacements than times".into()))?;
+    timestep::fourier_projection_at(&response.tau[..n], q, model.omega_c, b.harmonics())
+        .map_err(Error::from)
 }
 
 /// Where the harmonic-balance Newton iteration of [`solve_hbm_with`] starts.

@@ -53,6 +53,62 @@ pub struct TimeResponse {
     pub rhs_evaluations: u64,
 }
 
+fn positive(name: &'static str, v: f64) -> Result<(), Error> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::invalid(
+            format!("liu2021.integration.{name}"),
+            "> 0",
+            v,
+        ))
+    }
+}
+
+/// The first-order system of Eq. (9) (`y = [q, q']`) and the integrator settings of
+/// [`integrate`] (Dormand–Prince 5(4), `rtol`, `atol = 10⁻³·rtol·max(b̄, B₀)`, steps ≤
+/// `max_step`, events at `q = ±b̄(τ)`).
+fn system(
+    model: &Model,
+    options: &IntegrationOptions,
+) -> Result<
+    (
+        timestep::FirstOrder<timestep::Mechanical<Model>>,
+        timestep::Options,
+    ),
+    Error,
+> {
+    positive("max_step", options.max_step)?;
+    positive("rtol", options.rtol)?;
+    let ode = timestep::Mechanical::new(*model).map_err(Error::from)?;
+    let opts = timestep::Options::default()
+        .with_tol(
+            options.rtol,
+            options.rtol * 1e-3 * model.backlash.max(model.b0),
+        )
+        .with_h_max(options.max_step);
+    Ok((timestep::FirstOrder(ode), opts))
+}
+
+/// One point of a bifurcation diagram of Eq. (9): the stroboscopic section (period
+/// `T = 2π/ω̄_c`, [`Model::period`]) of coordinate `bifurcation.coordinate` (0: `q`, 1: `q'`)
+/// after `bifurcation.classify.transient_periods`, with its motion type and Lyapunov exponent
+/// ([`timestep::bifurcation_point`]); integrator settings `rtol` and `max_step` of `options`,
+/// start `options.initial` (default: the quasi-static contact position at rest). The other
+/// fields of `options` (transient, recorded window) are not used. The state scale of the
+/// tolerances is the gap half-width `b̄` (`q` is of its order).
+pub fn bifurcation_point(
+    model: &Model,
+    options: &IntegrationOptions,
+    bifurcation: &timestep::BifurcationOptions,
+) -> Result<timestep::BifurcationPoint, Error> {
+    let (sys, opts) = system(model, options)?;
+    let (q0, v0) = options.initial.unwrap_or((model.static_position(0.0), 0.0));
+    let mut bo = *bifurcation;
+    bo.classify.scale = model.backlash.abs().max(f64::MIN_POSITIVE);
+    timestep::bifurcation_point(&sys, model.period(), &[q0, v0], &bo, &opts).map_err(Error::from)
+}
+
 fn run(
     model: &Model,
     t0: f64,
@@ -77,21 +133,8 @@ fn run(
 /// at every gap-edge crossing `q = ±b̄(τ)`), discard `transient_periods` and return the
 /// recorded window with its rattle state and ppv.
 pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResponse, Error> {
-    let positive = |name: &'static str, v: f64| {
-        if v > 0.0 && v.is_finite() {
-            Ok(())
-        } else {
-            Err(Error::invalid(
-                format!("liu2021.integration.{name}"),
-                "> 0",
-                v,
-            ))
-        }
-    };
     positive("record_periods", options.record_periods)?;
     positive("sample_step", options.sample_step)?;
-    positive("max_step", options.max_step)?;
-    positive("rtol", options.rtol)?;
     if !(options.transient_periods >= 0.0 && options.transient_periods.is_finite()) {
         return Err(Error::invalid(
             "liu2021.integration.transient_periods",
@@ -100,12 +143,7 @@ pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResp
         ));
     }
     let period = model.period();
-    let base = timestep::Options::default()
-        .with_tol(
-            options.rtol,
-            options.rtol * 1e-3 * model.backlash.max(model.b0),
-        )
-        .with_h_max(options.max_step);
+    let (_, base) = system(model, options)?;
     let (q0, v0) = options.initial.unwrap_or((model.static_position(0.0), 0.0));
     let t_rec = options.transient_periods * period;
     let warm = run(

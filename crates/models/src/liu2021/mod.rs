@@ -112,7 +112,7 @@ pub use harmonic::{
     Basis, HbmOptions, HbmResponse, HbmStart, coefficients_from_time_response, solve_hbm,
     solve_hbm_from_time_response, solve_hbm_with,
 };
-pub use integrate::{IntegrationOptions, TimeResponse, integrate};
+pub use integrate::{IntegrationOptions, TimeResponse, bifurcation_point, integrate};
 pub use model::{Model, Rattle, RattleState};
 pub use params::{
     BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries, table1,

@@ -322,40 +322,25 @@ impl Model {
     }
 }
 
-/// Rattle state value `rsv` (Sect. 3.2): 0 no rattle, 1 unilateral, 2 bilateral.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum RattleState {
-    /// `q < −b̄` throughout: the drive flanks never separate (rsv = 0).
-    NoRattle,
-    /// The flanks separate (`q ≥ −b̄` somewhere) but never reach the back flank (rsv = 1).
-    Unilateral,
-    /// Back-flank contact `q > b̄` occurs (rsv = 2).
-    Bilateral,
-}
+/// Rattle state value `rsv` (Sect. 3.2): the workspace's one [`timestep::RattleState`]. This
+/// model's classifier ([`Model::rattle`]) knows the drive flank (`q < −b̄`): `NoRattle` when
+/// `q < −b̄` throughout, `Unilateral` when the flanks separate (`q ≥ −b̄` somewhere) but never
+/// reach the back flank, `Bilateral` when back-flank contact `q > b̄` occurs; never
+/// `NoContact`.
+pub use timestep::RattleState;
 
-impl RattleState {
-    /// The state of one sample `q` in a gap of half width `b`: back flank (`q > b`), in the gap
-    /// (`−b ≤ q ≤ b`), drive flank. The state of a period is the largest over its samples, so
-    /// with a constant `b` it is the state of `max q`.
-    #[inline]
-    pub fn of(q: f64, b: f64) -> Self {
-        if q > b {
-            RattleState::Bilateral
-        } else if q >= -b {
-            RattleState::Unilateral
-        } else {
-            RattleState::NoRattle
-        }
-    }
-
-    /// The paper's rattle state value rsv (0, 1 or 2).
-    pub fn rsv(self) -> u8 {
-        match self {
-            RattleState::NoRattle => 0,
-            RattleState::Unilateral => 1,
-            RattleState::Bilateral => 2,
-        }
+/// The state of one sample `q` in a gap of half width `b` (Liu's flank convention): back flank
+/// (`q > b`, bilateral), in the gap (`−b ≤ q ≤ b`, unilateral), drive flank (no rattle). The
+/// state of a period is the largest over its samples, so with a constant `b` it is the state of
+/// `max q`.
+#[inline]
+fn rattle_of_sample(q: f64, b: f64) -> RattleState {
+    if q > b {
+        RattleState::Bilateral
+    } else if q >= -b {
+        RattleState::Unilateral
+    } else {
+        RattleState::NoRattle
     }
 }
 
@@ -387,7 +372,7 @@ impl Model {
                         (a.min(x), b.max(x))
                     });
                 Rattle {
-                    state: RattleState::of(q_max, self.backlash),
+                    state: rattle_of_sample(q_max, self.backlash),
                     ppv: q_max - q_min,
                     q_min,
                     q_max,
@@ -409,7 +394,7 @@ impl Model {
         for (tau, q) in samples {
             q_min = q_min.min(q);
             q_max = q_max.max(q);
-            state = state.max(RattleState::of(q, self.backlash_at(tau)));
+            state = state.max(rattle_of_sample(q, self.backlash_at(tau)));
         }
         Rattle {
             state,

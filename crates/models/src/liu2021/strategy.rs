@@ -116,7 +116,6 @@ impl TimeReference {
     /// change under the tightened tolerance.
     pub fn flag(&self) -> Option<String> {
         match self.motion {
-            Motion::NonPeriodic => Some("time integration: non-periodic motion".to_owned()),
             Motion::Periodic(n) if n > 1 => Some(format!(
                 "time integration: period-{n} motion, one-period metrics do not describe it"
             )),
@@ -128,6 +127,7 @@ impl TimeReference {
                 self.refined.ppv
             )),
             Motion::Periodic(_) => None,
+            other => Some(format!("time integration: {} motion", other.label())),
         }
     }
 }

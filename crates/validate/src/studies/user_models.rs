@@ -182,6 +182,25 @@ pub const REGISTRY: [ModelSpec; 5] = [
     },
 ];
 
+/// A model with a bifurcation study (`[bifurcation]`, see [`crate::bifurcation`]).
+#[derive(Debug, Clone, Copy)]
+pub struct BifurcationModel {
+    /// The model's name in [`REGISTRY`].
+    pub name: &'static str,
+    /// The state coordinates a section can show: `(name, unit)`, in state order.
+    pub coordinates: &'static [(&'static str, &'static str)],
+    /// Build the adapter (outputs [`crate::bifurcation::outputs`], one job per parameter
+    /// value) for the checked engine options (coordinate index set).
+    pub build: fn(&Context<'_>, &timestep::BifurcationOptions) -> Result<Adapter, Error>,
+}
+
+/// The models that have a bifurcation study (a second, optional registration).
+pub const BIFURCATION: [BifurcationModel; 1] = [BifurcationModel {
+    name: "liu2021",
+    coordinates: &[("q", "1"), ("q'", "1")],
+    build: liu_bifurcation_build,
+}];
+
 // ---------------------------------------------------------------------------------------------
 // Shared helpers.
 
@@ -845,6 +864,67 @@ fn liu_model(p: &Point) -> Result<liu2021::Model, Error> {
     params.model().context("liu2021 parameters")
 }
 
+fn liu_initial(ctx: &Context<'_>) -> Result<Option<(f64, f64)>, Error> {
+    match ctx.initial {
+        None => Ok(None),
+        Some([q, v]) => Ok(Some((*q, *v))),
+        Some(v) => Err(Error::StudyFile(format!(
+            "liu2021: `initial` must be [q, q'], got {} numbers",
+            v.len()
+        ))),
+    }
+}
+
+/// A bifurcation study of the Liu model: time stepping with the integrator settings `max_step`
+/// and `rtol` (the transient and section sizes come from `[bifurcation]`).
+fn liu_bifurcation_build(
+    ctx: &Context<'_>,
+    bo: &timestep::BifurcationOptions,
+) -> Result<Adapter, Error> {
+    if ctx.solver.method != Method::TimeStepping {
+        return Err(wrong_method(
+            "liu2021 [bifurcation]",
+            ctx.solver.method,
+            &[Method::TimeStepping],
+        ));
+    }
+    let integrator = &LIU_TS[3..];
+    let s = Settings::read(
+        "liu2021 [bifurcation]",
+        Method::TimeStepping,
+        integrator,
+        &ctx.solver.settings,
+        &[],
+    )?;
+    let opts = liu2021::IntegrationOptions {
+        max_step: s.f("max_step"),
+        rtol: s.f("rtol"),
+        initial: liu_initial(ctx)?,
+        ..liu2021::IntegrationOptions::default()
+    };
+    let coordinate = BIFURCATION[0].coordinates[bo.coordinate];
+    let (bo, limits) = (*bo, ctx.limits);
+    Ok(Adapter {
+        outputs: crate::bifurcation::outputs(coordinate, "1", bo.classify.n_points),
+        prepare: Box::new(move |p: &Point| {
+            let model = liu_model(p)?;
+            // periods integrated: transient and section, twice the Lyapunov intervals
+            let c = bo.classify;
+            let periods = (c.transient_periods + c.n_points + 2 * c.lyapunov_intervals) as f64;
+            need_steps(
+                "liu2021 bifurcation",
+                periods * model.period() / opts.max_step,
+                &limits,
+            )?;
+            Ok(Box::new(move || {
+                let pt = liu2021::bifurcation_point(&model, &opts, &bo)
+                    .context("liu2021 bifurcation point")?;
+                Ok(crate::bifurcation::row(&pt))
+            }) as Job)
+        }),
+    })
+}
+
 fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
     let limits = ctx.limits;
     match ctx.solver.method {
@@ -856,16 +936,7 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 &ctx.solver.settings,
                 &[],
             )?;
-            let initial = match ctx.initial {
-                None => None,
-                Some([q, v]) => Some((*q, *v)),
-                Some(v) => {
-                    return Err(Error::StudyFile(format!(
-                        "liu2021: `initial` must be [q, q'], got {} numbers",
-                        v.len()
-                    )));
-                }
-            };
+            let initial = liu_initial(ctx)?;
             let opts = liu2021::IntegrationOptions {
                 transient_periods: s.f("transient_periods"),
                 record_periods: s.f("record_periods"),

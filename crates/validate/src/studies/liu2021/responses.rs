@@ -61,11 +61,7 @@ fn run() -> Result<StudyOutput, Error> {
             Ok((ti, hb, sp, m, time))
         })
         .collect::<Result<_, Error>>()?;
-    let label = |s: RattleState| match s {
-        RattleState::NoRattle => "no rattle",
-        RattleState::Unilateral => "unilateral",
-        RattleState::Bilateral => "bilateral",
-    };
+    let label = RattleState::label;
     spectrum_outputs(&mut out, &cases, &results)?;
     for (&(w, expected, fig), (ti, hb, _, m, time)) in cases.iter().zip(&results) {
         let full = liu2021::solve_hbm_with(
