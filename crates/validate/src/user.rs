@@ -19,7 +19,6 @@ use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize, de::DeserializeOwned};
 
 use crate::bifurcation::{self, BifurcationSpec};
@@ -710,13 +709,11 @@ pub fn compute_records(
         .enumerate()
         .filter(|(k, _)| shard.owns(*k) && !have.contains_key(k))
         .collect();
-    let total = todo.len();
-    let counter = std::sync::atomic::AtomicUsize::new(0);
     let n_out = outputs.len();
     let journal_error = std::sync::Mutex::new(None::<String>);
-    let new: Vec<PointRecord> = todo
-        .into_par_iter()
-        .map(|(k, job)| {
+    let new: Vec<PointRecord> = timestep::sweep_owned(
+        todo,
+        |(k, job)| {
             let r = match job {
                 Ok(job) => match catch_unwind(AssertUnwindSafe(job)) {
                     Ok(Ok(v)) if v.len() == n_out => match v.iter().position(|x| !x.is_finite()) {
@@ -744,13 +741,10 @@ pub fn compute_records(
                     }
                 }
             }
-            let d = counter.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-            if let Some(f) = progress {
-                f(d, total);
-            }
             rec
-        })
-        .collect();
+        },
+        progress,
+    );
     if let Ok(Some(e)) = journal_error.into_inner() {
         // The journal only speeds up a restart: losing it costs recomputation, not results.
         eprintln!("warning: journal not written ({e}); an interrupted run would start afresh");

@@ -4,7 +4,6 @@ use models::liu2021::{
     self, BranchStability, HbmOptions, HbmStart, IntegrationOptions, RattleState, SpeedBranch,
     SpeedContinuationOptions,
 };
-use rayon::prelude::*;
 
 use super::{base, model, sig, speed_tolerance, strategy};
 use crate::{
@@ -43,9 +42,9 @@ fn run() -> Result<StudyOutput, Error> {
         ("full K=65 from 250", 250.0, 100.0, true),
         ("full K=65 from 150", 150.0, 250.0, true),
     ];
-    let branches: Vec<SpeedBranch> = runs
-        .par_iter()
-        .map(|&(_, w0, w1, full)| {
+    let branches: Vec<SpeedBranch> = timestep::sweep(
+        &runs,
+        |&(_, w0, w1, full)| {
             let mut p = base();
             p.omega1 = w0;
             let m = model(&p)?;
@@ -65,8 +64,11 @@ fn run() -> Result<StudyOutput, Error> {
             };
             liu2021::continue_in_speed(&p, &o, HbmStart::FromTimeResponse(&ti))
                 .context("continuation")
-        })
-        .collect::<Result<_, Error>>()?;
+        },
+        None,
+    )
+    .into_iter()
+    .collect::<Result<_, Error>>()?;
     // Stability (period-map multipliers, three integrations each) on a thinned subset: points at
     // least STABILITY_SPACING rad/s apart along the branch, in parallel, in input order.
     let branches: Vec<SpeedBranch> = branches
@@ -85,9 +87,9 @@ fn run() -> Result<StudyOutput, Error> {
                 .collect();
             let base_model = model(&base())?;
             let to_wc = base_model.omega_c / base().omega1;
-            let mus: Vec<f64> = picked
-                .par_iter()
-                .map(|&i| {
+            let mus: Vec<f64> = timestep::sweep(
+                &picked,
+                |&i| {
                     let pt = &b.points[i];
                     let m = base_model
                         .with_omega_c(pt.omega1 * to_wc)
@@ -97,8 +99,11 @@ fn run() -> Result<StudyOutput, Error> {
                         rattle: pt.rattle,
                     };
                     liu2021::max_multiplier(&m, &r).context("stability")
-                })
-                .collect::<Result<_, Error>>()?;
+                },
+                None,
+            )
+            .into_iter()
+            .collect::<Result<_, Error>>()?;
             for (&i, &mu) in picked.iter().zip(&mus) {
                 b.points[i].max_multiplier = Some(mu);
                 b.points[i].stable = Some(liu2021::is_stable_multiplier(mu));
@@ -107,9 +112,9 @@ fn run() -> Result<StudyOutput, Error> {
         })
         .collect::<Result<_, Error>>()?;
     let xs: Vec<f64> = (0..=30).map(|i| 100.0 + 5.0 * f64::from(i)).collect();
-    let ti: Vec<(f64, u8, f64, Option<String>)> = xs
-        .par_iter()
-        .map(|&x| {
+    let ti: Vec<(f64, u8, f64, Option<String>)> = timestep::sweep(
+        &xs,
+        |&x| {
             let mut p = base();
             p.omega1 = x;
             let m = model(&p)?;
@@ -120,8 +125,11 @@ fn run() -> Result<StudyOutput, Error> {
                 r.rattle.ppv,
                 r.flag().map(|f| format!("at {}: {f}", sig(x))),
             ))
-        })
-        .collect::<Result<_, Error>>()?;
+        },
+        None,
+    )
+    .into_iter()
+    .collect::<Result<_, Error>>()?;
     let mut out = StudyOutput::new();
     let mut t = Table::new(
         "branches",
