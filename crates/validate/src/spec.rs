@@ -1,6 +1,6 @@
 //! The vocabulary of study files: values, sweeps, methods, solver settings and limits, and the
 //! serde helpers that set any model parameter by its Rust name. Used by the study runner
-//! ([`crate::user`]) and by the model registrations (`studies::user_models`); it imports
+//! (`user`) and by the model registrations (`studies::user_models`); it imports
 //! neither, so the two do not import each other.
 
 use std::collections::BTreeMap;
