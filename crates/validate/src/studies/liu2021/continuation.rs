@@ -70,44 +70,12 @@ fn run() -> Result<StudyOutput, Error> {
     .into_iter()
     .collect::<Result<_, Error>>()?;
     // Stability (period-map multipliers, three integrations each) on a thinned subset: points at
-    // least STABILITY_SPACING rad/s apart along the branch, in parallel, in input order.
+    // least STABILITY_SPACING rad/s apart along the branch (the library's policy).
     let branches: Vec<SpeedBranch> = branches
         .into_iter()
         .map(|mut b| {
-            let mut last = f64::NAN;
-            let picked: Vec<usize> = (0..b.points.len())
-                .filter(|&i| {
-                    let w = b.points[i].omega1;
-                    let take = last.is_nan() || (w - last).abs() >= STABILITY_SPACING;
-                    if take {
-                        last = w;
-                    }
-                    take
-                })
-                .collect();
-            let base_model = model(&base())?;
-            let to_wc = base_model.omega_c / base().omega1;
-            let mus: Vec<f64> = timestep::sweep(
-                &picked,
-                |&i| {
-                    let pt = &b.points[i];
-                    let m = base_model
-                        .with_omega_c(pt.omega1 * to_wc)
-                        .context("model")?;
-                    let r = liu2021::HbmResponse {
-                        solution: pt.solution.clone(),
-                        rattle: pt.rattle,
-                    };
-                    liu2021::max_multiplier(&m, &r).context("stability")
-                },
-                None,
-            )
-            .into_iter()
-            .collect::<Result<_, Error>>()?;
-            for (&i, &mu) in picked.iter().zip(&mus) {
-                b.points[i].max_multiplier = Some(mu);
-                b.points[i].stable = Some(liu2021::is_stable_multiplier(mu));
-            }
+            liu2021::add_branch_stability(&base(), &mut b, STABILITY_SPACING)
+                .context("stability")?;
             Ok(b)
         })
         .collect::<Result<_, Error>>()?;
