@@ -107,7 +107,7 @@ fn run() -> Result<StudyOutput, Error> {
             ("rsv", "1"),
             ("ppv", "1"),
             ("stable", "1"),
-            ("max_multiplier", "1"),
+            ("max_multiplier", "1, floor 1e-3, 3 s.f."),
         ],
     );
     let mut runs_t = Table::new(
@@ -136,7 +136,9 @@ fn run() -> Result<StudyOutput, Error> {
                 p.stable
                     .map_or(f64::NAN, |s| if s { 1.0 } else { 0.0 })
                     .into(),
-                p.max_multiplier.unwrap_or(f64::NAN).into(),
+                p.max_multiplier
+                    .map_or(f64::NAN, resolved_multiplier)
+                    .into(),
             ])?;
             pts.push((p.omega1, p.rattle.ppv, p.stable));
         }
@@ -149,7 +151,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .collect::<Vec<_>>()
                 .join(" ")
                 .into(),
-            format!("{:?}", b.end).into(),
+            end_label(&b.end).into(),
         ])?;
         // a fold lies between two points: mark it at the fitted ω₁ and their mean ppv
         let folds = b
@@ -202,7 +204,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .join(", "),
             sig(fold_max),
             sig(bi_min),
-            b.end
+            end_label(&b.end)
         ));
         if fold_max.is_finite() {
             out.compare(
@@ -247,4 +249,41 @@ fn run() -> Result<StudyOutput, Error> {
     out.table(runs_t);
     out.figure(fig);
     Ok(out)
+}
+
+/// Resolution of the finite-difference period map (perturbation `1e-7 b̄` against the
+/// integrator's tolerance): multipliers below it are noise (they move by ~50 % with round-off;
+/// `shooting_multipliers_flag_stable_orbits` bounds them by the same 1e-3), and strongly
+/// unstable ones move by ~3 %. The table writes `max(|μ|, 1e-3)` at 3 significant digits so that
+/// a snapshot diff means a changed multiplier; the stability flag uses the unrounded value.
+const MULTIPLIER_FLOOR: f64 = 1e-3;
+
+fn resolved_multiplier(mu: f64) -> f64 {
+    if !mu.is_finite() {
+        return mu;
+    }
+    let m = mu.max(MULTIPLIER_FLOOR);
+    let scale = 10f64.powi(2 - m.log10().floor() as i32);
+    (m * scale).round() / scale
+}
+
+/// The end of a branch at 6 significant digits (the raw `Debug` form prints round-off).
+fn end_label(end: &hbm::ContinuationEnd) -> String {
+    match end {
+        hbm::ContinuationEnd::ReachedEnd => "ReachedEnd".to_owned(),
+        hbm::ContinuationEnd::MaxPoints => "MaxPoints".to_owned(),
+        hbm::ContinuationEnd::LeftRange { parameter } => {
+            format!("LeftRange {{ parameter: {} }}", sig(*parameter))
+        }
+        hbm::ContinuationEnd::StepTooSmall { parameter } => {
+            format!("StepTooSmall {{ parameter: {} }}", sig(*parameter))
+        }
+        hbm::ContinuationEnd::InitialSolveFailed { residual_norm } => {
+            format!(
+                "InitialSolveFailed {{ residual_norm: {} }}",
+                sig(*residual_norm)
+            )
+        }
+        other => format!("{other:?}"),
+    }
 }
