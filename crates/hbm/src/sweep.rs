@@ -4,8 +4,6 @@
 //! the same results.
 
 use crate::{HbmError, HbmProblem, PeriodicSolution, SecondOrderSystem, SolverOptions};
-#[cfg(feature = "parallel")]
-use rayon::prelude::*;
 
 /// Solve independent problems for each parameter value in parallel.
 ///
@@ -25,15 +23,13 @@ where
     F: Fn(f64) -> Result<HbmProblem<S>, HbmError> + Sync,
     G: Fn(f64, &HbmProblem<S>) -> Vec<f64> + Sync,
 {
-    #[cfg(feature = "parallel")]
-    let points = values.par_iter();
-    #[cfg(not(feature = "parallel"))]
-    let points = values.iter();
-    points
-        .map(|&v| {
+    system::sweep::sweep(
+        values,
+        |&v| {
             let mut p = make(v)?;
             let z0 = guess(v, &p);
             p.solve(&z0, options)
-        })
-        .collect()
+        },
+        None,
+    )
 }

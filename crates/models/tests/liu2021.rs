@@ -341,6 +341,34 @@ fn continuation_finds_the_jump_fold_of_the_unilateral_branch() {
         ..o
     };
     assert!(liu2021::continue_in_speed(&p, &bad, HbmStart::Cold).is_err());
+
+    // Thinned stability (the library's policy the Fig. 11 study uses): points ≥ 2 rad/s apart,
+    // each checked, the rest left `None`; each checked value equals the direct call.
+    let mut thinned = b.clone();
+    liu2021::add_branch_stability(&p, &mut thinned, 2.0).unwrap();
+    let picked: Vec<usize> = (0..thinned.points.len())
+        .filter(|&i| thinned.points[i].stable.is_some())
+        .collect();
+    assert_eq!(picked.first(), Some(&0));
+    for w in picked.windows(2) {
+        assert!((thinned.points[w[1]].omega1 - thinned.points[w[0]].omega1).abs() >= 2.0);
+    }
+    let i = *picked.last().unwrap();
+    let m = p
+        .model()
+        .unwrap()
+        .with_omega_c(thinned.points[i].omega1 * p.model().unwrap().omega_c / p.omega1)
+        .unwrap();
+    let r = liu2021::HbmResponse {
+        solution: thinned.points[i].solution.clone(),
+        rattle: thinned.points[i].rattle,
+    };
+    assert_eq!(
+        thinned.points[i].max_multiplier,
+        Some(liu2021::max_multiplier(&m, &r).unwrap())
+    );
+    assert!(liu2021::add_branch_stability(&p, &mut thinned, -1.0).is_err());
+    assert!(liu2021::add_branch_stability(&p, &mut thinned, f64::NAN).is_err());
 }
 
 #[test]

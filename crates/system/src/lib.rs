@@ -63,6 +63,8 @@
 
 #![deny(missing_docs)]
 
+pub mod sweep;
+
 use nalgebra::DMatrix;
 
 /// Errors a [`SecondOrderSystem`] reports through its setters.

@@ -124,9 +124,9 @@ pub use steady::{
     SteadyOptions, SteadyState, Transient, classify_motion, detect_period, detect_period_abs,
     largest_lyapunov, poincare_stroboscopic, poincare_surface, steady_state,
 };
-pub use sweep::sweep;
 #[cfg(feature = "parallel")]
 pub use sweep::sweep_with_threads;
+pub use sweep::{sweep, sweep_owned};
 pub use system::{
     Direction, EventAction, FirstOrder, FnSystem, Mechanical, OdeSystem, SecondOrderSystem,
     gap_edges,

@@ -67,7 +67,7 @@ pub enum Error {
     #[error("study file: {0}")]
     StudyFile(String),
     /// A shard specification, partial result or journal is invalid, or partial results do not
-    /// merge (see [`crate::shard`]).
+    /// merge (see the `shard` module).
     #[error("shard: {0}")]
     Shard(String),
     /// Reading or writing a file failed.

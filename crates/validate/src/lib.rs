@@ -125,6 +125,7 @@ mod output;
 mod published;
 mod render;
 pub mod shard;
+mod spec;
 mod studies;
 mod study;
 mod table;

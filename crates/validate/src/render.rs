@@ -4,8 +4,6 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use rayon::prelude::*;
-
 use crate::error::Error;
 use crate::format::{SIGNIFICANT_DIGITS, csv_field, fmt6, md_cell};
 use crate::study::{Paper, Study, StudyOutput};
@@ -23,14 +21,17 @@ pub struct StudyResult {
 /// (e.g. to advance a progress bar). Deterministic: each study runs on one task and the results
 /// are collected in order.
 pub fn run_studies(studies: &[Study], on_done: impl Fn(&Study) + Sync) -> Vec<StudyResult> {
-    studies
-        .par_iter()
-        .map(|s| {
+    timestep::sweep(
+        studies,
+        |s| {
             let output = s.execute();
             on_done(s);
             StudyResult { study: *s, output }
-        })
-        .collect()
+        },
+        None,
+    )
+    .into_iter()
+    .collect()
 }
 
 /// Relative path (under `validation/`) of an output file of `study`.

@@ -244,3 +244,60 @@ pub fn continue_in_speed(
         end: branch.end,
     })
 }
+
+/// Shooting stability ([`BranchStability::Shooting`], three integrations per point) of a
+/// branch continued without it, on a thinned subset: the first point and then every point at
+/// least `spacing` rad/s of `ω₁` from the last one taken, in arclength order. The points are
+/// evaluated in parallel and written back in order, so the branch is bit-identical for any
+/// thread count; the points not taken keep `stable = None`. `params` is the parameter set the
+/// branch was continued from (its `ω̄_c/ω₁` ratio maps each point's `ω₁` to its model).
+///
+/// # Errors
+/// `spacing` not finite or negative, invalid parameters, integration failures.
+pub fn add_branch_stability(
+    params: &Parameters,
+    branch: &mut SpeedBranch,
+    spacing: f64,
+) -> Result<(), Error> {
+    if !(spacing.is_finite() && spacing >= 0.0) {
+        return Err(Error::invalid(
+            "liu2021.stability_spacing",
+            ">= 0 and finite",
+            spacing,
+        ));
+    }
+    let mut last = f64::NAN;
+    let picked: Vec<usize> = (0..branch.points.len())
+        .filter(|&i| {
+            let w = branch.points[i].omega1;
+            let take = last.is_nan() || (w - last).abs() >= spacing;
+            if take {
+                last = w;
+            }
+            take
+        })
+        .collect();
+    let base_model = params.model()?;
+    let to_wc = base_model.omega_c / params.omega1;
+    let points = &branch.points;
+    let mus: Vec<f64> = timestep::sweep(
+        &picked,
+        |&i| {
+            let pt = &points[i];
+            let m = base_model.with_omega_c(pt.omega1 * to_wc)?;
+            let r = HbmResponse {
+                solution: pt.solution.clone(),
+                rattle: pt.rattle,
+            };
+            super::max_multiplier(&m, &r)
+        },
+        None,
+    )
+    .into_iter()
+    .collect::<Result<_, Error>>()?;
+    for (&i, &mu) in picked.iter().zip(&mus) {
+        branch.points[i].max_multiplier = Some(mu);
+        branch.points[i].stable = Some(super::is_stable_multiplier(mu));
+    }
+    Ok(())
+}

@@ -106,7 +106,7 @@ mod strategy;
 
 pub use continuation::{
     BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedFold,
-    continue_in_speed, shooting_multipliers,
+    add_branch_stability, continue_in_speed, shooting_multipliers,
 };
 pub use harmonic::{
     Basis, HbmOptions, HbmResponse, HbmStart, coefficients_from_time_response, solve_hbm,

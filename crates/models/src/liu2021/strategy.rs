@@ -43,7 +43,6 @@
 //! # Ok::<(), geardyn_models::Error>(())
 //! ```
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::continuation::shooting_multipliers;
@@ -312,9 +311,8 @@ pub fn solve_sweep(
         stability: false,
         ..*strategy
     };
-    let mut pts: Vec<SweepPoint> = params
-        .par_iter()
-        .map(|p| solve_point(p, &no_stab))
+    let mut pts: Vec<SweepPoint> = timestep::sweep(params, |p| solve_point(p, &no_stab), None)
+        .into_iter()
         .collect::<Result<_, Error>>()?;
     let models: Vec<Model> = params
         .iter()
@@ -325,9 +323,14 @@ pub fn solve_sweep(
         fill_from_neighbours(&models, &mut pts, strategy, true)?;
     }
     if strategy.stability {
-        pts.par_iter_mut()
-            .zip(models.par_iter())
-            .try_for_each(|(p, m)| add_stability(m, p))?;
+        let pairs: Vec<(SweepPoint, &Model)> = pts.into_iter().zip(&models).collect();
+        pts = timestep::sweep_owned(
+            pairs,
+            |(mut p, m)| add_stability(m, &mut p).map(|()| p),
+            None,
+        )
+        .into_iter()
+        .collect::<Result<_, Error>>()?;
     }
     Ok(pts)
 }

@@ -9,7 +9,6 @@
 //! every table carries the quadrature's error estimate of `A`).
 
 use models::karpov2017::{Excitation, Karpov2017, Karpov2017Params};
-use rayon::prelude::*;
 
 use crate::{
     Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
@@ -108,15 +107,18 @@ fn amplitudes(
     ex: Excitation,
     tau_end: f64,
 ) -> Result<Vec<(f64, f64)>, Error> {
-    points
-        .par_iter()
-        .map(|&(omega, b, xi, k)| {
+    timestep::sweep(
+        points,
+        |&(omega, b, xi, k)| {
             let r = model(omega, b, xi, k, ex, tau_end)?
                 .duhamel()
                 .context("Karpov 2017 Duhamel quadrature")?;
             Ok((r.amplitude, r.error_estimate))
-        })
-        .collect()
+        },
+        None,
+    )
+    .into_iter()
+    .collect()
 }
 
 fn b_grid() -> Vec<f64> {
@@ -225,9 +227,9 @@ fn fig3() -> Result<StudyOutput, Error> {
         ],
     );
     let mut claims3 = Vec::new();
-    let results: Vec<Result<_, Error>> = READINGS
-        .par_iter()
-        .map(|&(ex, name, _)| {
+    let results: Vec<Result<_, Error>> = timestep::sweep(
+        &READINGS,
+        |&(ex, name, _)| {
             let m = model(1.0, 0.01, 2.0, 0.1, ex, TAU_END)?;
             let opts = timestep::Options::default()
                 .with_tol(1e-9, 1e-9)
@@ -260,8 +262,11 @@ fn fig3() -> Result<StudyOutput, Error> {
                 (r.amplitude, r.error_estimate),
                 sol.stats.n_accepted,
             ))
-        })
-        .collect();
+        },
+        None,
+    )
+    .into_iter()
+    .collect();
     for r in results {
         let (name, env, (a, a_err), steps) = r?;
         let half = TAU_END / 2.0;

@@ -11,7 +11,9 @@ use std::collections::BTreeMap;
 use models::{karpov2017, liu2021, pair, yu2021};
 use serde::Serialize;
 
-use crate::user::{Limits, Method, Point, Solver, Value, apply_values};
+use crate::spec::{
+    Limits, Method, Point, Solver, Value, apply_values, display_name, variant_names,
+};
 use crate::{Error, ResultExt};
 
 /// The computation of one prepared point.
@@ -241,11 +243,11 @@ fn choice_info<E: serde::de::DeserializeOwned + Serialize>(
 ) -> ChoiceInfo {
     let d = serde_json::to_value(default)
         .ok()
-        .and_then(|v| v.as_str().map(crate::user::display_name))
+        .and_then(|v| v.as_str().map(display_name))
         .unwrap_or_default();
     ChoiceInfo {
         name: name.to_owned(),
-        options: crate::user::variant_names::<E>(),
+        options: variant_names::<E>(),
         default: d,
         note: note.to_owned(),
     }

@@ -14,7 +14,6 @@ use models::yu2021::{
     BacklashSpec, BacklashUpdate, DynamicBacklashLaw, Engine, FractalMeshStiffness, FractalSurface,
     Options, ReferenceCheck, ReferenceRun, Response, RunSettings, Yu2021Model, Yu2021Params,
 };
-use rayon::prelude::*;
 
 use crate::{
     Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
@@ -195,14 +194,17 @@ pub(crate) fn run(p: &Yu2021Params, o: Options, omega: f64) -> Result<Response, 
 
 fn fig9() -> Result<StudyOutput, Error> {
     let paper = published!("yu2021.toml")?;
-    let runs: Vec<Result<(f64, ReferenceRun), Error>> = D_FIG9
-        .par_iter()
-        .map(|&d| {
+    let runs: Vec<Result<(f64, ReferenceRun), Error>> = timestep::sweep(
+        &D_FIG9,
+        |&d| {
             let p = fractal_rig(d)?;
             let bs = p.backlash.constant_part().context("b_s")? / p.nominal_length;
             Ok((bs, run_checked(&p, Options::default(), 0.2)?))
-        })
-        .collect();
+        },
+        None,
+    )
+    .into_iter()
+    .collect();
     let mut out = StudyOutput::new();
     let mut t = Table::new(
         "means",
@@ -342,16 +344,19 @@ fn fig10() -> Result<StudyOutput, Error> {
         .iter()
         .flat_map(|&d| [(d, true), (d, false)])
         .collect();
-    let checked: Vec<Result<ReferenceRun, Error>> = cases
-        .par_iter()
-        .map(|&(d, dynamic)| {
+    let checked: Vec<Result<ReferenceRun, Error>> = timestep::sweep(
+        &cases,
+        |&(d, dynamic)| {
             run_checked(
                 &fractal_rig(d)?,
                 if dynamic { Options::default() } else { off },
                 0.2,
             )
-        })
-        .collect();
+        },
+        None,
+    )
+    .into_iter()
+    .collect();
     let checked: Vec<ReferenceRun> = checked.into_iter().collect::<Result<_, _>>()?;
     let flag_of = |i: usize| {
         run_flags(
@@ -542,10 +547,10 @@ fn sweep(p: &Yu2021Params, omegas: &[f64]) -> Result<Vec<[ReferenceRun; 3]>, Err
         .iter()
         .flat_map(|&w| (0..3).map(move |m| (m, w)))
         .collect();
-    let res: Vec<Result<ReferenceRun, Error>> = jobs
-        .par_iter()
-        .map(|&(m, w)| run_checked(p, models[m], w))
-        .collect();
+    let res: Vec<Result<ReferenceRun, Error>> =
+        timestep::sweep(&jobs, |&(m, w)| run_checked(p, models[m], w), None)
+            .into_iter()
+            .collect();
     let mut it = res.into_iter();
     let mut out = Vec::with_capacity(omegas.len());
     for _ in omegas {

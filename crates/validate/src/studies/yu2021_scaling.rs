@@ -16,7 +16,6 @@ use models::yu2021::{
     FractalContact, FractalForm, FractalMeshStiffness, Options, ReferenceRun, Response,
     Yu2021Params, fractal_contact_stiffness,
 };
-use rayon::prelude::*;
 
 use super::yu2021::{CHECK_COLUMNS, check_cells, fractal_rig, run, run_checked, run_flags};
 use crate::{
@@ -114,9 +113,9 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
     let jobs: Vec<(usize, usize)> = (0..D3.len())
         .flat_map(|i| (0..EPS.len()).map(move |j| (i, j)))
         .collect();
-    let runs: Vec<Result<(f64, Response), Error>> = jobs
-        .par_iter()
-        .map(|&(i, j)| {
+    let runs: Vec<Result<(f64, Response), Error>> = timestep::sweep(
+        &jobs,
+        |&(i, j)| {
             let (d, mean, b, _) = implied[i];
             let eps = EPS[j];
             let t_star = (mean - b) * (1.0 - eps * eps).sqrt();
@@ -124,8 +123,11 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             p.stiffness_ratio = eps;
             p.mesh_stiffness = p.static_force() / (t_star * p.nominal_length);
             Ok((t_star, run(&p, Options::default(), 0.2)?))
-        })
-        .collect();
+        },
+        None,
+    )
+    .into_iter()
+    .collect();
     let mut out = StudyOutput::new();
     let mut t = Table::new(
         "implied-load",
@@ -256,15 +258,18 @@ fn d_trends() -> Result<StudyOutput, Error> {
     let jobs: Vec<(usize, f64)> = (0..cases.len())
         .flat_map(|c| omegas.iter().map(move |&w| (c, w)))
         .collect();
-    let checked: Vec<Result<ReferenceRun, Error>> = jobs
-        .par_iter()
-        .map(|&(c, w)| {
+    let checked: Vec<Result<ReferenceRun, Error>> = timestep::sweep(
+        &jobs,
+        |&(c, w)| {
             let (d, load) = cases[c];
             let mut p = fractal_rig(d)?;
             p.torque = load;
             run_checked(&p, Options::default(), w)
-        })
-        .collect();
+        },
+        None,
+    )
+    .into_iter()
+    .collect();
     let checked: Vec<ReferenceRun> = checked.into_iter().collect::<Result<_, _>>()?;
     let res: Vec<(f64, f64)> = checked
         .iter()
@@ -368,21 +373,27 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
         .iter()
         .flat_map(|&a| W_CHEN.iter().map(move |&w| (a, w)))
         .collect();
-    let res: Vec<Result<f64, Error>> = jobs
-        .par_iter()
-        .map(|&(a, w)| {
+    let res: Vec<Result<f64, Error>> = timestep::sweep(
+        &jobs,
+        |&(a, w)| {
             let p = Yu2021Params {
                 chen_amplitude: a * base.backlash.constant_part().context("b_s")?,
                 ..base
             };
             Ok(run(&p, Options::chen(), w)?.dynamic_factor())
-        })
-        .collect();
+        },
+        None,
+    )
+    .into_iter()
+    .collect();
     let res: Vec<f64> = res.into_iter().collect::<Result<_, _>>()?;
-    let ks: Vec<Result<f64, Error>> = W_CHEN
-        .par_iter()
-        .map(|&w| Ok(run(&base, Options::kahraman_singh(), w)?.dynamic_factor()))
-        .collect();
+    let ks: Vec<Result<f64, Error>> = timestep::sweep(
+        &W_CHEN,
+        |&w| Ok(run(&base, Options::kahraman_singh(), w)?.dynamic_factor()),
+        None,
+    )
+    .into_iter()
+    .collect();
     let ks: Vec<f64> = ks.into_iter().collect::<Result<_, _>>()?;
     let mut out = StudyOutput::new();
     let cols: Vec<String> = std::iter::once("a_z/b_h".to_owned())

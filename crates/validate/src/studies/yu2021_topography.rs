@@ -11,7 +11,6 @@
 
 use models::motion::Motion;
 use models::yu2021::{DynamicBacklashLaw, Options, ReferenceRun, Response};
-use rayon::prelude::*;
 
 use super::yu2021::{CHECK_COLUMNS, G_FIG9, check_cells, fractal_rig_with, run_checked, run_flags};
 use crate::{
@@ -145,16 +144,19 @@ fn fig11() -> Result<StudyOutput, Error> {
         ..Options::default()
     };
     let cases: Vec<(f64, bool)> = D4.iter().flat_map(|&d| [(d, true), (d, false)]).collect();
-    let runs: Vec<Result<ReferenceRun, Error>> = cases
-        .par_iter()
-        .map(|&(d, dynamic)| {
+    let runs: Vec<Result<ReferenceRun, Error>> = timestep::sweep(
+        &cases,
+        |&(d, dynamic)| {
             run_checked(
                 &fractal_rig_with(d, G_FIG9)?,
                 if dynamic { Options::default() } else { off },
                 W_FIG10,
             )
-        })
-        .collect();
+        },
+        None,
+    )
+    .into_iter()
+    .collect();
     let runs: Vec<ReferenceRun> = runs.into_iter().collect::<Result<_, _>>()?;
     let name = |i: usize| {
         format!(
@@ -467,9 +469,9 @@ fn fig12() -> Result<StudyOutput, Error> {
     let mut jobs: Vec<(f64, f64, f64)> = D4.iter().map(|&d| (d, G_FIG9, W_FIG12)).collect();
     jobs.extend(G5.iter().map(|&g| (D_G, g, W_FIG12)));
     jobs.extend(G5.iter().map(|&g| (D_G, g, W_FIG10)));
-    let runs: Vec<Result<(f64, f64, ReferenceRun), Error>> = jobs
-        .par_iter()
-        .map(|&(d, g, w)| {
+    let runs: Vec<Result<(f64, f64, ReferenceRun), Error>> = timestep::sweep(
+        &jobs,
+        |&(d, g, w)| {
             let p = fractal_rig_with(d, g)?;
             let bs = p.backlash.constant_part().context("b_s")? / p.nominal_length;
             Ok((
@@ -477,8 +479,11 @@ fn fig12() -> Result<StudyOutput, Error> {
                 p.mesh_stiffness,
                 run_checked(&p, Options::default(), w)?,
             ))
-        })
-        .collect();
+        },
+        None,
+    )
+    .into_iter()
+    .collect();
     let runs: Vec<(f64, f64, ReferenceRun)> = runs.into_iter().collect::<Result<_, _>>()?;
     let name = |i: usize| {
         let (d, g, w) = jobs[i];

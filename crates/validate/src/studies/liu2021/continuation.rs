@@ -4,7 +4,6 @@ use models::liu2021::{
     self, BranchStability, HbmOptions, HbmStart, IntegrationOptions, RattleState, SpeedBranch,
     SpeedContinuationOptions,
 };
-use rayon::prelude::*;
 
 use super::{base, model, sig, speed_tolerance, strategy};
 use crate::{
@@ -43,9 +42,9 @@ fn run() -> Result<StudyOutput, Error> {
         ("full K=65 from 250", 250.0, 100.0, true),
         ("full K=65 from 150", 150.0, 250.0, true),
     ];
-    let branches: Vec<SpeedBranch> = runs
-        .par_iter()
-        .map(|&(_, w0, w1, full)| {
+    let branches: Vec<SpeedBranch> = timestep::sweep(
+        &runs,
+        |&(_, w0, w1, full)| {
             let mut p = base();
             p.omega1 = w0;
             let m = model(&p)?;
@@ -65,51 +64,25 @@ fn run() -> Result<StudyOutput, Error> {
             };
             liu2021::continue_in_speed(&p, &o, HbmStart::FromTimeResponse(&ti))
                 .context("continuation")
-        })
-        .collect::<Result<_, Error>>()?;
+        },
+        None,
+    )
+    .into_iter()
+    .collect::<Result<_, Error>>()?;
     // Stability (period-map multipliers, three integrations each) on a thinned subset: points at
-    // least STABILITY_SPACING rad/s apart along the branch, in parallel, in input order.
+    // least STABILITY_SPACING rad/s apart along the branch (the library's policy).
     let branches: Vec<SpeedBranch> = branches
         .into_iter()
         .map(|mut b| {
-            let mut last = f64::NAN;
-            let picked: Vec<usize> = (0..b.points.len())
-                .filter(|&i| {
-                    let w = b.points[i].omega1;
-                    let take = last.is_nan() || (w - last).abs() >= STABILITY_SPACING;
-                    if take {
-                        last = w;
-                    }
-                    take
-                })
-                .collect();
-            let base_model = model(&base())?;
-            let to_wc = base_model.omega_c / base().omega1;
-            let mus: Vec<f64> = picked
-                .par_iter()
-                .map(|&i| {
-                    let pt = &b.points[i];
-                    let m = base_model
-                        .with_omega_c(pt.omega1 * to_wc)
-                        .context("model")?;
-                    let r = liu2021::HbmResponse {
-                        solution: pt.solution.clone(),
-                        rattle: pt.rattle,
-                    };
-                    liu2021::max_multiplier(&m, &r).context("stability")
-                })
-                .collect::<Result<_, Error>>()?;
-            for (&i, &mu) in picked.iter().zip(&mus) {
-                b.points[i].max_multiplier = Some(mu);
-                b.points[i].stable = Some(liu2021::is_stable_multiplier(mu));
-            }
+            liu2021::add_branch_stability(&base(), &mut b, STABILITY_SPACING)
+                .context("stability")?;
             Ok(b)
         })
         .collect::<Result<_, Error>>()?;
     let xs: Vec<f64> = (0..=30).map(|i| 100.0 + 5.0 * f64::from(i)).collect();
-    let ti: Vec<(f64, u8, f64, Option<String>)> = xs
-        .par_iter()
-        .map(|&x| {
+    let ti: Vec<(f64, u8, f64, Option<String>)> = timestep::sweep(
+        &xs,
+        |&x| {
             let mut p = base();
             p.omega1 = x;
             let m = model(&p)?;
@@ -120,8 +93,11 @@ fn run() -> Result<StudyOutput, Error> {
                 r.rattle.ppv,
                 r.flag().map(|f| format!("at {}: {f}", sig(x))),
             ))
-        })
-        .collect::<Result<_, Error>>()?;
+        },
+        None,
+    )
+    .into_iter()
+    .collect::<Result<_, Error>>()?;
     let mut out = StudyOutput::new();
     let mut t = Table::new(
         "branches",
@@ -131,7 +107,7 @@ fn run() -> Result<StudyOutput, Error> {
             ("rsv", "1"),
             ("ppv", "1"),
             ("stable", "1"),
-            ("max_multiplier", "1"),
+            ("max_multiplier", "1, floor 1e-3, 3 s.f."),
         ],
     );
     let mut runs_t = Table::new(
@@ -160,7 +136,9 @@ fn run() -> Result<StudyOutput, Error> {
                 p.stable
                     .map_or(f64::NAN, |s| if s { 1.0 } else { 0.0 })
                     .into(),
-                p.max_multiplier.unwrap_or(f64::NAN).into(),
+                p.max_multiplier
+                    .map_or(f64::NAN, resolved_multiplier)
+                    .into(),
             ])?;
             pts.push((p.omega1, p.rattle.ppv, p.stable));
         }
@@ -173,7 +151,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .collect::<Vec<_>>()
                 .join(" ")
                 .into(),
-            format!("{:?}", b.end).into(),
+            end_label(&b.end).into(),
         ])?;
         // a fold lies between two points: mark it at the fitted ω₁ and their mean ppv
         let folds = b
@@ -226,7 +204,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .join(", "),
             sig(fold_max),
             sig(bi_min),
-            b.end
+            end_label(&b.end)
         ));
         if fold_max.is_finite() {
             out.compare(
@@ -271,4 +249,41 @@ fn run() -> Result<StudyOutput, Error> {
     out.table(runs_t);
     out.figure(fig);
     Ok(out)
+}
+
+/// Resolution of the finite-difference period map (perturbation `1e-7 b̄` against the
+/// integrator's tolerance): multipliers below it are noise (they move by ~50 % with round-off;
+/// `shooting_multipliers_flag_stable_orbits` bounds them by the same 1e-3), and strongly
+/// unstable ones move by ~3 %. The table writes `max(|μ|, 1e-3)` at 3 significant digits so that
+/// a snapshot diff means a changed multiplier; the stability flag uses the unrounded value.
+const MULTIPLIER_FLOOR: f64 = 1e-3;
+
+fn resolved_multiplier(mu: f64) -> f64 {
+    if !mu.is_finite() {
+        return mu;
+    }
+    let m = mu.max(MULTIPLIER_FLOOR);
+    let scale = 10f64.powi(2 - m.log10().floor() as i32);
+    (m * scale).round() / scale
+}
+
+/// The end of a branch at 6 significant digits (the raw `Debug` form prints round-off).
+fn end_label(end: &hbm::ContinuationEnd) -> String {
+    match end {
+        hbm::ContinuationEnd::ReachedEnd => "ReachedEnd".to_owned(),
+        hbm::ContinuationEnd::MaxPoints => "MaxPoints".to_owned(),
+        hbm::ContinuationEnd::LeftRange { parameter } => {
+            format!("LeftRange {{ parameter: {} }}", sig(*parameter))
+        }
+        hbm::ContinuationEnd::StepTooSmall { parameter } => {
+            format!("StepTooSmall {{ parameter: {} }}", sig(*parameter))
+        }
+        hbm::ContinuationEnd::InitialSolveFailed { residual_norm } => {
+            format!(
+                "InitialSolveFailed {{ residual_norm: {} }}",
+                sig(*residual_norm)
+            )
+        }
+        other => format!("{other:?}"),
+    }
 }

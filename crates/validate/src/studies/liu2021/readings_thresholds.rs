@@ -1,7 +1,6 @@
 //! Which reading of Eq. (11), (20), (21) reproduces the Fig. 11 thresholds.
 
 use models::liu2021::{self, BaseRadius, ErrorTerm, Readings, RigidAcceleration};
-use rayon::prelude::*;
 
 use super::{base, model, sig, speed_tolerance, strategy};
 use crate::{Comparison, Cost, Error, Paper, ResultExt, Study, StudyOutput, Table, published};
@@ -65,9 +64,9 @@ fn run() -> Result<StudyOutput, Error> {
         ],
     );
     for (label, readings, id) in sets {
-        let pts: Vec<(f64, u8, Option<String>)> = xs
-            .par_iter()
-            .map(|&x| {
+        let pts: Vec<(f64, u8, Option<String>)> = timestep::sweep(
+            &xs,
+            |&x| {
                 let mut p = base();
                 p.readings = readings;
                 p.omega1 = x;
@@ -78,8 +77,11 @@ fn run() -> Result<StudyOutput, Error> {
                     r.rattle.state.rsv(),
                     r.flag().map(|f| format!("at {}: {f}", sig(x))),
                 ))
-            })
-            .collect::<Result<_, Error>>()?;
+            },
+            None,
+        )
+        .into_iter()
+        .collect::<Result<_, Error>>()?;
         let first = |rsv: u8| {
             let idx = pts.iter().position(|p| p.1 >= rsv);
             let upto = idx.map_or(pts.len(), |i| i + 1);

@@ -4,7 +4,6 @@ use models::liu2021::{
     self, HbmOptions, HbmStart, IntegrationOptions, Model, RattleState, SweepStrategy,
     TimeReference,
 };
-use rayon::prelude::*;
 
 use super::{base, model, sig, strategy};
 use crate::{
@@ -39,9 +38,9 @@ fn run() -> Result<StudyOutput, Error> {
         (140.0, RattleState::NoRattle, "Fig. 9"),
         (180.0, RattleState::Bilateral, "Fig. 10"),
     ];
-    let results: Vec<_> = cases
-        .par_iter()
-        .map(|&(w, _, _)| {
+    let results: Vec<_> = timestep::sweep(
+        &cases,
+        |&(w, _, _)| {
             let mut p = base();
             p.omega1 = w;
             let m = model(&p)?;
@@ -59,8 +58,11 @@ fn run() -> Result<StudyOutput, Error> {
             let sp =
                 timestep::amplitude_spectrum(&ti.q[..n], opts.sample_step).context("spectrum")?;
             Ok((ti, hb, sp, m, time))
-        })
-        .collect::<Result<_, Error>>()?;
+        },
+        None,
+    )
+    .into_iter()
+    .collect::<Result<_, Error>>()?;
     let label = RattleState::label;
     spectrum_outputs(&mut out, &cases, &results)?;
     for (&(w, expected, fig), (ti, hb, _, m, time)) in cases.iter().zip(&results) {

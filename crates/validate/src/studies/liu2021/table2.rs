@@ -2,7 +2,6 @@
 
 use gear_geometry::LiuRig;
 use models::liu2021::{self, HbmOptions, IntegrationOptions, SweepStrategy, TimeReference};
-use rayon::prelude::*;
 
 use super::{base, model, sig, strategy};
 use crate::{
@@ -81,9 +80,9 @@ fn run() -> Result<StudyOutput, Error> {
         .map(|v| (v.id.trim_start_matches("table2.rpm.").to_owned(), v.value))
         .collect();
     let z2 = f64::from(rig.z2);
-    let rows: Vec<Row> = rpms
-        .par_iter()
-        .map(|(_, n)| {
+    let rows: Vec<Row> = timestep::sweep(
+        &rpms,
+        |(_, n)| {
             let (m, time, sp) = rig_spectrum(&rig, *n)?;
             let a = |k: usize| sp.amplitude.get(k).copied().unwrap_or(f64::NAN);
             let hb = liu2021::solve_hbm(&m, &HbmOptions::default(), None).context("hbm")?;
@@ -96,8 +95,11 @@ fn run() -> Result<StudyOutput, Error> {
                 hbm_converged: hb.converged(),
                 rsv: time.rattle.state.rsv(),
             })
-        })
-        .collect::<Result<_, Error>>()?;
+        },
+        None,
+    )
+    .into_iter()
+    .collect::<Result<_, Error>>()?;
     // experimental scatter: residuals of the experimental ξ about its least-squares line in n
     let ex: Vec<(f64, f64)> = rpms
         .iter()

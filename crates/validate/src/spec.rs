@@ -1,0 +1,427 @@
+//! The vocabulary of study files: values, sweeps, methods, solver settings and limits, and the
+//! serde helpers that set any model parameter by its Rust name. Used by the study runner
+//! (`user`) and by the model registrations (`studies::user_models`); it imports
+//! neither, so the two do not import each other.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize, de::DeserializeOwned};
+
+use crate::error::Error;
+
+/// Longest study name (bytes).
+pub const MAX_NAME_LEN: usize = 64;
+/// Most values one sweep may have.
+pub const MAX_SWEEP_VALUES: usize = 100_000;
+/// Hard upper bound of [`Limits::max_points`].
+pub const MAX_POINTS_BOUND: usize = 1_000_000;
+/// Hard upper bound of [`Limits::max_steps`].
+pub const MAX_STEPS_BOUND: u64 = 10_000_000_000;
+
+/// A value in a study file: a number, a name (choices and readings), a flag or a list of
+/// numbers (initial states).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum Value {
+    /// `true` / `false`.
+    Bool(bool),
+    /// A number (TOML integers are read as numbers too).
+    Num(f64),
+    /// A name, e.g. `"kahraman-singh"`.
+    Text(String),
+    /// A list of numbers, e.g. an initial state.
+    List(Vec<f64>),
+}
+
+impl Value {
+    /// The number, if this is one.
+    pub fn as_num(&self) -> Option<f64> {
+        match self {
+            Value::Num(x) => Some(*x),
+            _ => None,
+        }
+    }
+
+    /// A short rendering for messages, labels and CSV cells.
+    pub fn label(&self) -> String {
+        match self {
+            Value::Bool(b) => b.to_string(),
+            Value::Num(x) => crate::fmt6(*x),
+            Value::Text(s) => s.clone(),
+            Value::List(v) => format!(
+                "[{}]",
+                v.iter()
+                    .map(|x| crate::fmt6(*x))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        }
+    }
+
+    pub(crate) fn check_finite(&self, what: &str) -> Result<(), Error> {
+        let bad = |x: f64| Error::StudyFile(format!("{what} must be finite, got {x}"));
+        match self {
+            Value::Num(x) if !x.is_finite() => Err(bad(*x)),
+            Value::List(v) => match v.iter().find(|x| !x.is_finite()) {
+                Some(x) => Err(bad(*x)),
+                None => Ok(()),
+            },
+            _ => Ok(()),
+        }
+    }
+}
+
+/// One swept parameter: a range (`from`, `to`, `steps`, linear) or explicit `values` (numbers,
+/// or names for a choice such as `variant`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sweep {
+    /// Parameter or choice name (see `geardyn models`).
+    pub parameter: String,
+    /// Start of a linear range.
+    pub from: Option<f64>,
+    /// End of a linear range (inclusive).
+    pub to: Option<f64>,
+    /// Number of points of the range (2 ..= [`MAX_SWEEP_VALUES`]).
+    pub steps: Option<i64>,
+    /// Explicit values (instead of a range).
+    pub values: Option<Vec<Value>>,
+}
+
+impl Sweep {
+    /// The swept values, in order. Errors name the sweep and the bound.
+    pub fn points(&self) -> Result<Vec<Value>, Error> {
+        let bad = |m: String| Error::StudyFile(format!("sweep of `{}`: {m}", self.parameter));
+        let v = match (&self.values, self.from, self.to, self.steps) {
+            (Some(v), None, None, None) => {
+                if v.len() > MAX_SWEEP_VALUES {
+                    return Err(bad(format!(
+                        "{} values, at most {MAX_SWEEP_VALUES} allowed",
+                        v.len()
+                    )));
+                }
+                v.clone()
+            }
+            (None, Some(a), Some(b), Some(n)) => {
+                if !(2..=MAX_SWEEP_VALUES as i64).contains(&n) {
+                    return Err(bad(format!(
+                        "steps must be in [2, {MAX_SWEEP_VALUES}], got {n}"
+                    )));
+                }
+                if !(a.is_finite() && b.is_finite()) {
+                    return Err(bad(format!("from and to must be finite, got {a} and {b}")));
+                }
+                // (b − a) may overflow for |a|, |b| near f64::MAX: interpolate without it.
+                let n = n as usize;
+                (0..n)
+                    .map(|i| {
+                        let t = i as f64 / (n - 1) as f64;
+                        Value::Num(a * (1.0 - t) + b * t)
+                    })
+                    .collect()
+            }
+            _ => {
+                return Err(bad(
+                    "give either `values = [...]` or all of `from`, `to`, `steps`".to_owned(),
+                ));
+            }
+        };
+        if v.is_empty() {
+            return Err(bad("no values".to_owned()));
+        }
+        for x in &v {
+            x.check_finite(&format!("sweep of `{}`: every value", self.parameter))?;
+        }
+        Ok(v)
+    }
+}
+
+/// Which solver evaluates each point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
+pub enum Method {
+    /// Time integration to steady state (`timestep` crate or a model's own engine).
+    TimeStepping,
+    /// Harmonic balance (`hbm` crate).
+    Hbm,
+    /// Closed-form kinematics/geometry (no dynamics).
+    Kinematics,
+}
+
+impl Method {
+    /// The name in a study file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::TimeStepping => "time-stepping",
+            Method::Hbm => "hbm",
+            Method::Kinematics => "kinematics",
+        }
+    }
+}
+
+/// Solver choice and settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Solver {
+    /// `time-stepping`, `hbm` or `kinematics`.
+    pub method: Method,
+    /// Method settings by name (see `geardyn models`); unknown names are an error.
+    #[serde(default)]
+    pub settings: BTreeMap<String, Value>,
+}
+
+/// Work limits of a study (`[limits]`), checked before anything runs.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Limits {
+    /// Most points (sweep × sweep2); default 10 000, at most [`MAX_POINTS_BOUND`].
+    pub max_points: i64,
+    /// Most integration steps (or quadrature panels) one point may take, estimated before it
+    /// runs from its settings and enforced by the engines' step budgets; default 2·10⁸, at most
+    /// [`MAX_STEPS_BOUND`]. A point over the budget fails with a message (a NaN row).
+    pub max_steps: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_points: 10_000,
+            max_steps: 2e8,
+        }
+    }
+}
+
+impl Limits {
+    pub(crate) fn check(&self) -> Result<(), Error> {
+        if !(1..=MAX_POINTS_BOUND as i64).contains(&self.max_points) {
+            return Err(Error::StudyFile(format!(
+                "limits.max_points must be in [1, {MAX_POINTS_BOUND}], got {}",
+                self.max_points
+            )));
+        }
+        if !(self.max_steps >= 1.0 && self.max_steps <= MAX_STEPS_BOUND as f64) {
+            return Err(Error::StudyFile(format!(
+                "limits.max_steps must be in [1, {MAX_STEPS_BOUND:e}], got {}",
+                self.max_steps
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// The inputs of one point: overrides with the swept values on top.
+pub type Point = BTreeMap<String, Value>;
+
+/// Apply `name = value` overrides to any serde parameter struct (through JSON), so that a user
+/// can set any field by its Rust name: numbers into numeric fields (integers only into integer
+/// fields), names into choice fields (kebab-case: `"printed-eq20"` for the variant
+/// `PrintedEq20`), flags into `bool` fields, lists into array/tuple fields. A name not found at
+/// the top level is looked up one level down (e.g. Liu's `readings.rigid_acceleration` as
+/// `rigid_acceleration`). Errors name the field and what it takes.
+pub fn apply_values<T: Serialize + DeserializeOwned>(
+    base: &T,
+    overrides: &BTreeMap<String, Value>,
+) -> Result<T, Error> {
+    let mut v = serde_json::to_value(base).map_err(|e| Error::StudyFile(e.to_string()))?;
+    if !v.is_object() {
+        return Err(Error::StudyFile("parameter set is not a struct".to_owned()));
+    }
+    for (k, x) in overrides {
+        let slot = find_slot(&mut v, k).ok_or_else(|| {
+            Error::StudyFile(format!(
+                "unknown parameter `{k}`; parameters: {}",
+                field_names(base).join(", ")
+            ))
+        })?;
+        let old = slot.clone();
+        let candidates: Vec<serde_json::Value> = match (x, &old) {
+            // A name: try the serde spellings of a variant (CamelCase, snake_case, as given).
+            (Value::Text(t), serde_json::Value::String(_)) => {
+                [kebab_to_camel(t), t.replace('-', "_"), t.clone()]
+                    .into_iter()
+                    .map(serde_json::Value::String)
+                    .collect()
+            }
+            _ => vec![to_json(k, x, &old)?],
+        };
+        // Deserialise after each field so that an out-of-type value names its field.
+        let mut last = None;
+        for c in candidates {
+            if let Some(slot) = find_slot(&mut v, k) {
+                *slot = c;
+            }
+            match serde_json::from_value::<T>(v.clone()) {
+                Ok(_) => {
+                    last = None;
+                    break;
+                }
+                Err(e) => last = Some(e.to_string()),
+            }
+        }
+        if let Some(e) = last {
+            if e.contains("unknown variant") {
+                return Err(Error::StudyFile(format!(
+                    "parameter `{k}` = \"{}\" is not an option; options: \"{}\"",
+                    x.label(),
+                    expected_names(&e).join("\", \"")
+                )));
+            }
+            return Err(Error::StudyFile(format!(
+                "parameter `{k}` = {}: {e}",
+                x.label()
+            )));
+        }
+    }
+    serde_json::from_value(v).map_err(|e| Error::StudyFile(e.to_string()))
+}
+
+/// [`apply_values`] with numbers only (the form of the paper studies).
+pub fn apply_overrides<T: Serialize + DeserializeOwned>(
+    base: &T,
+    overrides: &BTreeMap<String, f64>,
+) -> Result<T, Error> {
+    let o = overrides
+        .iter()
+        .map(|(k, v)| (k.clone(), Value::Num(*v)))
+        .collect();
+    apply_values(base, &o)
+}
+
+fn find_slot<'a>(v: &'a mut serde_json::Value, k: &str) -> Option<&'a mut serde_json::Value> {
+    let obj = v.as_object_mut()?;
+    if obj.contains_key(k) {
+        return obj.get_mut(k);
+    }
+    let holder = obj
+        .iter()
+        .filter(|(_, inner)| inner.as_object().is_some_and(|o| o.contains_key(k)))
+        .map(|(name, _)| name.clone())
+        .next()?;
+    obj.get_mut(&holder)?.as_object_mut()?.get_mut(k)
+}
+
+/// The settable fields of a parameter struct (top level and one level down).
+pub fn field_names<T: Serialize>(base: &T) -> Vec<String> {
+    let mut names = Vec::new();
+    if let Ok(serde_json::Value::Object(o)) = serde_json::to_value(base) {
+        for (k, v) in o {
+            match v {
+                serde_json::Value::Object(inner) => names.extend(inner.keys().cloned()),
+                _ => names.push(k),
+            }
+        }
+    }
+    names
+}
+
+fn to_json(k: &str, x: &Value, old: &serde_json::Value) -> Result<serde_json::Value, Error> {
+    use serde_json::Value as J;
+    let wrong =
+        |takes: &str| Error::StudyFile(format!("parameter `{k}` takes {takes}, got {}", x.label()));
+    Ok(match (old, x) {
+        (J::Number(n), Value::Num(f)) if n.is_u64() || n.is_i64() => {
+            if f.fract() != 0.0 || f.abs() > 9.0e15 {
+                return Err(wrong("an integer"));
+            }
+            if *f >= 0.0 {
+                J::from(*f as u64)
+            } else {
+                J::from(*f as i64)
+            }
+        }
+        (J::Number(_), Value::Num(f)) => J::from(*f),
+        (J::Number(_), _) => return Err(wrong("a number")),
+        (J::Bool(_), Value::Bool(b)) => J::Bool(*b),
+        (J::Bool(_), _) => return Err(wrong("true or false")),
+        (J::String(_), Value::Text(s)) => J::String(kebab_to_camel(s)),
+        (J::String(cur), _) => {
+            return Err(wrong(&format!(
+                "a name (e.g. `{k} = \"{}\"`)",
+                display_name(cur)
+            )));
+        }
+        (J::Array(_) | J::Null, Value::List(v)) => J::from(v.clone()),
+        (J::Array(a), _) => return Err(wrong(&format!("a list of {} numbers", a.len()))),
+        _ => return Err(wrong("a value of another kind")),
+    })
+}
+
+/// `PrintedEq20` → `printed-eq20`.
+pub fn camel_to_kebab(s: &str) -> String {
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if c.is_ascii_uppercase() {
+            if i > 0 {
+                out.push('-');
+            }
+            out.push(c.to_ascii_lowercase());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// `printed-eq20` → `PrintedEq20`.
+pub fn kebab_to_camel(s: &str) -> String {
+    s.split('-')
+        .map(|w| {
+            let mut c = w.chars();
+            match c.next() {
+                Some(f) => f.to_ascii_uppercase().to_string() + c.as_str(),
+                None => String::new(),
+            }
+        })
+        .collect()
+}
+
+/// The study-file spelling of a serde variant name: `PrintedEq20` → `printed-eq20`,
+/// `two_terms` → `two-terms`.
+pub fn display_name(raw: &str) -> String {
+    if raw.contains('_') || raw.chars().all(|c| !c.is_ascii_uppercase()) {
+        raw.replace('_', "-").to_ascii_lowercase()
+    } else {
+        camel_to_kebab(raw)
+    }
+}
+
+/// The names listed after "expected" in a serde unknown-variant message.
+fn expected_names(message: &str) -> Vec<String> {
+    let tail = message.split_once("expected").map_or("", |(_, t)| t);
+    tail.split('`')
+        .skip(1)
+        .step_by(2)
+        .map(display_name)
+        .collect()
+}
+
+/// The names of a unit-variant enum in study-file spelling, read from serde's error for an
+/// unknown variant.
+pub fn variant_names<T: DeserializeOwned>() -> Vec<String> {
+    match serde_json::from_value::<T>(serde_json::Value::String("\u{1}".to_owned())) {
+        Ok(_) => Vec::new(),
+        Err(e) => expected_names(&e.to_string()),
+    }
+}
+
+/// A choice by name into an enum `E` (study-file spelling); errors list the options.
+pub fn choice<E: DeserializeOwned>(field: &str, v: &Value) -> Result<E, Error> {
+    let opts = || variant_names::<E>().join("\", \"");
+    match v {
+        Value::Text(s) => [kebab_to_camel(s), s.replace('-', "_"), s.clone()]
+            .into_iter()
+            .find_map(|c| serde_json::from_value(serde_json::Value::String(c)).ok())
+            .ok_or_else(|| {
+                Error::StudyFile(format!(
+                    "`{field}` = \"{s}\" is not an option; options: \"{}\"",
+                    opts()
+                ))
+            }),
+        other => Err(Error::StudyFile(format!(
+            "`{field}` takes a name, got {}; options: \"{}\"",
+            other.label(),
+            opts()
+        ))),
+    }
+}
