@@ -185,13 +185,6 @@ pub(crate) fn check_cells(r: &ReferenceRun) -> [f64; 2] {
     [f64::from(r.motion.period_multiple()), r.max_change]
 }
 
-pub(crate) fn run(p: &Yu2021Params, o: Options, omega: f64) -> Result<Response, Error> {
-    Yu2021Model::new(p, o)
-        .context("Yu 2021 model")?
-        .simulate_with(&settings(omega), &engine_for(&o), None)
-        .context("Yu 2021 run")
-}
-
 fn fig9() -> Result<StudyOutput, Error> {
     let paper = published!("yu2021.toml")?;
     let runs: Vec<Result<(f64, ReferenceRun), Error>> = timestep::sweep(

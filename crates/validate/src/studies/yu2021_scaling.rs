@@ -17,7 +17,7 @@ use models::yu2021::{
     Yu2021Params, fractal_contact_stiffness,
 };
 
-use super::yu2021::{CHECK_COLUMNS, check_cells, fractal_rig, run, run_checked, run_flags};
+use super::yu2021::{CHECK_COLUMNS, check_cells, fractal_rig, run_checked, run_flags};
 use crate::{
     Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
     fmt_sig, published,
@@ -113,7 +113,7 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
     let jobs: Vec<(usize, usize)> = (0..D3.len())
         .flat_map(|i| (0..EPS.len()).map(move |j| (i, j)))
         .collect();
-    let runs: Vec<Result<(f64, Response), Error>> = timestep::sweep(
+    let runs: Vec<Result<(f64, ReferenceRun), Error>> = timestep::sweep(
         &jobs,
         |&(i, j)| {
             let (d, mean, b, _) = implied[i];
@@ -122,7 +122,7 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             let mut p = fractal_rig(d)?;
             p.stiffness_ratio = eps;
             p.mesh_stiffness = p.static_force() / (t_star * p.nominal_length);
-            Ok((t_star, run(&p, Options::default(), 0.2)?))
+            Ok((t_star, run_checked(&p, Options::default(), 0.2)?))
         },
         None,
     )
@@ -143,13 +143,22 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             ("max DTE model", "1"),
             ("mean B model", "1"),
             ("fraction out of contact", "1"),
+            CHECK_COLUMNS[0],
+            CHECK_COLUMNS[1],
         ],
     );
+    let mut flags = Vec::new();
     let mut fit = [(0.0f64, 0.0f64); 2]; // per ε: worst relative miss of p-p and of max
     let mut tstars = [[0.0; 3]; 2];
     for (&(i, j), r) in jobs.iter().zip(runs) {
-        let (t_star, resp) = r?;
+        let (t_star, checked) = r?;
         let (d, mean, _, amp) = implied[i];
+        flags.extend(run_flags(
+            [(format!("D = {d}, ε = {}", EPS[j]), &checked)],
+            false,
+        ));
+        let [period, change] = check_cells(&checked);
+        let resp = checked.response;
         let p = fractal_rig(d)?;
         let k = p.static_force() / (t_star * p.nominal_length);
         let (pp, mx) = (resp.dte_peak_to_peak(), max_of(&resp.dte));
@@ -168,6 +177,8 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             mx,
             resp.mean_backlash(),
             separated(&resp),
+            period,
+            change,
         ])?;
     }
     out.table(t);
@@ -192,7 +203,8 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             ),
             Verdict::Inconclusive,
         )
-        .reading("R-YU-FIG10"),
+        .reading("R-YU-FIG10")
+        .flagged_all(flags),
     );
     // Stiffness ratios implied vs Eq. (18)
     let mut s = Table::new(
@@ -373,29 +385,71 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
         .iter()
         .flat_map(|&a| W_CHEN.iter().map(move |&w| (a, w)))
         .collect();
-    let res: Vec<Result<f64, Error>> = timestep::sweep(
+    let chen_runs: Vec<ReferenceRun> = timestep::sweep(
         &jobs,
         |&(a, w)| {
             let p = Yu2021Params {
                 chen_amplitude: a * base.backlash.constant_part().context("b_s")?,
                 ..base
             };
-            Ok(run(&p, Options::chen(), w)?.dynamic_factor())
+            run_checked(&p, Options::chen(), w)
         },
         None,
     )
     .into_iter()
-    .collect();
-    let res: Vec<f64> = res.into_iter().collect::<Result<_, _>>()?;
-    let ks: Vec<Result<f64, Error>> = timestep::sweep(
+    .collect::<Result<_, Error>>()?;
+    let ks_runs: Vec<ReferenceRun> = timestep::sweep(
         &W_CHEN,
-        |&w| Ok(run(&base, Options::kahraman_singh(), w)?.dynamic_factor()),
+        |&w| run_checked(&base, Options::kahraman_singh(), w),
         None,
     )
     .into_iter()
-    .collect();
-    let ks: Vec<f64> = ks.into_iter().collect::<Result<_, _>>()?;
+    .collect::<Result<_, Error>>()?;
+    let res: Vec<f64> = chen_runs
+        .iter()
+        .map(|r| r.response.dynamic_factor())
+        .collect();
+    let ks: Vec<f64> = ks_runs
+        .iter()
+        .map(|r| r.response.dynamic_factor())
+        .collect();
     let mut out = StudyOutput::new();
+    let mut checks = Table::new(
+        "checks",
+        &[
+            ("model", "-"),
+            ("a_z/b_h", "1"),
+            ("omega*", "1"),
+            CHECK_COLUMNS[0],
+            CHECK_COLUMNS[1],
+        ],
+    );
+    let mut flags = Vec::new();
+    for (&(a, w), r) in jobs.iter().zip(&chen_runs) {
+        let [period, change] = check_cells(r);
+        checks.push(vec![
+            "Chen".into(),
+            a.into(),
+            w.into(),
+            period.into(),
+            change.into(),
+        ])?;
+        flags.extend(run_flags(
+            [(format!("Chen a_z = {a} b_h, ω* = {w}"), r)],
+            false,
+        ));
+    }
+    for (&w, r) in W_CHEN.iter().zip(&ks_runs) {
+        let [period, change] = check_cells(r);
+        checks.push(vec![
+            "Kahraman-Singh".into(),
+            0.0.into(),
+            w.into(),
+            period.into(),
+            change.into(),
+        ])?;
+        flags.extend(run_flags([(format!("Kahraman–Singh ω* = {w}"), r)], false));
+    }
     let cols: Vec<String> = std::iter::once("a_z/b_h".to_owned())
         .chain(W_CHEN.iter().map(|w| format!("DF at omega* = {w}")))
         .collect();
@@ -423,6 +477,7 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
         ));
     }
     out.table(t);
+    out.table(checks);
     out.figure(fig);
     let zero_is_ks = (0..m).all(|j| (res[j] - ks[j]).abs() <= 1e-9 * ks[j]);
     let at = |a: f64| AZ.iter().position(|x| (x - a).abs() < 1e-12).unwrap_or(0);
@@ -444,6 +499,7 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
         ),
         Verdict::Inconclusive,
     )
+    .flagged_all(flags)
     .cause(
         "Chen's fractal amplitude a_z is not stated in the paper (swept here) and Fig. 13/14 give \
          no digitised experimental points, so 'much bigger' cannot be judged",
