@@ -483,3 +483,67 @@ method = "time-stepping"
     let s = geardyn_validate::UserStudy::parse(base).unwrap();
     assert_eq!(geardyn_validate::prepare(&s).unwrap().len(), 2);
 }
+
+/// `tolerance_check = "on"`: the extra column is the largest relative change of the outputs
+/// between the study's tolerance and a 100× tighter one, each run equal to the direct call.
+#[test]
+fn tolerance_check_adds_the_change_under_a_tighter_tolerance() {
+    use models::liu2021;
+    let text = r#"
+name = "tc"
+model = "liu2021"
+[overrides]
+omega1 = 150.0
+[solver]
+method = "time-stepping"
+[solver.settings]
+transient_periods = 2.0
+record_periods = 1.0
+tolerance_check = "on"
+"#;
+    let out = run(text);
+    let change = col(&out, "change_100x_tighter");
+    assert_eq!(change.len(), 1);
+    let mut p = liu2021::table1();
+    p.omega1 = 150.0;
+    let m = p.model().unwrap();
+    let o = liu2021::IntegrationOptions {
+        transient_periods: 2.0,
+        record_periods: 1.0,
+        ..liu2021::IntegrationOptions::default()
+    };
+    let metrics = |o: &liu2021::IntegrationOptions| {
+        let r = liu2021::integrate(&m, o).unwrap();
+        [r.rattle.ppv, r.rattle.q_min, r.rattle.q_max]
+    };
+    let a = metrics(&o);
+    let b = metrics(&liu2021::IntegrationOptions {
+        rtol: o.rtol / 100.0,
+        ..o
+    });
+    assert_eq!(col(&out, "ppv")[0], a[0]);
+    let want = a
+        .iter()
+        .zip(&b)
+        .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()))
+        .fold(0.0, f64::max);
+    assert_eq!(change[0], want);
+    // 2 transient periods at 150 rad/s (near the rattle onset) do not settle the response: the
+    // tolerance moves its metrics by a few per cent, which is what the column is for.
+    assert!(change[0] > 0.0 && change[0].is_finite(), "{}", change[0]);
+    // off by default: no column
+    let plain = run(&text.replace("tolerance_check = \"on\"\n", ""));
+    assert!(plain.column("change_100x_tighter").is_none());
+    // the fixed-step RK4 of the Yu model has no tolerance to tighten
+    let e = err(
+        "name = \"y\"\nmodel = \"yu2021\"\n[solver]\nmethod = \"time-stepping\"\n\
+         [solver.settings]\ntolerance_check = \"on\"\n",
+    );
+    assert!(e.contains("tolerance_check") && e.contains("engine"), "{e}");
+    // nor has the Karpov Duhamel quadrature (it states its own error estimate)
+    let e = err(
+        "name = \"k\"\nmodel = \"karpov2017\"\n[solver]\nmethod = \"time-stepping\"\n\
+         [solver.settings]\ntolerance_check = \"on\"\n",
+    );
+    assert!(e.contains("tolerance_check") && e.contains("engine"), "{e}");
+}

@@ -212,6 +212,61 @@ fn outs(v: &[(&str, &str)]) -> Vec<(String, String)> {
         .collect()
 }
 
+/// Study setting `tolerance_check` (time stepping): `"on"` repeats every point at a 100×
+/// tighter tolerance and adds the column [`CHANGE_COLUMN`].
+const TOLERANCE_CHECK: SettingDef = SettingDef {
+    name: "tolerance_check",
+    kind: Kind::Name {
+        options: &["off", "on"],
+        default: "off",
+    },
+    doc: "on: repeat every point at a 100× tighter integrator tolerance and add the column \
+          `change_100x_tighter`, the largest relative change of the point's outputs",
+};
+
+/// The column of [`TOLERANCE_CHECK`].
+const CHANGE_COLUMN: (&str, &str) = ("change_100x_tighter", "1");
+
+/// Largest relative change `|a_i − b_i| / max(|a_i|, |b_i|)` over the outputs (0 where both are
+/// equal, including both zero).
+fn relative_change(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| {
+            let d = (x - y).abs();
+            if d == 0.0 {
+                0.0
+            } else {
+                d / x.abs().max(y.abs())
+            }
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The outputs with the [`CHANGE_COLUMN`] appended when the check is on.
+fn outs_checked(v: &[(&str, &str)], check: bool) -> Vec<(String, String)> {
+    let mut o = outs(v);
+    if check {
+        o.push((CHANGE_COLUMN.0.to_owned(), CHANGE_COLUMN.1.to_owned()));
+    }
+    o
+}
+
+/// Run `job(1)` and, when `check`, `job(100)` (tolerance divided by 100), appending the
+/// relative change of the outputs.
+fn run_checked_job(
+    check: bool,
+    job: impl Fn(f64) -> Result<Vec<f64>, Error>,
+) -> Result<Vec<f64>, Error> {
+    let mut v = job(1.0)?;
+    if check {
+        let tight = job(100.0)?;
+        let c = relative_change(&v, &tight);
+        v.push(c);
+    }
+    Ok(v)
+}
+
 fn params_of<T: Serialize>(base: &T, unit: fn(&str) -> &'static str) -> Vec<ParamInfo> {
     let mut out = Vec::new();
     if let Ok(serde_json::Value::Object(o)) = serde_json::to_value(base) {
@@ -557,6 +612,7 @@ const KARPOV_TS: &[SettingDef] = &[
         },
         doc: "relative (and absolute) tolerance of the timestep engine",
     },
+    TOLERANCE_CHECK,
 ];
 
 const KARPOV_OUT: &[(&str, &str)] = &[("A", "1"), ("envelope", "1"), ("x_final", "1")];
@@ -600,6 +656,14 @@ fn karpov_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
     )?;
     let duhamel = s.name("engine") == "duhamel";
     let rtol = s.f("rtol");
+    let check = s.name("tolerance_check") == "on";
+    if check && duhamel {
+        return Err(Error::StudyFile(
+            "karpov2017: tolerance_check = \"on\" needs engine = \"timestep\" (the Duhamel \
+             quadrature states its own error estimate)"
+                .to_owned(),
+        ));
+    }
     let initial = match ctx.initial {
         None => [0.0, 0.0],
         Some(_) if duhamel => {
@@ -622,7 +686,7 @@ fn karpov_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
     let outputs = if duhamel {
         outs(KARPOV_OUT)
     } else {
-        outs(&KARPOV_OUT[1..])
+        outs_checked(&KARPOV_OUT[1..], check)
     };
     Ok(Adapter {
         outputs,
@@ -651,21 +715,23 @@ fn karpov_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                     let r = m.duhamel().context("karpov2017 Duhamel quadrature")?;
                     Ok(vec![r.amplitude, r.envelope, r.x])
                 } else {
-                    let opts = timestep::Options::default()
-                        .with_tol(rtol, rtol)
-                        .with_max_steps(max_steps)
-                        .with_output(timestep::Output::Final);
                     let ode = m.time_stepping().context("karpov2017 system")?;
-                    let sol = timestep::integrate(&ode, 0.0, &initial, params.tau_end, &opts)
-                        .context("karpov2017 time integration")?;
-                    if !sol.status.is_success() {
-                        return Err(Error::Study(format!(
-                            "time integration ended with {:?}",
-                            sol.status
-                        )));
-                    }
-                    let (x, v) = (sol.y_final[0], sol.y_final[1]);
-                    Ok(vec![x.hypot(v), x])
+                    run_checked_job(check, |factor| {
+                        let opts = timestep::Options::default()
+                            .with_tol(rtol / factor, rtol / factor)
+                            .with_max_steps(max_steps)
+                            .with_output(timestep::Output::Final);
+                        let sol = timestep::integrate(&ode, 0.0, &initial, params.tau_end, &opts)
+                            .context("karpov2017 time integration")?;
+                        if !sol.status.is_success() {
+                            return Err(Error::Study(format!(
+                                "time integration ended with {:?}",
+                                sol.status
+                            )));
+                        }
+                        let (x, v) = (sol.y_final[0], sol.y_final[1]);
+                        Ok(vec![x.hypot(v), x])
+                    })
                 }
             }) as Job)
         }),
@@ -746,6 +812,7 @@ const LIU_TS: &[SettingDef] = &[
         },
         doc: "relative tolerance of Dormand–Prince 5(4)",
     },
+    TOLERANCE_CHECK,
 ];
 
 const LIU_HBM: &[SettingDef] = &[
@@ -890,7 +957,7 @@ fn liu_bifurcation_build(
             &[Method::TimeStepping],
         ));
     }
-    let integrator = &LIU_TS[3..];
+    let integrator = &LIU_TS[3..5];
     let s = Settings::read(
         "liu2021 [bifurcation]",
         Method::TimeStepping,
@@ -947,8 +1014,9 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 rtol: s.f("rtol"),
                 initial,
             };
+            let check = s.name("tolerance_check") == "on";
             Ok(Adapter {
-                outputs: outs(&LIU_OUT[..4]),
+                outputs: outs_checked(&LIU_OUT[..4], check),
                 prepare: Box::new(move |p: &Point| {
                     let model = liu_model(p)?;
                     let period = model.period();
@@ -965,14 +1033,20 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                         (opts.transient_periods + opts.record_periods) * period / opts.max_step;
                     need_steps("liu2021", steps, &limits)?;
                     Ok(Box::new(move || {
-                        let r = liu2021::integrate(&model, &opts)
-                            .context("liu2021 time integration")?;
-                        Ok(vec![
-                            f64::from(r.rattle.state.rsv()),
-                            r.rattle.ppv,
-                            r.rattle.q_min,
-                            r.rattle.q_max,
-                        ])
+                        run_checked_job(check, |factor| {
+                            let o = liu2021::IntegrationOptions {
+                                rtol: opts.rtol / factor,
+                                ..opts
+                            };
+                            let r = liu2021::integrate(&model, &o)
+                                .context("liu2021 time integration")?;
+                            Ok(vec![
+                                f64::from(r.rattle.state.rsv()),
+                                r.rattle.ppv,
+                                r.rattle.q_min,
+                                r.rattle.q_max,
+                            ])
+                        })
                     }) as Job)
                 }),
             })
@@ -1113,6 +1187,7 @@ const YU_TS: &[SettingDef] = &[
         },
         doc: "engine = \"timestep\": absolute tolerance",
     },
+    TOLERANCE_CHECK,
 ];
 
 const YU_HBM: &[SettingDef] = &[
@@ -1304,14 +1379,27 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 &ctx.solver.settings,
                 &[],
             )?;
-            let engine = match s.name("engine") {
-                "timestep" => Engine::Timestep {
-                    method: timestep::Method::DormandPrince54,
-                    rtol: s.f("rtol"),
-                    atol: s.f("atol"),
-                    events: true,
-                },
-                _ => Engine::Rk4Fixed,
+            let check = s.name("tolerance_check") == "on";
+            let timestep_engine = s.name("engine") == "timestep";
+            if check && !timestep_engine {
+                return Err(Error::StudyFile(
+                    "yu2021: tolerance_check = \"on\" needs engine = \"timestep\" (the \
+                     fixed-step RK4 has no tolerance)"
+                        .to_owned(),
+                ));
+            }
+            let (rtol, atol) = (s.f("rtol"), s.f("atol"));
+            let engine_at = move |factor: f64| {
+                if timestep_engine {
+                    Engine::Timestep {
+                        method: timestep::Method::DormandPrince54,
+                        rtol: rtol / factor,
+                        atol: atol / factor,
+                        events: true,
+                    }
+                } else {
+                    Engine::Rk4Fixed
+                }
             };
             let initial = match ctx.initial {
                 None => None,
@@ -1331,23 +1419,25 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 steps_per_period: s.u("steps_per_period").unwrap_or(256) as usize,
             };
             Ok(Adapter {
-                outputs: outs(YU_TS_OUT),
+                outputs: outs_checked(YU_TS_OUT, check),
                 prepare: Box::new(move |p: &Point| {
                     let (model, omega) = yu_model(p)?;
                     let settings = RunSettings { omega, ..base };
                     let steps = model.run_steps(&settings).context("yu2021 run size")?;
                     need_steps("yu2021", steps as f64, &limits)?;
                     Ok(Box::new(move || {
-                        let r = model
-                            .simulate_with(&settings, &engine, initial)
-                            .context("yu2021 time integration")?;
-                        Ok(vec![
-                            r.dynamic_factor(),
-                            r.rms(n_rms),
-                            r.mean_dte(),
-                            r.dte_peak_to_peak(),
-                            r.mean_backlash(),
-                        ])
+                        run_checked_job(check, |factor| {
+                            let r = model
+                                .simulate_with(&settings, &engine_at(factor), initial)
+                                .context("yu2021 time integration")?;
+                            Ok(vec![
+                                r.dynamic_factor(),
+                                r.rms(n_rms),
+                                r.mean_dte(),
+                                r.dte_peak_to_peak(),
+                                r.mean_backlash(),
+                            ])
+                        })
                     }) as Job)
                 }),
             })
@@ -1457,6 +1547,7 @@ const PAIR_TS: &[SettingDef] = &[
         },
         doc: "absolute tolerance (units of the coordinates)",
     },
+    TOLERANCE_CHECK,
 ];
 
 const PAIR_HBM: &[SettingDef] = &[
@@ -1556,8 +1647,9 @@ fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 atol: s.f("atol"),
             };
             let initial = ctx.initial.map(<[f64]>::to_vec);
+            let check = s.name("tolerance_check") == "on";
             Ok(Adapter {
-                outputs: outs(PAIR_TS_OUT),
+                outputs: outs_checked(PAIR_TS_OUT, check),
                 prepare: Box::new(move |p: &Point| {
                     let (model, f_s) = pair_model(p)?;
                     // adaptive steps: at least 8 per mesh period (h_max = T/8)
@@ -1565,17 +1657,24 @@ fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                     need_steps("generic-pair", 8.0 * periods as f64, &limits)?;
                     let initial = initial.clone();
                     Ok(Box::new(move || {
-                        let r = model
-                            .time_response(&settings, initial.as_deref())
-                            .context("generic-pair time integration")?;
-                        let n = r.delta.len().max(1) as f64;
-                        let max = r.delta.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                        let min = r.delta.iter().copied().fold(f64::INFINITY, f64::min);
-                        Ok(vec![
-                            r.dynamic_factor(f_s),
-                            r.delta.iter().sum::<f64>() / n,
-                            max - min,
-                        ])
+                        run_checked_job(check, |factor| {
+                            let st = pair::TimeSettings {
+                                rtol: settings.rtol / factor,
+                                atol: settings.atol / factor,
+                                ..settings
+                            };
+                            let r = model
+                                .time_response(&st, initial.as_deref())
+                                .context("generic-pair time integration")?;
+                            let n = r.delta.len().max(1) as f64;
+                            let max = r.delta.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                            let min = r.delta.iter().copied().fold(f64::INFINITY, f64::min);
+                            Ok(vec![
+                                r.dynamic_factor(f_s),
+                                r.delta.iter().sum::<f64>() / n,
+                                max - min,
+                            ])
+                        })
                     }) as Job)
                 }),
             })
