@@ -244,6 +244,11 @@ fn check_entry_points(v: Vec<f64>) {
                     if let Ok(r) = m.duhamel_with(g(5).clamp(0.5, 8.0)) {
                         assert!(r.amplitude.is_finite(), "karpov {vv:?}");
                     }
+                    // the folded rule costs at most ~4× the direct one (its phase over the
+                    // folded period is ≈ 4Bωτ_end ≤ 4 × the direct rule's)
+                    if let Ok(r) = m.duhamel_folded(g(5).clamp(0.5, 8.0)) {
+                        assert!(r.amplitude.is_finite(), "karpov folded {vv:?}");
+                    }
                 }
             }
             let _ = backlash::ChenFractal::new(g(6), g(7), g(8).abs().min(4e9) as u32)
