@@ -3,8 +3,10 @@
 //!
 //! * `duhamel_fig3_*`: the paper's `τ_end = 10⁵`, both readings of the excitation phase
 //!   (`R-KARPOV-EQ9`), error-controlled to 1e-7 relative on `A` (`Karpov2017::duhamel`);
-//!   `*_b0.05` the same at `B = 0.05` (the upper end of the issue-13 target). Levin
-//!   collocation in the bulk, Gauss–Legendre pairs around the stationary points.
+//!   `*_b0.05` the same at `B = 0.05` (the upper end of the issue-13 target). Period folding
+//!   (the `N` whole periods of `g` summed in closed form onto one period).
+//! * `levin_*`: the previous default, Levin collocation in the bulk with Gauss–Legendre
+//!   pairs around the stationary points (`duhamel_levin(1e-7)`), for comparison.
 //! * `gauss_legendre_fig3_printed_tau1e5`: the plain phase-bounded Gauss–Legendre rule
 //!   (`duhamel_with(4.0)`) on the printed Fig. 3 point, for comparison.
 //! * `*_tau2000`: the same response to `τ_end = 2000` by the Duhamel integral and by
@@ -28,6 +30,9 @@ fn bench(c: &mut Criterion) {
     c.bench_function("karpov2017/duhamel_fig3_printed_tau1e5", |b| {
         b.iter(|| printed.duhamel().expect("converges"))
     });
+    c.bench_function("karpov2017/levin_fig3_printed_tau1e5", |b| {
+        b.iter(|| printed.duhamel_levin(1e-7).expect("converges"))
+    });
     // the plain phase-bounded Gauss–Legendre rule at the default budget (the pre-Levin path)
     c.bench_function("karpov2017/gauss_legendre_fig3_printed_tau1e5", |b| {
         b.iter(|| printed.duhamel_with(4.0).expect("runs"))
@@ -35,6 +40,9 @@ fn bench(c: &mut Criterion) {
     let printed5 = printed.with(|p| p.b = 0.05).expect("valid");
     c.bench_function("karpov2017/duhamel_printed_tau1e5_b0.05", |b| {
         b.iter(|| printed5.duhamel().expect("converges"))
+    });
+    c.bench_function("karpov2017/levin_printed_tau1e5_b0.05", |b| {
+        b.iter(|| printed5.duhamel_levin(1e-7).expect("converges"))
     });
     let accumulated5 = fig3.with(|p| p.b = 0.05).expect("valid");
     c.bench_function("karpov2017/duhamel_accumulated_tau1e5_b0.05", |b| {

@@ -33,7 +33,7 @@
 //! The system is linear, so the response is the Duhamel integral
 //! `X(τ) = sin τ·C(τ) − cos τ·S(τ)`, `X'(τ) = cos τ·C + sin τ·S`,
 //! `C = ∫₀^τ cos s sin Φ(s) ds`, `S = ∫₀^τ sin s sin Φ(s) ds`, i.e.
-//! `C + iS = (I₊ − I₋)/(2i)`, `I± = ∫ e^{iψ±}`, `ψ± = s ± Φ(s)`. Two rules:
+//! `C + iS = (I₊ − I₋)/(2i)`, `I± = ∫ e^{iψ±}`, `ψ± = s ± Φ(s)`. Three rules:
 //!
 //! * **Gauss–Legendre** ([`Karpov2017::duhamel_with`]): 10-point panels over each of which the
 //!   phase of `e^{iψ±}` changes by at most a budget `θ`, bounded with `Φ''` included
@@ -41,16 +41,26 @@
 //!   checked against one panel over the pair; the signed sum of the differences is the error
 //!   estimate. Work grows with the total phase (`~2·10⁷` rad for the printed reading at
 //!   `B = 0.05`, `τ = 10⁵`).
-//! * **Levin** ([`Karpov2017::duhamel`]): on a panel, `∫ e^{iψ} = [p e^{iψ}] − ∫ r e^{iψ}`
-//!   for any `p`, `r = p' + iψ'p − 1`; `p` is a degree-15 Chebyshev collocation solution of
-//!   `p' + iψ'p = 1` (slowly varying wherever `ψ'` stays away from 0), so the work does not
-//!   grow with the phase; the residual `r` at the check points between the collocation points
-//!   bounds the error (`L max|r|`, or `TV(r/ψ')` where `ψ'` keeps its sign). Around the
-//!   stationary points `Φ' = ∓1` (about four per period `2π/(kω)` of `g` in the printed
-//!   reading) and where the phase is slow the Gauss–Legendre pairs take over. The error
-//!   estimate ([`KarpovResponse::error_estimate`]) is the sum of the Levin bounds, the
-//!   Gauss–Legendre estimate and a rounding bound; [`Karpov2017::duhamel`] tightens the Levin
-//!   tolerance until it is `≤ 1e-7·A`.
+//! * **Period folding** ([`Karpov2017::duhamel`], the default): `g(kωτ)` has the period
+//!   `T = 2π/(kω)`, and in both readings `ψ±(u + nT) = b±(u) + nT·a±(u)` with
+//!   `b± = u ± Φ(u)` and `a± = 1 ± ω(1 + g(kωu))` (printed) or `1 ± ω` (accumulated). The
+//!   `N` whole periods before the last cycle are therefore one integral over a single period,
+//!   `∫_{s₀}^{s₀+T} e^{ib±(u)} D_N(T a±(u)) du`, with the geometric sum over the periods in
+//!   closed form at every node, `D_N(x) = Σ_{n<N} e^{inx} = e^{i(N−1)δ/2} sin(Nδ/2)/sin(δ/2)`,
+//!   `δ = x mod 2π`. The folded integrand's phase over the period is about `4Bωτ_end` (not
+//!   `~τ_end²`), taken by the phase-bounded Gauss–Legendre pairs above (rate bound
+//!   `1 + |Φ'| + N T ω kω |g'|`); the short head `[0, s₀)` and the last cycle are integrated
+//!   directly. The error estimate ([`KarpovResponse::error_estimate`]) is the signed sum of
+//!   the pair differences; the budget is halved (at most twice) until it is `≤ 1e-7·A`.
+//! * **Levin** ([`Karpov2017::duhamel_levin`], the fallback): on a panel
+//!   `∫ e^{iψ} = [p e^{iψ}] − ∫ r e^{iψ}` for any `p`, `r = p' + iψ'p − 1`; `p` is a
+//!   degree-15 Chebyshev collocation solution of `p' + iψ'p = 1` (slowly varying wherever
+//!   `ψ'` stays away from 0), so the work does not grow with the phase; the residual `r` at
+//!   the check points between the collocation points bounds the error (`L max|r|`, or
+//!   `TV(r/ψ')` where `ψ'` keeps its sign). Around the stationary points `Φ' = ∓1` (about
+//!   four per period `2π/(kω)` of `g` in the printed reading) and where the phase is slow the
+//!   Gauss–Legendre pairs take over. Its estimate is the sum of the Levin bounds, the
+//!   Gauss–Legendre estimate and a rounding bound.
 //!
 //! The model also implements the shared system description `system::SecondOrderSystem`
 //! ([`Karpov2017::time_stepping`] wraps it for the `timestep` engine, states `[X, X']`) so the same
@@ -305,8 +315,8 @@ impl Karpov2017 {
     }
 
     /// Response at `τ_end` by the Duhamel integral (the fast path; no time stepping), with
-    /// error control: the phase budget `θ` starts at [`PHASE_BUDGET`] and is halved until the
-    /// error estimate is `≤ DUHAMEL_RTOL·A` ([`DUHAMEL_RTOL`] = 1e-7).
+    /// error control to `DUHAMEL_RTOL·A` ([`DUHAMEL_RTOL`] = 1e-7): period folding first, see
+    /// [`Karpov2017::duhamel_tol`].
     pub fn duhamel(&self) -> Result<KarpovResponse, Error> {
         self.duhamel_tol(DUHAMEL_RTOL)
     }
@@ -1632,7 +1642,10 @@ mod figures {
                 })
                 .unwrap();
             for (name, run) in [
-                ("duhamel (folded)", Karpov2017::duhamel as fn(&Karpov2017) -> _),
+                (
+                    "duhamel (folded)",
+                    Karpov2017::duhamel as fn(&Karpov2017) -> _,
+                ),
                 ("Levin", |m: &Karpov2017| m.duhamel_levin(DUHAMEL_RTOL)),
             ] {
                 let t0 = std::time::Instant::now();

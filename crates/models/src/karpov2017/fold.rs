@@ -55,7 +55,7 @@ impl Fold {
             return None;
         }
         let n = (t_w / period).floor();
-        if !(n >= 2.0 && n < 1e15) {
+        if !(2.0..1e15).contains(&n) {
             return None;
         }
         let s0 = (t_w - n * period).max(0.0);
@@ -89,7 +89,10 @@ impl Kernel {
             let (ratio, half) = if d == 0.0 {
                 (f.n, 0.0)
             } else {
-                ((0.5 * f.n * d).sin() / (0.5 * d).sin(), 0.5 * (f.n - 1.0) * d)
+                (
+                    (0.5 * f.n * d).sin() / (0.5 * d).sin(),
+                    0.5 * (f.n - 1.0) * d,
+                )
             };
             let (s, c) = (b + half).sin_cos();
             out += Complex::new(c, s) * (sigma * ratio);
