@@ -50,7 +50,11 @@ def duhamel(T, h_target, omega=1.0, b=0.01, xi=2.0, k=0.1, printed=True):
         if i0 + chunk >= n + 1:
             w[-1] = 0.5
         total += np.dot(w, f)
-    total *= h
+    return finish(total * h, T, h, n, omega, b, xi, k, printed)
+
+
+def finish(total, T, h, n, omega, b, xi, k, printed):
+    """End correction -h^2/12 (F'(T) - F'(0)) and X, X' at T from C + iS."""
 
     def dF(s):
         phi, rate = phase(np.array([s]), omega, b, xi, k, printed)
@@ -95,17 +99,7 @@ def duhamel_numba(T, h_target, omega=1.0, b=0.01, xi=2.0, k=0.1, printed=True):
     n = int(math.ceil(T / h_target))
     h = T / n
     re, im = _trap_loop(n, h, omega, b, xi, k, printed)
-    total = complex(re, im)
-
-    def dF(s):
-        phi, rate = phase(np.array([s]), omega, b, xi, k, printed)
-        return (np.exp(1j * s) * (1j * np.sin(phi) + rate * np.cos(phi)))[0]
-
-    total -= h * h / 12 * (dF(T) - dF(0.0))
-    C, S = total.real, total.imag
-    x = math.sin(T) * C - math.cos(T) * S
-    v = math.cos(T) * C + math.sin(T) * S
-    return x, v, n
+    return finish(complex(re, im), T, h, n, omega, b, xi, k, printed)
 
 
 def main():

@@ -1160,6 +1160,20 @@ mod tests {
     use super::*;
     use timestep::{Method, Options, Output};
 
+    /// The model at `k = 0.1` and the given `ω, B, ξ`, last-cycle maximum.
+    fn model_xi(omega: f64, b: f64, xi: f64, tau_end: f64, ex: Excitation) -> Karpov2017 {
+        Karpov2017::new(Karpov2017Params {
+            omega,
+            b,
+            xi,
+            k: 0.1,
+            tau_end,
+            excitation: ex,
+            measure: AmplitudeMeasure::LastCycleMax,
+        })
+        .unwrap()
+    }
+
     fn model(b: f64, omega: f64, tau_end: f64, ex: Excitation) -> Karpov2017 {
         Karpov2017::new(Karpov2017Params {
             omega,
@@ -1264,16 +1278,7 @@ mod tests {
     fn halving_the_panels_stays_within_the_stated_tolerance() {
         for ex in [Excitation::PrintedPhase, Excitation::AccumulatedPhase] {
             for (b, xi) in [(0.05, 2.0), (0.01, 1.1)] {
-                let m = Karpov2017::new(Karpov2017Params {
-                    omega: 1.0,
-                    b,
-                    xi,
-                    k: 0.1,
-                    tau_end: 3000.0,
-                    excitation: ex,
-                    measure: AmplitudeMeasure::LastCycleMax,
-                })
-                .unwrap();
+                let m = model_xi(1.0, b, xi, 3000.0, ex);
                 let r = m.duhamel().unwrap();
                 let tol = DUHAMEL_RTOL * r.amplitude;
                 assert!(r.error_estimate <= tol, "{ex:?} B={b} ξ={xi}: {r:?}");
@@ -1399,16 +1404,7 @@ mod tests {
     fn folding_matches_the_direct_rule() {
         for ex in [Excitation::PrintedPhase, Excitation::AccumulatedPhase] {
             for (omega, b, xi) in [(1.0, 0.05, 2.0), (0.7, 0.01, 1.1), (1.9, 0.2, 3.0)] {
-                let m = Karpov2017::new(Karpov2017Params {
-                    omega,
-                    b,
-                    xi,
-                    k: 0.1,
-                    tau_end: 3000.0,
-                    excitation: ex,
-                    measure: AmplitudeMeasure::LastCycleMax,
-                })
-                .unwrap();
+                let m = model_xi(omega, b, xi, 3000.0, ex);
                 let f = m.duhamel_folded(PHASE_BUDGET).unwrap();
                 assert!(f.folded_periods >= 20, "{f:?}");
                 let d = m.duhamel_with(1.0).unwrap();
