@@ -441,7 +441,7 @@ impl Karpov2017 {
     /// fine grid, +5 %). Pairs of panels are sized so that the pair's phase is `≤ 2θ`; each
     /// half gets the 10-point Gauss–Legendre rule (the result) and the pair gets one more
     /// 10-point panel, whose difference to the halves is accumulated into the error estimate.
-    /// The last cycle is sampled every ≤ [`SAMPLE`] and the extrema of `X` between samples are
+    /// The last cycle is sampled every ≤ 0.5 (and ≤ 1 rad of phase) and the extrema of `X` between samples are
     /// located by a safeguarded Newton iteration on `X'(τ) = 0` (`X'' = sin Φ − X`).
     ///
     /// Every loop is bounded: the panel loop by `MAX_PANELS` and a check that each pair

@@ -148,7 +148,7 @@ impl system::SecondOrderSystem for Model {
         row[1] = self.backlash_at(t);
     }
     /// On the engine's grid of `ω = ω̄_c` (every harmonic balance of this model) the time
-    /// functions come from one quarter of the unit circle ([`Model::tabulate_period`]); any
+    /// functions come from one quarter of the unit circle (`Model::tabulate_period`); any
     /// other grid is tabulated sample by sample.
     fn tabulate_grid(&self, omega: f64, n_grid: usize, forcing: &mut [f64], table: &mut [f64]) {
         if omega.to_bits() == self.omega_c.to_bits() // the grid of this very model
