@@ -135,6 +135,22 @@ impl Kernel {
     }
 }
 
+/// Estimated panels of [`integrate`] at budget `theta`: three per pair, the pairs from the
+/// phase of the folded integrand over the period (`T(1 + ω(1 + B) + (s₀ + T)ω kω max|g'|)`
+/// bounds the `1 + |Φ'|` part, `N T ω·TV(g) = 4BωNT` the `D_N` part) over `2θ`, plus the
+/// pairs the chirp bound `M₂` alone allows (`T·√(M₂/(4θ))`).
+pub(super) fn panel_estimate(ker: &Kernel, f: &Fold, theta: f64, b: f64) -> f64 {
+    let t = f.period;
+    let base = t * (1.0 + ker.w * (1.0 + b));
+    let chirp = if ker.printed {
+        t * (f.s0 + t) * ker.w * ker.kw * ker.g1 + 4.0 * b * ker.w * f.n * t
+    } else {
+        0.0
+    };
+    let m2 = ker.folded_m2(f);
+    3.0 * ((base + chirp) / (2.0 * theta) + t * (m2 / (4.0 * theta)).sqrt() + 1.0)
+}
+
 /// Integrate the folded period `[s₀, s₀ + T]` into `acc` with phase budget `theta` per panel
 /// (pairs of panels as in the direct rule, their coarse differences into the estimate).
 ///
