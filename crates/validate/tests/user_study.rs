@@ -547,3 +547,177 @@ tolerance_check = "on"
     );
     assert!(e.contains("tolerance_check") && e.contains("engine"), "{e}");
 }
+
+/// The step-statistic columns of a row against a direct library call's counters (exact: the
+/// study runs the same computation).
+fn assert_stats(out: &UserStudyOutput, row: usize, s: &timestep::Stats, what: &str) {
+    for (name, want) in [
+        ("steps_accepted", s.n_accepted),
+        ("steps_rejected", s.n_rejected),
+        ("rhs_calls", s.n_rhs),
+        ("events", s.n_events),
+    ] {
+        assert_eq!(col(out, name)[row], want as f64, "{what}: {name}");
+    }
+    assert!(s.n_accepted > 0 && s.n_rhs > s.n_accepted, "{what}: {s:?}");
+    // the CSV writes the counts in full (no 6-digit rounding)
+    let csv = out.table.to_csv();
+    let line = csv.lines().nth(row + 1).unwrap();
+    assert!(
+        line.ends_with(&format!(
+            ",{},{},{},{}",
+            s.n_accepted, s.n_rejected, s.n_rhs, s.n_events
+        )),
+        "{what}: {line}"
+    );
+    // statistics draw no figure
+    assert!(
+        out.figures
+            .iter()
+            .all(|f| !geardyn_validate::is_step_statistic(&f.y.0)),
+        "{what}"
+    );
+}
+
+/// Every time-stepping model/engine reports its step statistics as the last columns, equal to
+/// the library's counters; every HBM result its residual norm and truncation indicator; the
+/// Duhamel quadrature its error estimate.
+#[test]
+fn every_result_states_its_statistics_and_accuracy() {
+    use models::karpov2017::Karpov2017;
+    use models::liu2021;
+    use models::pair::{GearPair, PairParams, TimeSettings};
+    use models::yu2021::{Engine, Options, RunSettings, Yu2021Model, Yu2021Params};
+
+    // Liu, time stepping (with the tolerance check: the statistics are the study tolerance's)
+    let out = run(
+        "name = \"l\"\nmodel = \"liu2021\"\n[overrides]\nomega1 = 150.0\n\
+                   [solver]\nmethod = \"time-stepping\"\n[solver.settings]\n\
+                   transient_periods = 1.0\nrecord_periods = 1.0\ntolerance_check = \"on\"\n",
+    );
+    let mut p = liu2021::table1();
+    p.omega1 = 150.0;
+    let model = p.model().unwrap();
+    let opts = liu2021::IntegrationOptions {
+        transient_periods: 1.0,
+        record_periods: 1.0,
+        ..liu2021::IntegrationOptions::default()
+    };
+    let r = liu2021::integrate(&model, &opts).unwrap();
+    assert_eq!(r.stats.n_rhs, r.rhs_evaluations);
+    assert_stats(&out, 0, &r.stats, "liu2021 time stepping");
+    let names: Vec<&str> = out.outputs.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names[4..],
+        [
+            "change_100x_tighter",
+            "steps_accepted",
+            "steps_rejected",
+            "rhs_calls",
+            "events"
+        ]
+    );
+
+    // Liu, HBM
+    let out = run(
+        "name = \"l\"\nmodel = \"liu2021\"\n[overrides]\nomega1 = 150.0\n\
+                   [solver]\nmethod = \"hbm\"\n",
+    );
+    let h = liu2021::solve_hbm(&model, &liu2021::HbmOptions::default(), None).unwrap();
+    assert_eq!(col(&out, "residual_norm")[0], h.solution.residual_norm);
+    assert_eq!(col(&out, "truncation")[0], h.solution.truncation);
+    assert!(h.solution.truncation.is_finite() && h.solution.truncation > 0.0);
+
+    // Yu, fixed-step RK4: every step accepted, four right-hand sides each
+    let yu = "name = \"y\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.4\n\
+              variant = \"kahraman-singh\"\n[solver]\nmethod = \"time-stepping\"\n\
+              [solver.settings]\ntransient_periods = 10\nrecord_periods = 4\n\
+              steps_per_period = 64\n";
+    let m = Yu2021Model::new(&Yu2021Params::table1(), Options::kahraman_singh()).unwrap();
+    let s = RunSettings {
+        omega: 0.4,
+        transient_periods: 10,
+        record_periods: 4,
+        steps_per_period: 64,
+    };
+    let out = run(yu);
+    let rk4 = m.simulate_with(&s, &Engine::Rk4Fixed, None).unwrap();
+    let steps = m.run_steps(&s).unwrap() as u64;
+    assert_eq!(
+        rk4.stats,
+        timestep::Stats {
+            n_accepted: steps,
+            n_rhs: 4 * steps,
+            ..timestep::Stats::default()
+        }
+    );
+    assert_stats(&out, 0, &rk4.stats, "yu2021 rk4");
+    // Yu, Dormand–Prince with the contact switches as events
+    let out = run(&format!("{yu}engine = \"timestep\"\n"));
+    let dp = m.simulate_with(&s, &Engine::timestep(), None).unwrap();
+    assert_stats(&out, 0, &dp.stats, "yu2021 timestep");
+
+    // generic pair, time stepping and HBM
+    let out = run(
+        "name = \"g\"\nmodel = \"generic-pair\"\n[overrides]\nmesh_frequency = 16000.0\n\
+         [solver]\nmethod = \"time-stepping\"\n[solver.settings]\ntransient_periods = 20\n\
+         record_periods = 4\n",
+    );
+    let mut pp = PairParams::example_spur();
+    pp.mesh_frequency = 16000.0;
+    let settings = TimeSettings {
+        transient_periods: 20,
+        record_periods: 4,
+        ..TimeSettings::default()
+    };
+    let r = GearPair::from_params(&pp)
+        .unwrap()
+        .time_response(&settings, None)
+        .unwrap();
+    assert_stats(&out, 0, &r.stats, "generic-pair time stepping");
+    let out = run(
+        "name = \"g\"\nmodel = \"generic-pair\"\n[overrides]\nmesh_frequency = 1000.0\n\
+         [solver]\nmethod = \"hbm\"\n[solver.settings]\nharmonics = 8\nsamples = 64\n",
+    );
+    pp.mesh_frequency = 1000.0;
+    let pair = GearPair::from_params(&pp).unwrap();
+    let mut z0 = vec![0.0; 17];
+    z0[0] = pair.static_state()[0];
+    let sol = pair
+        .hbm_problem(8, 64)
+        .unwrap()
+        .solve(
+            &z0,
+            &hbm::SolverOptions {
+                tolerance: 1e-6,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+    assert_eq!(col(&out, "residual_norm")[0], sol.residual_norm);
+    assert_eq!(col(&out, "truncation")[0], sol.truncation);
+
+    // Karpov: the Duhamel error estimate; the timestep engine's statistics
+    let karpov = "name = \"k\"\nmodel = \"karpov2017\"\n[overrides]\ntau_end = 300.0\n\
+                  [solver]\nmethod = \"time-stepping\"\n";
+    let out = run(karpov);
+    let k = Karpov2017::fig3().with(|p| p.tau_end = 300.0).unwrap();
+    let d = k.duhamel().unwrap();
+    assert_eq!(col(&out, "error_estimate")[0], d.error_estimate);
+    assert!(out.column("steps_accepted").is_none());
+    let out = run(&format!(
+        "{karpov}[solver.settings]\nengine = \"timestep\"\n"
+    ));
+    let sol = timestep::integrate(
+        &k.time_stepping().unwrap(),
+        0.0,
+        &[0.0, 0.0],
+        300.0,
+        &timestep::Options::default()
+            .with_tol(1e-9, 1e-9)
+            .with_max_steps(geardyn_validate::Limits::default().max_steps as u64)
+            .with_output(timestep::Output::Final),
+    )
+    .unwrap();
+    assert_stats(&out, 0, &sol.stats, "karpov2017 timestep");
+}

@@ -15,7 +15,11 @@ use models::liu2021::{
     self, BaseRadius, HbmPoint, Model, Parameters, SweepStrategy, TimeReference,
 };
 
-use crate::{Error, Figure, ResultExt, Series, Study, StudyOutput, Table, Tolerance, fmt_sig};
+use super::user_models::step_cells;
+use crate::{
+    Error, Figure, ResultExt, STEP_STATISTICS, Series, Study, StudyOutput, Table, Tolerance,
+    fmt_sig,
+};
 
 mod continuation;
 mod fig17;
@@ -62,7 +66,8 @@ fn strategy() -> SweepStrategy {
     SweepStrategy::default()
 }
 
-/// One sweep point: the swept value, the time reference and the three HBM columns.
+/// One sweep point: the swept value, the time reference and the three HBM columns, with the
+/// step statistics of the reference run and the accuracy of each HBM solution.
 #[derive(Debug, Clone, Copy)]
 struct Point {
     x: f64,
@@ -70,6 +75,15 @@ struct Point {
     cold: HbmPoint,
     warm: HbmPoint,
     full: HbmPoint,
+    /// Work counters of the time reference's run at the study tolerance (transient included).
+    stats: timestep::Stats,
+    /// `(residual norm, truncation indicator)` of the cold, warm and full HBM solutions.
+    accuracy: [(f64, f64); 3],
+}
+
+/// `(‖s‖₂, truncation indicator)` of a harmonic-balance solution.
+fn accuracy(r: &liu2021::HbmResponse) -> (f64, f64) {
+    (r.solution.residual_norm, r.solution.truncation)
 }
 
 impl Point {
@@ -114,6 +128,12 @@ fn sweep(xs: &[f64], set: impl Fn(&mut Parameters, f64)) -> Result<Vec<Point>, E
             cold: s.cold,
             warm: s.warm,
             full: s.full.unwrap_or(s.warm),
+            stats: s.response.stats,
+            accuracy: [
+                accuracy(&s.cold_solution),
+                accuracy(&s.warm_solution),
+                accuracy(s.full_solution.as_ref().unwrap_or(&s.warm_solution)),
+            ],
         })
         .collect())
 }
@@ -200,10 +220,20 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
             ("ppv_hbm_full", "1"),
             ("hbm_full_converged", "1"),
             ("hbm_full_stable", "1"),
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
+            ("residual_norm_hbm", "1"),
+            ("truncation_hbm", "1"),
+            ("residual_norm_hbm_warm", "1"),
+            ("truncation_hbm_warm", "1"),
+            ("residual_norm_hbm_full", "1"),
+            ("truncation_hbm_full", "1"),
         ],
     );
     for p in pts {
-        t.push(vec![
+        let mut row: Vec<crate::Cell> = vec![
             p.x.into(),
             f64::from(p.rsv()).into(),
             p.ppv().into(),
@@ -221,7 +251,14 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
             p.full.rattle.ppv.into(),
             flag01(p.full.converged).into(),
             p.full.stable().map_or(f64::NAN, flag01).into(),
-        ])?;
+        ];
+        row.extend(step_cells(&p.stats));
+        row.extend(
+            p.accuracy
+                .iter()
+                .flat_map(|&(r, tr)| [crate::Cell::Num(r), crate::Cell::Num(tr)]),
+        );
+        t.push(row)?;
     }
     Ok(t)
 }
