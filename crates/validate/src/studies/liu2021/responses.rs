@@ -5,9 +5,11 @@ use models::liu2021::{
     TimeReference,
 };
 
+use super::super::user_models::step_cells;
 use super::{base, model, sig, strategy};
 use crate::{
-    Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
+    Claim, Cost, Error, Figure, Paper, ResultExt, STEP_STATISTICS, Series, Study, StudyOutput,
+    Table, Verdict,
 };
 
 pub(super) fn study() -> Study {
@@ -168,6 +170,12 @@ fn spectrum_outputs(
             ("A_2fe", "1"),
             ("rank_fc", "1"),
             ("rank_fe", "1"),
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
+            ("residual_norm_hbm", "1"),
+            ("truncation_hbm", "1"),
         ],
     );
     let mut amps = Vec::new();
@@ -176,7 +184,7 @@ fn spectrum_outputs(
         .zip(cases)
         .filter_map(|(r, c)| r.4.flag().map(|f| format!("at {} rad/s: {f}", c.0)))
         .collect();
-    for (&(w, _, fig), (_, hb, sp, m, time)) in cases.iter().zip(results) {
+    for (&(w, _, fig), (ti, hb, sp, m, time)) in cases.iter().zip(results) {
         let z2 = m.z2 as usize;
         let kmax = (2 * z2 + 4).min(sp.amplitude.len() - 1);
         // physical frequency of harmonic k: k ω̄_c ω_n / 2π = k ω_c / 2π
@@ -185,7 +193,7 @@ fn spectrum_outputs(
         // rank among the non-DC harmonics 1..=kmax (1 = largest)
         let rank = |k: usize| 1 + (1..=kmax).filter(|&j| a(j) > a(k)).count();
         let (r1, re) = (rank(1), rank(z2));
-        t.push_nums(&[
+        let mut row: Vec<crate::Cell> = [
             w,
             fc,
             fc * z2 as f64,
@@ -197,7 +205,13 @@ fn spectrum_outputs(
             a(2 * z2),
             r1 as f64,
             re as f64,
-        ])?;
+        ]
+        .map(crate::Cell::Num)
+        .into();
+        row.extend(step_cells(&ti.stats));
+        let (residual, truncation) = super::accuracy(hb);
+        row.extend([residual.into(), truncation.into()]);
+        t.push(row)?;
         let mut top: Vec<usize> = (1..=kmax).collect();
         top.sort_by(|&i, &j| a(j).total_cmp(&a(i)));
         let top_txt = top

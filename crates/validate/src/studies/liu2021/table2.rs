@@ -3,10 +3,11 @@
 use gear_geometry::LiuRig;
 use models::liu2021::{self, HbmOptions, IntegrationOptions, SweepStrategy, TimeReference};
 
+use super::super::user_models::step_cells;
 use super::{base, model, sig, strategy};
 use crate::{
-    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
-    Table, Tolerance, ToleranceBand, Verdict, published,
+    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, STEP_STATISTICS, Series,
+    Study, StudyOutput, Table, Tolerance, ToleranceBand, Verdict, published,
 };
 
 pub(super) fn study() -> Study {
@@ -42,6 +43,10 @@ struct Row {
     disp_hbm: f64,
     hbm_converged: bool,
     rsv: u8,
+    /// Work counters of the time reference's run.
+    stats: timestep::Stats,
+    /// `(residual norm, truncation indicator)` of the HBM solution.
+    hbm_accuracy: (f64, f64),
 }
 
 /// The Sect. 3.8 rig point at motor speed `rpm`: Table 1 with T2 = 3 N·m and the rig's ratio
@@ -51,7 +56,15 @@ struct Row {
 pub(super) fn rig_spectrum(
     rig: &LiuRig,
     rpm: f64,
-) -> Result<(liu2021::Model, TimeReference, timestep::Spectrum), Error> {
+) -> Result<
+    (
+        liu2021::Model,
+        TimeReference,
+        timestep::Spectrum,
+        timestep::Stats,
+    ),
+    Error,
+> {
     let mut p = base();
     p.load_torque = 3.0;
     p.ratio = f64::from(rig.z2) / f64::from(rig.z1);
@@ -68,7 +81,7 @@ pub(super) fn rig_spectrum(
     let k = SAMPLES.min(ti.q.len());
     let sp =
         timestep::amplitude_spectrum(&ti.q[..k], s.integration.sample_step).context("spectrum")?;
-    Ok((m, time, sp))
+    Ok((m, time, sp, ti.stats))
 }
 
 fn run() -> Result<StudyOutput, Error> {
@@ -83,7 +96,7 @@ fn run() -> Result<StudyOutput, Error> {
     let rows: Vec<Row> = timestep::sweep(
         &rpms,
         |(_, n)| {
-            let (m, time, sp) = rig_spectrum(&rig, *n)?;
+            let (m, time, sp, stats) = rig_spectrum(&rig, *n)?;
             let a = |k: usize| sp.amplitude.get(k).copied().unwrap_or(f64::NAN);
             let hb = liu2021::solve_hbm(&m, &HbmOptions::default(), None).context("hbm")?;
             Ok(Row {
@@ -94,6 +107,8 @@ fn run() -> Result<StudyOutput, Error> {
                 disp_hbm: hb.amplitude(m.z2 as usize) / hb.amplitude(1),
                 hbm_converged: hb.converged(),
                 rsv: time.rattle.state.rsv(),
+                stats,
+                hbm_accuracy: super::accuracy(&hb),
             })
         },
         None,
@@ -125,6 +140,12 @@ fn run() -> Result<StudyOutput, Error> {
             ("ratio_velocity_hbm", "1"),
             ("hbm_converged", "1"),
             ("rsv_time", "1"),
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
+            ("residual_norm_hbm", "1"),
+            ("truncation_hbm", "1"),
         ],
     );
     let (mut model_pts, mut hbm_pts, mut th_pts, mut ex_pts) =
@@ -163,7 +184,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .flagged_all(flags)
                 .note("model: velocity-spectrum ratio, time integration (judged)"),
         );
-        t.push(vec![
+        let mut row = vec![
             r.n.into(),
             th.value.into(),
             exv.value.into(),
@@ -175,7 +196,10 @@ fn run() -> Result<StudyOutput, Error> {
             vel_hbm.into(),
             if r.hbm_converged { 1.0 } else { 0.0 }.into(),
             f64::from(r.rsv).into(),
-        ])?;
+        ];
+        row.extend(step_cells(&r.stats));
+        row.extend([r.hbm_accuracy.0.into(), r.hbm_accuracy.1.into()]);
+        t.push(row)?;
         model_pts.push((r.n, vel));
         hbm_pts.push((r.n, vel_hbm));
         th_pts.push((r.n, th.value));
