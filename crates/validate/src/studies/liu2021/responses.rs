@@ -5,11 +5,9 @@ use models::liu2021::{
     TimeReference,
 };
 
-use super::super::user_models::step_cells;
 use super::{base, model, sig, strategy};
 use crate::{
-    Claim, Cost, Error, Figure, Paper, ResultExt, STEP_STATISTICS, Series, Study, StudyOutput,
-    Table, Verdict,
+    Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
 };
 
 pub(super) fn study() -> Study {
@@ -156,28 +154,20 @@ fn spectrum_outputs(
     cases: &[(f64, RattleState, &str); 3],
     results: &[Response],
 ) -> Result<(), Error> {
-    let mut t = Table::new(
-        "spectrum_peaks",
-        &[
-            ("omega1", "rad/s"),
-            ("f_c", "Hz"),
-            ("f_e", "Hz"),
-            ("A_fc", "1"),
-            ("A_2fc", "1"),
-            ("A_fe", "1"),
-            ("A_fe_minus_fc", "1"),
-            ("A_fe_plus_fc", "1"),
-            ("A_2fe", "1"),
-            ("rank_fc", "1"),
-            ("rank_fe", "1"),
-            STEP_STATISTICS[0],
-            STEP_STATISTICS[1],
-            STEP_STATISTICS[2],
-            STEP_STATISTICS[3],
-            ("residual_norm_hbm", "1"),
-            ("truncation_hbm", "1"),
-        ],
-    );
+    let own = [
+        ("omega1", "rad/s"),
+        ("f_c", "Hz"),
+        ("f_e", "Hz"),
+        ("A_fc", "1"),
+        ("A_2fc", "1"),
+        ("A_fe", "1"),
+        ("A_fe_minus_fc", "1"),
+        ("A_fe_plus_fc", "1"),
+        ("A_2fe", "1"),
+        ("rank_fc", "1"),
+        ("rank_fe", "1"),
+    ];
+    let mut t = Table::new("spectrum_peaks", &super::columns(&own, &super::RUN_COLUMNS));
     let mut amps = Vec::new();
     let all_flags: Vec<String> = results
         .iter()
@@ -208,9 +198,7 @@ fn spectrum_outputs(
         ]
         .map(crate::Cell::Num)
         .into();
-        row.extend(step_cells(&ti.stats));
-        let (residual, truncation) = super::accuracy(hb);
-        row.extend([residual.into(), truncation.into()]);
+        row.extend(super::run_cells(&ti.stats, super::accuracy(hb)));
         t.push(row)?;
         let mut top: Vec<usize> = (1..=kmax).collect();
         top.sort_by(|&i, &j| a(j).total_cmp(&a(i)));

@@ -3,11 +3,10 @@
 use gear_geometry::LiuRig;
 use models::liu2021::{self, HbmOptions, IntegrationOptions, SweepStrategy, TimeReference};
 
-use super::super::user_models::step_cells;
 use super::{base, model, sig, strategy};
 use crate::{
-    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, STEP_STATISTICS, Series,
-    Study, StudyOutput, Table, Tolerance, ToleranceBand, Verdict, published,
+    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
+    Table, Tolerance, ToleranceBand, Verdict, published,
 };
 
 pub(super) fn study() -> Study {
@@ -126,28 +125,20 @@ fn run() -> Result<StudyOutput, Error> {
         })
         .collect::<Result<_, Error>>()?;
     let scatter = line_residual_max(&ex);
-    let mut t = Table::new(
-        "ratios",
-        &[
-            ("n_motor", "rpm"),
-            ("xi_theory_paper", "1"),
-            ("xi_experiment_paper", "1"),
-            ("ratio_displacement_time", "1"),
-            ("ratio_velocity_time", "1"),
-            ("ratio_acceleration_time", "1"),
-            ("time_motion", "-"),
-            ("time_flag", "-"),
-            ("ratio_velocity_hbm", "1"),
-            ("hbm_converged", "1"),
-            ("rsv_time", "1"),
-            STEP_STATISTICS[0],
-            STEP_STATISTICS[1],
-            STEP_STATISTICS[2],
-            STEP_STATISTICS[3],
-            ("residual_norm_hbm", "1"),
-            ("truncation_hbm", "1"),
-        ],
-    );
+    let own = [
+        ("n_motor", "rpm"),
+        ("xi_theory_paper", "1"),
+        ("xi_experiment_paper", "1"),
+        ("ratio_displacement_time", "1"),
+        ("ratio_velocity_time", "1"),
+        ("ratio_acceleration_time", "1"),
+        ("time_motion", "-"),
+        ("time_flag", "-"),
+        ("ratio_velocity_hbm", "1"),
+        ("hbm_converged", "1"),
+        ("rsv_time", "1"),
+    ];
+    let mut t = Table::new("ratios", &super::columns(&own, &super::RUN_COLUMNS));
     let (mut model_pts, mut hbm_pts, mut th_pts, mut ex_pts) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for ((key, _), r) in rpms.iter().zip(&rows) {
@@ -197,8 +188,7 @@ fn run() -> Result<StudyOutput, Error> {
             if r.hbm_converged { 1.0 } else { 0.0 }.into(),
             f64::from(r.rsv).into(),
         ];
-        row.extend(step_cells(&r.stats));
-        row.extend([r.hbm_accuracy.0.into(), r.hbm_accuracy.1.into()]);
+        row.extend(super::run_cells(&r.stats, r.hbm_accuracy));
         t.push(row)?;
         model_pts.push((r.n, vel));
         hbm_pts.push((r.n, vel_hbm));
