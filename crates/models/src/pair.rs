@@ -446,6 +446,7 @@ impl<S: StiffnessLaw, B: BacklashLaw> GearPair<S, B> {
             delta: Vec::with_capacity(m),
             force: Vec::with_capacity(m),
             final_state: rec.y_final.clone(),
+            stats: crate::error::total_stats(&[&tr, &rec]),
         };
         for i in 0..rec.len() {
             let y = rec.state(i);
@@ -513,6 +514,11 @@ pub struct PairResponse {
     pub force: Vec<f64>,
     /// `[q, q']` at the end.
     pub final_state: Vec<f64>,
+    /// Work counters of the whole run (transient and record): accepted and rejected steps,
+    /// right-hand-side evaluations, located gap-edge events (absent in data written before it
+    /// existed: zeros).
+    #[serde(default)]
+    pub stats: timestep::Stats,
 }
 
 impl PairResponse {

@@ -145,7 +145,8 @@ pub use render::{
 pub use studies::all_studies;
 pub use studies::user_models::{
     Adapter, BIFURCATION, BifurcationModel, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo,
-    ModelSpec, ParamInfo, Preparer, REGISTRY, SettingDef, describe_all,
+    ModelSpec, ParamInfo, Preparer, REGISTRY, STEP_STATISTICS, SettingDef, describe_all,
+    is_step_statistic, step_statistics,
 };
 pub use study::{
     ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance,

@@ -5,7 +5,8 @@ use serde::Serialize;
 use crate::error::Error;
 use crate::format::{csv_field, fmt6};
 
-/// One cell: a number (formatted to [`crate::SIGNIFICANT_DIGITS`]) or text (e.g. a rattle state).
+/// One cell: a number (formatted to [`crate::SIGNIFICANT_DIGITS`]), text (e.g. a rattle state)
+/// or a count.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[non_exhaustive]
 pub enum Cell {
@@ -13,6 +14,8 @@ pub enum Cell {
     Num(f64),
     /// A label.
     Text(String),
+    /// A count (steps, right-hand-side evaluations, events): written in full, every digit.
+    Count(u64),
 }
 
 impl From<f64> for Cell {
@@ -39,6 +42,17 @@ impl Cell {
         match self {
             Cell::Num(x) => fmt6(*x),
             Cell::Text(s) => s.clone(),
+            Cell::Count(n) => n.to_string(),
+        }
+    }
+
+    /// A count carried as a number (the study outputs are `f64`): [`Cell::Count`] when `x`
+    /// is a whole number in `[0, 2⁵³]`, else [`Cell::Num`] (NaN of a failed point).
+    pub fn count(x: f64) -> Self {
+        if (0.0..=9_007_199_254_740_992.0).contains(&x) && x.fract() == 0.0 {
+            Cell::Count(x as u64)
+        } else {
+            Cell::Num(x)
         }
     }
 }
@@ -139,5 +153,17 @@ mod tests {
         assert!(t.push_nums(&[1.0]).is_err());
         t.push(vec![1.0.into(), "bilateral".into()]).unwrap();
         assert_eq!(t.to_csv(), "a [m],state\n1,bilateral\n");
+    }
+
+    /// Counts are written with every digit; anything that is not a whole count stays a number.
+    #[test]
+    fn counts_are_written_in_full() {
+        assert_eq!(Cell::count(1_234_567.0).render(), "1234567");
+        assert_eq!(Cell::Num(1_234_567.0).render(), "1234570");
+        assert_eq!(Cell::count(0.0), Cell::Count(0));
+        assert_eq!(Cell::count(f64::NAN).render(), "NaN");
+        assert_eq!(Cell::count(-1.0), Cell::Num(-1.0));
+        assert_eq!(Cell::count(2.5), Cell::Num(2.5));
+        assert_eq!(Cell::count(1e300), Cell::Num(1e300));
     }
 }

@@ -296,10 +296,12 @@ pub struct UserStudyOutput {
     pub outputs: Vec<(String, String)>,
     /// One row per point: swept parameters then the model's outputs (`name [unit]` headers).
     pub table: Table,
-    /// One figure per output quantity (x = first sweep, one curve per second-sweep value).
+    /// One figure per output quantity (x = first sweep, one curve per second-sweep value;
+    /// none for the step statistics, [`crate::STEP_STATISTICS`]).
     pub figures: Vec<Figure>,
-    /// For a two-parameter study with numeric sweeps: one heat map per output quantity
-    /// (`<name>_<output>_map.svg`; the rattle state `rsv` with categorical colours).
+    /// For a two-parameter study with numeric sweeps: one heat map per output quantity but the
+    /// step statistics (`<name>_<output>_map.svg`; the rattle state `rsv` with categorical
+    /// colours).
     pub maps: Vec<Heatmap>,
     /// Points that failed (NaN rows in the table).
     pub failed: Vec<FailedPoint>,
@@ -324,6 +326,7 @@ impl UserStudyOutput {
                 .iter()
                 .map(|r| match &r[i] {
                     Cell::Num(x) => *x,
+                    Cell::Count(n) => *n as f64,
                     Cell::Text(_) => f64::NAN,
                 })
                 .collect(),
@@ -645,7 +648,13 @@ fn assemble(
                 Ok(v) if bif => {
                     row.extend(v.iter().enumerate().map(|(j, &z)| bifurcation::cell(j, z)))
                 }
-                Ok(v) => row.extend(v.iter().map(|&z| Cell::Num(z))),
+                Ok(v) => row.extend(v.iter().zip(outputs).map(|(&z, (name, _))| {
+                    if user_models::is_step_statistic(name) {
+                        Cell::count(z)
+                    } else {
+                        Cell::Num(z)
+                    }
+                })),
                 Err(e) => {
                     failed.push(FailedPoint {
                         index: k,
@@ -681,6 +690,10 @@ fn assemble(
             name.clone(),
             serde_json::json!({"unit": unit, "min": json_num(lo), "max": json_num(hi)}),
         );
+        // the step statistics describe the computation: CSV and ranges, no figure
+        if user_models::is_step_statistic(name) {
+            continue;
+        }
         if let (Some(s), false) = (&study.sweep, bif) {
             let fname = format!("{}_{}", study.name, sanitize(name));
             let x_unit = axis_unit(study, &s.parameter);
@@ -776,6 +789,9 @@ fn heat_maps(
     );
     let mut maps = Vec::new();
     for (j, (name, unit)) in outputs.iter().enumerate() {
+        if user_models::is_step_statistic(name) {
+            continue;
+        }
         let z: Vec<f64> = results
             .iter()
             .map(|r| r.as_ref().map_or(f64::NAN, |v| v[j]))

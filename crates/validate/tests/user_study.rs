@@ -135,12 +135,11 @@ fn liu_columns_match_library() {
 #[test]
 fn yu_columns_match_library() {
     use models::yu2021::{Engine, Options, RunSettings, Yu2021Model, Yu2021Params};
-    let out = run(
-        "name = \"y\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.4\n\
-                   variant = \"kahraman-singh\"\n[solver]\nmethod = \"time-stepping\"\n\
-                   [solver.settings]\ntransient_periods = 10\nrecord_periods = 4\n\
-                   steps_per_period = 64\nrms_harmonics = 3\n",
-    );
+    let text = "name = \"y\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.4\n\
+                variant = \"kahraman-singh\"\n[solver]\nmethod = \"time-stepping\"\n\
+                [solver.settings]\ntransient_periods = 10\nrecord_periods = 4\n\
+                steps_per_period = 64\nrms_harmonics = 3\n";
+    let out = run(text);
     let m = Yu2021Model::new(&Yu2021Params::table1(), Options::kahraman_singh()).unwrap();
     let s = RunSettings {
         omega: 0.4,
@@ -154,6 +153,21 @@ fn yu_columns_match_library() {
     assert_eq!(col(&out, "mean_dte")[0], r.mean_dte());
     assert_eq!(col(&out, "dte_peak_to_peak")[0], r.dte_peak_to_peak());
     assert_eq!(col(&out, "mean_backlash")[0], r.mean_backlash());
+    // fixed-step RK4: every step accepted, four right-hand sides each
+    let steps = m.run_steps(&s).unwrap() as u64;
+    assert_eq!(
+        r.stats,
+        timestep::Stats {
+            n_accepted: steps,
+            n_rhs: 4 * steps,
+            ..timestep::Stats::default()
+        }
+    );
+    assert_stats(&out, 0, &r.stats, "yu2021 rk4");
+    // Dormand–Prince with the contact switches as events
+    let out = run(&format!("{text}engine = \"timestep\"\n"));
+    let dp = m.simulate_with(&s, &Engine::timestep(), None).unwrap();
+    assert_stats(&out, 0, &dp.stats, "yu2021 timestep");
 }
 
 #[test]
@@ -405,7 +419,11 @@ fn generic_pair_example_runs_and_columns_match_library() {
         .time_response(&settings, None)
         .unwrap();
     let df = col(&out, "df");
-    assert!(df.contains(&r.dynamic_factor(p.static_force)), "{df:?}");
+    let row = df
+        .iter()
+        .position(|&x| x == r.dynamic_factor(p.static_force));
+    assert!(row.is_some(), "{df:?}");
+    assert_stats(&out, row.unwrap(), &r.stats, "generic-pair time stepping");
     let mean = r.delta.iter().sum::<f64>() / r.delta.len() as f64;
     assert!(col(&out, "mean_dte").contains(&mean));
 
@@ -435,6 +453,9 @@ fn generic_pair_example_runs_and_columns_match_library() {
         col(&out, "first_harmonic_amplitude")[0],
         sol.coefficients[1].hypot(sol.coefficients[2])
     );
+    assert_eq!(col(&out, "residual_norm")[0], sol.residual_norm);
+    assert_eq!(col(&out, "truncation")[0], sol.truncation);
+    assert!(sol.truncation.is_finite());
 }
 
 #[test]
@@ -522,6 +543,21 @@ tolerance_check = "on"
         ..o
     });
     assert_eq!(col(&out, "ppv")[0], a[0]);
+    // the step statistics follow the change and are the study tolerance's run
+    let r = liu2021::integrate(&m, &o).unwrap();
+    assert_eq!(r.stats.n_rhs, r.rhs_evaluations);
+    assert_stats(&out, 0, &r.stats, "liu2021 time stepping");
+    let names: Vec<&str> = out.outputs.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names[4..],
+        [
+            "change_100x_tighter",
+            "steps_accepted",
+            "steps_rejected",
+            "rhs_calls",
+            "events"
+        ]
+    );
     let want = a
         .iter()
         .zip(&b)
@@ -546,4 +582,87 @@ tolerance_check = "on"
          [solver.settings]\ntolerance_check = \"on\"\n",
     );
     assert!(e.contains("tolerance_check") && e.contains("engine"), "{e}");
+}
+
+/// The step-statistic columns of a row against a direct library call's counters (exact: the
+/// study runs the same computation).
+fn assert_stats(out: &UserStudyOutput, row: usize, s: &timestep::Stats, what: &str) {
+    for (name, want) in [
+        ("steps_accepted", s.n_accepted),
+        ("steps_rejected", s.n_rejected),
+        ("rhs_calls", s.n_rhs),
+        ("events", s.n_events),
+    ] {
+        assert_eq!(col(out, name)[row], want as f64, "{what}: {name}");
+    }
+    assert!(s.n_accepted > 0 && s.n_rhs > s.n_accepted, "{what}: {s:?}");
+    // the CSV writes the counts in full (no 6-digit rounding)
+    let csv = out.table.to_csv();
+    let line = csv.lines().nth(row + 1).unwrap();
+    assert!(
+        line.ends_with(&format!(
+            ",{},{},{},{}",
+            s.n_accepted, s.n_rejected, s.n_rhs, s.n_events
+        )),
+        "{what}: {line}"
+    );
+    // statistics draw no figure
+    assert!(
+        out.figures
+            .iter()
+            .all(|f| !geardyn_validate::is_step_statistic(&f.y.0)),
+        "{what}"
+    );
+}
+
+/// Every time-stepping model/engine reports its step statistics as the last columns, equal to
+/// the library's counters ([`assert_stats`]); every HBM result its residual norm and truncation
+/// indicator; the Duhamel quadrature its error estimate. Here: Liu HBM and both Karpov engines;
+/// the Liu time stepping, both Yu engines and the generic pair (both methods) are checked in
+/// their column tests named below.
+#[test]
+fn every_result_states_its_statistics_and_accuracy() {
+    use models::karpov2017::Karpov2017;
+    use models::liu2021;
+
+    // Liu, time stepping: tolerance_check_adds_the_change_under_a_tighter_tolerance
+    // Liu, HBM
+    let mut p = liu2021::table1();
+    p.omega1 = 150.0;
+    let model = p.model().unwrap();
+    let out = run(
+        "name = \"l\"\nmodel = \"liu2021\"\n[overrides]\nomega1 = 150.0\n\
+                   [solver]\nmethod = \"hbm\"\n",
+    );
+    let h = liu2021::solve_hbm(&model, &liu2021::HbmOptions::default(), None).unwrap();
+    assert_eq!(col(&out, "residual_norm")[0], h.solution.residual_norm);
+    assert_eq!(col(&out, "truncation")[0], h.solution.truncation);
+    assert!(h.solution.truncation.is_finite() && h.solution.truncation > 0.0);
+
+    // Yu: yu_columns_match_library
+    // generic pair: generic_pair_example_runs_and_columns_match_library
+
+    // Karpov: the Duhamel error estimate; the timestep engine's statistics
+    let karpov = "name = \"k\"\nmodel = \"karpov2017\"\n[overrides]\ntau_end = 300.0\n\
+                  [solver]\nmethod = \"time-stepping\"\n";
+    let out = run(karpov);
+    let k = Karpov2017::fig3().with(|p| p.tau_end = 300.0).unwrap();
+    let d = k.duhamel().unwrap();
+    assert_eq!(col(&out, "error_estimate")[0], d.error_estimate);
+    assert!(out.column("steps_accepted").is_none());
+    let out = run(&format!(
+        "{karpov}[solver.settings]\nengine = \"timestep\"\n"
+    ));
+    let sol = timestep::integrate(
+        &k.time_stepping().unwrap(),
+        0.0,
+        &[0.0, 0.0],
+        300.0,
+        &timestep::Options::default()
+            .with_tol(1e-9, 1e-9)
+            .with_max_steps(geardyn_validate::Limits::default().max_steps as u64)
+            .with_output(timestep::Output::Final),
+    )
+    .unwrap();
+    assert_stats(&out, 0, &sol.stats, "karpov2017 timestep");
 }

@@ -51,6 +51,11 @@ pub struct TimeResponse {
     pub contact_events: usize,
     /// Right-hand-side evaluations of the whole run.
     pub rhs_evaluations: u64,
+    /// Work counters of the whole run (transient and recorded window): accepted and rejected
+    /// steps, right-hand-side evaluations, located events (absent in data written before it
+    /// existed: zeros).
+    #[serde(default)]
+    pub stats: timestep::Stats,
 }
 
 fn positive(name: &'static str, v: f64) -> Result<(), Error> {
@@ -175,6 +180,7 @@ pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResp
         };
         rattle.state = rattle.state.max(s);
     }
+    let stats = crate::error::total_stats(&[&warm, &rec]);
     Ok(TimeResponse {
         tau: rec.t,
         q,
@@ -182,5 +188,6 @@ pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResp
         rattle,
         contact_events: rec.events.len(),
         rhs_evaluations: warm.stats.n_rhs + rec.stats.n_rhs,
+        stats,
     })
 }

@@ -134,6 +134,7 @@ impl Yu2021Model {
             backlash: Vec::with_capacity(m),
             alpha: Vec::with_capacity(m),
             final_state: full_state(&rec.y_final),
+            stats: crate::error::total_stats(&[&tr, &rec]),
         };
         for i in 0..rec.len() {
             let tau = rec.t[i];

@@ -308,6 +308,11 @@ pub struct Response {
     pub alpha: Vec<f64>,
     /// State at the end of the run.
     pub final_state: [f64; STATE_LEN],
+    /// Work counters of the whole run (transient and record). Fixed-step RK4: every step
+    /// accepted, none rejected, four right-hand sides per step, no events; Dormand–Prince:
+    /// the engine's counters (absent in data written before it existed: zeros).
+    #[serde(default)]
+    pub stats: timestep::Stats,
 }
 
 impl Response {
@@ -659,6 +664,11 @@ impl Yu2021Model {
             backlash: Vec::with_capacity(cap),
             alpha: Vec::with_capacity(cap),
             final_state: s,
+            stats: timestep::Stats {
+                n_rhs: 4 * total as u64,
+                n_accepted: total as u64,
+                ..timestep::Stats::default()
+            },
         };
         for step in 0..total {
             let tau = step as f64 * h;
@@ -839,6 +849,7 @@ mod tests {
             backlash: vec![1.0; tau.len()],
             alpha: vec![0.3; tau.len()],
             final_state: [0.0; STATE_LEN],
+            stats: timestep::Stats::default(),
         };
         let c = timestep::fourier_projection(&tau, &dte, w, 2).unwrap();
         assert_eq!(r.fourier_coefficients(2), c);

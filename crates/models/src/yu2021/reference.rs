@@ -413,6 +413,7 @@ mod tests {
             alpha: vec![0.0; n],
             tau: tau.clone(),
             final_state: [0.0; crate::yu2021::STATE_LEN],
+            stats: timestep::Stats::default(),
         };
         let v = r.dte_rate();
         for i in 1..n - 1 {

@@ -243,27 +243,57 @@ fn relative_change(a: &[f64], b: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The outputs with the [`CHANGE_COLUMN`] appended when the check is on.
-fn outs_checked(v: &[(&str, &str)], check: bool) -> Vec<(String, String)> {
+/// The step statistics of every time-stepping point, the last columns of its row (always on):
+/// accepted and rejected steps, right-hand-side evaluations and located events of the whole
+/// run (transient included) at the study's tolerance ([`timestep::Stats`]).
+pub const STEP_STATISTICS: [(&str, &str); 4] = [
+    ("steps_accepted", "1"),
+    ("steps_rejected", "1"),
+    ("rhs_calls", "1"),
+    ("events", "1"),
+];
+
+/// True for a column that describes the computation rather than the model (the
+/// [`STEP_STATISTICS`]): in the CSV and the JSON ranges, without a figure or heat map.
+pub fn is_step_statistic(column: &str) -> bool {
+    STEP_STATISTICS.iter().any(|(n, _)| *n == column)
+}
+
+/// The values of the [`STEP_STATISTICS`] columns (exact: counts below 2⁵³).
+pub fn step_statistics(s: &timestep::Stats) -> [f64; 4] {
+    [s.n_accepted, s.n_rejected, s.n_rhs, s.n_events].map(|n| n as f64)
+}
+
+/// The [`STEP_STATISTICS`] as table cells (written in full), for the validation studies.
+pub(crate) fn step_cells(s: &timestep::Stats) -> [crate::Cell; 4] {
+    [s.n_accepted, s.n_rejected, s.n_rhs, s.n_events].map(crate::Cell::Count)
+}
+
+/// The outputs of a time-stepping method: the model's, the [`CHANGE_COLUMN`] when the check is
+/// on, then the [`STEP_STATISTICS`].
+fn outs_stepped(v: &[(&str, &str)], check: bool) -> Vec<(String, String)> {
     let mut o = outs(v);
     if check {
         o.push((CHANGE_COLUMN.0.to_owned(), CHANGE_COLUMN.1.to_owned()));
     }
+    o.extend(outs(&STEP_STATISTICS));
     o
 }
 
 /// Run `job(1)` and, when `check`, `job(100)` (tolerance divided by 100), appending the
-/// relative change of the outputs.
-fn run_checked_job(
+/// relative change of the outputs, then the step statistics of the run at the study's
+/// tolerance (the columns of [`outs_stepped`]). `job` returns the outputs and the statistics.
+fn run_stepped_job(
     check: bool,
-    job: impl Fn(f64) -> Result<Vec<f64>, Error>,
+    job: impl Fn(f64) -> Result<(Vec<f64>, timestep::Stats), Error>,
 ) -> Result<Vec<f64>, Error> {
-    let mut v = job(1.0)?;
+    let (mut v, stats) = job(1.0)?;
     if check {
-        let tight = job(100.0)?;
+        let (tight, _) = job(100.0)?;
         let c = relative_change(&v, &tight);
         v.push(c);
     }
+    v.extend(step_statistics(&stats));
     Ok(v)
 }
 
@@ -318,7 +348,7 @@ fn time_stepping_and_hbm(
         MethodInfo {
             method: Method::TimeStepping,
             settings: ts.0.to_vec(),
-            outputs: outs(ts.1),
+            outputs: outs_stepped(ts.1, false),
             initial: Some(initial),
         },
         MethodInfo {
@@ -617,6 +647,21 @@ const KARPOV_TS: &[SettingDef] = &[
 
 const KARPOV_OUT: &[(&str, &str)] = &[("A", "1"), ("envelope", "1"), ("x_final", "1")];
 
+/// The Duhamel engine's accuracy column: [`karpov2017::KarpovResponse::error_estimate`].
+const KARPOV_ERROR: (&str, &str) = ("error_estimate", "1");
+
+/// The outputs of the Karpov oscillator on either engine.
+fn karpov_outputs(duhamel: bool, check: bool) -> Vec<(String, String)> {
+    if duhamel {
+        let mut o = outs(KARPOV_OUT);
+        o.extend(outs(&[KARPOV_ERROR]));
+        o
+    } else {
+        // the timestep engine does not sample the last cycle: no `A` column
+        outs_stepped(&KARPOV_OUT[1..], check)
+    }
+}
+
 fn karpov_describe() -> ModelInfo {
     let p = karpov2017::Karpov2017::fig3().params();
     ModelInfo {
@@ -632,7 +677,7 @@ fn karpov_describe() -> ModelInfo {
         methods: vec![MethodInfo {
             method: Method::TimeStepping,
             settings: KARPOV_TS.to_vec(),
-            outputs: outs(KARPOV_OUT),
+            outputs: karpov_outputs(true, false),
             initial: Some("[X, X'] at τ = 0 (engine = \"timestep\" only)"),
         }],
     }
@@ -682,14 +727,8 @@ fn karpov_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
         }
     };
     let limits = ctx.limits;
-    // The timestep engine does not sample the last cycle: no `A` column.
-    let outputs = if duhamel {
-        outs(KARPOV_OUT)
-    } else {
-        outs_checked(&KARPOV_OUT[1..], check)
-    };
     Ok(Adapter {
-        outputs,
+        outputs: karpov_outputs(duhamel, check),
         prepare: Box::new(move |p: &Point| {
             let mut fields = p.clone();
             reject_legacy(
@@ -713,10 +752,10 @@ fn karpov_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
             Ok(Box::new(move || {
                 if duhamel {
                     let r = m.duhamel().context("karpov2017 Duhamel quadrature")?;
-                    Ok(vec![r.amplitude, r.envelope, r.x])
+                    Ok(vec![r.amplitude, r.envelope, r.x, r.error_estimate])
                 } else {
                     let ode = m.time_stepping().context("karpov2017 system")?;
-                    run_checked_job(check, |factor| {
+                    run_stepped_job(check, |factor| {
                         let opts = timestep::Options::default()
                             .with_tol(rtol / factor, rtol / factor)
                             .with_max_steps(max_steps)
@@ -730,7 +769,7 @@ fn karpov_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                             )));
                         }
                         let (x, v) = (sol.y_final[0], sol.y_final[1]);
-                        Ok(vec![x.hypot(v), x])
+                        Ok((vec![x.hypot(v), x], sol.stats))
                     })
                 }
             }) as Job)
@@ -753,12 +792,17 @@ fn liu_unit(k: &str) -> &'static str {
     }
 }
 
+/// The Liu outputs: the first four on both methods; HBM adds convergence, the residual norm
+/// `‖s‖₂` ([`hbm::PeriodicSolution::residual_norm`], units of the dimensionless forcing) and
+/// the truncation indicator ([`hbm::PeriodicSolution::truncation`]).
 const LIU_OUT: &[(&str, &str)] = &[
     ("rsv", "1"),
     ("ppv", "1"),
     ("q_min", "1"),
     ("q_max", "1"),
     ("converged", "1"),
+    ("residual_norm", "1"),
+    ("truncation", "1"),
 ];
 
 /// Fewest samples of the recorded window (ppv, q_min, q_max are read from them).
@@ -890,7 +934,7 @@ fn liu_describe() -> ModelInfo {
             MethodInfo {
                 method: Method::TimeStepping,
                 settings: LIU_TS.to_vec(),
-                outputs: outs(&LIU_OUT[..4]),
+                outputs: outs_stepped(&LIU_OUT[..4], false),
                 initial: Some("[q, q'] at τ = 0 (default: the quasi-static contact at rest)"),
             },
             MethodInfo {
@@ -1016,7 +1060,7 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
             };
             let check = s.name("tolerance_check") == "on";
             Ok(Adapter {
-                outputs: outs_checked(&LIU_OUT[..4], check),
+                outputs: outs_stepped(&LIU_OUT[..4], check),
                 prepare: Box::new(move |p: &Point| {
                     let model = liu_model(p)?;
                     let period = model.period();
@@ -1033,19 +1077,20 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                         (opts.transient_periods + opts.record_periods) * period / opts.max_step;
                     need_steps("liu2021", steps, &limits)?;
                     Ok(Box::new(move || {
-                        run_checked_job(check, |factor| {
+                        run_stepped_job(check, |factor| {
                             let o = liu2021::IntegrationOptions {
                                 rtol: opts.rtol / factor,
                                 ..opts
                             };
                             let r = liu2021::integrate(&model, &o)
                                 .context("liu2021 time integration")?;
-                            Ok(vec![
+                            let v = vec![
                                 f64::from(r.rattle.state.rsv()),
                                 r.rattle.ppv,
                                 r.rattle.q_min,
                                 r.rattle.q_max,
-                            ])
+                            ];
+                            Ok((v, r.stats))
                         })
                     }) as Job)
                 }),
@@ -1076,6 +1121,8 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                             r.rattle.q_min,
                             r.rattle.q_max,
                             if r.converged() { 1.0 } else { 0.0 },
+                            r.solution.residual_norm,
+                            r.solution.truncation,
                         ])
                     }) as Job)
                 }),
@@ -1419,24 +1466,25 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 steps_per_period: s.u("steps_per_period").unwrap_or(256) as usize,
             };
             Ok(Adapter {
-                outputs: outs_checked(YU_TS_OUT, check),
+                outputs: outs_stepped(YU_TS_OUT, check),
                 prepare: Box::new(move |p: &Point| {
                     let (model, omega) = yu_model(p)?;
                     let settings = RunSettings { omega, ..base };
                     let steps = model.run_steps(&settings).context("yu2021 run size")?;
                     need_steps("yu2021", steps as f64, &limits)?;
                     Ok(Box::new(move || {
-                        run_checked_job(check, |factor| {
+                        run_stepped_job(check, |factor| {
                             let r = model
                                 .simulate_with(&settings, &engine_at(factor), initial)
                                 .context("yu2021 time integration")?;
-                            Ok(vec![
+                            let v = vec![
                                 r.dynamic_factor(),
                                 r.rms(n_rms),
                                 r.mean_dte(),
                                 r.dte_peak_to_peak(),
                                 r.mean_backlash(),
-                            ])
+                            ];
+                            Ok((v, r.stats))
                         })
                     }) as Job)
                 }),
@@ -1578,6 +1626,7 @@ const PAIR_HBM_OUT: &[(&str, &str)] = &[
     ("first_harmonic_amplitude", "m"),
     ("converged", "1"),
     ("residual_norm", "N"),
+    ("truncation", "1"),
 ];
 
 fn pair_describe() -> ModelInfo {
@@ -1649,7 +1698,7 @@ fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
             let initial = ctx.initial.map(<[f64]>::to_vec);
             let check = s.name("tolerance_check") == "on";
             Ok(Adapter {
-                outputs: outs_checked(PAIR_TS_OUT, check),
+                outputs: outs_stepped(PAIR_TS_OUT, check),
                 prepare: Box::new(move |p: &Point| {
                     let (model, f_s) = pair_model(p)?;
                     // adaptive steps: at least 8 per mesh period (h_max = T/8)
@@ -1657,7 +1706,7 @@ fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                     need_steps("generic-pair", 8.0 * periods as f64, &limits)?;
                     let initial = initial.clone();
                     Ok(Box::new(move || {
-                        run_checked_job(check, |factor| {
+                        run_stepped_job(check, |factor| {
                             let st = pair::TimeSettings {
                                 rtol: settings.rtol / factor,
                                 atol: settings.atol / factor,
@@ -1669,11 +1718,12 @@ fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                             let n = r.delta.len().max(1) as f64;
                             let max = r.delta.iter().copied().fold(f64::NEG_INFINITY, f64::max);
                             let min = r.delta.iter().copied().fold(f64::INFINITY, f64::min);
-                            Ok(vec![
+                            let v = vec![
                                 r.dynamic_factor(f_s),
                                 r.delta.iter().sum::<f64>() / n,
                                 max - min,
-                            ])
+                            ];
+                            Ok((v, r.stats))
                         })
                     }) as Job)
                 }),
@@ -1721,6 +1771,7 @@ fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                             c[n].hypot(c[2 * n]),
                             if sol.converged { 1.0 } else { 0.0 },
                             sol.residual_norm,
+                            sol.truncation,
                         ])
                     }) as Job)
                 }),

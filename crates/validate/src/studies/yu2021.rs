@@ -15,9 +15,10 @@ use models::yu2021::{
     Options, ReferenceCheck, ReferenceRun, Response, RunSettings, Yu2021Model, Yu2021Params,
 };
 
+use super::user_models::step_cells;
 use crate::{
-    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
-    Table, Tolerance, ToleranceBand, Verdict, fmt_sig, published,
+    Cell, Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, STEP_STATISTICS,
+    Series, Study, StudyOutput, Table, Tolerance, ToleranceBand, Verdict, fmt_sig, published,
 };
 
 /// The studies of this file.
@@ -180,6 +181,17 @@ pub(crate) const CHECK_COLUMNS: [(&str, &str); 2] = [
     ("metric change at 100x tighter tol", "1"),
 ];
 
+/// The step statistics of a checked run (its main run at the study's tolerance, transient
+/// included; not the repeat): the columns [`crate::STEP_STATISTICS`].
+pub(crate) fn stat_cells(r: &ReferenceRun) -> [Cell; 4] {
+    step_cells(&r.response.stats)
+}
+
+/// A table row: numbers, then cells (the step statistics).
+pub(crate) fn row_with(nums: &[f64], cells: impl IntoIterator<Item = Cell>) -> Vec<Cell> {
+    nums.iter().map(|&x| Cell::Num(x)).chain(cells).collect()
+}
+
 /// The values of [`CHECK_COLUMNS`] for one run.
 pub(crate) fn check_cells(r: &ReferenceRun) -> [f64; 2] {
     [f64::from(r.motion.period_multiple()), r.max_change]
@@ -209,6 +221,10 @@ fn fig9() -> Result<StudyOutput, Error> {
             ("max B/b_n", "1"),
             CHECK_COLUMNS[0],
             CHECK_COLUMNS[1],
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
         ],
     );
     let mut fig = Figure::new(
@@ -269,7 +285,10 @@ fn fig9() -> Result<StudyOutput, Error> {
             .fold(f64::NEG_INFINITY, f64::max);
         always_greater &= min >= bs;
         let [motion, change] = check_cells(&checked);
-        t.push_nums(&[*d, bs, resp.mean_backlash(), min, max, motion, change])?;
+        t.push(row_with(
+            &[*d, bs, resp.mean_backlash(), min, max, motion, change],
+            stat_cells(&checked),
+        ))?;
         let n = resp.steps_per_period * 4;
         let stride = (n / 200).max(1);
         let pts = resp
@@ -379,6 +398,14 @@ fn fig10() -> Result<StudyOutput, Error> {
             ("metric change dynamic at 100x tighter tol", "1"),
             ("motion period constant (0 non-periodic)", "1"),
             ("metric change constant at 100x tighter tol", "1"),
+            ("steps_accepted dynamic", "1"),
+            ("steps_rejected dynamic", "1"),
+            ("rhs_calls dynamic", "1"),
+            ("events dynamic", "1"),
+            ("steps_accepted constant", "1"),
+            ("steps_rejected constant", "1"),
+            ("rhs_calls constant", "1"),
+            ("events constant", "1"),
         ],
     );
     let mut fig = Figure::new(
@@ -395,17 +422,22 @@ fn fig10() -> Result<StudyOutput, Error> {
             check_cells(&checked[2 * i]),
             check_cells(&checked[2 * i + 1]),
         );
-        t.push_nums(&[
-            *d,
-            dy.mean_dte(),
-            co.mean_dte(),
-            dy.dte_peak_to_peak(),
-            co.dte_peak_to_peak(),
-            cd[0],
-            cd[1],
-            cc[0],
-            cc[1],
-        ])?;
+        t.push(row_with(
+            &[
+                *d,
+                dy.mean_dte(),
+                co.mean_dte(),
+                dy.dte_peak_to_peak(),
+                co.dte_peak_to_peak(),
+                cd[0],
+                cd[1],
+                cc[0],
+                cc[1],
+            ],
+            stat_cells(&checked[2 * i])
+                .into_iter()
+                .chain(stat_cells(&checked[2 * i + 1])),
+        ))?;
         larger.push(dy.mean_dte() > co.mean_dte());
         pp.push(dy.dte_peak_to_peak());
         let n = dy.steps_per_period * 2;
@@ -570,6 +602,10 @@ fn sweep_checks(
             ("model (0 Yu, 1 Chen, 2 K-S)", "1"),
             CHECK_COLUMNS[0],
             CHECK_COLUMNS[1],
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
         ],
     );
     let mut usable = Vec::with_capacity(omegas.len());
@@ -578,7 +614,7 @@ fn sweep_checks(
         let mut ok = true;
         for (m, run) in r.iter().enumerate() {
             let [motion, change] = check_cells(run);
-            t.push_nums(&[*w, m as f64, motion, change])?;
+            t.push(row_with(&[*w, m as f64, motion, change], stat_cells(run)))?;
             if let Some(f) = run.flag(false) {
                 ok = false;
                 reasons.push(format!("{} at ω* = {}: {f}", NAMES[m], fmt_sig(*w, 3)));

@@ -17,10 +17,12 @@ use models::yu2021::{
     Yu2021Params, fractal_contact_stiffness,
 };
 
-use super::yu2021::{CHECK_COLUMNS, check_cells, fractal_rig, run_checked, run_flags};
+use super::yu2021::{
+    CHECK_COLUMNS, check_cells, fractal_rig, row_with, run_checked, run_flags, stat_cells,
+};
 use crate::{
-    Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
-    fmt_sig, published,
+    Claim, Cost, Error, Figure, Paper, ResultExt, STEP_STATISTICS, Series, Study, StudyOutput,
+    Table, Verdict, fmt_sig, published,
 };
 
 /// The studies of this file.
@@ -145,6 +147,10 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             ("fraction out of contact", "1"),
             CHECK_COLUMNS[0],
             CHECK_COLUMNS[1],
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
         ],
     );
     let mut flags = Vec::new();
@@ -158,6 +164,7 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             false,
         ));
         let [period, change] = check_cells(&checked);
+        let stats = stat_cells(&checked);
         let resp = checked.response;
         let p = fractal_rig(d)?;
         let k = p.static_force() / (t_star * p.nominal_length);
@@ -165,21 +172,24 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
         fit[j].0 = fit[j].0.max((pp / amp - 1.0).abs());
         fit[j].1 = fit[j].1.max((mx / amp - 1.0).abs());
         tstars[j][i] = t_star;
-        t.push_nums(&[
-            d,
-            EPS[j],
-            t_star,
-            k,
-            mean,
-            resp.mean_dte(),
-            amp,
-            pp,
-            mx,
-            resp.mean_backlash(),
-            separated(&resp),
-            period,
-            change,
-        ])?;
+        t.push(row_with(
+            &[
+                d,
+                EPS[j],
+                t_star,
+                k,
+                mean,
+                resp.mean_dte(),
+                amp,
+                pp,
+                mx,
+                resp.mean_backlash(),
+                separated(&resp),
+                period,
+                change,
+            ],
+            stats,
+        ))?;
     }
     out.table(t);
     let mut fits = Vec::new();
@@ -301,11 +311,18 @@ fn d_trends() -> Result<StudyOutput, Error> {
             ("omega*", "1"),
             CHECK_COLUMNS[0],
             CHECK_COLUMNS[1],
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
         ],
     );
     for (&(c, w), r) in jobs.iter().zip(&checked) {
         let [motion, change] = check_cells(r);
-        checks.push_nums(&[cases[c].0, cases[c].1, w, motion, change])?;
+        checks.push(row_with(
+            &[cases[c].0, cases[c].1, w, motion, change],
+            stat_cells(r),
+        ))?;
     }
     let mut cols: Vec<String> = vec!["omega*".to_owned()];
     for c in 0..cases.len() {
@@ -422,18 +439,24 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
             ("omega*", "1"),
             CHECK_COLUMNS[0],
             CHECK_COLUMNS[1],
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
         ],
     );
     let mut flags = Vec::new();
     for (&(a, w), r) in jobs.iter().zip(&chen_runs) {
         let [period, change] = check_cells(r);
-        checks.push(vec![
+        let mut row = vec![
             "Chen".into(),
             a.into(),
             w.into(),
             period.into(),
             change.into(),
-        ])?;
+        ];
+        row.extend(stat_cells(r));
+        checks.push(row)?;
         flags.extend(run_flags(
             [(format!("Chen a_z = {a} b_h, ω* = {w}"), r)],
             false,
@@ -441,13 +464,15 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
     }
     for (&w, r) in W_CHEN.iter().zip(&ks_runs) {
         let [period, change] = check_cells(r);
-        checks.push(vec![
+        let mut row = vec![
             "Kahraman-Singh".into(),
             0.0.into(),
             w.into(),
             period.into(),
             change.into(),
-        ])?;
+        ];
+        row.extend(stat_cells(r));
+        checks.push(row)?;
         flags.extend(run_flags([(format!("Kahraman–Singh ω* = {w}"), r)], false));
     }
     let cols: Vec<String> = std::iter::once("a_z/b_h".to_owned())
@@ -531,6 +556,7 @@ mod tests {
             backlash: vec![1.0; 4],
             alpha: vec![0.0; 4],
             final_state: [0.0; models::yu2021::STATE_LEN],
+            stats: timestep::Stats::default(),
         };
         assert!((separated(&r) - 0.5).abs() < 1e-15);
     }

@@ -12,10 +12,13 @@
 use models::motion::Motion;
 use models::yu2021::{DynamicBacklashLaw, Options, ReferenceRun, Response};
 
-use super::yu2021::{CHECK_COLUMNS, G_FIG9, check_cells, fractal_rig_with, run_checked, run_flags};
+use super::yu2021::{
+    CHECK_COLUMNS, G_FIG9, check_cells, fractal_rig_with, row_with, run_checked, run_flags,
+    stat_cells,
+};
 use crate::{
-    Claim, Comparison, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table,
-    Tolerance, Verdict, fmt_sig, published,
+    Claim, Comparison, Cost, Error, Figure, Paper, ResultExt, STEP_STATISTICS, Series, Study,
+    StudyOutput, Table, Tolerance, Verdict, fmt_sig, published,
 };
 
 /// The studies of this file.
@@ -184,25 +187,34 @@ fn fig11() -> Result<StudyOutput, Error> {
             ("component omega* list", "1"),
             CHECK_COLUMNS[0],
             CHECK_COLUMNS[1],
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
         ],
     );
     for i in 0..cases.len() {
         let [motion, change] = check_cells(&runs[i]);
-        t.push(vec![
-            cases[i].0.into(),
-            f64::from(u8::from(cases[i].1)).into(),
-            mains[i].0.into(),
-            mains[i].1.into(),
-            (comps[i].len() as f64).into(),
-            comps[i]
-                .iter()
-                .map(|c| fmt_sig(c.0, 3))
-                .collect::<Vec<_>>()
-                .join(" ")
-                .into(),
-            motion.into(),
-            change.into(),
-        ])?;
+        t.push(
+            vec![
+                cases[i].0.into(),
+                f64::from(u8::from(cases[i].1)).into(),
+                mains[i].0.into(),
+                mains[i].1.into(),
+                (comps[i].len() as f64).into(),
+                comps[i]
+                    .iter()
+                    .map(|c| fmt_sig(c.0, 3))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+                    .into(),
+                motion.into(),
+                change.into(),
+            ]
+            .into_iter()
+            .chain(stat_cells(&runs[i]))
+            .collect(),
+        )?;
     }
     out.table(t);
     for (j, d) in D4.iter().enumerate() {
@@ -516,28 +528,35 @@ fn fig12() -> Result<StudyOutput, Error> {
             ("Poincare spread / size", "1"),
             CHECK_COLUMNS[0],
             CHECK_COLUMNS[1],
+            STEP_STATISTICS[0],
+            STEP_STATISTICS[1],
+            STEP_STATISTICS[2],
+            STEP_STATISTICS[3],
         ],
     );
     for (i, (bs, k, r)) in runs.iter().enumerate() {
         let (d, g, w) = jobs[i];
         let m = &r.metrics;
         let [motion, change] = check_cells(r);
-        t.push_nums(&[
-            d,
-            g,
-            w,
-            *bs,
-            *k,
-            m.mean_backlash,
-            m.mean_dte,
-            m.dte_peak_to_peak,
-            portraits[i].rate_pp,
-            m.dynamic_factor,
-            m.rms,
-            section_spread(&portraits[i], m.scale()),
-            motion,
-            change,
-        ])?;
+        t.push(row_with(
+            &[
+                d,
+                g,
+                w,
+                *bs,
+                *k,
+                m.mean_backlash,
+                m.mean_dte,
+                m.dte_peak_to_peak,
+                portraits[i].rate_pp,
+                m.dynamic_factor,
+                m.rms,
+                section_spread(&portraits[i], m.scale()),
+                motion,
+                change,
+            ],
+            stat_cells(r),
+        ))?;
     }
     out.table(t);
     for (fname, title, idx) in [

@@ -108,6 +108,8 @@ fn run() -> Result<StudyOutput, Error> {
             ("ppv", "1"),
             ("stable", "1"),
             ("max_multiplier", "1, floor 1e-3, 3 s.f."),
+            ("residual_norm", "1"),
+            ("truncation", "1"),
         ],
     );
     let mut runs_t = Table::new(
@@ -139,6 +141,8 @@ fn run() -> Result<StudyOutput, Error> {
                 p.max_multiplier
                     .map_or(f64::NAN, resolved_multiplier)
                     .into(),
+                p.solution.residual_norm.into(),
+                p.solution.truncation.into(),
             ])?;
             pts.push((p.omega1, p.rattle.ppv, p.stable));
         }

@@ -15,7 +15,11 @@ use models::liu2021::{
     self, BaseRadius, HbmPoint, Model, Parameters, SweepStrategy, TimeReference,
 };
 
-use crate::{Error, Figure, ResultExt, Series, Study, StudyOutput, Table, Tolerance, fmt_sig};
+use super::user_models::step_cells;
+use crate::{
+    Cell, Error, Figure, ResultExt, STEP_STATISTICS, Series, Study, StudyOutput, Table, Tolerance,
+    fmt_sig,
+};
 
 mod continuation;
 mod fig17;
@@ -62,7 +66,8 @@ fn strategy() -> SweepStrategy {
     SweepStrategy::default()
 }
 
-/// One sweep point: the swept value, the time reference and the three HBM columns.
+/// One sweep point: the swept value, the time reference and the three HBM columns, with the
+/// step statistics of the reference run and the accuracy of each HBM solution.
 #[derive(Debug, Clone, Copy)]
 struct Point {
     x: f64,
@@ -70,6 +75,39 @@ struct Point {
     cold: HbmPoint,
     warm: HbmPoint,
     full: HbmPoint,
+    /// Work counters of the time reference's run at the study tolerance (transient included).
+    stats: timestep::Stats,
+    /// `(residual norm, truncation indicator)` of the cold, warm and full HBM solutions.
+    accuracy: [(f64, f64); 3],
+}
+
+/// `(‖s‖₂, truncation indicator)` of a harmonic-balance solution.
+fn accuracy(r: &liu2021::HbmResponse) -> (f64, f64) {
+    (r.solution.residual_norm, r.solution.truncation)
+}
+
+/// The cost and accuracy columns of a row with one time run and one (paper-basis) HBM
+/// solution, after the row's own columns: the run's step statistics, then the solution's
+/// residual norm and truncation indicator (values: [`run_cells`]).
+const RUN_COLUMNS: [(&str, &str); 6] = [
+    STEP_STATISTICS[0],
+    STEP_STATISTICS[1],
+    STEP_STATISTICS[2],
+    STEP_STATISTICS[3],
+    ("residual_norm_hbm", "1"),
+    ("truncation_hbm", "1"),
+];
+
+/// The values of [`RUN_COLUMNS`].
+fn run_cells(stats: &timestep::Stats, (residual, truncation): (f64, f64)) -> Vec<Cell> {
+    let mut v = step_cells(stats).to_vec();
+    v.extend([Cell::Num(residual), Cell::Num(truncation)]);
+    v
+}
+
+/// `own` columns followed by `more` (a table's column list from parts).
+fn columns<'a>(own: &[(&'a str, &'a str)], more: &[(&'a str, &'a str)]) -> Vec<(&'a str, &'a str)> {
+    own.iter().chain(more).copied().collect()
 }
 
 impl Point {
@@ -114,6 +152,12 @@ fn sweep(xs: &[f64], set: impl Fn(&mut Parameters, f64)) -> Result<Vec<Point>, E
             cold: s.cold,
             warm: s.warm,
             full: s.full.unwrap_or(s.warm),
+            stats: s.response.stats,
+            accuracy: [
+                accuracy(&s.cold_solution),
+                accuracy(&s.warm_solution),
+                accuracy(s.full_solution.as_ref().unwrap_or(&s.warm_solution)),
+            ],
         })
         .collect())
 }
@@ -180,30 +224,35 @@ fn flag01(b: bool) -> f64 {
 }
 
 fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Error> {
-    let mut t = Table::new(
-        name,
-        &[
-            x,
-            ("rsv_time", "1"),
-            ("ppv_time", "1"),
-            ("time_motion_period", "1"),
-            ("time_reproducible_100x", "1"),
-            ("time_flag", "-"),
-            ("rsv_hbm", "1"),
-            ("ppv_hbm", "1"),
-            ("hbm_converged", "1"),
-            ("rsv_hbm_warm", "1"),
-            ("ppv_hbm_warm", "1"),
-            ("hbm_warm_converged", "1"),
-            ("hbm_warm_stable", "1"),
-            ("rsv_hbm_full", "1"),
-            ("ppv_hbm_full", "1"),
-            ("hbm_full_converged", "1"),
-            ("hbm_full_stable", "1"),
-        ],
-    );
+    let own = [
+        x,
+        ("rsv_time", "1"),
+        ("ppv_time", "1"),
+        ("time_motion_period", "1"),
+        ("time_reproducible_100x", "1"),
+        ("time_flag", "-"),
+        ("rsv_hbm", "1"),
+        ("ppv_hbm", "1"),
+        ("hbm_converged", "1"),
+        ("rsv_hbm_warm", "1"),
+        ("ppv_hbm_warm", "1"),
+        ("hbm_warm_converged", "1"),
+        ("hbm_warm_stable", "1"),
+        ("rsv_hbm_full", "1"),
+        ("ppv_hbm_full", "1"),
+        ("hbm_full_converged", "1"),
+        ("hbm_full_stable", "1"),
+    ];
+    let mut cols = columns(&own, &RUN_COLUMNS);
+    cols.extend([
+        ("residual_norm_hbm_warm", "1"),
+        ("truncation_hbm_warm", "1"),
+        ("residual_norm_hbm_full", "1"),
+        ("truncation_hbm_full", "1"),
+    ]);
+    let mut t = Table::new(name, &cols);
     for p in pts {
-        t.push(vec![
+        let mut row: Vec<Cell> = vec![
             p.x.into(),
             f64::from(p.rsv()).into(),
             p.ppv().into(),
@@ -221,7 +270,14 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
             p.full.rattle.ppv.into(),
             flag01(p.full.converged).into(),
             p.full.stable().map_or(f64::NAN, flag01).into(),
-        ])?;
+        ];
+        row.extend(run_cells(&p.stats, p.accuracy[0]));
+        row.extend(
+            p.accuracy[1..]
+                .iter()
+                .flat_map(|&(r, tr)| [Cell::Num(r), Cell::Num(tr)]),
+        );
+        t.push(row)?;
     }
     Ok(t)
 }

@@ -154,29 +154,27 @@ fn spectrum_outputs(
     cases: &[(f64, RattleState, &str); 3],
     results: &[Response],
 ) -> Result<(), Error> {
-    let mut t = Table::new(
-        "spectrum_peaks",
-        &[
-            ("omega1", "rad/s"),
-            ("f_c", "Hz"),
-            ("f_e", "Hz"),
-            ("A_fc", "1"),
-            ("A_2fc", "1"),
-            ("A_fe", "1"),
-            ("A_fe_minus_fc", "1"),
-            ("A_fe_plus_fc", "1"),
-            ("A_2fe", "1"),
-            ("rank_fc", "1"),
-            ("rank_fe", "1"),
-        ],
-    );
+    let own = [
+        ("omega1", "rad/s"),
+        ("f_c", "Hz"),
+        ("f_e", "Hz"),
+        ("A_fc", "1"),
+        ("A_2fc", "1"),
+        ("A_fe", "1"),
+        ("A_fe_minus_fc", "1"),
+        ("A_fe_plus_fc", "1"),
+        ("A_2fe", "1"),
+        ("rank_fc", "1"),
+        ("rank_fe", "1"),
+    ];
+    let mut t = Table::new("spectrum_peaks", &super::columns(&own, &super::RUN_COLUMNS));
     let mut amps = Vec::new();
     let all_flags: Vec<String> = results
         .iter()
         .zip(cases)
         .filter_map(|(r, c)| r.4.flag().map(|f| format!("at {} rad/s: {f}", c.0)))
         .collect();
-    for (&(w, _, fig), (_, hb, sp, m, time)) in cases.iter().zip(results) {
+    for (&(w, _, fig), (ti, hb, sp, m, time)) in cases.iter().zip(results) {
         let z2 = m.z2 as usize;
         let kmax = (2 * z2 + 4).min(sp.amplitude.len() - 1);
         // physical frequency of harmonic k: k ω̄_c ω_n / 2π = k ω_c / 2π
@@ -185,7 +183,7 @@ fn spectrum_outputs(
         // rank among the non-DC harmonics 1..=kmax (1 = largest)
         let rank = |k: usize| 1 + (1..=kmax).filter(|&j| a(j) > a(k)).count();
         let (r1, re) = (rank(1), rank(z2));
-        t.push_nums(&[
+        let mut row: Vec<crate::Cell> = [
             w,
             fc,
             fc * z2 as f64,
@@ -197,7 +195,11 @@ fn spectrum_outputs(
             a(2 * z2),
             r1 as f64,
             re as f64,
-        ])?;
+        ]
+        .map(crate::Cell::Num)
+        .into();
+        row.extend(super::run_cells(&ti.stats, super::accuracy(hb)));
+        t.push(row)?;
         let mut top: Vec<usize> = (1..=kmax).collect();
         top.sort_by(|&i, &j| a(j).total_cmp(&a(i)));
         let top_txt = top

@@ -42,6 +42,10 @@ struct Row {
     disp_hbm: f64,
     hbm_converged: bool,
     rsv: u8,
+    /// Work counters of the time reference's run.
+    stats: timestep::Stats,
+    /// `(residual norm, truncation indicator)` of the HBM solution.
+    hbm_accuracy: (f64, f64),
 }
 
 /// The Sect. 3.8 rig point at motor speed `rpm`: Table 1 with T2 = 3 N·m and the rig's ratio
@@ -51,7 +55,15 @@ struct Row {
 pub(super) fn rig_spectrum(
     rig: &LiuRig,
     rpm: f64,
-) -> Result<(liu2021::Model, TimeReference, timestep::Spectrum), Error> {
+) -> Result<
+    (
+        liu2021::Model,
+        TimeReference,
+        timestep::Spectrum,
+        timestep::Stats,
+    ),
+    Error,
+> {
     let mut p = base();
     p.load_torque = 3.0;
     p.ratio = f64::from(rig.z2) / f64::from(rig.z1);
@@ -68,7 +80,7 @@ pub(super) fn rig_spectrum(
     let k = SAMPLES.min(ti.q.len());
     let sp =
         timestep::amplitude_spectrum(&ti.q[..k], s.integration.sample_step).context("spectrum")?;
-    Ok((m, time, sp))
+    Ok((m, time, sp, ti.stats))
 }
 
 fn run() -> Result<StudyOutput, Error> {
@@ -83,7 +95,7 @@ fn run() -> Result<StudyOutput, Error> {
     let rows: Vec<Row> = timestep::sweep(
         &rpms,
         |(_, n)| {
-            let (m, time, sp) = rig_spectrum(&rig, *n)?;
+            let (m, time, sp, stats) = rig_spectrum(&rig, *n)?;
             let a = |k: usize| sp.amplitude.get(k).copied().unwrap_or(f64::NAN);
             let hb = liu2021::solve_hbm(&m, &HbmOptions::default(), None).context("hbm")?;
             Ok(Row {
@@ -94,6 +106,8 @@ fn run() -> Result<StudyOutput, Error> {
                 disp_hbm: hb.amplitude(m.z2 as usize) / hb.amplitude(1),
                 hbm_converged: hb.converged(),
                 rsv: time.rattle.state.rsv(),
+                stats,
+                hbm_accuracy: super::accuracy(&hb),
             })
         },
         None,
@@ -111,22 +125,20 @@ fn run() -> Result<StudyOutput, Error> {
         })
         .collect::<Result<_, Error>>()?;
     let scatter = line_residual_max(&ex);
-    let mut t = Table::new(
-        "ratios",
-        &[
-            ("n_motor", "rpm"),
-            ("xi_theory_paper", "1"),
-            ("xi_experiment_paper", "1"),
-            ("ratio_displacement_time", "1"),
-            ("ratio_velocity_time", "1"),
-            ("ratio_acceleration_time", "1"),
-            ("time_motion", "-"),
-            ("time_flag", "-"),
-            ("ratio_velocity_hbm", "1"),
-            ("hbm_converged", "1"),
-            ("rsv_time", "1"),
-        ],
-    );
+    let own = [
+        ("n_motor", "rpm"),
+        ("xi_theory_paper", "1"),
+        ("xi_experiment_paper", "1"),
+        ("ratio_displacement_time", "1"),
+        ("ratio_velocity_time", "1"),
+        ("ratio_acceleration_time", "1"),
+        ("time_motion", "-"),
+        ("time_flag", "-"),
+        ("ratio_velocity_hbm", "1"),
+        ("hbm_converged", "1"),
+        ("rsv_time", "1"),
+    ];
+    let mut t = Table::new("ratios", &super::columns(&own, &super::RUN_COLUMNS));
     let (mut model_pts, mut hbm_pts, mut th_pts, mut ex_pts) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for ((key, _), r) in rpms.iter().zip(&rows) {
@@ -163,7 +175,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .flagged_all(flags)
                 .note("model: velocity-spectrum ratio, time integration (judged)"),
         );
-        t.push(vec![
+        let mut row = vec![
             r.n.into(),
             th.value.into(),
             exv.value.into(),
@@ -175,7 +187,9 @@ fn run() -> Result<StudyOutput, Error> {
             vel_hbm.into(),
             if r.hbm_converged { 1.0 } else { 0.0 }.into(),
             f64::from(r.rsv).into(),
-        ])?;
+        ];
+        row.extend(super::run_cells(&r.stats, r.hbm_accuracy));
+        t.push(row)?;
         model_pts.push((r.n, vel));
         hbm_pts.push((r.n, vel_hbm));
         th_pts.push((r.n, th.value));
