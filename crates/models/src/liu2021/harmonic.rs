@@ -483,6 +483,7 @@ mod tests {
             q,
             contact_events: 0,
             rhs_evaluations: 0,
+            stats: timestep::Stats::default(),
         };
         let z = coefficients_from_time_response(&m, &r, &Basis::PAPER).unwrap();
         let scale = s

@@ -101,6 +101,7 @@ mod continuation;
 mod harmonic;
 mod integrate;
 mod model;
+mod ode;
 mod params;
 mod strategy;
 
@@ -114,6 +115,7 @@ pub use harmonic::{
 };
 pub use integrate::{IntegrationOptions, TimeResponse, bifurcation_point, integrate};
 pub use model::{Model, Rattle, RattleState};
+pub use ode::TimeSystem;
 pub use params::{
     BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries, table1,
 };
