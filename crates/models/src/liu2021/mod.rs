@@ -104,6 +104,7 @@ mod model;
 mod ode;
 mod params;
 mod strategy;
+mod trig;
 
 pub use continuation::{
     BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedFold,
@@ -115,7 +116,7 @@ pub use harmonic::{
 };
 pub use integrate::{IntegrationOptions, TimeResponse, bifurcation_point, integrate};
 pub use model::{Model, Rattle, RattleState};
-pub use ode::TimeSystem;
+pub use ode::{TimeSystem, Trig};
 pub use params::{
     BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries, table1,
 };

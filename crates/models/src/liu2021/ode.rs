@@ -2,7 +2,26 @@
 
 use std::cell::Cell;
 
+use serde::{Deserialize, Serialize};
+
 use super::model::Model;
+
+/// How [`TimeSystem`] evaluates the sines and cosines of its time functions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Trig {
+    /// The platform's `sin`/`cos` of every phase, as [`Model::stiffness`],
+    /// [`Model::backlash_at`] and [`Model::forcing`] ([`Model::time_functions`]): the bits of
+    /// the generic adapter `FirstOrder(Mechanical(model))`.
+    Libm,
+    /// Two short `sin_cos` (of `ω̄_c τ` and `ω̄_e τ`, Cody–Waite reduction and Taylor
+    /// polynomials, within a few 10⁻¹⁶ of the platform's) and the addition theorems for
+    /// `sin 2x` and the phases `φ_m`, `φ_e`: the same formulas, different at rounding level,
+    /// about half the cost. The default.
+    #[default]
+    Kernel,
+}
 
 /// Eq. (9) as the first-order system `y = [q, q']`,
 ///
@@ -10,14 +29,13 @@ use super::model::Model;
 /// q' = v,    v' = f_r(τ) − 2ζ v − F(τ) f(q; b̄(τ)),
 /// ```
 ///
-/// with the gap edges `q = ±b̄(τ)` as events (event 0: `q − b̄`, event 1: `q + b̄`).
+/// with the gap edges `q = ±b̄(τ)` as events (event 0: `q − b̄`, event 1: `q + b̄`): the
+/// model's one system description integrated through [`timestep::Mechanical`] (`M = 1`,
+/// `C = 2ζ`, `g = F f`, the forcing `f_r`), written lean:
 ///
-/// The same numbers as the model's one system description integrated through
-/// [`timestep::Mechanical`] (`M = 1`, `C = 2ζ`, `g = F f`, the forcing `f_r`), bit for bit
-/// (tested), at a fraction of the cost:
-///
-/// * the time-only functions `F`, `b̄`, `f_r` come from [`Model::time_functions`] (every
-///   `sin`/`cos` once), and
+/// * the time-only functions `F`, `b̄`, `f_r` are computed together, every `sin`/`cos` once
+///   ([`Trig::Libm`]: bit for bit the numbers of `FirstOrder(Mechanical(model))`, tested) or
+///   from two short `sin_cos` ([`Trig::Kernel`], the default: rounding-level different);
 /// * they are kept for the last `τ` asked: the Dormand–Prince step evaluates its 7th stage at
 ///   the same `τ` as its 6th, and the event functions at the step end again, so two of every
 ///   seven evaluations of an accepted step reuse them.
@@ -27,18 +45,30 @@ use super::model::Model;
 #[derive(Debug, Clone)]
 pub struct TimeSystem {
     model: Model,
+    trig: Trig,
     /// The damping `C = 2ζ` (skipped when zero, as `Mechanical` skips a zero matrix).
     damping: f64,
+    /// `[sin φ_m, cos φ_m, sin φ_e, cos φ_e]` of the phases ([`Trig::Kernel`]).
+    phases: [f64; 4],
     /// `[τ, F(τ), b̄(τ), f_r(τ)]` of the last evaluation (`τ` = NaN: empty).
     cache: Cell<[f64; 4]>,
 }
 
 impl TimeSystem {
-    /// The system of `model`.
+    /// The system of `model` with the default [`Trig::Kernel`].
     pub fn new(model: Model) -> Self {
+        Self::with_trig(model, Trig::default())
+    }
+
+    /// The system of `model` with the given evaluation of the sines and cosines.
+    pub fn with_trig(model: Model, trig: Trig) -> Self {
+        let (spm, cpm) = model.phase_stiffness.sin_cos();
+        let (spe, cpe) = model.phase_error.sin_cos();
         Self {
             damping: 2.0 * model.zeta,
             model,
+            trig,
+            phases: [spm, cpm, spe, cpe],
             cache: Cell::new([f64::NAN; 4]),
         }
     }
@@ -48,6 +78,11 @@ impl TimeSystem {
         &self.model
     }
 
+    /// The evaluation of the sines and cosines.
+    pub fn trig(&self) -> Trig {
+        self.trig
+    }
+
     /// `[F(τ), b̄(τ), f_r(τ)]`, from the cache when `τ` is the last one asked.
     #[inline]
     fn time_functions(&self, tau: f64) -> [f64; 3] {
@@ -55,7 +90,10 @@ impl TimeSystem {
         if c[0].to_bits() == tau.to_bits() {
             return [c[1], c[2], c[3]];
         }
-        let f = self.model.time_functions(tau);
+        let f = match self.trig {
+            Trig::Libm => self.model.time_functions(tau),
+            Trig::Kernel => self.model.time_functions_kernel(tau, &self.phases),
+        };
         self.cache.set([tau, f[0], f[1], f[2]]);
         f
     }
@@ -113,7 +151,7 @@ mod tests {
                             p.readings.base_radius = br;
                             p.damping_ratio = zeta;
                             let m = p.model().unwrap();
-                            let lean = TimeSystem::new(m);
+                            let lean = TimeSystem::with_trig(m, Trig::Libm);
                             let mech = timestep::FirstOrder(timestep::Mechanical::new(m).unwrap());
                             let b = m.backlash;
                             for i in 0..200 {
@@ -138,6 +176,37 @@ mod tests {
                         }
                     }
                 }
+            }
+        }
+    }
+
+    /// The kernel evaluation differs from the direct one at rounding level only: every time
+    /// function within `2·10⁻¹⁵ + 4ε·ω̄_e τ` of its scale (`F ≈ 1`, `b̄`, and `f_r` against the
+    /// sum of the amplitudes `B₀ + |B₁| + |B₂| + |B₃|`). The second term is the rounding of the
+    /// phase argument itself (`ω̄_e τ + φ` and `ω̄_e τ` are rounded to their own last place),
+    /// which no evaluation avoids; `τ` runs to 2.7·10⁷ (past the kernel's range, fallback).
+    #[test]
+    fn kernel_time_functions_are_the_direct_ones_to_rounding() {
+        for br in [BaseRadius::TimeVarying, BaseRadius::Mean] {
+            for rs in [RigidSeries::TwoTerms, RigidSeries::Exact] {
+                let mut p = table1();
+                p.readings.base_radius = br;
+                p.readings.rigid_series = rs;
+                p.phase_error = 0.4;
+                let m = p.model().unwrap();
+                let sys = TimeSystem::new(m);
+                let scale = [1.0, m.backlash, m.b0 + m.b1.abs() + m.b2.abs() + m.b3];
+                let mut worst = [0.0f64; 3];
+                for i in 0..20_000 {
+                    let tau = 1.37 * f64::from(i) * f64::from(i) / 20.0;
+                    let a = m.time_functions(tau);
+                    let b = m.time_functions_kernel(tau, &sys.phases);
+                    let bound = 2e-15 + 4.0 * f64::EPSILON * m.omega_e * tau;
+                    for k in 0..3 {
+                        worst[k] = worst[k].max((a[k] - b[k]).abs() / scale[k] / bound);
+                    }
+                }
+                assert!(worst.iter().all(|&w| w <= 1.0), "{br:?} {rs:?}: {worst:?}");
             }
         }
     }

@@ -1,0 +1,147 @@
+//! Steps per second of the Liu time stepping at ω₁ = 160 rad/s (issue 13), with the counts:
+//! `cargo run --release -p geardyn-models --example liu_timestep_rate`.
+//!
+//! Problem: Table 1 at 160 rad/s (both `BaseRadius` readings), three periods `T = 2π/ω̄_c`
+//! from the quasi-static contact position at rest, Dormand–Prince 5(4), rtol 1e-8,
+//! atol 1e-11·max(b̄, B₀), steps ≤ 0.5, gap-edge events on, `Output::Final` (the settings of
+//! `liu2021::integrate`). Each run is timed by the wall clock (best batch) and by the time the
+//! thread spent on a CPU (Linux `/proc/thread-self/schedstat`, averaged over all batches): the
+//! machine is shared, and the on-CPU figure is what an idle core would take.
+
+use geardyn_models::liu2021::{self, BaseRadius};
+use std::hint::black_box;
+use std::time::Instant;
+use timestep::OdeSystem;
+
+/// Nanoseconds this thread has run on a CPU (None off Linux).
+fn on_cpu_ns() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    s.split_whitespace().next()?.parse().ok()
+}
+
+/// (best wall, mean on-CPU) seconds per call of `f`, over 5 batches of `n` calls.
+fn time<T>(n: u32, mut f: impl FnMut() -> T) -> (f64, f64) {
+    black_box(f());
+    let c0 = on_cpu_ns();
+    let mut wall = f64::INFINITY;
+    for _ in 0..5 {
+        let t = Instant::now();
+        for _ in 0..n {
+            black_box(f());
+        }
+        wall = wall.min(t.elapsed().as_secs_f64() / f64::from(n));
+    }
+    let cpu = match (c0, on_cpu_ns()) {
+        (Some(a), Some(b)) => (b - a) as f64 * 1e-9 / f64::from(5 * n),
+        _ => f64::NAN,
+    };
+    (wall, cpu)
+}
+
+/// Integrates `sys` and prints the counts, the times and the steps per second.
+fn report<S: OdeSystem>(
+    label: &str,
+    sys_label: &str,
+    sys: &S,
+    y0: &[f64],
+    t_end: f64,
+    opts: &timestep::Options,
+    reps: u32,
+) {
+    let run = || timestep::integrate(sys, 0.0, y0, t_end, opts).expect("integrates");
+    let s = run();
+    let (w, c) = time(reps, run);
+    let st = s.stats;
+    println!(
+        "{label:<8} {sys_label:<10} events {:<5}: accepted {} rejected {} rhs {} events {}  \
+         wall {:6.2} ms ({:4.2} M steps/s)  on-CPU {:6.2} ms ({:4.2} M steps/s)  y_final {:?}",
+        opts.events,
+        st.n_accepted,
+        st.n_rejected,
+        st.n_rhs,
+        st.n_events,
+        w * 1e3,
+        st.n_accepted as f64 / w * 1e-6,
+        c * 1e3,
+        st.n_accepted as f64 / c * 1e-6,
+        s.y_final
+    );
+}
+
+fn main() {
+    let reps = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(10u32);
+    for (label, base_radius) in [
+        ("mean", BaseRadius::Mean),
+        ("varying", BaseRadius::TimeVarying),
+    ] {
+        let mut p = liu2021::table1();
+        p.omega1 = 160.0;
+        p.readings.base_radius = base_radius;
+        let m = p.model().expect("Table 1 is valid");
+        let mech = timestep::FirstOrder(timestep::Mechanical::new(m).expect("valid"));
+        let lean = liu2021::TimeSystem::new(m);
+        let t3 = 3.0 * m.period();
+        let pts: Vec<(f64, [f64; 2])> = (0..4096)
+            .map(|i| {
+                let x = f64::from(i) / 4096.0;
+                let y = [m.backlash * 3.0 * (7.0 * x).sin(), 0.01 * (3.0 * x).cos()];
+                (t3 * x, y)
+            })
+            .collect();
+        fn calls<S: OdeSystem>(sys: &S, pts: &[(f64, [f64; 2])]) -> f64 {
+            let mut dy = [0.0; 2];
+            pts.iter()
+                .map(|(t, y)| {
+                    sys.rhs(*t, black_box(y), &mut dy);
+                    dy[1]
+                })
+                .sum()
+        }
+        let n = pts.len() as f64;
+        let (w, c) = time(20 * reps, || calls(&mech, &pts));
+        println!(
+            "{label:<8} rhs FirstOrder(Mechanical)  wall {:6.1} ns  on-CPU {:6.1} ns per call",
+            w / n * 1e9,
+            c / n * 1e9
+        );
+        let (w, c) = time(20 * reps, || calls(&lean, &pts));
+        println!(
+            "{label:<8} rhs TimeSystem (lean)       wall {:6.1} ns  on-CPU {:6.1} ns per call",
+            w / n * 1e9,
+            c / n * 1e9
+        );
+        let y0 = [m.static_position(0.0), 0.0];
+        for events in [true, false] {
+            let opts = timestep::Options::default()
+                .with_tol(1e-8, 1e-8 * 1e-3 * m.backlash.max(m.b0))
+                .with_h_max(0.5)
+                .with_events(events)
+                .with_output(timestep::Output::Final);
+            report(label, "Mechanical", &mech, &y0, t3, &opts, reps);
+            report(label, "TimeSystem", &lean, &y0, t3, &opts, reps);
+        }
+    }
+    // the driver's floor: the same stepper on y'' = −y (one multiply per call)
+    let sys = timestep::FnSystem::new(2, |_t: f64, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    });
+    let o = timestep::Options::default()
+        .with_events(false)
+        .with_output(timestep::Output::Final);
+    let run = || timestep::integrate(&sys, 0.0, &[1.0, 0.0], 2000.0, &o).expect("ok");
+    let st = run().stats;
+    let (w, c) = time(reps, run);
+    println!(
+        "floor    y''=-y, rtol 1e-8, no events: accepted {} rhs {}  wall {:5.1} ns/step  on-CPU \
+         {:5.1} ns/step ({:4.1} M steps/s)",
+        st.n_accepted,
+        st.n_rhs,
+        w / st.n_accepted as f64 * 1e9,
+        c / st.n_accepted as f64 * 1e9,
+        st.n_accepted as f64 / c * 1e-6
+    );
+}
