@@ -7,6 +7,9 @@
 //! `liu2021::integrate`). Each run is timed by the wall clock (best batch) and by the time the
 //! thread spent on a CPU (Linux `/proc/thread-self/schedstat`, averaged over all batches): the
 //! machine is shared, and the on-CPU figure is what an idle core would take.
+//!
+//! `liu_timestep_rate [reps] [--json PATH]` also writes the model (serde), the settings and
+//! these results to `PATH`, the input of the peer script `docs/peers/liu_timestep_peers.py`.
 
 use geardyn_models::liu2021::{self, BaseRadius};
 use std::hint::black_box;
@@ -47,7 +50,7 @@ fn report<S: OdeSystem>(
     t_end: f64,
     opts: &timestep::Options,
     reps: u32,
-) {
+) -> serde_json::Value {
     let run = || timestep::integrate(sys, 0.0, y0, t_end, opts).expect("integrates");
     let s = run();
     let (w, c) = time(reps, run);
@@ -66,13 +69,21 @@ fn report<S: OdeSystem>(
         st.n_accepted as f64 / c * 1e-6,
         s.y_final
     );
+    serde_json::json!({
+        "reading": label, "system": sys_label, "events": opts.events,
+        "stats": st, "y_final": s.y_final, "wall_s": w, "on_cpu_s": c,
+    })
 }
 
 fn main() {
-    let reps = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(10u32);
+    let args: Vec<String> = std::env::args().collect();
+    let reps = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(10u32);
+    let json_path = args
+        .iter()
+        .position(|a| a == "--json")
+        .and_then(|i| args.get(i + 1));
+    let mut runs = Vec::new();
+    let mut models = serde_json::Map::new();
     for (label, base_radius) in [
         ("mean", BaseRadius::Mean),
         ("varying", BaseRadius::TimeVarying),
@@ -120,9 +131,32 @@ fn main() {
                 .with_h_max(0.5)
                 .with_events(events)
                 .with_output(timestep::Output::Final);
-            report(label, "Mechanical", &mech, &y0, t3, &opts, reps);
-            report(label, "TimeSystem", &lean, &y0, t3, &opts, reps);
+            runs.push(report(label, "Mechanical", &mech, &y0, t3, &opts, reps));
+            runs.push(report(label, "TimeSystem", &lean, &y0, t3, &opts, reps));
         }
+        // a reference for the accuracy of every run: events on, rtol 1e-12
+        let tight = timestep::Options::default()
+            .with_tol(1e-12, 1e-12 * 1e-3 * m.backlash.max(m.b0))
+            .with_h_max(0.5)
+            .with_output(timestep::Output::Final);
+        let reference = timestep::integrate(&lean, 0.0, &y0, t3, &tight).expect("integrates");
+        // the model's own run (2 transient + 1 recorded period, samples every 0.1): the ppv
+        let io = liu2021::IntegrationOptions::default();
+        let ti = liu2021::integrate(&m, &io).expect("integrates");
+        let record: Vec<f64> = ti.tau.clone();
+        models.insert(
+            label.to_string(),
+            serde_json::json!({
+                "model": m, "y0": y0, "tau_end": t3, "rtol": 1e-8,
+                "atol": 1e-8 * 1e-3 * m.backlash.max(m.b0), "h_max": 0.5,
+                "reference_rtol_1e-12": reference.y_final,
+                "integrate": {
+                    "options": io, "ppv": ti.rattle.ppv, "q_min": ti.rattle.q_min,
+                    "q_max": ti.rattle.q_max, "tau_first": record.first(),
+                    "tau_last": record.last(), "samples": record.len(), "stats": ti.stats,
+                },
+            }),
+        );
     }
     // the driver's floor: the same stepper on y'' = −y (one multiply per call)
     let sys = timestep::FnSystem::new(2, |_t: f64, y: &[f64], dy: &mut [f64]| {
@@ -144,4 +178,10 @@ fn main() {
         c / st.n_accepted as f64 * 1e9,
         st.n_accepted as f64 / c * 1e-6
     );
+    if let Some(path) = json_path {
+        let doc = serde_json::json!({ "models": models, "runs": runs });
+        std::fs::write(path, serde_json::to_string_pretty(&doc).expect("json"))
+            .expect("writable path");
+        println!("wrote {path}");
+    }
 }

@@ -446,6 +446,11 @@ impl<S: StiffnessLaw, B: BacklashLaw> GearPair<S, B> {
             delta: Vec::with_capacity(m),
             force: Vec::with_capacity(m),
             final_state: rec.y_final.clone(),
+            stats: {
+                let mut st = tr.stats;
+                st.add(&rec.stats);
+                st
+            },
         };
         for i in 0..rec.len() {
             let y = rec.state(i);
@@ -513,6 +518,11 @@ pub struct PairResponse {
     pub force: Vec<f64>,
     /// `[q, q']` at the end.
     pub final_state: Vec<f64>,
+    /// Work counters of the whole run (transient and record): accepted and rejected steps,
+    /// right-hand-side evaluations, located events. Zero when read from data written before
+    /// the field existed.
+    #[serde(default)]
+    pub stats: timestep::Stats,
 }
 
 impl PairResponse {
@@ -946,6 +956,8 @@ mod tests {
             ..TimeSettings::default()
         };
         let r = pair.time_response(&settings, None).unwrap();
+        // the work of both runs is reported
+        assert!(r.stats.n_accepted > 100 && r.stats.n_rhs >= 6 * r.stats.n_accepted);
         // u = δ + e: project u
         let u: Vec<f64> =
             r.t.iter()
