@@ -82,19 +82,25 @@ fn bench_timestep(c: &mut Criterion) {
     use ts::OdeSystem;
     let mut g = c.benchmark_group("liu2021_timestep");
     g.sample_size(20);
-    for (label, base_radius) in [
-        ("mean", BaseRadius::Mean),
-        ("varying", BaseRadius::TimeVarying),
-    ] {
-        let mut p = liu2021::table1();
-        p.omega1 = 160.0;
-        p.readings.base_radius = base_radius;
-        let m = p.model().expect("Table 1 is valid");
+    for base_radius in [BaseRadius::Mean, BaseRadius::TimeVarying] {
+        let label = match base_radius {
+            BaseRadius::Mean => "mean",
+            _ => "varying",
+        };
+        let m = liu2021::Parameters {
+            omega1: 160.0,
+            readings: liu2021::Readings {
+                base_radius,
+                ..liu2021::Readings::default()
+            },
+            ..liu2021::table1()
+        }
+        .model()
+        .expect("Table 1 is valid");
+        let (t3, lean) = (3.0 * m.period(), liu2021::TimeSystem::new(m));
         let mech = ts::FirstOrder(ts::Mechanical::new(m).expect("valid"));
-        let lean = liu2021::TimeSystem::new(m);
         // right-hand side alone, 1024 distinct times spread over three periods and over the
         // contact states (q inside and outside the gap)
-        let t3 = 3.0 * m.period();
         let pts: Vec<(f64, [f64; 2])> = (0..1024)
             .map(|i| {
                 let x = f64::from(i) / 1024.0;
