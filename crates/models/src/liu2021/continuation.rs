@@ -55,7 +55,6 @@ pub fn shooting_multipliers(model: &Model, response: &HbmResponse) -> Result<[[f
                 max_step: 0.25,
                 rtol: 1e-11,
                 initial: Some((q, v)),
-                ..IntegrationOptions::default()
             },
         )?;
         match (r.q.last(), r.v.last()) {

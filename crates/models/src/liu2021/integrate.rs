@@ -3,7 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::model::{Model, Rattle, RattleState};
-use super::ode::{TimeSystem, Trig};
+use super::ode::TimeSystem;
 use crate::Error;
 
 /// Settings of the time integration.
@@ -22,10 +22,6 @@ pub struct IntegrationOptions {
     pub rtol: f64,
     /// Start state `(q, q')`; `None`: the quasi-static contact position at rest.
     pub initial: Option<(f64, f64)>,
-    /// How the sines and cosines of the time functions are evaluated ([`Trig`]; default the
-    /// short kernel, [`Trig::Libm`] for the bits of the generic adapter).
-    #[serde(default)]
-    pub trig: Trig,
 }
 
 impl Default for IntegrationOptions {
@@ -37,7 +33,6 @@ impl Default for IntegrationOptions {
             max_step: 0.5,
             rtol: 1e-8,
             initial: None,
-            trig: Trig::default(),
         }
     }
 }
@@ -92,7 +87,7 @@ fn system(
             options.rtol * 1e-3 * model.backlash.max(model.b0),
         )
         .with_h_max(options.max_step);
-    Ok((TimeSystem::with_trig(*model, options.trig), opts))
+    Ok((TimeSystem::new(*model), opts))
 }
 
 /// One point of a bifurcation diagram of Eq. (9): the stroboscopic section (period
@@ -116,7 +111,6 @@ pub fn bifurcation_point(
 
 fn run(
     model: &Model,
-    trig: Trig,
     t0: f64,
     y0: &[f64],
     t1: f64,
@@ -124,7 +118,7 @@ fn run(
 ) -> Result<timestep::Solution, Error> {
     // the model's system description made explicit, lean (`TimeSystem`; with `Trig::Libm` bit
     // for bit as `FirstOrder(Mechanical(model))`)
-    let sys = TimeSystem::with_trig(*model, trig);
+    let sys = TimeSystem::new(*model);
     let sol = timestep::integrate(&sys, t0, y0, t1, &opts).map_err(Error::from)?;
     if !sol.status.is_success() {
         return Err(Error::Solver(format!(
@@ -154,7 +148,6 @@ pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResp
     let t_rec = options.transient_periods * period;
     let warm = run(
         model,
-        options.trig,
         0.0,
         &[q0, v0],
         t_rec,
@@ -163,7 +156,6 @@ pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResp
     let t_end = t_rec + options.record_periods * period;
     let rec = run(
         model,
-        options.trig,
         t_rec,
         &warm.y_final,
         t_end,
@@ -198,6 +190,7 @@ pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResp
 
 #[cfg(test)]
 mod tests {
+    use super::super::ode::Trig;
     use super::super::params::{BaseRadius, table1};
     use super::*;
 
@@ -241,13 +234,7 @@ mod tests {
             let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
             assert_eq!(bits(&lr.y), bits(&mr.y));
             assert_eq!((lw.stats, lr.stats), (mw.stats, mr.stats));
-            let libm = IntegrationOptions {
-                trig: Trig::Libm,
-                ..o
-            };
-            let rl = integrate(&m, &libm).unwrap();
-            assert_eq!(bits(&rl.q), bits(&mr.component(0)));
-            assert_eq!(bits(&rl.v), bits(&mr.component(1)));
+
             // the kernel's rounding-level change of the right-hand side, through an impacting
             // orbit (measured: ppv within 1e-8 of itself, samples within 1/20 to 1/100 of the
             // change a 100x tighter tolerance makes)
