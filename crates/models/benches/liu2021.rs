@@ -69,5 +69,87 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// Time stepping of the Liu problem at ω₁ = 160 rad/s (Table 1, constant-b̄ reading as the
+/// paper's figures, and the default time-varying reading): the right-hand side alone, the raw
+/// `timestep::integrate` over three periods `T = 2π/ω̄_c` from the static position
+/// (Dormand–Prince 5(4), rtol 1e-8, atol 1e-11·max(b̄, B₀), steps ≤ 0.5, gap-edge events on,
+/// `Output::Final`) and the model's `integrate` (the same, plus 0.1-spaced samples of the last
+/// period). Each through the generic adapter `FirstOrder(Mechanical(model))` and through the
+/// lean `liu2021::TimeSystem` (bit-identical results). Steps per second = accepted steps /
+/// time (the counts are printed).
+fn bench_timestep(c: &mut Criterion) {
+    use timestep as ts;
+    use ts::OdeSystem;
+    let mut g = c.benchmark_group("liu2021_timestep");
+    g.sample_size(20);
+    for base_radius in [BaseRadius::Mean, BaseRadius::TimeVarying] {
+        let label = match base_radius {
+            BaseRadius::Mean => "mean",
+            _ => "varying",
+        };
+        let m = liu2021::Parameters {
+            omega1: 160.0,
+            readings: liu2021::Readings {
+                base_radius,
+                ..liu2021::Readings::default()
+            },
+            ..liu2021::table1()
+        }
+        .model()
+        .expect("Table 1 is valid");
+        let (t3, lean) = (3.0 * m.period(), liu2021::TimeSystem::new(m));
+        let mech = ts::FirstOrder(ts::Mechanical::new(m).expect("valid"));
+        // right-hand side alone, 1024 distinct times spread over three periods and over the
+        // contact states (q inside and outside the gap)
+        let pts: Vec<(f64, [f64; 2])> = (0..1024)
+            .map(|i| {
+                let x = f64::from(i) / 1024.0;
+                (
+                    t3 * x,
+                    [m.backlash * 3.0 * (7.0 * x).sin(), 0.01 * (3.0 * x).cos()],
+                )
+            })
+            .collect();
+        fn calls<S: OdeSystem>(sys: &S, pts: &[(f64, [f64; 2])]) -> f64 {
+            let mut acc = 0.0;
+            let mut dy = [0.0; 2];
+            for (t, y) in pts {
+                sys.rhs(*t, black_box(y), &mut dy);
+                acc += dy[1];
+            }
+            acc
+        }
+        g.bench_function(format!("rhs_1024_calls_mechanical_{label}"), |b| {
+            b.iter(|| calls(&mech, &pts))
+        });
+        g.bench_function(format!("rhs_1024_calls_lean_{label}"), |b| {
+            b.iter(|| calls(&lean, &pts))
+        });
+        let opts = ts::Options::default()
+            .with_tol(1e-8, 1e-8 * 1e-3 * m.backlash.max(m.b0))
+            .with_h_max(0.5)
+            .with_output(ts::Output::Final);
+        let y0 = [m.static_position(0.0), 0.0];
+        let s = ts::integrate(&lean, 0.0, &y0, t3, &opts).expect("integrates");
+        eprintln!(
+            "liu2021 160 rad/s {label}, 3 periods (tau_end {t3:.1}), events on: {:?}, \
+             y_final {:?}",
+            s.stats, s.y_final
+        );
+        g.bench_function(
+            format!("integrate_3_periods_final_mechanical_{label}"),
+            |b| b.iter(|| ts::integrate(black_box(&mech), 0.0, &y0, t3, &opts)),
+        );
+        g.bench_function(format!("integrate_3_periods_final_lean_{label}"), |b| {
+            b.iter(|| ts::integrate(black_box(&lean), 0.0, &y0, t3, &opts))
+        });
+        let io = IntegrationOptions::default();
+        g.bench_function(format!("model_integrate_default_{label}"), |b| {
+            b.iter(|| liu2021::integrate(black_box(&m), &io))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench, bench_timestep);
 criterion_main!(benches);

@@ -137,14 +137,10 @@ pub(crate) fn completed(s: &timestep::Solution, who: &str) -> Result<(), Error> 
 /// The work counters of consecutive `timestep` runs (a transient and its recorded window),
 /// summed field by field.
 pub(crate) fn total_stats(runs: &[&timestep::Solution]) -> timestep::Stats {
-    runs.iter()
-        .fold(timestep::Stats::default(), |a, s| timestep::Stats {
-            n_rhs: a.n_rhs + s.stats.n_rhs,
-            n_accepted: a.n_accepted + s.stats.n_accepted,
-            n_rejected: a.n_rejected + s.stats.n_rejected,
-            n_events: a.n_events + s.stats.n_events,
-            n_event_iterations: a.n_event_iterations + s.stats.n_event_iterations,
-        })
+    runs.iter().fold(timestep::Stats::default(), |mut a, s| {
+        a.add(&s.stats);
+        a
+    })
 }
 
 impl From<hbm::HbmError> for Error {

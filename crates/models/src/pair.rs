@@ -952,6 +952,8 @@ mod tests {
             ..TimeSettings::default()
         };
         let r = pair.time_response(&settings, None).unwrap();
+        // the work of both runs is reported
+        assert!(r.stats.n_accepted > 100 && r.stats.n_rhs >= 6 * r.stats.n_accepted);
         // u = δ + e: project u
         let u: Vec<f64> =
             r.t.iter()

@@ -57,5 +57,27 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// Stepper and controller overhead: Dormand–Prince 5(4) on a trivial 2-state right-hand side
+/// (`y'' = −y`, one multiply per call), no events, `Output::Final`, rtol 1e-8. The time per
+/// accepted step is the floor of the driver loop for a 2-state problem.
+fn bench_overhead(c: &mut Criterion) {
+    let sys = FnSystem::new(2, |_t: f64, y: &[f64], dy: &mut [f64]| {
+        dy[0] = y[1];
+        dy[1] = -y[0];
+    });
+    let o = Options::default()
+        .with_tol(1e-8, 1e-10)
+        .with_events(false)
+        .with_output(Output::Final);
+    let s = integrate(&sys, 0.0, &[1.0, 0.0], 10_000.0, &o).unwrap();
+    eprintln!("trivial rhs, T = 10,000: {:?}", s.stats);
+    let mut g = c.benchmark_group("dp54_overhead_trivial_rhs");
+    g.sample_size(20);
+    g.bench_function("harmonic_T10000", |b| {
+        b.iter(|| integrate(black_box(&sys), 0.0, &[1.0, 0.0], 10_000.0, &o).unwrap())
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench, bench_overhead);
 criterion_main!(benches);

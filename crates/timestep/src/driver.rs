@@ -50,7 +50,36 @@ pub fn integrate<S: OdeSystem + ?Sized>(
     }
     check_finite_slice("y0", y0)?;
     match opts.method {
-        Method::DormandPrince54 => Ok(run(sys, t0, y0, t_end, opts, DormandPrince::new(n), None)),
+        // fixed-size work arrays for the small dimensions (bit-identical to the `Vec` stepper)
+        Method::DormandPrince54 => Ok(match n {
+            2 => run(
+                sys,
+                t0,
+                y0,
+                t_end,
+                opts,
+                DormandPrince::<[f64; 2]>::new(n),
+                None,
+            ),
+            4 => run(
+                sys,
+                t0,
+                y0,
+                t_end,
+                opts,
+                DormandPrince::<[f64; 4]>::new(n),
+                None,
+            ),
+            _ => run(
+                sys,
+                t0,
+                y0,
+                t_end,
+                opts,
+                DormandPrince::<Vec<f64>>::new(n),
+                None,
+            ),
+        }),
         Method::Rk4 { h } => Ok(run(sys, t0, y0, t_end, opts, ClassicRk4::new(n), Some(h))),
         Method::OdeSolversDopri5 | Method::OdeSolversDop853 => {
             Ok(crate::odesolvers::run(sys, t0, y0, t_end, opts))
@@ -183,14 +212,14 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
         let mut h_new = h;
         if fixed_h.is_none() {
             let fac11 = err.powf(expo1);
-            let fac = facc2.max(facc1.min(fac11 / facold.powf(beta) / safe));
-            h_new = h / fac;
             if err > 1.0 {
                 h /= facc1.min(fac11 / safe);
                 stats.n_rejected += 1;
                 last_rejected = true;
                 continue;
             }
+            let fac = facc2.max(facc1.min(fac11 / facold.powf(beta) / safe));
+            h_new = h / fac;
             facold = err.max(1e-4);
             if last_rejected {
                 h_new = h_new.min(h);
@@ -198,11 +227,17 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
             last_rejected = false;
         }
         stats.n_accepted += 1;
-        st.prepare_dense(&y, h);
+        // the dense output is built only when it is read: a possible crossing, or a sample
+        // requested inside the step
+        let mut dense_ready = false;
         let mut h_used = h;
         let mut theta_star = None;
         if ne > 0 {
             sys.events(t + h, st.y_new(), &mut mon.g_new);
+        }
+        if ne > 0 && mon.may_cross() {
+            st.prepare_dense(&y, h);
+            dense_ready = true;
             let mut dense = |th: f64, out: &mut [f64]| st.dense(th, out);
             let mut found =
                 mon.locate(sys, t, h, opts.event_tol, &mut ybuf, &mut dense, &mut stats);
@@ -235,6 +270,9 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
                     &mut stats,
                 );
             }
+        }
+        if !dense_ready && rec.wants_dense(t + h_used) {
+            st.prepare_dense(&y, h_used);
         }
         {
             let (stref, ye) = (&st, st.y_new());
@@ -289,5 +327,60 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
         h_last: h,
         status,
         stats,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::options::Output;
+    use crate::problems::DeadZoneOscillator;
+    use crate::system::FirstOrder;
+
+    /// The fixed-size-array stepper that `integrate` picks for 2 states performs the arithmetic
+    /// of the `Vec` stepper in the same order: the same solution bit for bit (samples from the
+    /// dense output, located events, restarts and counters included).
+    #[test]
+    fn array_stepper_is_bit_identical_to_the_vec_stepper() {
+        // the forced, damped rattle of the benches
+        let mut osc = DeadZoneOscillator::free(1.0);
+        (osc.zeta, osc.kappa, osc.omega) = (0.05, 0.2, 1.5);
+        (osc.f_mean, osc.f_amp) = (0.1, 0.5);
+        let sys = FirstOrder(osc);
+        for (events, output) in [
+            (true, Output::Uniform { dt: 0.37 }),
+            (true, Output::Steps),
+            (false, Output::Final),
+            (true, Output::Times(vec![0.5, 3.0, 77.7, 199.0])),
+        ] {
+            let o = Options::default().with_events(events).with_output(output);
+            let y0 = [1.1, 0.0];
+            let a = run(
+                &sys,
+                0.0,
+                &y0,
+                200.0,
+                &o,
+                DormandPrince::<[f64; 2]>::new(2),
+                None,
+            );
+            let v = run(
+                &sys,
+                0.0,
+                &y0,
+                200.0,
+                &o,
+                DormandPrince::<Vec<f64>>::new(2),
+                None,
+            );
+            assert!(a.stats.n_accepted > 100 && (!events || a.stats.n_events > 10));
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a.y), bits(&v.y));
+            assert_eq!(bits(&a.t), bits(&v.t));
+            assert_eq!(bits(&a.y_final), bits(&v.y_final));
+            assert_eq!(a.events, v.events);
+            assert_eq!(a.stats, v.stats);
+            assert_eq!(a.h_last.to_bits(), v.h_last.to_bits());
+        }
     }
 }

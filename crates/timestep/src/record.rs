@@ -71,6 +71,17 @@ impl Recorder {
         }
     }
 
+    /// Whether [`Recorder::step`] for a step ending at `t_next` reads the dense output (a
+    /// sample is due inside the step).
+    pub(crate) fn wants_dense(&self, t_next: f64) -> bool {
+        let slack = match self.output {
+            Output::Uniform { dt } => 1e-9 * dt,
+            Output::Times(_) => 0.0,
+            Output::Steps | Output::Final => return false,
+        };
+        self.next_time().is_some_and(|tg| tg <= t_next + slack)
+    }
+
     /// Records the samples of a step `[t, t + h]`; `dense(theta, out)` interpolates it.
     pub(crate) fn step(
         &mut self,
@@ -178,6 +189,15 @@ impl EventMonitor {
                 self.side[i] = s;
             }
         }
+    }
+
+    /// Whether some event function has left its side at the end of the step (`g_new`): the
+    /// only case in which [`EventMonitor::locate`] finds a crossing.
+    pub(crate) fn may_cross(&self) -> bool {
+        self.side
+            .iter()
+            .zip(&self.g_new)
+            .any(|(&s, &gb)| !(s == 0.0 || gb * s > 0.0 || gb.is_nan()))
     }
 
     /// With `g_new` evaluated at the end of a step `[t, t+h]`, finds and locates accepted

@@ -65,7 +65,9 @@ pub struct Stats {
 }
 
 impl Stats {
-    pub(crate) fn add(&mut self, o: &Stats) {
+    /// Adds the counters of `o` (the work of consecutive runs, e.g. a transient and a recorded
+    /// window).
+    pub fn add(&mut self, o: &Stats) {
         self.n_rhs += o.n_rhs;
         self.n_accepted += o.n_accepted;
         self.n_rejected += o.n_rejected;

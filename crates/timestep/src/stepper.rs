@@ -1,8 +1,32 @@
 //! This crate's own one-step schemes: embedded Dormand–Prince 5(4) with dense output and
 //! classical RK4 with cubic Hermite dense output. Work buffers are allocated once per
 //! integration, never per step.
+//!
+//! The work buffers are generic over [`Buf`]: a `Vec<f64>` for any dimension, or a fixed-size
+//! array `[f64; N]` for the small dimensions the driver dispatches on (1-DOF and 2-DOF models),
+//! where the stage loops unroll and lose their bounds checks. Both perform the same arithmetic
+//! in the same order, so the results are bit-identical.
 
 use crate::system::OdeSystem;
+
+/// Storage of one state-sized work vector.
+pub(crate) trait Buf: Clone + AsRef<[f64]> + AsMut<[f64]> {
+    /// A zero vector of length `n` (a fixed-size array ignores `n`; the driver only picks one
+    /// whose length is `n`).
+    fn zeros(n: usize) -> Self;
+}
+
+impl Buf for Vec<f64> {
+    fn zeros(n: usize) -> Self {
+        vec![0.0; n]
+    }
+}
+
+impl<const N: usize> Buf for [f64; N] {
+    fn zeros(_n: usize) -> Self {
+        [0.0; N]
+    }
+}
 
 /// A one-step scheme with dense output, driven by [`crate::integrate`].
 pub(crate) trait Stepper {
@@ -73,47 +97,47 @@ const D7: f64 = 69997945.0 / 29380423.0;
 /// Work buffers shared by the explicit Runge–Kutta steppers: `S` stage derivatives (`k[0]` is
 /// `F(t, y)` at the start of a step), a stage state, the new state and the evaluation count.
 #[derive(Debug, Clone)]
-struct Stages<const S: usize> {
-    k: [Vec<f64>; S],
-    ytmp: Vec<f64>,
-    ynew: Vec<f64>,
+struct Stages<const S: usize, B> {
+    k: [B; S],
+    ytmp: B,
+    ynew: B,
     n_rhs: u64,
 }
 
-impl<const S: usize> Stages<S> {
+impl<const S: usize, B: Buf> Stages<S, B> {
     fn new(n: usize) -> Self {
         Self {
-            k: std::array::from_fn(|_| vec![0.0; n]),
-            ytmp: vec![0.0; n],
-            ynew: vec![0.0; n],
+            k: std::array::from_fn(|_| B::zeros(n)),
+            ytmp: B::zeros(n),
+            ynew: B::zeros(n),
             n_rhs: 0,
         }
     }
 
     /// `k[0] = F(t, y)` ([`Stepper::init`]).
     fn init<Sys: OdeSystem + ?Sized>(&mut self, sys: &Sys, t: f64, y: &[f64]) {
-        sys.rhs(t, y, &mut self.k[0]);
+        sys.rhs(t, y, self.k[0].as_mut());
         self.n_rhs += 1;
     }
 }
 
 /// Embedded Dormand–Prince 5(4), FSAL, 4th-order continuous extension.
 #[derive(Debug, Clone)]
-pub(crate) struct DormandPrince {
-    st: Stages<7>,
-    r: [Vec<f64>; 5],
+pub(crate) struct DormandPrince<B = Vec<f64>> {
+    st: Stages<7, B>,
+    r: [B; 5],
 }
 
-impl DormandPrince {
+impl<B: Buf> DormandPrince<B> {
     pub(crate) fn new(n: usize) -> Self {
         Self {
             st: Stages::new(n),
-            r: std::array::from_fn(|_| vec![0.0; n]),
+            r: std::array::from_fn(|_| B::zeros(n)),
         }
     }
 }
 
-impl Stepper for DormandPrince {
+impl<B: Buf> Stepper for DormandPrince<B> {
     fn init<S: OdeSystem + ?Sized>(&mut self, sys: &S, t: f64, y: &[f64]) {
         self.st.init(sys, t, y);
     }
@@ -127,9 +151,16 @@ impl Stepper for DormandPrince {
         rtol: f64,
         atol: f64,
     ) -> f64 {
-        let n = y.len();
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.st.k;
-        let yt = &mut self.st.ytmp;
+        let (k1, k2, k3, k4) = (k1.as_mut(), k2.as_mut(), k3.as_mut(), k4.as_mut());
+        let (k5, k6, k7) = (k5.as_mut(), k6.as_mut(), k7.as_mut());
+        let yt = self.st.ytmp.as_mut();
+        // one length for every buffer: a compile-time constant for arrays, and no bounds
+        // checks in the loops below
+        let n = yt.len();
+        let y = &y[..n];
+        let (k1, k2, k3, k4) = (&mut k1[..n], &mut k2[..n], &mut k3[..n], &mut k4[..n]);
+        let (k5, k6, k7) = (&mut k5[..n], &mut k6[..n], &mut k7[..n]);
         for i in 0..n {
             yt[i] = y[i] + h * A21 * k1[i];
         }
@@ -151,7 +182,7 @@ impl Stepper for DormandPrince {
                 y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
         }
         sys.rhs(t + h, yt, k6);
-        let yn = &mut self.st.ynew;
+        let yn = &mut self.st.ynew.as_mut()[..n];
         for i in 0..n {
             yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]);
         }
@@ -168,14 +199,25 @@ impl Stepper for DormandPrince {
     }
 
     fn y_new(&self) -> &[f64] {
-        &self.st.ynew
+        self.st.ynew.as_ref()
     }
 
     fn prepare_dense(&mut self, y: &[f64], h: f64) {
+        let ynew = self.st.ynew.as_ref();
+        let n = ynew.len();
+        let y = &y[..n];
         let [k1, _k2, k3, k4, k5, k6, k7] = &self.st.k;
+        let (k1, k3, k4) = (&k1.as_ref()[..n], &k3.as_ref()[..n], &k4.as_ref()[..n]);
+        let (k5, k6, k7) = (&k5.as_ref()[..n], &k6.as_ref()[..n], &k7.as_ref()[..n]);
         let [r1, r2, r3, r4, r5] = &mut self.r;
-        for i in 0..y.len() {
-            let ydiff = self.st.ynew[i] - y[i];
+        let (r1, r2, r3) = (
+            &mut r1.as_mut()[..n],
+            &mut r2.as_mut()[..n],
+            &mut r3.as_mut()[..n],
+        );
+        let (r4, r5) = (&mut r4.as_mut()[..n], &mut r5.as_mut()[..n]);
+        for i in 0..n {
+            let ydiff = ynew[i] - y[i];
             let bspl = h * k1[i] - ydiff;
             r1[i] = y[i];
             r2[i] = ydiff;
@@ -189,7 +231,11 @@ impl Stepper for DormandPrince {
     fn dense(&self, theta: f64, out: &mut [f64]) {
         let th1 = 1.0 - theta;
         let [r1, r2, r3, r4, r5] = &self.r;
-        for i in 0..out.len() {
+        let n = r1.as_ref().len();
+        let out = &mut out[..n];
+        let (r1, r2, r3) = (&r1.as_ref()[..n], &r2.as_ref()[..n], &r3.as_ref()[..n]);
+        let (r4, r5) = (&r4.as_ref()[..n], &r5.as_ref()[..n]);
+        for i in 0..n {
             out[i] = r1[i] + theta * (r2[i] + th1 * (r3[i] + theta * (r4[i] + th1 * r5[i])));
         }
     }
@@ -207,7 +253,7 @@ impl Stepper for DormandPrince {
 /// derivative is needed for the interpolant and reused as the next step's first stage).
 #[derive(Debug, Clone)]
 pub(crate) struct ClassicRk4 {
-    st: Stages<5>,
+    st: Stages<5, Vec<f64>>,
     y0: Vec<f64>,
     h: f64,
 }

@@ -259,6 +259,68 @@ impl Model {
         }
     }
 
+    /// `[F(τ), b̄(τ), f_r(τ)]`: [`stiffness`](Self::stiffness),
+    /// [`backlash_at`](Self::backlash_at) and [`forcing`](Self::forcing) at one `τ`, bit for
+    /// bit, with every `sin`/`cos` taken once (`sin x`, `cos x` of `x = ω̄_c τ` serve all
+    /// three; `sin 2x` and `cos φ_e` only where the readings read them): four or five
+    /// transcendental calls instead of eight to ten. The time-only part of the right-hand side
+    /// of the time stepping ([`super::TimeSystem`] with [`super::Trig::Libm`]).
+    pub fn time_functions(&self, tau: f64) -> [f64; 3] {
+        let x = self.omega_c * tau;
+        let (sx, cx) = x.sin_cos();
+        let s2x = match self.readings.rigid_series {
+            RigidSeries::TwoTerms => (2.0 * x).sin(),
+            RigidSeries::Exact => 0.0,
+        };
+        let ph = self.omega_e * tau + self.phase_error;
+        let (sph, cph) = match (self.readings.error_term, self.readings.base_radius) {
+            (ErrorTerm::Derived, BaseRadius::TimeVarying) => ph.sin_cos(),
+            _ => (ph.sin(), 0.0),
+        };
+        self.time_functions_of(&TimeTrig {
+            sx,
+            cx,
+            s2x,
+            sin_stiffness: (self.omega_e * tau + self.phase_stiffness).sin(),
+            sph,
+            cph,
+        })
+    }
+
+    /// [`time_functions`](Self::time_functions) from two short `sin_cos` (of `ω̄_c τ` and
+    /// `ω̄_e τ`) and the addition theorems (`sin 2x = 2 sin x cos x`, the phases `φ_m`, `φ_e`
+    /// from `phases = [sin φ_m, cos φ_m, sin φ_e, cos φ_e]`): the same formulas, different
+    /// from the direct evaluation at rounding level ([`super::Trig::Kernel`]).
+    pub(super) fn time_functions_kernel(&self, tau: f64, phases: &[f64; 4]) -> [f64; 3] {
+        let (sx, cx) = super::trig::sin_cos(self.omega_c * tau);
+        let (sz, cz) = super::trig::sin_cos(self.omega_e * tau);
+        let [spm, cpm, spe, cpe] = *phases;
+        self.time_functions_of(&TimeTrig {
+            sx,
+            cx,
+            s2x: 2.0 * sx * cx,
+            sin_stiffness: sz * cpm + cz * spm,
+            sph: sz * cpe + cz * spe,
+            cph: cz * cpe - sz * spe,
+        })
+    }
+
+    /// `[F, b̄, f_r]` from the sines and cosines at one `τ` (the one place of these formulas
+    /// for the time stepping and the harmonic-balance grid). A non-finite `τ` gives NaN
+    /// through `cos x`, as [`backlash_at`](Self::backlash_at).
+    #[inline]
+    fn time_functions_of(&self, t: &TimeTrig) -> [f64; 3] {
+        // F(τ): the leaf's law (k₀ = 1, k_r = a_k, sine) times the radius term
+        let r = 1.0 + self.beta * t.cx;
+        let stiffness =
+            (1.0 + self.ak * t.sin_stiffness) * r * r / (1.0 + 0.5 * self.beta * self.beta);
+        // b̄(τ): the backlash leaf's law (β = 0 for the mean reading)
+        let backlash = self.backlash / (1.0 + self.backlash_law().beta * t.cx);
+        let forcing = -self.b0 - self.rigid_acceleration_trig(t.sx, t.cx, t.s2x)
+            + self.error_acceleration_trig(t.sph, t.cph, t.sx, t.cx);
+        [stiffness, backlash, forcing]
+    }
+
     /// `[F(τ_m), b̄(τ_m)]` and `f_r(τ_m)` on the grid `τ_m = m T / N`, `T = 2π/ω̄_c`
     /// (`N` a multiple of 4): the same functions as [`stiffness`](Self::stiffness),
     /// [`backlash_at`](Self::backlash_at) and [`forcing`](Self::forcing), equal to round-off,
@@ -278,24 +340,24 @@ impl Model {
         let (spm, cpm) = self.phase_stiffness.sin_cos();
         let (spe, cpe) = self.phase_error.sin_cos();
         let z2 = self.z2 as usize;
-        let scale = 1.0 + 0.5 * self.beta * self.beta;
         for (m, (f, row)) in forcing
             .iter_mut()
             .zip(table.chunks_exact_mut(2))
             .enumerate()
         {
             let (sx, cx) = circle[m];
-            let s2x = circle[(2 * m) % n_grid].0;
             let (sz, cz) = circle[(z2 * m) % n_grid];
-            let r = 1.0 + self.beta * cx;
-            row[0] = (1.0 + self.ak * (sz * cpm + cz * spm)) * r * r / scale;
-            row[1] = match self.readings.base_radius {
-                BaseRadius::TimeVarying => self.backlash / r,
-                BaseRadius::Mean => self.backlash,
-            };
-            let (sph, cph) = (sz * cpe + cz * spe, cz * cpe - sz * spe);
-            *f = -self.b0 - self.rigid_acceleration_trig(sx, cx, s2x)
-                + self.error_acceleration_trig(sph, cph, sx, cx);
+            let [stiffness, backlash, forcing] = self.time_functions_of(&TimeTrig {
+                sx,
+                cx,
+                s2x: circle[(2 * m) % n_grid].0,
+                sin_stiffness: sz * cpm + cz * spm,
+                sph: sz * cpe + cz * spe,
+                cph: cz * cpe - sz * spe,
+            });
+            row[0] = stiffness;
+            row[1] = backlash;
+            *f = forcing;
         }
     }
 
@@ -320,6 +382,19 @@ impl Model {
     pub fn static_position(&self, tau: f64) -> f64 {
         -self.backlash_at(tau) - self.b0 / self.stiffness(tau)
     }
+}
+
+/// The sines and cosines the time functions of Eq. (9) read at one `τ`: `x = ω̄_c τ`
+/// (`sin x`, `cos x`, `sin 2x`), `sin(ω̄_e τ + φ_m)` and `φ_e = ω̄_e τ + φ_e` (`sin`, `cos`);
+/// a value a reading does not read may be anything.
+#[derive(Debug, Clone, Copy)]
+struct TimeTrig {
+    sx: f64,
+    cx: f64,
+    s2x: f64,
+    sin_stiffness: f64,
+    sph: f64,
+    cph: f64,
 }
 
 /// Rattle state value `rsv` (Sect. 3.2): the workspace's one [`timestep::RattleState`]. This

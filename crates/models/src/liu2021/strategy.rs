@@ -107,6 +107,11 @@ pub struct TimeReference {
     pub refined: Rattle,
     /// Rattle state equal and ppv within the strategy's tolerance under the refined tolerance.
     pub reproducible: bool,
+    /// Work counters of the reference run ([`TimeResponse::stats`]: accepted and rejected
+    /// steps, right-hand-side evaluations, events); the refined and Poincaré runs are not
+    /// counted. Zero when read from data written before the field existed.
+    #[serde(default)]
+    pub stats: timestep::Stats,
 }
 
 impl TimeReference {
@@ -248,6 +253,7 @@ pub fn time_reference(
             motion,
             refined,
             reproducible,
+            stats: ti.stats,
         },
         ti,
     ))
@@ -439,6 +445,7 @@ mod tests {
             motion: Motion::Periodic(1),
             refined: r,
             reproducible: true,
+            stats: timestep::Stats::default(),
         };
         assert!(t.flag().is_none());
         t.motion = Motion::Periodic(2);

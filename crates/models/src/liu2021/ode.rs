@@ -1,0 +1,213 @@
+//! Eq. (9) as a first-order system for the `timestep` engine, written lean.
+
+use std::cell::Cell;
+
+use serde::{Deserialize, Serialize};
+
+use super::model::Model;
+
+/// How [`TimeSystem`] evaluates the sines and cosines of its time functions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum Trig {
+    /// The platform's `sin`/`cos` of every phase, as [`Model::stiffness`],
+    /// [`Model::backlash_at`] and [`Model::forcing`] ([`Model::time_functions`]): the bits of
+    /// the generic adapter `FirstOrder(Mechanical(model))`.
+    Libm,
+    /// Two short `sin_cos` (of `ω̄_c τ` and `ω̄_e τ`, Cody–Waite reduction and Taylor
+    /// polynomials, within a few 10⁻¹⁶ of the platform's) and the addition theorems for
+    /// `sin 2x` and the phases `φ_m`, `φ_e`: the same formulas, different at rounding level,
+    /// about half the cost. The default.
+    #[default]
+    Kernel,
+}
+
+/// Eq. (9) as the first-order system `y = [q, q']`,
+///
+/// ```text
+/// q' = v,    v' = f_r(τ) − 2ζ v − F(τ) f(q; b̄(τ)),
+/// ```
+///
+/// with the gap edges `q = ±b̄(τ)` as events (event 0: `q − b̄`, event 1: `q + b̄`): the
+/// model's one system description integrated through [`timestep::Mechanical`] (`M = 1`,
+/// `C = 2ζ`, `g = F f`, the forcing `f_r`), written lean:
+///
+/// * the time-only functions `F`, `b̄`, `f_r` are computed together, every `sin`/`cos` once
+///   ([`Trig::Libm`]: bit for bit the numbers of `FirstOrder(Mechanical(model))`, tested) or
+///   from two short `sin_cos` ([`Trig::Kernel`], the default: rounding-level different);
+/// * they are kept for the last `τ` asked: the Dormand–Prince step evaluates its 7th stage at
+///   the same `τ` as its 6th, and the event functions at the step end again, so two of every
+///   seven evaluations of an accepted step reuse them.
+///
+/// The cache is a [`Cell`], so a `TimeSystem` is not `Sync`: build one per thread (it is
+/// cheap, a copy of the model).
+#[derive(Debug, Clone)]
+pub struct TimeSystem {
+    model: Model,
+    trig: Trig,
+    /// The damping `C = 2ζ` (skipped when zero, as `Mechanical` skips a zero matrix).
+    damping: f64,
+    /// `[sin φ_m, cos φ_m, sin φ_e, cos φ_e]` of the phases ([`Trig::Kernel`]).
+    phases: [f64; 4],
+    /// `[τ, F(τ), b̄(τ), f_r(τ)]` of the last evaluation (`τ` = NaN: empty).
+    cache: Cell<[f64; 4]>,
+}
+
+impl TimeSystem {
+    /// The system of `model` with the default [`Trig::Kernel`].
+    pub fn new(model: Model) -> Self {
+        Self::with_trig(model, Trig::default())
+    }
+
+    /// The system of `model` with the given evaluation of the sines and cosines.
+    pub fn with_trig(model: Model, trig: Trig) -> Self {
+        let (spm, cpm) = model.phase_stiffness.sin_cos();
+        let (spe, cpe) = model.phase_error.sin_cos();
+        Self {
+            damping: 2.0 * model.zeta,
+            model,
+            trig,
+            phases: [spm, cpm, spe, cpe],
+            cache: Cell::new([f64::NAN; 4]),
+        }
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The evaluation of the sines and cosines.
+    pub fn trig(&self) -> Trig {
+        self.trig
+    }
+
+    /// `[F(τ), b̄(τ), f_r(τ)]`, from the cache when `τ` is the last one asked.
+    #[inline]
+    fn time_functions(&self, tau: f64) -> [f64; 3] {
+        let c = self.cache.get();
+        if c[0].to_bits() == tau.to_bits() {
+            return [c[1], c[2], c[3]];
+        }
+        let f = match self.trig {
+            Trig::Libm => self.model.time_functions(tau),
+            Trig::Kernel => self.model.time_functions_kernel(tau, &self.phases),
+        };
+        self.cache.set([tau, f[0], f[1], f[2]]);
+        f
+    }
+}
+
+impl timestep::OdeSystem for TimeSystem {
+    fn dim(&self) -> usize {
+        2
+    }
+
+    #[inline]
+    fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]) {
+        let [stiffness, backlash, forcing] = self.time_functions(t);
+        let (q, v) = (y[0], y[1]);
+        // the order of `Mechanical`: a = f − C v − g
+        let mut a = forcing;
+        if self.damping != 0.0 {
+            a -= self.damping * v;
+        }
+        a -= stiffness * backlash::dead_zone(q, backlash);
+        dydt[0] = v;
+        dydt[1] = a;
+    }
+
+    fn n_events(&self) -> usize {
+        2
+    }
+
+    #[inline]
+    fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
+        let [_, backlash, _] = self.time_functions(t);
+        system::gap_edges(y[0], backlash, g);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::params::{BaseRadius, ErrorTerm, RigidAcceleration, RigidSeries, table1};
+    use super::*;
+    use timestep::OdeSystem;
+
+    /// Every reading: the lean system gives the bits of `FirstOrder(Mechanical(model))`, for
+    /// the right-hand side and the events, in and out of contact, with the cache hit and missed.
+    #[test]
+    fn lean_system_is_bit_identical_to_the_mechanical_adapter() {
+        for ra in [RigidAcceleration::Derived, RigidAcceleration::PrintedEq20] {
+            for rs in [RigidSeries::TwoTerms, RigidSeries::Exact] {
+                for et in [ErrorTerm::Derived, ErrorTerm::Printed] {
+                    for br in [BaseRadius::TimeVarying, BaseRadius::Mean] {
+                        for zeta in [0.01, 0.0] {
+                            let mut p = table1();
+                            p.readings.rigid_acceleration = ra;
+                            p.readings.rigid_series = rs;
+                            p.readings.error_term = et;
+                            p.readings.base_radius = br;
+                            p.damping_ratio = zeta;
+                            let m = p.model().unwrap();
+                            let lean = TimeSystem::with_trig(m, Trig::Libm);
+                            let mech = timestep::FirstOrder(timestep::Mechanical::new(m).unwrap());
+                            let b = m.backlash;
+                            for i in 0..200 {
+                                let t = 37.3 * f64::from(i) - 5.0;
+                                for y in [[3.0 * b, 0.01], [0.2 * b, -0.3], [-2.0 * b, 1e-4]] {
+                                    for _repeat in 0..2 {
+                                        let (mut a, mut c) = ([0.0; 2], [0.0; 2]);
+                                        lean.rhs(t, &y, &mut a);
+                                        mech.rhs(t, &y, &mut c);
+                                        assert_eq!(a.map(f64::to_bits), c.map(f64::to_bits));
+                                        lean.events(t, &y, &mut a);
+                                        mech.events(t, &y, &mut c);
+                                        assert_eq!(a.map(f64::to_bits), c.map(f64::to_bits));
+                                    }
+                                }
+                            }
+                            assert_eq!(lean.n_events(), mech.n_events());
+                            assert_eq!(lean.dim(), mech.dim());
+                            for k in 0..2 {
+                                assert_eq!(lean.event_direction(k), mech.event_direction(k));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The kernel evaluation differs from the direct one at rounding level only: every time
+    /// function within `2·10⁻¹⁵ + 4ε·ω̄_e τ` of its scale (`F ≈ 1`, `b̄`, and `f_r` against the
+    /// sum of the amplitudes `B₀ + |B₁| + |B₂| + |B₃|`). The second term is the rounding of the
+    /// phase argument itself (`ω̄_e τ + φ` and `ω̄_e τ` are rounded to their own last place),
+    /// which no evaluation avoids; `τ` runs to 2.7·10⁷ (past the kernel's range, fallback).
+    #[test]
+    fn kernel_time_functions_are_the_direct_ones_to_rounding() {
+        for br in [BaseRadius::TimeVarying, BaseRadius::Mean] {
+            for rs in [RigidSeries::TwoTerms, RigidSeries::Exact] {
+                let mut p = table1();
+                p.readings.base_radius = br;
+                p.readings.rigid_series = rs;
+                p.phase_error = 0.4;
+                let m = p.model().unwrap();
+                let sys = TimeSystem::new(m);
+                let scale = [1.0, m.backlash, m.b0 + m.b1.abs() + m.b2.abs() + m.b3];
+                let mut worst = [0.0f64; 3];
+                for i in 0..20_000 {
+                    let tau = 1.37 * f64::from(i) * f64::from(i) / 20.0;
+                    let a = m.time_functions(tau);
+                    let b = m.time_functions_kernel(tau, &sys.phases);
+                    let bound = 2e-15 + 4.0 * f64::EPSILON * m.omega_e * tau;
+                    for k in 0..3 {
+                        worst[k] = worst[k].max((a[k] - b[k]).abs() / scale[k] / bound);
+                    }
+                }
+                assert!(worst.iter().all(|&w| w <= 1.0), "{br:?} {rs:?}: {worst:?}");
+            }
+        }
+    }
+}
