@@ -181,6 +181,17 @@ pub(crate) const CHECK_COLUMNS: [(&str, &str); 2] = [
     ("metric change at 100x tighter tol", "1"),
 ];
 
+/// `columns` followed by the columns of every table of checked runs: [`CHECK_COLUMNS`], then
+/// the step statistics [`crate::STEP_STATISTICS`].
+pub(crate) fn checked_columns<'a>(columns: &[(&'a str, &'a str)]) -> Vec<(&'a str, &'a str)> {
+    columns
+        .iter()
+        .chain(&CHECK_COLUMNS)
+        .chain(&STEP_STATISTICS)
+        .copied()
+        .collect()
+}
+
 /// The step statistics of a checked run (its main run at the study's tolerance, transient
 /// included; not the repeat): the columns [`crate::STEP_STATISTICS`].
 pub(crate) fn stat_cells(r: &ReferenceRun) -> [Cell; 4] {
@@ -213,19 +224,13 @@ fn fig9() -> Result<StudyOutput, Error> {
     let mut out = StudyOutput::new();
     let mut t = Table::new(
         "means",
-        &[
+        &checked_columns(&[
             ("D", "1"),
             ("b_s/b_n", "1"),
             ("mean B/b_n", "1"),
             ("min B/b_n", "1"),
             ("max B/b_n", "1"),
-            CHECK_COLUMNS[0],
-            CHECK_COLUMNS[1],
-            STEP_STATISTICS[0],
-            STEP_STATISTICS[1],
-            STEP_STATISTICS[2],
-            STEP_STATISTICS[3],
-        ],
+        ]),
     );
     let mut fig = Figure::new(
         "backlash",
@@ -597,16 +602,7 @@ fn sweep_checks(
 ) -> Result<(Table, Vec<bool>, Vec<String>), Error> {
     let mut t = Table::new(
         "checks",
-        &[
-            ("omega*", "1"),
-            ("model (0 Yu, 1 Chen, 2 K-S)", "1"),
-            CHECK_COLUMNS[0],
-            CHECK_COLUMNS[1],
-            STEP_STATISTICS[0],
-            STEP_STATISTICS[1],
-            STEP_STATISTICS[2],
-            STEP_STATISTICS[3],
-        ],
+        &checked_columns(&[("omega*", "1"), ("model (0 Yu, 1 Chen, 2 K-S)", "1")]),
     );
     let mut usable = Vec::with_capacity(omegas.len());
     let mut reasons = Vec::new();

@@ -18,11 +18,11 @@ use models::yu2021::{
 };
 
 use super::yu2021::{
-    CHECK_COLUMNS, check_cells, fractal_rig, row_with, run_checked, run_flags, stat_cells,
+    check_cells, checked_columns, fractal_rig, row_with, run_checked, run_flags, stat_cells,
 };
 use crate::{
-    Claim, Cost, Error, Figure, Paper, ResultExt, STEP_STATISTICS, Series, Study, StudyOutput,
-    Table, Verdict, fmt_sig, published,
+    Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
+    fmt_sig, published,
 };
 
 /// The studies of this file.
@@ -133,7 +133,7 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
     let mut out = StudyOutput::new();
     let mut t = Table::new(
         "implied-load",
-        &[
+        &checked_columns(&[
             ("D", "1"),
             ("epsilon", "1"),
             ("T* implied", "1"),
@@ -145,13 +145,7 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             ("max DTE model", "1"),
             ("mean B model", "1"),
             ("fraction out of contact", "1"),
-            CHECK_COLUMNS[0],
-            CHECK_COLUMNS[1],
-            STEP_STATISTICS[0],
-            STEP_STATISTICS[1],
-            STEP_STATISTICS[2],
-            STEP_STATISTICS[3],
-        ],
+        ]),
     );
     let mut flags = Vec::new();
     let mut fit = [(0.0f64, 0.0f64); 2]; // per ε: worst relative miss of p-p and of max
@@ -305,17 +299,7 @@ fn d_trends() -> Result<StudyOutput, Error> {
     };
     let mut checks = Table::new(
         "checks",
-        &[
-            ("D", "1"),
-            ("load", "N·m"),
-            ("omega*", "1"),
-            CHECK_COLUMNS[0],
-            CHECK_COLUMNS[1],
-            STEP_STATISTICS[0],
-            STEP_STATISTICS[1],
-            STEP_STATISTICS[2],
-            STEP_STATISTICS[3],
-        ],
+        &checked_columns(&[("D", "1"), ("load", "N·m"), ("omega*", "1")]),
     );
     for (&(c, w), r) in jobs.iter().zip(&checked) {
         let [motion, change] = check_cells(r);
@@ -433,17 +417,7 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
     let mut out = StudyOutput::new();
     let mut checks = Table::new(
         "checks",
-        &[
-            ("model", "-"),
-            ("a_z/b_h", "1"),
-            ("omega*", "1"),
-            CHECK_COLUMNS[0],
-            CHECK_COLUMNS[1],
-            STEP_STATISTICS[0],
-            STEP_STATISTICS[1],
-            STEP_STATISTICS[2],
-            STEP_STATISTICS[3],
-        ],
+        &checked_columns(&[("model", "-"), ("a_z/b_h", "1"), ("omega*", "1")]),
     );
     let mut flags = Vec::new();
     for (&(a, w), r) in jobs.iter().zip(&chen_runs) {

@@ -13,12 +13,12 @@ use models::motion::Motion;
 use models::yu2021::{DynamicBacklashLaw, Options, ReferenceRun, Response};
 
 use super::yu2021::{
-    CHECK_COLUMNS, G_FIG9, check_cells, fractal_rig_with, row_with, run_checked, run_flags,
+    G_FIG9, check_cells, checked_columns, fractal_rig_with, row_with, run_checked, run_flags,
     stat_cells,
 };
 use crate::{
-    Claim, Comparison, Cost, Error, Figure, Paper, ResultExt, STEP_STATISTICS, Series, Study,
-    StudyOutput, Table, Tolerance, Verdict, fmt_sig, published,
+    Claim, Comparison, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table,
+    Tolerance, Verdict, fmt_sig, published,
 };
 
 /// The studies of this file.
@@ -178,20 +178,14 @@ fn fig11() -> Result<StudyOutput, Error> {
     let mut out = StudyOutput::new();
     let mut t = Table::new(
         "components",
-        &[
+        &checked_columns(&[
             ("D", "1"),
             ("dynamic backlash (1 yes)", "1"),
             ("main omega*", "1"),
             ("main amplitude", "1"),
             ("components above 1% of main", "1"),
             ("component omega* list", "1"),
-            CHECK_COLUMNS[0],
-            CHECK_COLUMNS[1],
-            STEP_STATISTICS[0],
-            STEP_STATISTICS[1],
-            STEP_STATISTICS[2],
-            STEP_STATISTICS[3],
-        ],
+        ]),
     );
     for i in 0..cases.len() {
         let [motion, change] = check_cells(&runs[i]);
@@ -513,7 +507,7 @@ fn fig12() -> Result<StudyOutput, Error> {
     let mut out = StudyOutput::new();
     let mut t = Table::new(
         "runs",
-        &[
+        &checked_columns(&[
             ("D", "1"),
             ("G", "m"),
             ("omega*", "1"),
@@ -526,13 +520,7 @@ fn fig12() -> Result<StudyOutput, Error> {
             ("DF", "1"),
             ("RMS n=4", "1"),
             ("Poincare spread / size", "1"),
-            CHECK_COLUMNS[0],
-            CHECK_COLUMNS[1],
-            STEP_STATISTICS[0],
-            STEP_STATISTICS[1],
-            STEP_STATISTICS[2],
-            STEP_STATISTICS[3],
-        ],
+        ]),
     );
     for (i, (bs, k, r)) in runs.iter().enumerate() {
         let (d, g, w) = jobs[i];
