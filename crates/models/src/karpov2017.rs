@@ -1112,20 +1112,29 @@ impl Acc {
                 at: t,
             });
         }
-        let (c1, s1) = ker.panel(t, &fine);
-        self.c.add(c1);
-        self.s.add(s1);
+        let first = ker.panel(t, &fine);
+        self.add(first);
         if let Some(m) = mid {
             *m = Some((self.c.value(), self.s.value()));
         }
-        let (c2, s2) = ker.panel(t + h, &fine);
-        self.c.add(c2);
-        self.s.add(s2);
-        let (cc, sc) = ker.panel(t, &coarse);
+        let second = ker.panel(t + h, &fine);
+        self.add(second);
+        self.check(first, second, ker.panel(t, &coarse));
+        Ok((h, done))
+    }
+
+    /// Adds one fine panel's `(ΔC, ΔS)` to the result.
+    fn add(&mut self, (c, s): (f64, f64)) {
+        self.c.add(c);
+        self.s.add(s);
+    }
+
+    /// Accounts a pair: the coarse panel over both fine ones minus their sum goes into the
+    /// error estimate; three panels of work.
+    fn check(&mut self, (c1, s1): (f64, f64), (c2, s2): (f64, f64), (cc, sc): (f64, f64)) {
         self.dc += cc - (c1 + c2);
         self.ds += sc - (s1 + s2);
         self.panels += 3;
-        Ok((h, done))
     }
 }
 

@@ -177,16 +177,11 @@ pub(super) fn integrate(ker: &Kernel, f: &Fold, theta: f64, acc: &mut Acc) -> Re
                 at: u,
             });
         }
-        let (c1, s1) = ker.folded_panel(u, h, f);
-        let (c2, s2) = ker.folded_panel(u + h, h, f);
-        let (cc, sc) = ker.folded_panel(u, 2.0 * h, f);
-        acc.c.add(c1);
-        acc.c.add(c2);
-        acc.s.add(s1);
-        acc.s.add(s2);
-        acc.dc += cc - (c1 + c2);
-        acc.ds += sc - (s1 + s2);
-        acc.panels += 3;
+        let first = ker.folded_panel(u, h, f);
+        let second = ker.folded_panel(u + h, h, f);
+        acc.add(first);
+        acc.add(second);
+        acc.check(first, second, ker.folded_panel(u, 2.0 * h, f));
         u = if done { end } else { u + 2.0 * h };
     }
     Ok(())
