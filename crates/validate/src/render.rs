@@ -329,6 +329,8 @@ pub fn report(results: &[StudyResult], idx: &ReadingsIndex) -> String {
         for (class, v) in rows {
             let key = match class {
                 crate::Evidence::Calibration(_) => "calibration".to_owned(),
+                crate::Evidence::ReadingVariant(_) => "reading variant".to_owned(),
+                crate::Evidence::NotCheckable(_) => "not checkable".to_owned(),
                 other => other.label(),
             };
             let e = by.entry((r.study.paper, key)).or_default();

@@ -156,6 +156,12 @@ pub enum Evidence {
     Transcription,
     /// True for any parameters or returns an input: cannot fail, so not a check.
     ByConstruction,
+    /// A check of a reading the project rejects or has not decided (named): it can fail, but it
+    /// tests the reading, not the model's reproduction of the paper, so it is listed apart and
+    /// never counted in the headline.
+    ReadingVariant(String),
+    /// Held against a number the seeds do not print (named): shown, not a check, never counted.
+    NotCheckable(String),
 }
 
 impl Evidence {
@@ -167,13 +173,21 @@ impl Evidence {
             Evidence::Calibration(what) => format!("calibration ({what})"),
             Evidence::Transcription => "transcription".to_owned(),
             Evidence::ByConstruction => "holds by construction".to_owned(),
+            Evidence::ReadingVariant(what) => format!("reading variant ({what})"),
+            Evidence::NotCheckable(what) => format!("not checkable ({what})"),
         }
     }
 
     /// Whether a row of this class is a check (can fail): all but
-    /// [`Evidence::ByConstruction`].
+    /// [`Evidence::ByConstruction`] and [`Evidence::NotCheckable`].
     pub fn is_check(&self) -> bool {
-        !matches!(self, Evidence::ByConstruction)
+        !matches!(self, Evidence::ByConstruction | Evidence::NotCheckable(_))
+    }
+
+    /// Whether a row of this class counts in the headline: only an independent
+    /// [`Evidence::Reproduction`].
+    pub fn is_reproduction(&self) -> bool {
+        matches!(self, Evidence::Reproduction)
     }
 }
 
