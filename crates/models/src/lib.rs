@@ -19,6 +19,7 @@ pub mod karpov2017;
 pub mod liu2021;
 pub mod motion;
 pub mod pair;
+pub mod response;
 pub mod yu2021;
 
 pub use error::Error;

@@ -5,11 +5,37 @@
 //!    overwrite each other).
 //! 3. No verdict rests on a flagged point: a row with flags (non-converged, unstable,
 //!    non-periodic, not reproducible) is `inconclusive` or `shown`, never pass/deviation.
+//! 4. Flags are claim-local: a flag that names a swept point (`at x: …`) names one of the
+//!    points the row needs (`needs`); a row that names none has no such flag.
+//! 5. A judged threshold reproduction (a published value marked `threshold`) carries an
+//!    interval.
+//! 6. Each check counts once: no two reproduction rows (in any studies) compare the same
+//!    quantity and paper value with the same model value; a reading variant or a paper-vs-paper
+//!    row must carry its own class ([`crate::Evidence::ReadingVariant`],
+//!    [`crate::Evidence::Consistency`]), never `reproduction`.
 
 use std::collections::BTreeMap;
 
 use crate::render::StudyResult;
-use crate::study::{Study, StudyOutput, Verdict};
+use crate::study::{Evidence, Study, StudyOutput, Verdict};
+
+/// The swept value a flag names (`at 162.5: …`, `at 162.5 rad/s: …`), if any.
+fn flag_point(flag: &str) -> Option<f64> {
+    let rest = flag.strip_prefix("at ")?;
+    let end = rest.find([' ', ':'])?;
+    rest[..end].parse().ok()
+}
+
+/// Rule 4: the flags naming a point that is not among `needs`.
+fn foreign_flags<'a>(flags: &'a [String], needs: &[f64]) -> Vec<&'a str> {
+    flags
+        .iter()
+        .filter(|f| {
+            flag_point(f).is_some_and(|x| !needs.iter().any(|n| n.to_bits() == x.to_bits()))
+        })
+        .map(String::as_str)
+        .collect()
+}
 
 /// One broken rule: the study id and what is wrong.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -73,7 +99,33 @@ pub fn audit_output(study: &Study, out: &StudyOutput) -> Vec<Problem> {
             ));
         }
     }
+    for (i, c) in out.comparisons.iter().enumerate() {
+        let foreign = foreign_flags(&c.flags, &c.needs);
+        if !foreign.is_empty() {
+            push(format!(
+                "comparison #{} `{}` rests on flags of points it does not need ({})",
+                i + 1,
+                c.quantity,
+                foreign.join("; ")
+            ));
+        }
+        if c.threshold && c.judged && c.evidence == Evidence::Reproduction && c.interval.is_none() {
+            push(format!(
+                "comparison #{} `{}` is a threshold without an interval",
+                i + 1,
+                c.quantity
+            ));
+        }
+    }
     for c in &out.claims {
+        let foreign = foreign_flags(&c.flags, &c.needs);
+        if !foreign.is_empty() {
+            push(format!(
+                "claim `{}` rests on flags of points it does not need ({})",
+                c.text,
+                foreign.join("; ")
+            ));
+        }
         if matches!(c.verdict, Verdict::Deviation | Verdict::Inconclusive)
             && c.readings.is_empty()
             && c.cause.trim().is_empty()
@@ -106,6 +158,38 @@ pub fn audit_output(study: &Study, out: &StudyOutput) -> Vec<Problem> {
     p
 }
 
+/// Rule 6 over all results: a reproduction counted twice (same quantity, paper value and model
+/// value in two rows).
+pub fn audit_counted_once(results: &[StudyResult]) -> Vec<Problem> {
+    let mut seen: BTreeMap<(String, String, u64), String> = BTreeMap::new();
+    let mut v = Vec::new();
+    for r in results {
+        let Ok(o) = &r.output else { continue };
+        for c in &o.comparisons {
+            if !(c.judged && c.evidence == Evidence::Reproduction) {
+                continue;
+            }
+            let key = (
+                c.quantity.clone(),
+                c.reference.printed.clone(),
+                c.model.to_bits(),
+            );
+            if let Some(first) = seen.get(&key) {
+                v.push(Problem {
+                    study: r.study.id.to_owned(),
+                    what: format!(
+                        "reproduction `{}` (paper {}) repeats a row of {first}: count each check once (class it as a reading variant or consistency)",
+                        c.quantity, c.reference.printed
+                    ),
+                });
+            } else {
+                seen.insert(key, r.study.id.to_owned());
+            }
+        }
+    }
+    v
+}
+
 /// The problems of all results (a study that failed to run is a problem too).
 pub fn audit(results: &[StudyResult]) -> Vec<Problem> {
     let mut v = Vec::new();
@@ -118,6 +202,7 @@ pub fn audit(results: &[StudyResult]) -> Vec<Problem> {
             }),
         }
     }
+    v.extend(audit_counted_once(results));
     v
 }
 
@@ -206,5 +291,78 @@ mod tests {
         out.table(Table::new("dte", &[("x", "1")]));
         out.figure(Figure::new("dte_series", "t", ("x", "1"), ("y", "1")));
         assert!(audit_output(&study(), &out).is_empty());
+    }
+
+    /// Rule 4: a verdict resting on the flag of a point the row does not need fails; the flag of
+    /// a needed point (named exactly as swept) does not.
+    #[test]
+    fn flags_of_points_not_needed_fail() {
+        let flag = "at 180: long-window rattle state not robust".to_owned();
+        let mut out = StudyOutput::new();
+        out.claim(
+            Claim::new("c", "p. 1", "e", Verdict::Pass)
+                .needs([140.0, 160.0])
+                .flagged_all([flag.clone()]),
+        );
+        let p = audit_output(&study(), &out);
+        assert_eq!(p.len(), 1, "{p:?}");
+        assert!(p[0].what.contains("does not need"));
+        let mut out = StudyOutput::new();
+        out.claim(
+            Claim::new("c", "p. 1", "e", Verdict::Pass)
+                .needs([160.0, 180.0])
+                .flagged_all([flag]),
+        );
+        assert!(audit_output(&study(), &out).is_empty());
+        // 162.5 is not 162 (exact swept values)
+        let mut out = StudyOutput::new();
+        out.compare(
+            deviating()
+                .needs([162.0])
+                .flagged("at 162.5 rad/s: not robust"),
+        );
+        assert_eq!(audit_output(&study(), &out).len(), 1);
+        assert_eq!(flag_point("at 162.5 rad/s: x"), Some(162.5));
+        assert_eq!(flag_point("HBM unstable"), None);
+    }
+
+    /// Rule 5: a judged threshold reproduction without an interval fails; with one, or as a
+    /// reading variant, it does not.
+    #[test]
+    fn threshold_without_interval_fails() {
+        let mut c = deviating().cause("c");
+        c.threshold = true;
+        let mut out = StudyOutput::new();
+        out.compare(c.clone());
+        let p = audit_output(&study(), &out);
+        assert_eq!(p.len(), 1);
+        assert!(p[0].what.contains("without an interval"));
+        let mut out = StudyOutput::new();
+        out.compare(c.clone().within(1.5, 2.5));
+        out.compare(c.class(Evidence::ReadingVariant("R-X".into())));
+        assert!(audit_output(&study(), &out).is_empty());
+    }
+
+    /// Rule 6: the same reproduction in two studies is counted twice and fails; classed as a
+    /// reading variant it does not.
+    #[test]
+    fn reproduction_counted_twice_fails() {
+        let result = |out: StudyOutput| StudyResult {
+            study: study(),
+            output: Ok(out),
+        };
+        let mut a = StudyOutput::new();
+        a.compare(deviating().cause("c"));
+        let b = a.clone();
+        let p = audit(&[result(a.clone()), result(b)]);
+        assert_eq!(p.len(), 1, "{p:?}");
+        assert!(p[0].what.contains("count each check once"));
+        let mut c = StudyOutput::new();
+        c.compare(
+            deviating()
+                .cause("c")
+                .class(Evidence::ReadingVariant("R-X".into())),
+        );
+        assert!(audit(&[result(a), result(c)]).is_empty());
     }
 }

@@ -18,6 +18,10 @@ pub struct PublishedValue {
     pub printed: String,
     /// Where: `"Table 2, p. 12"`.
     pub source: String,
+    /// A threshold (an onset on a swept parameter): its model side must be an interval
+    /// (`cargo xtask validate --check`).
+    #[serde(default)]
+    pub threshold: bool,
     /// The parsed value (filled in from `printed`).
     #[serde(skip)]
     pub value: f64,

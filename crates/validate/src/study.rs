@@ -408,6 +408,16 @@ pub struct Comparison {
     pub flags: Vec<String>,
     /// False when the row is shown beside the judged method but not judged (verdict `shown`).
     pub judged: bool,
+    /// The model's uncertainty interval `[lo, hi]` (a threshold located by bisection, with the
+    /// spread over undecided readings and definitions); `None` for a point value. With an
+    /// interval the verdict compares the interval with the band (validation/README.md).
+    pub interval: Option<(f64, f64)>,
+    /// The swept values the verdict rests on, exactly as swept; a flag (`at x: …`) must name one
+    /// of them (`cargo xtask validate --check`). Empty: the row rests on no swept point.
+    pub needs: Vec<f64>,
+    /// The paper value is a threshold ([`PublishedValue::threshold`]): a judged reproduction
+    /// must carry an [`Comparison::interval`] (`cargo xtask validate --check`).
+    pub threshold: bool,
 }
 
 impl Comparison {
@@ -438,6 +448,9 @@ impl Comparison {
             cause: String::new(),
             flags: Vec::new(),
             judged: true,
+            interval: None,
+            needs: Vec::new(),
+            threshold: false,
         }
     }
 
@@ -445,7 +458,9 @@ impl Comparison {
     /// from its printed precision.
     pub fn published(p: &PublishedValue, model: f64) -> Result<Self, Error> {
         let tol = Tolerance::printed(&p.printed)?;
-        Ok(Comparison::new(&p.quantity, &p.unit, p, model, tol))
+        let mut c = Comparison::new(&p.quantity, &p.unit, p, model, tol);
+        c.threshold = p.threshold;
+        Ok(c)
     }
 
     /// Add a reading id.
@@ -491,6 +506,20 @@ impl Comparison {
         self
     }
 
+    /// The model's interval `[lo, hi]` (the point value stays `model`): pass when the interval
+    /// lies inside the band, deviation when it lies wholly outside, inconclusive when it
+    /// straddles an edge.
+    pub fn within(mut self, lo: f64, hi: f64) -> Self {
+        self.interval = Some((lo.min(hi), lo.max(hi)));
+        self
+    }
+
+    /// Name the swept values the verdict rests on (a flag must name one of them).
+    pub fn needs(mut self, xs: impl IntoIterator<Item = f64>) -> Self {
+        self.needs.extend(xs);
+        self
+    }
+
     /// Replace the tolerance.
     pub fn with_tolerance(mut self, tolerance: Tolerance) -> Self {
         self.tolerance = tolerance;
@@ -526,7 +555,36 @@ impl Comparison {
         }
         let allowed = self.tolerance.allowed(self.reference.value);
         let slack = 1e-12 * self.reference.value.abs().max(allowed);
+        if let Some((lo, hi)) = self.interval {
+            if !(lo.is_finite() && hi.is_finite()) {
+                return Verdict::Deviation;
+            }
+            let (a, b) = (
+                self.reference.value - allowed - slack,
+                self.reference.value + allowed + slack,
+            );
+            return if lo >= a && hi <= b {
+                Verdict::Pass
+            } else if hi < a || lo > b {
+                Verdict::Deviation
+            } else {
+                Verdict::Inconclusive
+            };
+        }
         Verdict::from_bool(self.model.is_finite() && self.deviation_abs().abs() <= allowed + slack)
+    }
+
+    /// The model value as shown: `165` or `165 [163.1, 166.9]` with an interval.
+    pub fn model_label(&self) -> String {
+        match self.interval {
+            Some((lo, hi)) => format!(
+                "{} [{}, {}]",
+                crate::fmt6(self.model),
+                crate::fmt6(lo),
+                crate::fmt6(hi)
+            ),
+            None => crate::fmt6(self.model),
+        }
     }
 }
 
@@ -550,6 +608,8 @@ pub struct Claim {
     /// Why the evidence rests on points that cannot carry a verdict; a flagged claim must be
     /// inconclusive (`cargo xtask validate --check` fails otherwise).
     pub flags: Vec<String>,
+    /// The swept values the verdict rests on, exactly as swept (see [`Comparison::needs`]).
+    pub needs: Vec<f64>,
 }
 
 impl Claim {
@@ -564,7 +624,14 @@ impl Claim {
             class: Evidence::Reproduction,
             cause: String::new(),
             flags: Vec::new(),
+            needs: Vec::new(),
         }
+    }
+
+    /// Name the swept values the verdict rests on (a flag must name one of them).
+    pub fn needs(mut self, xs: impl IntoIterator<Item = f64>) -> Self {
+        self.needs.extend(xs);
+        self
     }
 
     /// A claim from the published data file (text and source transcribed there).
@@ -704,5 +771,23 @@ mod tests {
         assert_eq!(c.verdict(), Verdict::Deviation);
         let c = Comparison::new("f", "Hz", r, f64::NAN, tol);
         assert_eq!(c.verdict(), Verdict::Deviation);
+    }
+
+    /// An interval inside the band passes, one outside is a deviation, one across an edge is
+    /// inconclusive; a NaN bound is a deviation (no threshold found).
+    #[test]
+    fn interval_verdicts() {
+        let r = Reference::computed(150.0, "text");
+        let tol = Tolerance::round_number("150", 10.0, "rad/s");
+        let c = |lo: f64, hi: f64| {
+            Comparison::new("w", "rad/s", r.clone(), 0.5 * (lo + hi), tol.clone()).within(lo, hi)
+        };
+        assert_eq!(c(146.0, 154.0).verdict(), Verdict::Pass);
+        assert_eq!(c(145.0, 155.0).verdict(), Verdict::Pass, "edges inclusive");
+        assert_eq!(c(133.0, 137.0).verdict(), Verdict::Deviation);
+        assert_eq!(c(156.0, 160.0).verdict(), Verdict::Deviation);
+        assert_eq!(c(143.0, 147.0).verdict(), Verdict::Inconclusive);
+        assert_eq!(c(f64::NAN, 147.0).verdict(), Verdict::Deviation);
+        assert_eq!(c(146.0, 154.0).model_label(), "150 [146, 154]");
     }
 }

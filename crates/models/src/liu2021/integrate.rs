@@ -75,7 +75,7 @@ fn positive(name: &'static str, v: f64) -> Result<(), Error> {
 /// The first-order system of Eq. (9) (`y = [q, q']`, [`TimeSystem`]) and the integrator
 /// settings of [`integrate`] (Dormand–Prince 5(4), `rtol`, `atol = 10⁻³·rtol·max(b̄, B₀)`,
 /// steps ≤ `max_step`, events at `q = ±b̄(τ)`).
-fn system(
+pub(super) fn system(
     model: &Model,
     options: &IntegrationOptions,
 ) -> Result<(TimeSystem, timestep::Options), Error> {
@@ -109,7 +109,7 @@ pub fn bifurcation_point(
     timestep::bifurcation_point(&sys, model.period(), &[q0, v0], &bo, &opts).map_err(Error::from)
 }
 
-fn run(
+pub(super) fn run(
     model: &Model,
     t0: f64,
     y0: &[f64],

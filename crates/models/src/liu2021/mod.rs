@@ -107,6 +107,7 @@ mod ode;
 mod params;
 mod strategy;
 mod trig;
+mod window;
 
 pub use continuation::{
     BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedFold,
@@ -126,3 +127,4 @@ pub use strategy::{
     HbmOrigin, HbmPoint, Motion, SweepPoint, SweepStrategy, TimeReference, classify_section,
     is_stable_multiplier, max_multiplier, solve_point, solve_sweep, time_reference,
 };
+pub use window::{LongWindowOptions, long_window};

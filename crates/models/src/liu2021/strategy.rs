@@ -50,8 +50,10 @@ use super::harmonic::{HbmOptions, HbmResponse, HbmStart, solve_hbm_with};
 use super::integrate::{IntegrationOptions, TimeResponse, integrate};
 use super::model::{Model, Rattle};
 use super::params::Parameters;
+use super::window::LongWindowOptions;
 use crate::Error;
 pub use crate::motion::{Motion, classify_section};
+use crate::response::Robust;
 
 /// Settings of [`solve_sweep`] / [`solve_point`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -78,6 +80,10 @@ pub struct SweepStrategy {
     pub refine_factor: f64,
     /// ppv of the refined run must agree within this relative tolerance.
     pub ppv_rel_tol: f64,
+    /// Long-window statistics of every point with their spread ([`super::long_window`]);
+    /// `None` (the default): not computed.
+    #[serde(default)]
+    pub long_window: Option<LongWindowOptions>,
 }
 
 impl Default for SweepStrategy {
@@ -92,6 +98,7 @@ impl Default for SweepStrategy {
             poincare_tol: 1e-4,
             refine_factor: 100.0,
             ppv_rel_tol: 1e-3,
+            long_window: None,
         }
     }
 }
@@ -220,6 +227,8 @@ pub struct SweepPoint {
     pub warm_solution: HbmResponse,
     /// The full-basis solution.
     pub full_solution: Option<HbmResponse>,
+    /// Long-window statistics with their spread, when the strategy asks for them.
+    pub window: Option<Robust>,
 }
 
 /// The time-integration reference of a model: metrics, Poincaré motion type and the refined run.
@@ -284,6 +293,10 @@ pub fn solve_point(params: &Parameters, strategy: &SweepStrategy) -> Result<Swee
         cold_solution: cold,
         warm_solution: warm,
         full_solution: full,
+        window: match &strategy.long_window {
+            Some(o) => Some(super::long_window(&m, o)?),
+            None => None,
+        },
     };
     if strategy.stability {
         add_stability(&m, &mut point)?;

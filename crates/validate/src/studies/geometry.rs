@@ -181,7 +181,9 @@ fn karpov_eq4() -> Result<StudyOutput, Error> {
             fmt_sig(100.0 * spread, 3)
         ),
         Verdict::from_bool(spread < 0.01),
-    ));
+    )
+    .class(Evidence::Consistency)
+    .cause("closed form against closed form (the exact δ of the centrodes against B)"));
     // the printed formula against the exact form: consistency, not reproduction
     for c in &mut out.comparisons {
         c.evidence = Evidence::Consistency;
@@ -259,7 +261,9 @@ fn karpov_eq6() -> Result<StudyOutput, Error> {
             fmt_sig(100.0 * spread, 3)
         ),
         Verdict::from_bool(spread < 0.03 && decreasing),
-    ));
+    )
+    .class(Evidence::Consistency)
+    .cause("closed form against closed form (the exact ε_max against B, j and ξ)"));
     // the printed formula against the exact form: consistency, not reproduction
     for c in &mut out.comparisons {
         c.evidence = Evidence::Consistency;
@@ -345,7 +349,8 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
             paper.value("table1.centre-distance")?,
             1e3 * pair.centre_distance(),
         )?
-        .note("centre distance of the model's closing centrodes, r(1 + A)")
+        .note("centre distance of the model's closing centrodes, r(1 + A): A is set so that the centrodes close, and r(1 + A) cannot leave the printed band")
+        .class(Evidence::ByConstruction)
         .reading("R-KARPOV-EQ1-CLOSURE"),
     );
     // δ and ε_max of the pair against the allowable range.
@@ -387,7 +392,9 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
             fmt6(check.b_max_eq4)
         ),
         Verdict::from_bool(d <= dmax && d4 <= dmax),
-    ));
+    )
+    .class(Evidence::ByConstruction)
+    .cause("a design rule of the text, shown with the pair's numbers (not a check of the model)"));
     Ok(out)
 }
 
@@ -462,12 +469,16 @@ fn liu_table2() -> Result<StudyOutput, Error> {
             paper.value("sect38.fc-theory")?,
             printed.centre_frequency(n),
         )?
-        .note("at 864 rpm with the text's constants (belt 1.3, Z2 = 63)")
+        .note(
+            "at 864 rpm with the text's constants (belt 1.3, Z2 = 63): paper arithmetic, no model",
+        )
+        .class(Evidence::Consistency)
         .reading("R-LIU-TABLE2"),
     );
     out.compare(
         Comparison::published(paper.value("sect38.fe-theory")?, printed.mesh_frequency(n))?
-            .note("at 864 rpm with the text's constants (belt 1.3, Z1 = 18); Table 2 prints 192 Hz at 840 rpm")
+            .note("at 864 rpm with the text's constants (belt 1.3, Z1 = 18); Table 2 prints 192 Hz at 840 rpm: paper arithmetic, no model")
+            .class(Evidence::Consistency)
             .reading("R-LIU-TABLE2"),
     );
     // Experimental vs theoretical frequencies (the text's claim of agreement).

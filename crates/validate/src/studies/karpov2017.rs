@@ -151,17 +151,27 @@ fn b_grid() -> Vec<f64> {
         .collect()
 }
 
-/// A claim of the text checked under one reading of Eq. (9) (`R-KARPOV-EQ9`).
+/// A claim of the text checked under one reading of Eq. (9) (`R-KARPOV-EQ9`). Under the
+/// accumulated-phase reading, which the evidence rejects (R-KARPOV-EQ9), the row is a reading
+/// variant: listed apart, never counted as a reproduction. The evidence of every claim starts
+/// with the reading's name.
 fn eq9_claim(
     paper: &crate::Published,
     key: &str,
     evidence: impl Into<String>,
     ok: bool,
 ) -> Result<Claim, Error> {
-    Ok(
-        Claim::published(paper.claim(key)?, evidence, Verdict::from_bool(ok))
-            .reading("R-KARPOV-EQ9"),
-    )
+    let evidence = evidence.into();
+    let rejected = evidence.starts_with("accumulated phase");
+    let c = Claim::published(paper.claim(key)?, evidence, Verdict::from_bool(ok))
+        .reading("R-KARPOV-EQ9");
+    Ok(if rejected {
+        c.class(crate::Evidence::ReadingVariant(
+            "R-KARPOV-EQ9: accumulated phase, the reading the evidence rejects".to_owned(),
+        ))
+    } else {
+        c
+    })
 }
 
 /// File-name part for a reading.

@@ -1,12 +1,11 @@
 //! Fig. 15: rattle state and ppv against the load torque T2.
 
 use super::{
-    HBM_KINDS, converged_note, first_hbm, first_time, flags_of, rise_claim, sig, sweep,
+    HBM_KINDS, at, converged_note, first_hbm, first_time, flags_of, refine, rise_claim, sig, sweep,
     sweep_figures, sweep_table,
 };
 use crate::{
-    Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Tolerance, ToleranceBand, Verdict,
-    published,
+    Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Tolerance, Verdict, published,
 };
 
 pub(super) fn study() -> Study {
@@ -30,35 +29,50 @@ fn run() -> Result<StudyOutput, Error> {
     let xs: Vec<f64> = (0..=40).map(f64::from).collect();
     let pts = sweep(&xs, |p, x| p.load_torque = x)?;
     let mut out = StudyOutput::new();
-    let tol = |p: &crate::PublishedValue| -> Result<Tolerance, Error> {
-        let half = Tolerance::printed(&p.printed)?;
-        let a = half.allowed(p.value) + 1.0;
-        Ok(Tolerance::stated(
-            ToleranceBand::Absolute(a),
-            &format!(
-                "½ unit of the last printed digit of \"{}\" (0.5 N·m) + the 1 N·m sweep grid",
-                p.printed
-            ),
-        ))
-    };
+    // the grid step is not added: the model side is an interval located by bisection
+    let tol =
+        |p: &crate::PublishedValue| -> Result<Tolerance, Error> { Tolerance::printed(&p.printed) };
+    let set = |p: &mut models::liu2021::Parameters, x: f64| p.load_torque = x;
     let below = paper.value("sect37.t2-bilateral-below")?;
     let from = paper.value("sect37.t2-no-rattle-from")?;
     // first torque at which rattle is no longer bilateral / no rattle at all (time integration)
-    let not_bi = first_time(&pts, |p| p.rsv() < 2);
-    let none = first_time(&pts, |p| p.rsv() == 0);
+    let not_bi = refine(
+        first_time(&pts, |p| p.rsv() < 2),
+        &set,
+        1.0,
+        |r| r < 2,
+        false,
+    )?;
+    let none = refine(
+        first_time(&pts, |p| p.rsv() == 0),
+        &set,
+        1.0,
+        |r| r == 0,
+        true,
+    )?;
     out.compare(
         Comparison::published(below, not_bi.x)?
             .with_tolerance(tol(below)?)
+            .within(not_bi.lo, not_bi.hi)
             .reading("R-LIU-FIG15")
+            .needs(not_bi.needs.clone())
             .flagged_all(not_bi.flags)
-            .note("first T2 with rsv < 2, time integration (NaN: none up to 40 N·m)"),
+            .note(&format!(
+                "first T2 with long-window rsv < 2 (NaN: none up to 40 N·m); {}",
+                not_bi.note
+            )),
     );
     out.compare(
         Comparison::published(from, none.x)?
             .with_tolerance(tol(from)?)
+            .within(none.lo, none.hi)
             .reading("R-LIU-FIG15")
+            .needs(none.needs.clone())
             .flagged_all(none.flags)
-            .note("first T2 with rsv = 0, time integration (NaN: none up to 40 N·m)"),
+            .note(&format!(
+                "first T2 with long-window rsv = 0 (NaN: none up to 40 N·m); {}",
+                none.note
+            )),
     );
     for (label, kind) in HBM_KINDS {
         let n_conv = converged_note(&pts, kind);
@@ -84,16 +98,19 @@ fn run() -> Result<StudyOutput, Error> {
                 "ppv {} → {} at T2 = {} N·m (×{}); 'sharply' read as below a third within one 1 N·m step",
                 sig(w[0].ppv()),
                 sig(w[1].ppv()),
-                sig(w[1].x),
+                at(w[1].x),
                 sig(w[1].ppv() / w[0].ppv())
             ),
             w[1].ppv() < w[0].ppv() / 3.0,
-            flags_of(w),
+            w.iter().filter_map(|p| p.ppv_flag(0.5)).collect::<Vec<_>>(),
         ),
         None => (
             "no bilateral → unilateral transition in 0–40 N·m".to_owned(),
             false,
-            flags_of(&pts),
+            flags_of(
+                pts.iter()
+                    .filter(|p| p.rsv_range().0 < 2 && p.rsv_range().1 == 2),
+            ),
         ),
     };
     out.claim(
@@ -104,6 +121,7 @@ fn run() -> Result<StudyOutput, Error> {
             Verdict::from_bool(ok),
         )
         .reading("R-LIU-FIG15")
+        .needs(drop.map_or_else(Vec::new, |w| w.iter().map(|p| p.x).collect()))
         .flagged_all(flags),
     );
     // Fig. 15b: slow growth while bilateral, gradual growth after the drop

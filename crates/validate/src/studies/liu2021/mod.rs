@@ -12,8 +12,10 @@
 //! it (verdict `shown`), as are the full-basis HBM columns. See `validation/README.md`.
 
 use models::liu2021::{
-    self, BaseRadius, HbmPoint, Model, Parameters, SweepStrategy, TimeReference,
+    self, BaseRadius, ErrorTerm, HbmPoint, LongWindowOptions, Model, Parameters, SweepStrategy,
+    TimeReference,
 };
+use models::response::Robust;
 
 use super::user_models::step_cells;
 use crate::{
@@ -61,14 +63,25 @@ fn model(p: &Parameters) -> Result<Model, Error> {
 }
 
 /// The strategy of every Liu sweep: the library default (paper basis cold/warm, full basis
-/// K = Z2 + 2 warm, neighbour continuation, stability, Poincaré motion type, 100× refinement).
+/// K = Z2 + 2 warm, neighbour continuation, stability, Poincaré motion type, 100× refinement)
+/// plus the long-window statistics that judge every point ([`LongWindowOptions::default`]:
+/// two windows of 50 periods, `rtol/100`, a second start).
 fn strategy() -> SweepStrategy {
-    SweepStrategy::default()
+    SweepStrategy {
+        long_window: Some(LongWindowOptions::default()),
+        ..SweepStrategy::default()
+    }
+}
+
+/// The swept value exactly as swept (shortest round-trip form: `162.5`, `0.000011`), so that
+/// flags and evidence never make two points read the same.
+fn at(x: f64) -> String {
+    format!("{x}")
 }
 
 /// One sweep point: the swept value, the time reference and the three HBM columns, with the
 /// step statistics of the reference run and the accuracy of each HBM solution.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 struct Point {
     x: f64,
     time: TimeReference,
@@ -79,6 +92,8 @@ struct Point {
     stats: timestep::Stats,
     /// `(residual norm, truncation indicator)` of the cold, warm and full HBM solutions.
     accuracy: [(f64, f64); 3],
+    /// Long-window statistics with their spread (the judged metrics).
+    window: Option<Robust>,
 }
 
 /// `(‖s‖₂, truncation indicator)` of a harmonic-balance solution.
@@ -111,15 +126,56 @@ fn columns<'a>(own: &[(&'a str, &'a str)], more: &[(&'a str, &'a str)]) -> Vec<(
 }
 
 impl Point {
+    /// The judged rattle state: over the long window (all periods), else the one-period one.
     fn rsv(&self) -> u8 {
-        self.time.rattle.state.rsv()
+        self.window
+            .as_ref()
+            .map_or(self.time.rattle.state.rsv(), |w| w.nominal.state.rsv())
     }
+    /// `[lo, hi]` of the rsv over the long-window variants.
+    fn rsv_range(&self) -> (u8, u8) {
+        self.window
+            .as_ref()
+            .map_or((self.rsv(), self.rsv()), Robust::rsv_interval)
+    }
+    /// The judged ppv: over the long window, else over the one recorded period.
     fn ppv(&self) -> f64 {
-        self.time.rattle.ppv
+        self.window
+            .as_ref()
+            .map_or(self.time.rattle.ppv, |w| w.nominal.ppv)
     }
-    /// `at x: reason` when the time reference is flagged.
+    /// `[lo, hi]` of the long-window ppv over the variants.
+    fn ppv_range(&self) -> (f64, f64) {
+        self.window
+            .as_ref()
+            .map_or((self.ppv(), self.ppv()), |w| w.interval(|s| s.ppv))
+    }
+    /// `at x: reason` when the point cannot carry a rattle-state verdict: the long-window state
+    /// differs between the variants (two tolerances, two windows, two starts). Without long
+    /// windows: the one-period time reference's flag.
     fn flag(&self) -> Option<String> {
-        self.time.flag().map(|f| format!("at {}: {f}", sig(self.x)))
+        match &self.window {
+            None => self.time.flag().map(|f| format!("at {}: {f}", at(self.x))),
+            Some(w) if w.state().is_none() => Some(format!(
+                "at {}: long-window rattle state not robust ({})",
+                at(self.x),
+                w.describe()
+            )),
+            Some(_) => None,
+        }
+    }
+    /// `at x: reason` when the long-window ppv moves over the variants by more than `margin`
+    /// (relative): the claim's own margin decides whether the spread matters.
+    fn ppv_flag(&self, margin: f64) -> Option<String> {
+        let w = self.window.as_ref()?;
+        (w.ppv_spread() > margin).then(|| {
+            format!(
+                "at {}: long-window ppv moves by {} over the variants, more than the claim's margin {}",
+                at(self.x),
+                sig(w.ppv_spread()),
+                sig(margin)
+            )
+        })
     }
 }
 
@@ -148,6 +204,7 @@ fn sweep(xs: &[f64], set: impl Fn(&mut Parameters, f64)) -> Result<Vec<Point>, E
         .zip(sol)
         .map(|(&x, s)| Point {
             x,
+            window: s.window.clone(),
             time: s.time,
             cold: s.cold,
             warm: s.warm,
@@ -162,26 +219,190 @@ fn sweep(xs: &[f64], set: impl Fn(&mut Parameters, f64)) -> Result<Vec<Point>, E
         .collect())
 }
 
-/// A threshold read from the time-integration points, with the flags of the points it rests
-/// on (every point up to and including the first one that meets the condition).
+/// A threshold on a swept parameter: the first grid point that meets the condition, the
+/// interval that contains the onset (bisected below the grid step, widened over the readings
+/// and definitions that evidence has not decided), the swept points it rests on and the flags
+/// of those points only (claim-local).
 struct Threshold {
+    /// The first grid point that meets the condition (NaN if none).
     x: f64,
+    /// The onset interval `[lo, hi]` (NaN if no onset in the sweep).
+    lo: f64,
+    hi: f64,
+    /// The swept values the threshold rests on: the last grid point before the onset and the
+    /// first at it.
+    needs: Vec<f64>,
+    /// Flags of the needed points.
     flags: Vec<String>,
+    /// How the interval was found (bisection steps, variants, reasons for its width).
+    note: String,
 }
 
-/// First x where the time-integration rsv satisfies `cond`; NaN if none (then every point's
-/// flag counts).
+/// First grid point whose judged (long-window) rsv satisfies `cond`; the grid bracket
+/// `[x_{i−1}, x_i]` is the interval until [`refine`] narrows it. Only the two bracketing points
+/// are needed, so only their flags count.
 fn first_time(pts: &[Point], cond: impl Fn(&Point) -> bool) -> Threshold {
-    let idx = pts.iter().position(&cond);
-    let upto = idx.map_or(pts.len(), |i| i + 1);
-    Threshold {
-        x: idx.map_or(f64::NAN, |i| pts[i].x),
-        flags: pts[..upto].iter().filter_map(Point::flag).collect(),
+    match pts.iter().position(&cond) {
+        None => Threshold {
+            x: f64::NAN,
+            lo: f64::NAN,
+            hi: f64::NAN,
+            needs: Vec::new(),
+            flags: vec!["no point of the sweep meets the condition".to_owned()],
+            note: "no onset in the sweep".to_owned(),
+        },
+        Some(i) => {
+            let from = i.saturating_sub(1);
+            let used = &pts[from..=i];
+            Threshold {
+                x: pts[i].x,
+                lo: pts[from].x,
+                hi: pts[i].x,
+                needs: used.iter().map(|p| p.x).collect(),
+                flags: flags_of(used),
+                note: format!("grid bracket [{}, {}]", at(pts[from].x), at(pts[i].x)),
+            }
+        }
     }
 }
 
 fn first_at_least(pts: &[Point], rsv: u8) -> Threshold {
     first_time(pts, |p| p.rsv() >= rsv)
+}
+
+/// Minimum separation depth of the second rattle definition: a separation from the drive flank
+/// deeper than 1 % of b̄ (the model's 135 rad/s onset rests on 0.11 % of b̄; 1 % is about the
+/// line width of the paper's time-series figures, whose q axis spans several b̄).
+const MIN_DEPTH: f64 = 0.01;
+
+/// Bisection steps below the grid: each halves the bracket (2 steps: a 2.5 rad/s grid gives
+/// 0.625 rad/s, below the 10 rad/s resolution of the text's round numbers).
+const BISECTION_STEPS: usize = 2;
+
+/// Grid steps a variant's bracket may move out of the nominal one before the search gives up.
+const WIDEN_STEPS: usize = 4;
+
+/// Whether the long-window rsv range `(lo, hi)` meets a condition on rsv: `Some(true)` when
+/// both ends do, `Some(false)` when neither does, `None` when the variants disagree.
+fn meets(range: (u8, u8), cond: fn(u8) -> bool) -> Option<bool> {
+    match (cond(range.0), cond(range.1)) {
+        (true, true) => Some(true),
+        (false, false) => Some(false),
+        _ => None,
+    }
+}
+
+/// Narrow a grid threshold by bisection on the long-window rattle state and widen it over the
+/// undecided readings: the error-term sign of Eq. (21) (R-LIU-EQ21) and, when `depth_matters`,
+/// the rattle definition (any separation, or deeper than [`MIN_DEPTH`]·b̄). `set` applies the
+/// swept value, `step` is the grid step, `cond` the condition on rsv.
+fn refine(
+    th: Threshold,
+    set: &dyn Fn(&mut Parameters, f64),
+    step: f64,
+    cond: fn(u8) -> bool,
+    depth_matters: bool,
+) -> Result<Threshold, Error> {
+    if !(th.lo.is_finite() && th.hi.is_finite()) || th.lo >= th.hi {
+        return Ok(th);
+    }
+    let mut variants = vec![
+        (
+            "error term as derived, any separation",
+            ErrorTerm::Derived,
+            0.0,
+        ),
+        ("printed Eq. (21) sign", ErrorTerm::Printed, 0.0),
+    ];
+    if depth_matters {
+        variants.push((
+            "separation deeper than 1 % of b̄",
+            ErrorTerm::Derived,
+            MIN_DEPTH,
+        ));
+    }
+    let mut lo_all = f64::INFINITY;
+    let mut hi_all = f64::NEG_INFINITY;
+    let mut notes = Vec::new();
+    for (label, error_term, min_depth) in variants {
+        let eval = |x: f64| -> Result<Option<bool>, Error> {
+            let mut p = base();
+            set(&mut p, x);
+            p.readings.error_term = error_term;
+            let m = model(&p)?;
+            let o = LongWindowOptions {
+                min_depth,
+                ..LongWindowOptions::default()
+            };
+            let r = liu2021::long_window(&m, &o).context("liu2021 long window")?;
+            Ok(meets(r.rsv_interval(), cond))
+        };
+        // bracket: condition false (robustly) at a, true at b
+        let (mut a, mut b) = (th.lo, th.hi);
+        let mut ok = true;
+        let mut widened = 0;
+        while eval(a)? != Some(false) {
+            if widened == WIDEN_STEPS {
+                ok = false;
+                break;
+            }
+            a -= step;
+            widened += 1;
+        }
+        let mut widened = 0;
+        while ok && eval(b)? != Some(true) {
+            if widened == WIDEN_STEPS {
+                ok = false;
+                break;
+            }
+            b += step;
+            widened += 1;
+        }
+        if !ok {
+            notes.push(format!(
+                "{label}: no robust bracket within {WIDEN_STEPS} grid steps, interval [{}, {}]",
+                at(a),
+                at(b)
+            ));
+            lo_all = lo_all.min(a);
+            hi_all = hi_all.max(b);
+            continue;
+        }
+        let mut stop = None;
+        for _ in 0..BISECTION_STEPS {
+            let mid = 0.5 * (a + b);
+            match eval(mid)? {
+                Some(true) => b = mid,
+                Some(false) => a = mid,
+                None => {
+                    stop = Some(mid);
+                    break;
+                }
+            }
+        }
+        notes.push(match stop {
+            Some(m) => format!(
+                "{label}: [{}, {}] (state not robust at {})",
+                at(a),
+                at(b),
+                at(m)
+            ),
+            None => format!("{label}: [{}, {}]", at(a), at(b)),
+        });
+        lo_all = lo_all.min(a);
+        hi_all = hi_all.max(b);
+    }
+    Ok(Threshold {
+        lo: lo_all,
+        hi: hi_all,
+        note: format!(
+            "{}; bisected on the long-window rattle state ({} steps) under each variant: {}",
+            th.note,
+            BISECTION_STEPS,
+            notes.join("; ")
+        ),
+        ..th
+    })
 }
 
 /// First x where the HBM column of `kind` is usable (converged, stable) and meets `cond`.
@@ -242,6 +463,18 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
         ("ppv_hbm_full", "1"),
         ("hbm_full_converged", "1"),
         ("hbm_full_stable", "1"),
+        ("rsv_window", "1"),
+        ("window_state_robust", "1"),
+        ("bilateral_fraction", "1"),
+        ("bilateral_fraction_lo", "1"),
+        ("bilateral_fraction_hi", "1"),
+        ("ppv_window", "1"),
+        ("ppv_window_lo", "1"),
+        ("ppv_window_hi", "1"),
+        ("back_impacts_per_period", "1"),
+        ("back_impact_speed_max", "1"),
+        ("drive_impacts_per_period", "1"),
+        ("chaos_k_01", "1"),
     ];
     let mut cols = columns(&own, &RUN_COLUMNS);
     cols.extend([
@@ -271,6 +504,27 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
             flag01(p.full.converged).into(),
             p.full.stable().map_or(f64::NAN, flag01).into(),
         ];
+        match &p.window {
+            Some(w) => {
+                let (fl, fh) = w.interval(|s| s.bilateral_fraction());
+                let (pl, ph) = w.interval(|s| s.ppv);
+                row.extend([
+                    f64::from(w.nominal.state.rsv()).into(),
+                    flag01(w.state().is_some()).into(),
+                    w.nominal.bilateral_fraction().into(),
+                    fl.into(),
+                    fh.into(),
+                    w.nominal.ppv.into(),
+                    pl.into(),
+                    ph.into(),
+                    w.nominal.back.rate.into(),
+                    w.nominal.back.max_speed.into(),
+                    w.nominal.drive.rate.into(),
+                    w.nominal.chaos_k.into(),
+                ]);
+            }
+            None => row.extend(std::iter::repeat_n(Cell::Num(f64::NAN), 12)),
+        }
         row.extend(run_cells(&p.stats, p.accuracy[0]));
         row.extend(
             p.accuracy[1..]
@@ -305,27 +559,52 @@ fn sweep_figures(out: &mut StudyOutput, name: &str, x: (&str, &str), pts: &[Poin
     out.figure(ppv);
 }
 
-/// Relative ppv change below which a step is undecided: the ppv tolerance of the 100×
-/// refinement (`SweepStrategy::ppv_rel_tol`), so round-off never settles a trend.
-const PPV_STEP: f64 = 1e-3;
-
-/// Trend of ppv over consecutive points: `Some(true)` if every step rises by more than
-/// [`PPV_STEP`] relative, `Some(false)` if some step falls by more than that, `None` if a step
-/// is within it (undecided) or there are fewer than two points.
-fn ppv_rises(pts: &[Point]) -> Option<bool> {
-    if pts.len() < 2 {
+/// Least-squares slope of the judged ppv against the swept value, and its standard error:
+/// the residual scatter plus the ppv spread of each point over its long-window variants
+/// (half the range, as a measurement error of each point) propagated into the slope.
+/// `None` with fewer than three points or a degenerate abscissa.
+fn ppv_slope(pts: &[Point]) -> Option<(f64, f64)> {
+    let n = pts.len();
+    if n < 3 {
         return None;
     }
-    let mut all_up = true;
-    for w in pts.windows(2) {
-        let d = w[1].ppv() - w[0].ppv();
-        let scale = PPV_STEP * w[0].ppv().abs().max(w[1].ppv().abs());
-        if d.abs() <= scale {
-            return None;
-        }
-        all_up &= d > 0.0;
+    let nf = n as f64;
+    let mx = pts.iter().map(|p| p.x).sum::<f64>() / nf;
+    let my = pts.iter().map(Point::ppv).sum::<f64>() / nf;
+    let sxx: f64 = pts.iter().map(|p| (p.x - mx).powi(2)).sum();
+    if sxx <= 0.0 || !sxx.is_finite() {
+        return None;
     }
-    Some(all_up)
+    let sxy: f64 = pts.iter().map(|p| (p.x - mx) * (p.ppv() - my)).sum();
+    let slope = sxy / sxx;
+    let rss: f64 = pts
+        .iter()
+        .map(|p| (p.ppv() - my - slope * (p.x - mx)).powi(2))
+        .sum();
+    let measurement: f64 = pts
+        .iter()
+        .map(|p| {
+            let (lo, hi) = p.ppv_range();
+            (p.x - mx).powi(2) * (0.5 * (hi - lo)).powi(2)
+        })
+        .sum::<f64>()
+        / (sxx * sxx);
+    let se = (rss / (nf - 2.0) / sxx + measurement).sqrt();
+    Some((slope, se))
+}
+
+/// Trend of ppv over `pts` judged by the fitted slope against its standard error:
+/// `Some(true)` for a rise (slope ≥ 2 SE), `Some(false)` for a fall (slope ≤ −2 SE), `None`
+/// when the slope is within 2 SE of zero or there are fewer than three points.
+fn ppv_rises(pts: &[Point]) -> Option<bool> {
+    let (slope, se) = ppv_slope(pts)?;
+    if slope >= 2.0 * se && slope > 0.0 {
+        Some(true)
+    } else if slope <= -2.0 * se && slope < 0.0 {
+        Some(false)
+    } else {
+        None
+    }
 }
 
 /// Verdict of a trend: pass/deviation, or inconclusive when undecided.
@@ -338,8 +617,8 @@ fn span(pts: &[Point]) -> String {
     match (pts.first(), pts.last()) {
         (Some(a), Some(b)) => format!(
             "{}…{}: ppv {} → {} over {} points",
-            sig(a.x),
-            sig(b.x),
+            at(a.x),
+            at(b.x),
             sig(a.ppv()),
             sig(b.ppv()),
             pts.len()
@@ -348,23 +627,45 @@ fn span(pts: &[Point]) -> String {
     }
 }
 
-/// The claim that ppv rises over `pts` (a contiguous run of one rattle regime).
+/// The claim that ppv rises over `pts` (a contiguous run of one rattle regime), judged by the
+/// fitted slope against its standard error ([`ppv_rises`]); every point of the run is needed.
 fn rise_claim(text: &str, source: &str, what: &str, pts: &[Point]) -> crate::Claim {
     let t = ppv_rises(pts);
+    let fit = ppv_slope(pts).map_or("no fit (fewer than three points)".to_owned(), |(b, se)| {
+        format!("fitted slope {} ± {} (1 SE)", sig(b), sig(se))
+    });
     crate::Claim::new(
         text,
         source,
         format!(
-            "{what}, time integration {}; 'grows' read as every step rising by more than {} relative",
+            "{what}, long-window ppv {}; {fit}; 'grows' read as a slope of at least 2 SE",
             span(pts),
-            PPV_STEP
         ),
         trend_verdict(t),
     )
     .cause(if t.is_none() {
-        "a step is within the 1e-3 ppv reproducibility, or the regime has fewer than two points"
+        "the fitted ppv slope is within 2 standard errors of zero, or the regime has fewer than three points"
     } else {
-        "ppv trend of the time-integration reference over the regime"
+        "fitted ppv slope of the long-window statistics over the regime"
     })
-    .flagged_all(flags_of(pts))
+    .needs(pts.iter().map(|p| p.x))
+}
+
+/// An "always" / "throughout" claim on the rattle state over `pts`: `(holds, flags)`. A robust
+/// counterexample (a point whose long-window state is the same under every variant and fails
+/// `want`) refutes it without flags; otherwise the non-robust points whose variants could
+/// fail `want` are the flags (inconclusive), and the claim holds when there are none.
+fn always(pts: &[Point], want: impl Fn(u8) -> bool) -> (bool, Vec<String>) {
+    if pts.iter().any(|p| p.flag().is_none() && !want(p.rsv())) {
+        return (false, Vec::new());
+    }
+    let flags = pts
+        .iter()
+        .filter(|p| {
+            let (lo, hi) = p.rsv_range();
+            !(want(lo) && want(hi))
+        })
+        .filter_map(Point::flag)
+        .collect();
+    (true, flags)
 }

@@ -1,7 +1,8 @@
 //! Fig. 12–14: rattle state and ppv against e_r, ε and a_k.
 
 use super::{
-    Point, base, first_at_least, flags_of, rise_claim, sig, sweep, sweep_figures, sweep_table,
+    Point, always, at, base, first_at_least, flags_of, rise_claim, sig, sweep, sweep_figures,
+    sweep_table,
 };
 use crate::{Claim, Cost, Error, Paper, Study, StudyOutput, Verdict};
 
@@ -28,14 +29,19 @@ fn succession_claim(out: &mut StudyOutput, text: &str, source: &str, unit: &str,
     let uni = first_at_least(pts, 1);
     let bi = first_at_least(pts, 2);
     let all = pts.first().is_some_and(|p| p.rsv() == 0) && bi.x.is_finite();
+    let first: Vec<&Point> = pts.first().into_iter().collect();
+    let mut needs: Vec<f64> = first.iter().map(|p| p.x).collect();
+    needs.extend(&bi.needs);
+    let mut flags = flags_of(first);
+    flags.extend(bi.flags.iter().cloned());
     out.claim(
         Claim::new(
             text,
             source,
             format!(
-                "time integration: unilateral from {} {unit}, bilateral from {} {unit}; states {}",
-                sig(uni.x),
-                sig(bi.x),
+                "long-window rattle state: unilateral from {} {unit}, bilateral from {} {unit}; states {}",
+                at(uni.x),
+                at(bi.x),
                 if monotone {
                     "non-decreasing"
                 } else {
@@ -44,8 +50,9 @@ fn succession_claim(out: &mut StudyOutput, text: &str, source: &str, unit: &str,
             ),
             Verdict::from_bool(all),
         )
-        .cause("succession of time-integration rattle states along the sweep")
-        .flagged_all(bi.flags),
+        .cause("succession of long-window rattle states along the sweep (the first point and the bilateral onset are needed)")
+        .needs(needs)
+        .flagged_all(flags),
     );
     let jump = pts.windows(2).find(|w| w[0].rsv() < 2 && w[1].rsv() == 2);
     out.claim(
@@ -60,8 +67,12 @@ fn succession_claim(out: &mut StudyOutput, text: &str, source: &str, unit: &str,
             }),
             Verdict::from_bool(jump.is_some_and(|w| w[1].ppv() > 3.0 * w[0].ppv())),
         )
-        .cause("ppv ratio across the time-integration onset of bilateral rattle")
-        .flagged_all(jump.map_or_else(|| flags_of(pts), flags_of)),
+        .cause("long-window ppv ratio across the onset of bilateral rattle (the two points across it are needed)")
+        .needs(jump.map_or_else(Vec::new, |w| w.iter().map(|p| p.x).collect()))
+        .flagged_all(jump.map_or_else(
+            || flags_of(pts.iter().filter(|p| p.rsv_range().1 == 2)),
+            flags_of,
+        )),
     );
 }
 
@@ -121,8 +132,9 @@ fn run() -> Result<StudyOutput, Error> {
                 ),
                 Verdict::from_bool(c.ppv() < 0.5 * nfg.ppv()),
             )
-            .cause("ppv of the time-integration reference at ε = 0 and at Table 1's ε")
-            .flagged_all(flags_of([c, nfg])),
+            .cause("long-window ppv at ε = 0 and at Table 1's ε")
+            .needs([c.x, nfg.x])
+            .flagged_all([c, nfg].into_iter().filter_map(|p| p.ppv_flag(0.5))),
         );
     }
     // Fig. 13c: ppv grows with ε before bilateral rattle, then drops while still bilateral
@@ -136,21 +148,31 @@ fn run() -> Result<StudyOutput, Error> {
     let bil = &pts[onset..];
     let peak = bil.iter().map(Point::ppv).fold(f64::NAN, f64::max);
     let last = bil.last().map_or(f64::NAN, Point::ppv);
-    let still_bi = !bil.is_empty() && bil.iter().all(|p| p.rsv() == 2);
+    let (all_bi, bi_flags) = always(bil, |r| r == 2);
+    let still_bi = !bil.is_empty() && all_bi;
+    let peak_pt = bil.iter().max_by(|a, b| a.ppv().total_cmp(&b.ppv()));
+    let mut drop_flags = bi_flags;
+    drop_flags.extend(
+        peak_pt
+            .into_iter()
+            .chain(bil.last())
+            .filter_map(|p| p.ppv_flag(0.5)),
+    );
     out.claim(
         Claim::new(
             "Then, as the eccentric ratio increases, the ppv of the NFG drops significantly. However, it is still in the bilateral rattle state.",
             "Sect. 3.5, Fig. 13c",
             format!(
-                "time integration after the bilateral onset: largest ppv {}, ppv at the end of the sweep {} (ratio {}), bilateral throughout: {still_bi}; 'drops significantly' read as below half the peak",
+                "long-window statistics after the bilateral onset: largest ppv {}, ppv at the end of the sweep {} (ratio {}), bilateral throughout: {still_bi}; 'drops significantly' read as below half the peak",
                 sig(peak),
                 sig(last),
                 sig(last / peak)
             ),
             Verdict::from_bool(still_bi && last < 0.5 * peak),
         )
-        .cause("ppv and rsv of the time-integration reference beyond the bilateral onset")
-        .flagged_all(flags_of(bil)),
+        .cause("long-window ppv and rattle state beyond the bilateral onset (a robust non-bilateral point refutes 'still bilateral')")
+        .needs(bil.iter().map(|p| p.x))
+        .flagged_all(drop_flags),
     );
 
     let ak: Vec<f64> = (1..=16).map(|i| 0.05 * f64::from(i)).collect();
@@ -161,12 +183,12 @@ fn run() -> Result<StudyOutput, Error> {
             p.kr = x * p.k0;
         })?;
         // the text's range is a_k = 0.1–0.8 (the 0.05 point is shown, not judged)
-        let judged: Vec<Point> = pts.iter().filter(|p| p.x >= 0.1 - 1e-12).copied().collect();
+        let judged: Vec<Point> = pts.iter().filter(|p| p.x >= 0.1 - 1e-12).cloned().collect();
         let states: Vec<u8> = judged.iter().map(Point::rsv).collect();
-        let flags = flags_of(&judged);
+        let needs: Vec<f64> = judged.iter().map(|p| p.x).collect();
         match expected {
             Some(e) => {
-                let same = states.iter().all(|&s| s == e);
+                let (same, flags) = always(&judged, |r| r == e);
                 out.claim(
                     Claim::new(
                         &format!(
@@ -174,25 +196,38 @@ fn run() -> Result<StudyOutput, Error> {
                             if e == 1 { "unilateral" } else { "non-rattle" }
                         ),
                         "Sect. 3.6, Fig. 14a",
-                        format!("time-integration rsv over a_k = 0.1…0.8: {states:?}"),
+                        format!("long-window rsv over a_k = 0.1…0.8: {states:?}"),
                         Verdict::from_bool(same),
                     )
-                    .reading("R-LIU-EQ11")
-                    .cause("the model's thresholds sit 15 rad/s below the paper's (R-LIU-EQ11), so 140 and 160 rad/s lie closer to a state change and a_k moves the state there")
-                    .flagged_all(flags.clone()),
+                    .reading("R-LIU-EQ21")
+                    .cause("the model's speed thresholds sit below the paper's (R-LIU-EQ21), so 140 and 160 rad/s lie closer to a state change and a_k moves the state there; a robust counterexample refutes 'stays'")
+                    .needs(needs.clone())
+                    .flagged_all(flags),
                 );
             }
             None => {
-                let changes = states.windows(2).any(|s| s[0] != s[1]);
+                // a change needs two robust points in different states
+                let robust: Vec<u8> = judged
+                    .iter()
+                    .filter(|p| p.flag().is_none())
+                    .map(Point::rsv)
+                    .collect();
+                let changes = robust.windows(2).any(|s| s[0] != s[1]);
+                let flags = if changes {
+                    Vec::new()
+                } else {
+                    flags_of(&judged)
+                };
                 out.claim(
                     Claim::new(
                         "Under some critical conditions such as ω1 = 145 rad/s, the variation in a_k could lead to a change in the rattle state.",
                         "Sect. 3.6, Fig. 14a",
-                        format!("time-integration rsv over a_k = 0.1…0.8 at 145 rad/s: {states:?}"),
+                        format!("long-window rsv over a_k = 0.1…0.8 at 145 rad/s: {states:?}"),
                         Verdict::from_bool(changes),
                     )
-                    .reading("R-LIU-EQ11")
-                    .flagged_all(flags.clone()),
+                    .cause("a change between two points whose long-window state is robust")
+                    .needs(needs.clone())
+                    .flagged_all(flags),
                 );
             }
         }

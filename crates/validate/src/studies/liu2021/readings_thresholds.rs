@@ -2,8 +2,10 @@
 
 use models::liu2021::{self, BaseRadius, ErrorTerm, Readings, RigidAcceleration};
 
-use super::{base, model, sig, speed_tolerance, strategy};
-use crate::{Comparison, Cost, Error, Paper, ResultExt, Study, StudyOutput, Table, published};
+use super::{at, base, model, speed_tolerance};
+use crate::{
+    Comparison, Cost, Error, Evidence, Paper, ResultExt, Study, StudyOutput, Table, published,
+};
 
 pub(super) fn study() -> Study {
     Study {
@@ -16,7 +18,8 @@ pub(super) fn study() -> Study {
             sign, constant b̄ with the printed Eq. (20), and everything as printed. Rows: first \
             speed with unilateral and with bilateral rattle against the text's 150 and \
             170 rad/s (±5 rad/s: round numbers on a 10 rad/s resolution). Evidence for \
-            R-LIU-EQ11/EQ20/EQ21.",
+            R-LIU-EQ11/EQ20/EQ21: every row is a reading variant (listed apart, not counted as a \
+            reproduction; the constant-b̄ rows repeat `liu2021-fig11-speed-sweep`).",
         cost: Cost::Heavy,
         run,
     }
@@ -71,30 +74,32 @@ fn run() -> Result<StudyOutput, Error> {
                 p.readings = readings;
                 p.omega1 = x;
                 let m = model(&p)?;
-                let (r, _) = liu2021::time_reference(&m, &strategy()).context("integration")?;
+                let (r, _) =
+                    liu2021::time_reference(&m, &models::liu2021::SweepStrategy::default())
+                        .context("integration")?;
                 Ok((
                     x,
                     r.rattle.state.rsv(),
-                    r.flag().map(|f| format!("at {}: {f}", sig(x))),
+                    r.flag().map(|f| format!("at {}: {f}", at(x))),
                 ))
             },
             None,
         )
         .into_iter()
         .collect::<Result<_, Error>>()?;
+        // claim-local: only the two grid points that bracket the onset are needed
         let first = |rsv: u8| {
             let idx = pts.iter().position(|p| p.1 >= rsv);
-            let upto = idx.map_or(pts.len(), |i| i + 1);
+            let used = idx.map_or(&pts[..0], |i| &pts[i.saturating_sub(1)..=i]);
             (
                 idx.map_or(f64::NAN, |i| pts[i].0),
-                pts[..upto]
-                    .iter()
-                    .filter_map(|p| p.2.clone())
-                    .collect::<Vec<_>>(),
+                used.iter().filter_map(|p| p.2.clone()).collect::<Vec<_>>(),
+                used.iter().map(|p| p.0).collect::<Vec<_>>(),
             )
         };
-        let (uni, uni_flags) = first(1);
-        let (bi, bi_flags) = first(2);
+        let (uni, uni_flags, uni_needs) = first(1);
+        let (bi, bi_flags, bi_needs) = first(2);
+        let class = Evidence::ReadingVariant(format!("{id}: {label}"));
         let (uni_p, bi_p) = (
             paper.value("sect34.unilateral-onset")?,
             paper.value("sect34.bilateral-onset")?,
@@ -103,6 +108,8 @@ fn run() -> Result<StudyOutput, Error> {
             Comparison::published(uni_p, uni)?
                 .with_tolerance(speed_tolerance(&uni_p.printed))
                 .reading(id)
+                .class(class.clone())
+                .needs(uni_needs)
                 .flagged_all(uni_flags)
                 .note(&format!(
                     "{label}: first ω1 with rsv ≥ 1 (time integration, step 5)"
@@ -112,6 +119,8 @@ fn run() -> Result<StudyOutput, Error> {
             Comparison::published(bi_p, bi)?
                 .with_tolerance(speed_tolerance(&bi_p.printed))
                 .reading(id)
+                .class(class)
+                .needs(bi_needs)
                 .flagged_all(bi_flags)
                 .note(&format!(
                     "{label}: first ω1 with rsv = 2 (time integration, step 5)"

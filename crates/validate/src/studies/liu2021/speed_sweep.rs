@@ -1,8 +1,8 @@
 //! Fig. 11: rattle state and ppv against the input speed ω1.
 
 use super::{
-    HBM_KINDS, Point, converged_note, first_at_least, first_hbm, flags_of, rise_claim, sig,
-    speed_tolerance, sweep, sweep_figures, sweep_table,
+    HBM_KINDS, Point, at, converged_note, first_at_least, first_hbm, flags_of, refine, rise_claim,
+    sig, speed_tolerance, sweep, sweep_figures, sweep_table,
 };
 use crate::{Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Verdict, published};
 
@@ -32,21 +32,32 @@ fn run() -> Result<StudyOutput, Error> {
     let mut out = StudyOutput::new();
     let uni_p = paper.value("sect34.unilateral-onset")?;
     let bi_p = paper.value("sect34.bilateral-onset")?;
-    let uni = first_at_least(&pts, 1);
-    let bi = first_at_least(&pts, 2);
+    let set = |p: &mut models::liu2021::Parameters, x: f64| p.omega1 = x;
+    let uni = refine(first_at_least(&pts, 1), &set, 2.5, |r| r >= 1, true)?;
+    let bi = refine(first_at_least(&pts, 2), &set, 2.5, |r| r >= 2, false)?;
     out.compare(
         Comparison::published(uni_p, uni.x)?
             .with_tolerance(speed_tolerance(&uni_p.printed))
-            .reading("R-LIU-EQ11")
+            .within(uni.lo, uni.hi)
+            .reading("R-LIU-EQ21")
+            .needs(uni.needs.clone())
             .flagged_all(uni.flags.clone())
-            .note("first ω1 with rsv ≥ 1, time integration, 2.5 rad/s grid"),
+            .note(&format!(
+                "first ω1 with long-window rsv ≥ 1 on the 2.5 rad/s grid; {}",
+                uni.note
+            )),
     );
     out.compare(
         Comparison::published(bi_p, bi.x)?
             .with_tolerance(speed_tolerance(&bi_p.printed))
-            .reading("R-LIU-EQ11")
+            .within(bi.lo, bi.hi)
+            .reading("R-LIU-EQ21")
+            .needs(bi.needs.clone())
             .flagged_all(bi.flags.clone())
-            .note("first ω1 with rsv = 2, time integration, 2.5 rad/s grid"),
+            .note(&format!(
+                "first ω1 with long-window rsv = 2 on the 2.5 rad/s grid; {}",
+                bi.note
+            )),
     );
     for (label, kind) in HBM_KINDS {
         let n_conv = converged_note(&pts, kind);
@@ -72,20 +83,20 @@ fn run() -> Result<StudyOutput, Error> {
     let (evidence, ok, flags) = match jump {
         Some(w) => (
             format!(
-                "ppv {} at {} rad/s → {} at {} rad/s (×{}); 'sudden' read as ×3 within one 2.5 rad/s step",
+                "long-window ppv {} at {} rad/s → {} at {} rad/s (×{}); 'sudden' read as ×3 within one 2.5 rad/s step",
                 sig(w[0].ppv()),
-                sig(w[0].x),
+                at(w[0].x),
                 sig(w[1].ppv()),
-                sig(w[1].x),
+                at(w[1].x),
                 sig(w[1].ppv() / w[0].ppv())
             ),
             w[1].ppv() > 3.0 * w[0].ppv(),
-            flags_of(w),
+            w.iter().filter_map(|p| p.ppv_flag(0.5)).collect::<Vec<_>>(),
         ),
         None => (
             "no onset of bilateral rattle in the sweep".to_owned(),
             false,
-            flags_of(&pts),
+            flags_of(pts.iter().filter(|p| p.rsv_range().1 == 2)),
         ),
     };
     out.claim(
@@ -95,23 +106,31 @@ fn run() -> Result<StudyOutput, Error> {
             evidence,
             Verdict::from_bool(ok),
         )
-        .cause("ppv jump at the first bilateral point of the time-integration sweep")
+        .cause("long-window ppv jump at the first bilateral point of the sweep (the two points across it are needed)")
+        .needs(jump.map_or_else(Vec::new, |w| w.iter().map(|p| p.x).collect()))
         .flagged_all(flags),
     );
-    let order_ok = uni.x.is_finite() && bi.x.is_finite() && uni.x < bi.x;
+    let order_ok = uni.hi.is_finite() && bi.lo.is_finite() && uni.hi < bi.lo;
+    let mut order_needs = uni.needs.clone();
+    order_needs.extend(&bi.needs);
+    let mut order_flags = uni.flags.clone();
+    order_flags.extend(bi.flags.iter().cloned());
     out.claim(
         Claim::new(
             "With increasing ω1 the NFG passes through no rattle, unilateral and bilateral rattle.",
             "Sect. 3.3, Fig. 11a",
             format!(
-                "time integration: unilateral from {} rad/s, bilateral from {} rad/s",
-                sig(uni.x),
-                sig(bi.x)
+                "long-window rattle state: unilateral onset in [{}, {}] rad/s, bilateral onset in [{}, {}] rad/s",
+                sig(uni.lo),
+                sig(uni.hi),
+                sig(bi.lo),
+                sig(bi.hi)
             ),
             Verdict::from_bool(order_ok),
         )
-        .cause("order of the time-integration thresholds")
-        .flagged_all(bi.flags),
+        .cause("order of the two onset intervals (disjoint and in this order)")
+        .needs(order_needs)
+        .flagged_all(order_flags),
     );
     // Fig. 11b: gradual growth before the bilateral onset, quicker growth after it
     let onset = pts.iter().position(|p| p.rsv() == 2).unwrap_or(pts.len());
@@ -121,24 +140,25 @@ fn run() -> Result<StudyOutput, Error> {
         "ω1 before the first bilateral point",
         &pts[..onset],
     ));
-    let slope = |q: &[Point]| match (q.first(), q.last()) {
-        (Some(a), Some(b)) if b.x > a.x => (b.ppv() - a.ppv()) / (b.x - a.x),
-        _ => f64::NAN,
-    };
-    let (s_before, s_after) = (slope(&pts[..onset]), slope(&pts[onset..]));
+    let slope = |q: &[Point]| super::ppv_slope(q).unwrap_or((f64::NAN, f64::NAN));
+    let ((s_before, se_before), (s_after, se_after)) = (slope(&pts[..onset]), slope(&pts[onset..]));
+    // quicker: the difference of the fitted slopes exceeds twice its standard error
+    let quicker = s_after - s_before >= 2.0 * se_before.hypot(se_after);
     out.claim(
         Claim::new(
             "In the bilateral rattle state, the vibrational amplitude increases more quickly.",
             "Sect. 3.3, Fig. 11b",
             format!(
-                "time integration: mean ppv slope {} per rad/s before the bilateral onset, {} per rad/s after it",
+                "long-window ppv: fitted slope {} ± {} per rad/s before the bilateral onset, {} ± {} per rad/s after it; 'more quickly' read as a difference of at least 2 SE",
                 sig(s_before),
-                sig(s_after)
+                sig(se_before),
+                sig(s_after),
+                sig(se_after)
             ),
-            Verdict::from_bool(s_after > s_before),
+            Verdict::from_bool(quicker),
         )
-        .cause("mean ppv slopes of the time-integration reference on either side of the onset")
-        .flagged_all(flags_of(&pts)),
+        .cause("fitted long-window ppv slopes on either side of the onset")
+        .needs(pts.iter().map(|p| p.x)),
     );
     out.table(sweep_table("sweep", ("omega1", "rad/s"), &pts)?);
     sweep_figures(&mut out, "omega1", ("omega1", "rad/s"), &pts);

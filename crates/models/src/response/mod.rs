@@ -1,0 +1,27 @@
+//! Gear response metrics on any record (design: `models/response/`): the long-window rattle
+//! statistics that decide rattle claims for periodic, intermittent and chaotic motion alike.
+//!
+//! One-period metrics (Liu's `rsv` and `ppv` of the last period, [`crate::liu2021::Rattle`])
+//! describe a period-1 orbit and nothing else. For an intermittent or chaotic orbit the
+//! questions a rattle claim asks — does the back flank get hit, how often, how large is the
+//! motion — are answered by statistics over many forcing periods:
+//!
+//! * the **rattle state over the window**: bilateral on any back-flank contact, unilateral on any
+//!   separation from the drive flank deeper than a stated minimum depth, else no rattle;
+//! * the **fraction of periods** in each state;
+//! * the **impact rate** (impacts per forcing period) and the **impact velocity** per flank;
+//! * the **long-window ppv** `max q − min q` over the whole window;
+//! * the **window-averaged amplitude** of the phase-locked lines `k·(2π/T)` (coherent: modulus
+//!   of the mean complex amplitude; incoherent: mean of the moduli);
+//! * a **chaos indicator**: the 0–1 test for chaos of Gottwald & Melbourne (SIAM J. Appl. Dyn.
+//!   Syst. 8:129, 2009) on the stroboscopic section — `K ≈ 0` regular, `K ≈ 1` chaotic.
+//!
+//! [`window_stats`] computes them from uniform samples `(t, q, q')` of one record; [`Robust`]
+//! combines the statistics of several records of the same point (two tolerances, two windows,
+//! two initial states) into intervals, so that a verdict can say whether its statistic is robust.
+
+mod window;
+
+pub use window::{
+    Crossing, Flank, FlankImpacts, Robust, WindowOptions, WindowStats, window_stats, zero_one_test,
+};

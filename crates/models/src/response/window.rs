@@ -1,0 +1,680 @@
+//! Long-window rattle statistics of one record, and their spread over several records.
+
+use serde::{Deserialize, Serialize};
+
+use crate::Error;
+use timestep::RattleState;
+
+/// A gear flank of the backlash coordinate `q` in the gap `−b(t) ≤ q ≤ b(t)`.
+///
+/// Convention (Liu et al. 2021, Sect. 3.2): the **drive** flank is in contact for `q < −b`
+/// (normal loaded mesh, no rattle), the **back** flank for `q > b` (bilateral rattle).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Flank {
+    /// `q = −b`: the loaded (drive) flank.
+    Drive,
+    /// `q = +b`: the back flank.
+    Back,
+}
+
+/// A located crossing of a gap edge (from the integrator's event location), `entering`
+/// when the motion enters contact on that flank (an impact).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Crossing {
+    /// Time of the crossing.
+    pub t: f64,
+    /// The flank.
+    pub flank: Flank,
+    /// `true` when entering contact (`q` falls below `−b` or rises above `b`).
+    pub entering: bool,
+}
+
+/// Settings of [`window_stats`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WindowOptions {
+    /// The forcing period `T` (the stroboscopic period; `ppv`, states and lines refer to it).
+    pub period: f64,
+    /// Minimum separation depth, as a fraction of the local gap half-width `b`: a period is
+    /// unilateral only when `q + b > min_depth · b` somewhere (a separation from the drive flank
+    /// deeper than `min_depth·b`). In `[0, 1)`; `0` counts any separation.
+    pub min_depth: f64,
+    /// Harmonic numbers `k` of the phase-locked lines `k·2π/T` to measure (at most
+    /// [`WindowOptions::MAX_LINES`]; `0` is the mean).
+    pub lines: [u32; 2],
+}
+
+impl WindowOptions {
+    /// Number of lines measured.
+    pub const MAX_LINES: usize = 2;
+
+    /// Options with period `period`, any separation counted, lines `k = 1` and `k = 2`.
+    pub fn new(period: f64) -> Self {
+        Self {
+            period,
+            min_depth: 0.0,
+            lines: [1, 2],
+        }
+    }
+
+    fn validate(&self) -> Result<(), Error> {
+        if !(self.period > 0.0 && self.period.is_finite()) {
+            return Err(Error::invalid("response.window.period", "> 0", self.period));
+        }
+        if !(self.min_depth >= 0.0 && self.min_depth < 1.0) {
+            return Err(Error::invalid(
+                "response.window.min_depth",
+                "in [0, 1)",
+                self.min_depth,
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Impacts on one flank over a window.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+pub struct FlankImpacts {
+    /// Number of impacts (entries into contact) in the window.
+    pub count: usize,
+    /// Impacts per forcing period.
+    pub rate: f64,
+    /// Mean impact speed `|q'|` at entry (0 without impacts).
+    pub mean_speed: f64,
+    /// Largest impact speed (0 without impacts).
+    pub max_speed: f64,
+}
+
+/// Long-window statistics of one record.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WindowStats {
+    /// Whole forcing periods in the window.
+    pub periods: usize,
+    /// Rattle state over the window (the largest state of its periods).
+    pub state: RattleState,
+    /// Fraction of periods with no rattle, unilateral, bilateral (sums to 1).
+    pub fraction: [f64; 3],
+    /// `max q − min q` over the window (the long-window ppv).
+    pub ppv: f64,
+    /// Minimum of `q` over the window.
+    pub q_min: f64,
+    /// Maximum of `q` over the window.
+    pub q_max: f64,
+    /// Deepest separation from the drive flank, `max (q + b)/b` (negative: never separates).
+    pub max_depth: f64,
+    /// Impacts on the drive flank.
+    pub drive: FlankImpacts,
+    /// Impacts on the back flank.
+    pub back: FlankImpacts,
+    /// Coherent amplitude of each line: `|mean over periods of c_k|`, with
+    /// `c_k = (2/T)∫ q e^{−ikΩt} dt` over one period (`c_0` the mean, factor 1).
+    pub line_coherent: [f64; 2],
+    /// Incoherent amplitude of each line: the mean over periods of `|c_k|`.
+    pub line_incoherent: [f64; 2],
+    /// 0–1 test `K` on the stroboscopic section (NaN below 20 periods).
+    pub chaos_k: f64,
+}
+
+impl WindowStats {
+    /// Fraction of periods with back-flank contact.
+    pub fn bilateral_fraction(&self) -> f64 {
+        self.fraction[2]
+    }
+}
+
+fn state_index(s: RattleState) -> usize {
+    match s {
+        RattleState::NoRattle => 0,
+        RattleState::Unilateral | RattleState::NoContact => 1,
+        RattleState::Bilateral => 2,
+    }
+}
+
+fn state_of_index(i: usize) -> RattleState {
+    match i {
+        0 => RattleState::NoRattle,
+        1 => RattleState::Unilateral,
+        _ => RattleState::Bilateral,
+    }
+}
+
+/// Long-window statistics of samples `(t[i], q[i], v[i])` (ascending `t`, at least two
+/// samples per period and one whole period) in the gap `±gap(t)`, with the located gap-edge
+/// crossings `crossings` of the same window (may be empty: impacts are then found between
+/// samples by linear interpolation).
+///
+/// The window starts at `t[0]` and holds `P = ⌊(t_last − t_0)/T⌋` whole periods; later samples
+/// are ignored. A period's state is the largest over its samples and the crossings in it (a
+/// located back-flank entry makes it bilateral even when no sample lies beyond the edge). The
+/// impact speed of a located crossing is `|q'|` interpolated linearly between the samples that
+/// bracket it.
+///
+/// # Errors
+/// Invalid options, fewer than two samples, lengths that differ, non-finite or non-ascending
+/// times, non-finite samples or gap, or a window shorter than one period.
+pub fn window_stats(
+    t: &[f64],
+    q: &[f64],
+    v: &[f64],
+    gap: impl Fn(f64) -> f64,
+    crossings: &[Crossing],
+    options: &WindowOptions,
+) -> Result<WindowStats, Error> {
+    options.validate()?;
+    let n = t.len();
+    if n < 2 || q.len() != n || v.len() != n {
+        return Err(Error::Solver(format!(
+            "response window: need ≥ 2 samples of equal length, got t {n}, q {}, v {}",
+            q.len(),
+            v.len()
+        )));
+    }
+    for i in 0..n {
+        if !(t[i].is_finite() && q[i].is_finite() && v[i].is_finite()) {
+            return Err(Error::invalid("response.window.sample", "finite", f64::NAN));
+        }
+        if i > 0 && t[i] <= t[i - 1] {
+            return Err(Error::invalid(
+                "response.window.t",
+                "strictly ascending",
+                t[i],
+            ));
+        }
+    }
+    let period = options.period;
+    let t0 = t[0];
+    let span = (t[n - 1] - t0) / period;
+    // a sample grid that ends a rounding error short of a whole period still counts it
+    let periods = (span + 1e-9).floor();
+    if periods < 1.0 || periods > 1e9 {
+        return Err(Error::invalid(
+            "response.window.periods",
+            "in [1, 1e9] whole periods",
+            span,
+        ));
+    }
+    let periods = periods as usize;
+    let t_end = t0 + periods as f64 * period;
+    let period_of = |tt: f64| (((tt - t0) / period).floor().max(0.0) as usize).min(periods - 1);
+
+    let mut state = vec![0usize; periods];
+    let (mut q_min, mut q_max, mut max_depth) = (f64::INFINITY, f64::NEG_INFINITY, f64::MIN);
+    let omega = std::f64::consts::TAU / period;
+    // per period: complex amplitudes of the lines (rectangle rule on the sample grid)
+    let mut line_re = vec![[0.0f64; 2]; periods];
+    let mut line_im = vec![[0.0f64; 2]; periods];
+    let mut last_in_window = 0;
+    for i in 0..n {
+        if t[i] > t_end + 1e-9 * period {
+            break;
+        }
+        last_in_window = i;
+        let b = gap(t[i]);
+        if !b.is_finite() || b < 0.0 {
+            return Err(Error::invalid("response.window.gap", ">= 0 and finite", b));
+        }
+        let p = period_of(t[i]);
+        let qi = q[i];
+        q_min = q_min.min(qi);
+        q_max = q_max.max(qi);
+        let depth = if b > 0.0 { (qi + b) / b } else { f64::INFINITY };
+        max_depth = max_depth.max(depth);
+        let s = if qi > b {
+            2
+        } else if qi + b > options.min_depth * b {
+            1
+        } else {
+            0
+        };
+        state[p] = state[p].max(s);
+        // rectangle rule with the sample's share of the interval (trapezoid weights)
+        if t[i] < t_end - 1e-9 * period {
+            let dt = if i + 1 < n {
+                (t[i + 1].min(t_end) - t[i]).max(0.0)
+            } else {
+                0.0
+            };
+            for (j, &k) in options.lines.iter().enumerate() {
+                let phase = f64::from(k) * omega * (t[i] - t0);
+                let w = if k == 0 { 1.0 } else { 2.0 } * dt / period;
+                line_re[p][j] += w * qi * phase.cos();
+                line_im[p][j] -= w * qi * phase.sin();
+            }
+        }
+    }
+    // impacts: located crossings when given, else sign changes between samples
+    let mut drive = Vec::new();
+    let mut back = Vec::new();
+    let speed_at = |tc: f64| -> f64 {
+        let j = t[..=last_in_window].partition_point(|&x| x <= tc);
+        if j == 0 {
+            v[0].abs()
+        } else if j > last_in_window {
+            v[last_in_window].abs()
+        } else {
+            let (ta, tb) = (t[j - 1], t[j]);
+            let a = (tc - ta) / (tb - ta);
+            (v[j - 1] + a * (v[j] - v[j - 1])).abs()
+        }
+    };
+    if crossings.is_empty() {
+        for i in 1..=last_in_window {
+            let (ba, bb) = (gap(t[i - 1]), gap(t[i]));
+            // drive flank entry: q + b goes from ≥ 0 to < 0
+            let (da, db) = (q[i - 1] + ba, q[i] + bb);
+            if da >= 0.0 && db < 0.0 {
+                let a = da / (da - db);
+                drive.push((
+                    t[i - 1] + a * (t[i] - t[i - 1]),
+                    (v[i - 1] + a * (v[i] - v[i - 1])).abs(),
+                ));
+            }
+            let (ea, eb) = (q[i - 1] - ba, q[i] - bb);
+            if ea <= 0.0 && eb > 0.0 {
+                let a = ea / (ea - eb);
+                let tc = t[i - 1] + a * (t[i] - t[i - 1]);
+                back.push((tc, (v[i - 1] + a * (v[i] - v[i - 1])).abs()));
+            }
+        }
+    } else {
+        for c in crossings {
+            if !c.t.is_finite() {
+                return Err(Error::invalid("response.window.crossing.t", "finite", c.t));
+            }
+            if c.t < t0 || c.t > t_end || !c.entering {
+                continue;
+            }
+            let sp = speed_at(c.t);
+            match c.flank {
+                Flank::Drive => drive.push((c.t, sp)),
+                Flank::Back => back.push((c.t, sp)),
+            }
+        }
+    }
+    for &(tc, _) in &back {
+        let p = period_of(tc);
+        state[p] = 2;
+    }
+    let impacts = |list: &[(f64, f64)]| {
+        let count = list.len();
+        let (sum, max) = list
+            .iter()
+            .fold((0.0, 0.0f64), |(s, m), &(_, sp)| (s + sp, m.max(sp)));
+        FlankImpacts {
+            count,
+            rate: count as f64 / periods as f64,
+            mean_speed: if count > 0 { sum / count as f64 } else { 0.0 },
+            max_speed: max,
+        }
+    };
+    let mut counts = [0usize; 3];
+    for &s in &state {
+        counts[s] += 1;
+    }
+    let fraction = counts.map(|c| c as f64 / periods as f64);
+    let mut line_coherent = [0.0; 2];
+    let mut line_incoherent = [0.0; 2];
+    for j in 0..2 {
+        let (mut re, mut im, mut inc) = (0.0, 0.0, 0.0);
+        for p in 0..periods {
+            re += line_re[p][j];
+            im += line_im[p][j];
+            inc += line_re[p][j].hypot(line_im[p][j]);
+        }
+        line_coherent[j] = re.hypot(im) / periods as f64;
+        line_incoherent[j] = inc / periods as f64;
+    }
+    // stroboscopic section: the first sample of each period
+    let mut section = Vec::with_capacity(periods);
+    let mut next = 0;
+    for i in 0..=last_in_window {
+        if next < periods && t[i] >= t0 + next as f64 * period - 1e-9 * period {
+            section.push(q[i]);
+            next = period_of(t[i]) + 1;
+        }
+    }
+    let chaos_k = if section.len() < 20 {
+        f64::NAN
+    } else if repeats(&section, SECTION_TOL * (q_max - q_min + gap(t0).abs())) {
+        // period n ≤ 4 to within integration noise: regular by definition (the 0–1 test
+        // would read the rounding-level noise of a repeating section as diffusion)
+        0.0
+    } else {
+        zero_one_test(&section)
+    };
+    Ok(WindowStats {
+        periods,
+        state: state_of_index(state.iter().copied().max().unwrap_or(0)),
+        fraction,
+        ppv: q_max - q_min,
+        q_min,
+        q_max,
+        max_depth,
+        drive: impacts(&drive),
+        back: impacts(&back),
+        line_coherent,
+        line_incoherent,
+        chaos_k,
+    })
+}
+
+/// Relative distance (to the window's ppv plus the gap half-width) under which two section
+/// points are the same: the Poincaré tolerance of the Liu sweep strategy
+/// (`SweepStrategy::poincare_tol`).
+const SECTION_TOL: f64 = 1e-4;
+
+/// Whether the section repeats with some period `n ≤ 4` to within `tol`.
+fn repeats(section: &[f64], tol: f64) -> bool {
+    (1..=4).any(|n| {
+        section.len() > n
+            && section
+                .iter()
+                .zip(&section[n..])
+                .all(|(a, b)| (a - b).abs() <= tol)
+    })
+}
+
+/// The 0–1 test for chaos (Gottwald & Melbourne 2009, the correlation method with the
+/// regularised mean-square displacement) of a scalar series `phi`: the median over 20 fixed
+/// frequencies `c ∈ [π/5, 4π/5]` of the correlation `K_c` between `n` and the mean-square
+/// displacement `D_c(n)`, `n ≤ N/10`. About 0 for regular (periodic, quasi-periodic) series,
+/// about 1 for chaotic ones. NaN for fewer than 20 values or a constant series.
+///
+/// The frequencies are deterministic (not random as in the paper) so that the result is
+/// reproducible bit for bit.
+pub fn zero_one_test(phi: &[f64]) -> f64 {
+    let n = phi.len();
+    if n < 20 || phi.iter().any(|x| !x.is_finite()) {
+        return f64::NAN;
+    }
+    let mean = phi.iter().sum::<f64>() / n as f64;
+    let var = phi.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / n as f64;
+    if var <= 1e-30 * (1.0 + mean * mean) {
+        return 0.0;
+    }
+    let ncut = (n / 10).max(2);
+    let mut ks = Vec::with_capacity(20);
+    for j in 0..20 {
+        let c = std::f64::consts::PI * (0.2 + 0.6 * (j as f64 + 0.5) / 20.0);
+        let (mut p, mut qq) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        let (mut ps, mut qs) = (0.0, 0.0);
+        for (i, &x) in phi.iter().enumerate() {
+            let a = c * (i + 1) as f64;
+            ps += (x - mean) * a.cos();
+            qs += (x - mean) * a.sin();
+            p.push(ps);
+            qq.push(qs);
+        }
+        let dn: Vec<f64> = (1..=ncut)
+            .map(|k| {
+                let m = n - k;
+                let msd = (0..m)
+                    .map(|i| (p[i + k] - p[i]).powi(2) + (qq[i + k] - qq[i]).powi(2))
+                    .sum::<f64>()
+                    / m as f64;
+                // regularised: subtract the oscillatory term of a regular series
+                msd - var * (1.0 - (k as f64 * c).cos()) / (1.0 - c.cos())
+            })
+            .collect();
+        let xs: Vec<f64> = (1..=ncut).map(|k| k as f64).collect();
+        ks.push(correlation(&xs, &dn));
+    }
+    ks.retain(|k| k.is_finite());
+    if ks.is_empty() {
+        return f64::NAN;
+    }
+    ks.sort_by(f64::total_cmp);
+    let m = ks.len();
+    if m % 2 == 1 {
+        ks[m / 2]
+    } else {
+        0.5 * (ks[m / 2 - 1] + ks[m / 2])
+    }
+}
+
+fn correlation(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len() as f64;
+    let mx = x.iter().sum::<f64>() / n;
+    let my = y.iter().sum::<f64>() / n;
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    for (a, b) in x.iter().zip(y) {
+        sxy += (a - mx) * (b - my);
+        sxx += (a - mx).powi(2);
+        syy += (b - my).powi(2);
+    }
+    if sxx <= 0.0 || syy <= 0.0 {
+        return 0.0;
+    }
+    sxy / (sxx * syy).sqrt()
+}
+
+/// The statistics of one point under several variants (two tolerances, two windows, two
+/// initial states): the nominal values, the spread, and the intervals a verdict compares.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Robust {
+    /// The nominal record's statistics.
+    pub nominal: WindowStats,
+    /// Every variant: a label (`window B`, `rtol/100`, `other start`) and its statistics.
+    pub variants: Vec<(String, WindowStats)>,
+}
+
+impl Robust {
+    fn all(&self) -> impl Iterator<Item = &WindowStats> {
+        std::iter::once(&self.nominal).chain(self.variants.iter().map(|(_, s)| s))
+    }
+
+    /// `[min, max]` of a statistic over the nominal record and the variants.
+    pub fn interval(&self, f: impl Fn(&WindowStats) -> f64) -> (f64, f64) {
+        self.all()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| {
+                let x = f(s);
+                (lo.min(x), hi.max(x))
+            })
+    }
+
+    /// The window state when every variant agrees on it, else `None` (not robust).
+    pub fn state(&self) -> Option<RattleState> {
+        let s = state_index(self.nominal.state);
+        self.all()
+            .all(|w| state_index(w.state) == s)
+            .then_some(self.nominal.state)
+    }
+
+    /// `[min, max]` of the rsv (0, 1, 2) over the variants.
+    pub fn rsv_interval(&self) -> (u8, u8) {
+        let (lo, hi) = self.interval(|w| f64::from(w.state.rsv()));
+        (lo as u8, hi as u8)
+    }
+
+    /// Relative spread of the long-window ppv, `(max − min)/nominal`.
+    pub fn ppv_spread(&self) -> f64 {
+        let (lo, hi) = self.interval(|w| w.ppv);
+        (hi - lo) / self.nominal.ppv.abs().max(f64::MIN_POSITIVE)
+    }
+
+    /// Spread (max − min) of the fraction of bilateral periods.
+    pub fn bilateral_fraction_spread(&self) -> f64 {
+        let (lo, hi) = self.interval(WindowStats::bilateral_fraction);
+        hi - lo
+    }
+
+    /// A one-line description of the spread: `rsv 2 (all), P_bi 0.41–0.47, ppv 1.62–1.70`.
+    pub fn describe(&self) -> String {
+        let (rl, rh) = self.rsv_interval();
+        let (fl, fh) = self.interval(WindowStats::bilateral_fraction);
+        let (pl, ph) = self.interval(|w| w.ppv);
+        let rsv = if rl == rh {
+            format!("rsv {rl} in all {} variants", self.variants.len() + 1)
+        } else {
+            format!("rsv {rl}–{rh} over {} variants", self.variants.len() + 1)
+        };
+        format!(
+            "{rsv}, bilateral periods {:.3}–{:.3}, long-window ppv {:.4}–{:.4}, 0–1 test K {:.2}",
+            fl, fh, pl, ph, self.nominal.chaos_k
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(periods: usize, per: usize, period: f64) -> Vec<f64> {
+        (0..=periods * per)
+            .map(|i| i as f64 * period / per as f64)
+            .collect()
+    }
+
+    /// A pure sinusoid `q = a sin(Ωt) + m` in a gap `±b`: exact state, fractions, ppv, lines
+    /// and impact speeds (`|q'| = aΩ|cos|` at the crossing).
+    #[test]
+    fn sinusoid_exact_statistics() {
+        let period = 2.0;
+        let om = std::f64::consts::TAU / period;
+        let t = grid(60, 400, period);
+        let (a, m, b) = (1.5, -0.2, 1.0);
+        let q: Vec<f64> = t.iter().map(|&x| m + a * (om * x).sin()).collect();
+        let v: Vec<f64> = t.iter().map(|&x| a * om * (om * x).cos()).collect();
+        let w = window_stats(&t, &q, &v, |_| b, &[], &WindowOptions::new(period)).unwrap();
+        assert_eq!(w.periods, 60);
+        assert_eq!(w.state, RattleState::Bilateral);
+        assert_eq!(w.fraction, [0.0, 0.0, 1.0]);
+        assert!((w.ppv - 2.0 * a).abs() < 1e-3);
+        assert!(
+            (w.line_coherent[0] - a).abs() < 1e-9,
+            "{:?}",
+            w.line_coherent
+        );
+        assert!((w.line_incoherent[0] - a).abs() < 1e-9);
+        assert!(w.line_coherent[1].abs() < 1e-9);
+        assert_eq!((w.back.count, w.drive.count), (60, 60));
+        // back-flank entry at sin = (b − m)/a, speed aΩ cos
+        let s = (b - m) / a;
+        let exact = a * om * (1.0 - s * s).sqrt();
+        assert!((w.back.mean_speed - exact).abs() < 1e-3 * exact);
+        let s = (-b - m) / a;
+        let exact = a * om * (1.0 - s * s).sqrt();
+        assert!((w.drive.max_speed - exact).abs() < 1e-3 * exact);
+        assert!(w.chaos_k.abs() < 0.3, "periodic: K = {}", w.chaos_k);
+    }
+
+    /// Intermittent back-flank contact: every third period reaches the back flank, so the
+    /// bilateral fraction is 1/3 while the window state is bilateral; the minimum depth turns
+    /// shallow separations into no rattle.
+    #[test]
+    fn fractions_and_min_depth() {
+        let period = 1.0;
+        let om = std::f64::consts::TAU;
+        let t = grid(30, 200, period);
+        let b = 1.0;
+        // q oscillates in [−1.5, −1.5 + 2A] with A = 1.4 every third period, else A = 0.26
+        let amp = |x: f64| {
+            if (x / period).floor() as i64 % 3 == 0 {
+                1.4
+            } else {
+                0.26
+            }
+        };
+        let q: Vec<f64> = t
+            .iter()
+            .map(|&x| -1.5 + amp(x) * (1.0 - (om * x).cos()))
+            .collect();
+        let v = vec![0.0; t.len()];
+        let w = window_stats(&t, &q, &v, |_| b, &[], &WindowOptions::new(period)).unwrap();
+        assert_eq!(w.state, RattleState::Bilateral);
+        assert!((w.fraction[2] - 1.0 / 3.0).abs() < 1e-12);
+        assert!(
+            (w.fraction[1] - 2.0 / 3.0).abs() < 1e-12,
+            "{:?}",
+            w.fraction
+        );
+        // separations of depth 0.02·b are not counted with a 5 % minimum depth
+        let o = WindowOptions {
+            min_depth: 0.05,
+            ..WindowOptions::new(period)
+        };
+        let w = window_stats(&t, &q, &v, |_| b, &[], &o).unwrap();
+        assert!(
+            (w.fraction[0] - 2.0 / 3.0).abs() < 1e-12,
+            "{:?}",
+            w.fraction
+        );
+        assert!((w.max_depth - 2.3).abs() < 1e-6, "{}", w.max_depth);
+    }
+
+    /// The 0–1 test separates the logistic map at r = 4 (chaotic) from a period-3 sequence
+    /// and a quasi-periodic one (Gottwald & Melbourne 2009 report K ≈ 1 and K ≈ 0).
+    #[test]
+    fn zero_one_test_separates_chaos() {
+        let mut x = 0.3;
+        let chaotic: Vec<f64> = (0..2000)
+            .map(|_| {
+                x = 4.0 * x * (1.0 - x);
+                x
+            })
+            .collect();
+        let k = zero_one_test(&chaotic);
+        assert!(k > 0.8, "logistic r = 4: K = {k}");
+        let periodic: Vec<f64> = (0..2000).map(|i| [0.1, 0.5, 0.9][i % 3]).collect();
+        let k = zero_one_test(&periodic);
+        assert!(k < 0.2, "period 3: K = {k}");
+        let quasi: Vec<f64> = (0..2000)
+            .map(|i| (i as f64 * 0.7).sin() + (i as f64 * 0.7 * 2f64.sqrt()).cos())
+            .collect();
+        let k = zero_one_test(&quasi);
+        assert!(k < 0.3, "quasi-periodic: K = {k}");
+        assert!(zero_one_test(&chaotic[..10]).is_nan());
+    }
+
+    #[test]
+    fn hostile_inputs_are_errors() {
+        let t = [0.0, 0.5, 1.0, 1.5];
+        let q = [0.0; 4];
+        let o = WindowOptions::new(1.0);
+        assert!(window_stats(&t, &q, &q, |_| 1.0, &[], &o).is_ok());
+        let bad = |o: WindowOptions| window_stats(&t, &q, &q, |_| 1.0, &[], &o).is_err();
+        assert!(bad(WindowOptions::new(f64::NAN)));
+        assert!(bad(WindowOptions::new(-1.0)));
+        assert!(bad(WindowOptions::new(10.0)), "shorter than one period");
+        assert!(bad(WindowOptions {
+            min_depth: 1.0,
+            ..o
+        }));
+        assert!(window_stats(&t, &[0.0, f64::NAN, 0.0, 0.0], &q, |_| 1.0, &[], &o).is_err());
+        assert!(window_stats(&[0.0, 0.0, 1.0, 2.0], &q, &q, |_| 1.0, &[], &o).is_err());
+        assert!(window_stats(&t, &q[..3], &q, |_| 1.0, &[], &o).is_err());
+        assert!(window_stats(&t, &q, &q, |_| f64::NAN, &[], &o).is_err());
+    }
+
+    /// Located crossings decide the period state and the impact count, with the speed
+    /// interpolated from the samples.
+    #[test]
+    fn located_crossings_count() {
+        let t = grid(4, 10, 1.0);
+        let q = vec![0.0; t.len()];
+        let v: Vec<f64> = t.iter().map(|&x| 2.0 * x).collect();
+        let cs = [
+            Crossing {
+                t: 1.25,
+                flank: Flank::Back,
+                entering: true,
+            },
+            Crossing {
+                t: 1.3,
+                flank: Flank::Back,
+                entering: false,
+            },
+            Crossing {
+                t: 3.55,
+                flank: Flank::Drive,
+                entering: true,
+            },
+        ];
+        let w = window_stats(&t, &q, &v, |_| 1.0, &cs, &WindowOptions::new(1.0)).unwrap();
+        assert_eq!(w.back.count, 1);
+        assert!((w.back.max_speed - 2.5).abs() < 1e-12);
+        assert_eq!(w.drive.count, 1);
+        assert_eq!(w.fraction, [0.0, 0.75, 0.25]);
+        assert_eq!(w.state, RattleState::Bilateral);
+    }
+}
