@@ -857,7 +857,71 @@ const LIU_TS: &[SettingDef] = &[
         doc: "relative tolerance of Dormand–Prince 5(4)",
     },
     TOLERANCE_CHECK,
+    SettingDef {
+        name: "long_window_periods",
+        kind: Kind::Num {
+            lo: 0.0,
+            hi: 1e4,
+            default: 0.0,
+        },
+        doc: "0: off; n ≥ 1: add the long-window rattle statistics over windows of n periods \
+              with their range over two tolerances, two windows and two starts \
+              (models::liu2021::long_window; the issue's long window is n = 50)",
+    },
 ];
+
+/// The long-window outputs of the Liu time stepping (`long_window_periods` ≥ 1): the state,
+/// fractions, ppv, impacts and 0–1 test of the nominal window, and `[lo, hi]` over the
+/// variants of the statistics a verdict reads.
+const LIU_WINDOW_OUT: &[(&str, &str)] = &[
+    ("rsv_window", "1"),
+    ("window_state_robust", "1"),
+    ("no_rattle_fraction", "1"),
+    ("unilateral_fraction", "1"),
+    ("bilateral_fraction", "1"),
+    ("bilateral_fraction_lo", "1"),
+    ("bilateral_fraction_hi", "1"),
+    ("ppv_window", "1"),
+    ("ppv_window_lo", "1"),
+    ("ppv_window_hi", "1"),
+    ("back_impacts_per_period", "1"),
+    ("back_impact_speed_mean", "1"),
+    ("back_impact_speed_max", "1"),
+    ("drive_impacts_per_period", "1"),
+    ("drive_impact_speed_mean", "1"),
+    ("drive_impact_speed_max", "1"),
+    ("line_fc", "1"),
+    ("line_fe", "1"),
+    ("chaos_k_01", "1"),
+];
+
+/// The values of [`LIU_WINDOW_OUT`].
+fn liu_window_values(r: &models::response::Robust) -> Vec<f64> {
+    let w = &r.nominal;
+    let (fl, fh) = r.interval(models::response::WindowStats::bilateral_fraction);
+    let (pl, ph) = r.interval(|s| s.ppv);
+    vec![
+        f64::from(w.state.rsv()),
+        if r.state().is_some() { 1.0 } else { 0.0 },
+        w.fraction[0],
+        w.fraction[1],
+        w.fraction[2],
+        fl,
+        fh,
+        w.ppv,
+        pl,
+        ph,
+        w.back.rate,
+        w.back.mean_speed,
+        w.back.max_speed,
+        w.drive.rate,
+        w.drive.mean_speed,
+        w.drive.max_speed,
+        w.line_incoherent[0],
+        w.line_incoherent[1],
+        w.chaos_k,
+    ]
+}
 
 const LIU_HBM: &[SettingDef] = &[
     SettingDef {
@@ -1059,10 +1123,35 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 initial,
             };
             let check = s.name("tolerance_check") == "on";
+            let lw_periods = s.f("long_window_periods");
+            if lw_periods != lw_periods.trunc() {
+                return Err(Error::StudyFile(format!(
+                    "liu2021: long_window_periods must be a whole number (0: off), got {lw_periods}"
+                )));
+            }
+            let window = (lw_periods >= 1.0).then(|| liu2021::LongWindowOptions {
+                transient_periods: opts.transient_periods,
+                periods: lw_periods as usize,
+                sample_step: opts.sample_step,
+                max_step: opts.max_step,
+                rtol: opts.rtol,
+                ..liu2021::LongWindowOptions::default()
+            });
+            let mut names: Vec<(&str, &str)> = LIU_OUT[..4].to_vec();
+            if window.is_some() {
+                names.extend(LIU_WINDOW_OUT);
+            }
             Ok(Adapter {
-                outputs: outs_stepped(&LIU_OUT[..4], check),
+                outputs: outs_stepped(&names, check),
                 prepare: Box::new(move |p: &Point| {
                     let model = liu_model(p)?;
+                    if let Some(w) = &window {
+                        // three runs of (transient + window), the nominal one with two windows
+                        let steps = (3.0 * w.transient_periods + 4.0 * w.periods as f64)
+                            * model.period()
+                            / w.max_step;
+                        need_steps("liu2021 long window", steps, &limits)?;
+                    }
                     let period = model.period();
                     let samples = opts.record_periods * period / opts.sample_step;
                     if !(LIU_MIN_SAMPLES..=LIU_MAX_SAMPLES).contains(&samples) {
@@ -1084,12 +1173,21 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                             };
                             let r = liu2021::integrate(&model, &o)
                                 .context("liu2021 time integration")?;
-                            let v = vec![
+                            let mut v = vec![
                                 f64::from(r.rattle.state.rsv()),
                                 r.rattle.ppv,
                                 r.rattle.q_min,
                                 r.rattle.q_max,
                             ];
+                            if let Some(w) = &window {
+                                let wo = liu2021::LongWindowOptions {
+                                    rtol: w.rtol / factor,
+                                    ..*w
+                                };
+                                let lw = liu2021::long_window(&model, &wo)
+                                    .context("liu2021 long window")?;
+                                v.extend(liu_window_values(&lw));
+                            }
                             Ok((v, r.stats))
                         })
                     }) as Job)
