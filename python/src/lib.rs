@@ -222,6 +222,15 @@ fn no_leftovers(method: &str, s: BTreeMap<String, Value>) -> Res<()> {
     }
 }
 
+/// A study-code error as a `ParameterError`: its message without the "study file: " prefix (a
+/// Python call has no study file).
+fn parameter_error(e: validate::Error) -> Failure {
+    match e {
+        validate::Error::StudyFile(m) => Failure::parameter(m),
+        e => Failure::parameter(e.to_string()),
+    }
+}
+
 /// Check settings through `geardyn study`'s definitions ([`validate::check_settings`]): a
 /// bad one is a `ParameterError` with the study's message (name, kind, bound).
 fn study_settings(
@@ -243,7 +252,7 @@ fn study_settings(
         };
         map.insert(k.clone(), value);
     }
-    validate::check_settings(model, method, &map).map_err(|e| Failure::parameter(e.to_string()))
+    validate::check_settings(model, method, &map).map_err(parameter_error)
 }
 
 /// Solve one point of a model by one method.
@@ -440,9 +449,7 @@ fn parse_limits(text: &str) -> Res<validate::Limits> {
     } else {
         serde_json::from_value(v).map_err(|e| Failure::parameter(format!("limits: {e}")))?
     };
-    limits
-        .check()
-        .map_err(|e| Failure::parameter(e.to_string()))?;
+    limits.check().map_err(parameter_error)?;
     Ok(limits)
 }
 
@@ -505,8 +512,7 @@ fn solve(
 fn check_points(n: usize, limits: &str) -> String {
     envelope((|| {
         let l = parse_limits(limits)?;
-        l.check_points(n, 1)
-            .map_err(|e| Failure::parameter(e.to_string()))?;
+        l.check_points(n, 1).map_err(parameter_error)?;
         Ok(Value::Null)
     })())
 }
@@ -532,8 +538,7 @@ fn sweep(
     py.detach(|| {
         envelope((|| {
             let l = parse_limits(limits)?;
-            l.check_points(values.len(), 1)
-                .map_err(|e| Failure::parameter(e.to_string()))?;
+            l.check_points(values.len(), 1).map_err(parameter_error)?;
             let p = parse_json("params", params)?;
             let s = parse_json("settings", settings)?;
             let points: Vec<Value> = values
