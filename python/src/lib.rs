@@ -222,6 +222,39 @@ fn no_leftovers(method: &str, s: BTreeMap<String, Value>) -> Res<()> {
     }
 }
 
+/// A study-code error as a `ParameterError`: its message without the "study file: " prefix (a
+/// Python call has no study file).
+fn parameter_error(e: validate::Error) -> Failure {
+    match e {
+        validate::Error::StudyFile(m) => Failure::parameter(m),
+        e => Failure::parameter(e.to_string()),
+    }
+}
+
+/// Check settings through `geardyn study`'s definitions ([`validate::check_settings`]): a
+/// bad one is a `ParameterError` with the study's message (name, kind, bound).
+fn study_settings(
+    model: &str,
+    method: validate::Method,
+    given: &serde_json::Map<String, Value>,
+) -> Res<()> {
+    let mut map = BTreeMap::new();
+    for (k, v) in given {
+        let value = match v {
+            Value::Number(n) => validate::Value::Num(n.as_f64().unwrap_or(f64::NAN)),
+            Value::String(t) => validate::Value::Text(t.clone()),
+            Value::Bool(b) => validate::Value::Bool(*b),
+            _ => {
+                return Err(Failure::parameter(format!(
+                    "setting `{k}` must be a number, got {v}"
+                )));
+            }
+        };
+        map.insert(k.clone(), value);
+    }
+    validate::check_settings(model, method, &map).map_err(parameter_error)
+}
+
 /// Solve one point of a model by one method.
 /// The Yu 2021 inputs shared by both methods: parameters on top of Table 1, the model
 /// options (`settings["options"]`) and `ω*` (`settings["omega"]`, required: NaN is refused by
@@ -230,13 +263,31 @@ fn yu_inputs(
     params: &Value,
     s: &mut BTreeMap<String, Value>,
 ) -> Res<(yu2021::Yu2021Params, yu2021::Options, f64)> {
-    let p = with_overrides("yu2021", &yu2021::Yu2021Params::table1(), params)?;
+    // `omega` (ω*) is a parameter, as in a study file; a setting too (older scripts)
+    let mut params = params.clone();
+    let from_params = match &mut params {
+        Value::Object(o) => o.remove("omega"),
+        _ => None,
+    };
+    let p = with_overrides("yu2021", &yu2021::Yu2021Params::table1(), &params)?;
     let o = with_overrides(
         "yu2021 options",
         &yu2021::Options::default(),
         &s.remove("options").unwrap_or(Value::Null),
     )?;
-    let omega = take_f64(s, "omega", f64::NAN)?;
+    let from_settings = take_f64(s, "omega", f64::NAN)?;
+    let omega = match from_params {
+        Some(v) => v.as_f64().ok_or_else(|| {
+            Failure::parameter(format!("parameter `omega` takes a number, got {v}"))
+        })?,
+        None => from_settings,
+    };
+    if !(omega.is_finite() && omega > 0.0) {
+        return Err(Failure::parameter(format!(
+            "yu2021.omega must be finite and > 0, got {omega} (set it as a parameter: \
+             Yu2021().with_params(omega=0.5))"
+        )));
+    }
     Ok((p, o, omega))
 }
 
@@ -247,6 +298,16 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
             let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
             let opts_over = s.remove("options").unwrap_or(Value::Null);
             no_leftovers(method, s)?;
+            // the integration options share their names, bounds and messages with the study
+            // setting of `geardyn study` (all but `initial`, a state)
+            if let Value::Object(o) = &opts_over {
+                let shared: serde_json::Map<String, Value> = o
+                    .iter()
+                    .filter(|(k, _)| k.as_str() != "initial")
+                    .map(|(k, v)| (k.clone(), v.clone()))
+                    .collect();
+                study_settings("liu2021", validate::Method::TimeStepping, &shared)?;
+            }
             let opts = with_overrides(
                 "liu2021 integration options",
                 &liu2021::IntegrationOptions::default(),
@@ -261,27 +322,23 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
         }
         ("liu2021", "hbm") => {
             let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
-            let full_r = take_f64(&mut s, "full_r", 0.0)?;
             let warm = take_bool(&mut s, "warm_start", false)?;
-            let samples = take_f64(&mut s, "samples", 512.0)?;
-            let tol = take_f64(&mut s, "tol", 1e-9)?;
-            let max_iter = take_f64(&mut s, "max_iter", 60.0)?;
-            no_leftovers(method, s)?;
-            if !(full_r >= 0.0 && full_r.fract() == 0.0 && full_r <= 64.0) {
+            let output_samples = take_f64(&mut s, "output_samples", 512.0)?;
+            if !((8.0..=65_536.0).contains(&output_samples) && output_samples.fract() == 0.0) {
                 return Err(Failure::parameter(format!(
-                    "setting `full_r` must be an integer in [0, 64] (0: the paper's basis), got {full_r}"
+                    "setting `output_samples` must be an integer in [8, 65536], got {output_samples}"
                 )));
             }
-            if !(samples >= 16.0 && samples <= 1.0e6 && samples.fract() == 0.0) {
-                return Err(Failure::parameter(format!(
-                    "setting `samples` must be an integer in [16, 1e6], got {samples}"
-                )));
-            }
-            if !(max_iter >= 1.0 && max_iter <= 1.0e6 && max_iter.fract() == 0.0) {
-                return Err(Failure::parameter(format!(
-                    "setting `max_iter` must be an integer in [1, 1e6], got {max_iter}"
-                )));
-            }
+            // tol, max_iter, samples, full_r: the settings of `geardyn study` (same names,
+            // bounds and messages; checked by the same code)
+            let shared: serde_json::Map<String, Value> =
+                std::mem::take(&mut s).into_iter().collect();
+            study_settings("liu2021", validate::Method::Hbm, &shared)?;
+            let num = |k: &str| shared.get(k).and_then(Value::as_f64);
+            let tol = num("tol").unwrap_or(1e-9);
+            let max_iter = num("max_iter").unwrap_or(60.0);
+            let full_r = num("full_r").unwrap_or(0.0);
+            let aft_samples = num("samples").map(|x| x as usize);
             let m = p.model()?;
             let mut opts = if full_r > 0.0 {
                 liu2021::HbmOptions::full(&m, full_r as usize)
@@ -290,13 +347,14 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
             };
             opts.tol = tol;
             opts.max_iter = max_iter as u64;
+            opts.samples = aft_samples;
             let r = if warm {
                 let ti = liu2021::integrate(&m, &liu2021::IntegrationOptions::default())?;
                 liu2021::solve_hbm_from_time_response(&m, &opts, &ti)?
             } else {
                 liu2021::solve_hbm(&m, &opts, None)?
             };
-            let n = samples as usize;
+            let n = output_samples as usize;
             let period = m.period();
             let tau: Vec<f64> = (0..n).map(|i| period * i as f64 / n as f64).collect();
             let q: Vec<f64> = tau.iter().map(|&t| r.eval(t)).collect();
@@ -322,9 +380,18 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
         ("yu2021", "time-stepping") | ("yu2021", "rk4") => {
             let (p, o, omega) = yu_inputs(params, &mut s)?;
             let mut run = yu2021::RunSettings::new(omega);
-            run.transient_periods = take_f64(&mut s, "transient_periods", 200.0)? as usize;
-            run.record_periods = take_f64(&mut s, "record_periods", 20.0)? as usize;
+            // the run sizes of `geardyn study` (same names, bounds, messages)
+            let mut shared = serde_json::Map::new();
+            for k in ["transient_periods", "record_periods"] {
+                if let Some(v) = s.remove(k) {
+                    shared.insert(k.to_owned(), v);
+                }
+            }
             no_leftovers(method, s)?;
+            study_settings("yu2021", validate::Method::TimeStepping, &shared)?;
+            let num = |k: &str, d: f64| shared.get(k).and_then(Value::as_f64).unwrap_or(d);
+            run.transient_periods = num("transient_periods", 200.0) as usize;
+            run.record_periods = num("record_periods", 20.0) as usize;
             let engine = if method == "rk4" {
                 yu2021::Engine::Rk4Fixed
             } else {
@@ -372,21 +439,91 @@ fn preset(model: &str, name: &str) -> String {
     envelope(preset_value(model, name))
 }
 
-/// `solve(model, params_json, method, settings_json)` → JSON result of one point.
+/// The limits of a Python call (`limits_json`: `null` or `{"max_points", "max_steps",
+/// "max_seconds_per_point"}`), checked by the study code ([`validate::Limits::check`]); a bad
+/// one is a `ParameterError` naming the entry and the bound.
+fn parse_limits(text: &str) -> Res<validate::Limits> {
+    let v = parse_json("limits", text)?;
+    let limits: validate::Limits = if v.is_null() {
+        validate::Limits::default()
+    } else {
+        serde_json::from_value(v).map_err(|e| Failure::parameter(format!("limits: {e}")))?
+    };
+    limits.check().map_err(parameter_error)?;
+    Ok(limits)
+}
+
+/// Solve one point under the wall-clock limit of `limits` (see
+/// [`validate::run_with_time_limit`]): over it, a `SolverError` whose message starts with
+/// "time limit".
+fn solve_limited(
+    model: &str,
+    params: &Value,
+    method: &str,
+    settings: &Value,
+    limits: &validate::Limits,
+) -> Res<Value> {
+    let Some(seconds) = limits.max_seconds_per_point else {
+        return solve_value(model, params, method, settings);
+    };
+    let (model, params, method, settings) = (
+        model.to_owned(),
+        params.clone(),
+        method.to_owned(),
+        settings.clone(),
+    );
+    let r = validate::run_with_time_limit(Some(seconds), move || {
+        Ok(solve_value(&model, &params, &method, &settings))
+    });
+    match r {
+        Ok(inner) => inner,
+        Err(message) => Err(Failure {
+            kind: Kind::Solver,
+            message,
+            chain: Vec::new(),
+        }),
+    }
+}
+
+/// `solve(model, params_json, method, settings_json, limits_json)` → JSON result of one point.
 #[pyfunction]
-fn solve(py: Python<'_>, model: &str, params: &str, method: &str, settings: &str) -> String {
+fn solve(
+    py: Python<'_>,
+    model: &str,
+    params: &str,
+    method: &str,
+    settings: &str,
+    limits: &str,
+) -> String {
     py.detach(|| {
         envelope((|| {
             let p = parse_json("params", params)?;
             let s = parse_json("settings", settings)?;
-            solve_value(model, &p, method, &s)
+            let l = parse_limits(limits)?;
+            solve_limited(model, &p, method, &s, &l)
         })())
     })
 }
 
-/// `sweep(model, params_json, parameter, values, method, settings_json)` → JSON list, one
-/// result (or error) per value, solved in parallel and returned in input order (each point is
-/// independent, so the results do not depend on the number of threads).
+/// `check_points(n, limits_json)`: `None`, or a `ParameterError` when a sweep of `n` points
+/// exceeds `limits.max_points` — the check and message of a study file
+/// ([`validate::Limits::check_points`]); called before the values are converted.
+#[pyfunction]
+fn check_points(n: usize, limits: &str) -> String {
+    envelope((|| {
+        let l = parse_limits(limits)?;
+        l.check_points(n, 1).map_err(parameter_error)?;
+        Ok(Value::Null)
+    })())
+}
+
+/// `sweep(model, params_json, parameter, values, method, settings_json, limits_json)` → JSON
+/// list, one result (or error) per value, solved in parallel and returned in input order (each
+/// point is independent, so the results do not depend on the number of threads). The number
+/// of values is checked against `limits.max_points` first; a non-finite value is a failed point
+/// with its reason; a point over `limits.max_seconds_per_point` fails with "time limit".
+// The arguments of the Python call, one by one (JSON texts and a float list).
+#[allow(clippy::too_many_arguments)]
 #[pyfunction]
 fn sweep(
     py: Python<'_>,
@@ -396,9 +533,12 @@ fn sweep(
     values: Vec<f64>,
     method: &str,
     settings: &str,
+    limits: &str,
 ) -> String {
     py.detach(|| {
         envelope((|| {
+            let l = parse_limits(limits)?;
+            l.check_points(values.len(), 1).map_err(parameter_error)?;
             let p = parse_json("params", params)?;
             let s = parse_json("settings", settings)?;
             let points: Vec<Value> = values
@@ -408,12 +548,19 @@ fn sweep(
                     if pp.is_null() {
                         pp = json!({});
                     }
-                    let r = match &mut pp {
-                        Value::Object(o) => {
-                            o.insert(parameter.to_owned(), json!(x));
-                            solve_value(model, &pp, method, &s)
+                    let r = if !x.is_finite() {
+                        // the message of a study file's sweep value
+                        Err(Failure::parameter(format!(
+                            "sweep of `{parameter}`: every value must be finite, got {x}"
+                        )))
+                    } else {
+                        match &mut pp {
+                            Value::Object(o) => {
+                                o.insert(parameter.to_owned(), json!(x));
+                                solve_limited(model, &pp, method, &s, &l)
+                            }
+                            _ => Err(Failure::parameter("params must be a mapping")),
                         }
-                        _ => Err(Failure::parameter("params must be a mapping")),
                     };
                     match r {
                         Ok(v) => json!({ "ok": v }),
@@ -520,6 +667,7 @@ fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(preset, m)?)?;
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(check_points, m)?)?;
     m.add_function(wrap_pyfunction!(run_study, m)?)?;
     m.add_function(wrap_pyfunction!(write_study, m)?)?;
     m.add_function(wrap_pyfunction!(run_study_shard, m)?)?;

@@ -145,8 +145,8 @@ pub use render::{
 pub use studies::all_studies;
 pub use studies::user_models::{
     Adapter, BIFURCATION, BifurcationModel, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo,
-    ModelSpec, ParamInfo, Preparer, REGISTRY, STEP_STATISTICS, SettingDef, describe_all,
-    is_step_statistic, step_statistics,
+    ModelSpec, ParamInfo, Preparer, REGISTRY, STEP_STATISTICS, SettingDef, check_settings,
+    describe_all, is_step_statistic, step_statistics,
 };
 pub use study::{
     ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance,
@@ -154,13 +154,14 @@ pub use study::{
 };
 pub use table::{Cell, Column, Table};
 pub use user::{
-    FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_STEPS_BOUND, MAX_SWEEP_VALUES, MODELS,
-    Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, StudyPlan, Sweep, UserStudy,
-    UserStudyOutput, Value, Written, apply_overrides, apply_values, camel_to_kebab,
-    check_study_name, choice, compute, compute_records, default_out_dir, display_name, field_names,
-    kebab_to_camel, lock_output_dir, merge_from_str, merge_study_files, model_spec, new_run_id,
-    prepare, run_shard_from_str, run_study_file, run_study_from_str, run_study_shard_file,
-    run_user_study, shard_path, variant_names, write_outputs,
+    FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_SECONDS_BOUND, MAX_STEPS_BOUND,
+    MAX_SWEEP_VALUES, MODELS, Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver,
+    StudyPlan, Sweep, TIME_LIMIT, UserStudy, UserStudyOutput, Value, Written, apply_overrides,
+    apply_values, camel_to_kebab, check_study_name, choice, compute, compute_records,
+    default_out_dir, display_name, field_names, kebab_to_camel, lock_output_dir, merge_from_str,
+    merge_study_files, model_spec, new_run_id, prepare, run_shard_from_str, run_study_file,
+    run_study_from_str, run_study_shard_file, run_user_study, run_with_time_limit, shard_path,
+    variant_names, write_outputs,
 };
 
 #[cfg(test)]

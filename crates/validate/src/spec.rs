@@ -17,6 +17,10 @@ pub const MAX_SWEEP_VALUES: usize = 100_000;
 pub const MAX_POINTS_BOUND: usize = 1_000_000;
 /// Hard upper bound of [`Limits::max_steps`].
 pub const MAX_STEPS_BOUND: u64 = 10_000_000_000;
+/// Hard upper bound of [`Limits::max_seconds_per_point`] (a week).
+pub const MAX_SECONDS_BOUND: f64 = 604_800.0;
+/// The reason of a point stopped by [`Limits::max_seconds_per_point`] (the start of its message).
+pub const TIME_LIMIT: &str = "time limit";
 
 /// A value in a study file: a number, a name (choices and readings), a flag or a list of
 /// numbers (initial states).
@@ -181,6 +185,11 @@ pub struct Limits {
     /// runs from its settings and enforced by the engines' step budgets; default 2·10⁸, at most
     /// [`MAX_STEPS_BOUND`]. A point over the budget fails with a message (a NaN row).
     pub max_steps: f64,
+    /// Wall-clock seconds one point may take (absent: no limit; at most
+    /// [`MAX_SECONDS_BOUND`]). A point over it becomes a failed row whose message starts with
+    /// [`TIME_LIMIT`], and the study goes on ([`run_with_time_limit`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_seconds_per_point: Option<f64>,
 }
 
 impl Default for Limits {
@@ -188,12 +197,14 @@ impl Default for Limits {
         Limits {
             max_points: 10_000,
             max_steps: 2e8,
+            max_seconds_per_point: None,
         }
     }
 }
 
 impl Limits {
-    pub(crate) fn check(&self) -> Result<(), Error> {
+    /// Check every limit against its bounds; the message names the entry and the bound.
+    pub fn check(&self) -> Result<(), Error> {
         if !(1..=MAX_POINTS_BOUND as i64).contains(&self.max_points) {
             return Err(Error::StudyFile(format!(
                 "limits.max_points must be in [1, {MAX_POINTS_BOUND}], got {}",
@@ -206,7 +217,68 @@ impl Limits {
                 self.max_steps
             )));
         }
+        if let Some(t) = self.max_seconds_per_point {
+            if !(t > 0.0 && t <= MAX_SECONDS_BOUND) {
+                return Err(Error::StudyFile(format!(
+                    "limits.max_seconds_per_point must be in (0, {MAX_SECONDS_BOUND}], got {t}"
+                )));
+            }
+        }
         Ok(())
+    }
+
+    /// Check a study of `n1 × n2` points against [`Limits::max_points`] (saturating: any
+    /// `usize` is accepted and compared, nothing is allocated). Returns the number of points.
+    pub fn check_points(&self, n1: usize, n2: usize) -> Result<usize, Error> {
+        let n = n1.saturating_mul(n2);
+        if n > self.max_points.max(0) as usize {
+            return Err(Error::StudyFile(format!(
+                "{n1} × {n2} = {n} points exceed limits.max_points = {}",
+                self.max_points
+            )));
+        }
+        Ok(n)
+    }
+}
+
+/// Run `job` under a wall-clock limit of `seconds` (`None`: on the calling thread, no limit).
+///
+/// The engines have no cancellation hook, so the job runs on a thread of its own while the
+/// caller waits at most `seconds` for it: on time, its result (a panic in it becomes an
+/// `Err` with the panic's message); over time, `Err` with a message starting with
+/// [`TIME_LIMIT`] and the caller goes on. An abandoned job keeps its thread until it ends by
+/// itself — which it does, because every engine has a step budget ([`Limits::max_steps`]) —
+/// and its result is dropped.
+pub fn run_with_time_limit<T: Send + 'static>(
+    seconds: Option<f64>,
+    job: impl FnOnce() -> Result<T, String> + Send + 'static,
+) -> Result<T, String> {
+    let Some(limit) = seconds else {
+        return job();
+    };
+    let (tx, rx) = std::sync::mpsc::sync_channel(1);
+    let spawned = std::thread::Builder::new()
+        .name("geardyn-point".to_owned())
+        .spawn(move || {
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
+                .unwrap_or_else(|p| Err(crate::user::panic_message(p.as_ref())));
+            // The receiver may have given up (time limit): nothing to do then.
+            let _ = tx.send(r);
+        });
+    if let Err(e) = spawned {
+        return Err(format!("{TIME_LIMIT}: no thread for the point ({e})"));
+    }
+    let wait =
+        std::time::Duration::try_from_secs_f64(limit.max(0.0)).unwrap_or(std::time::Duration::MAX);
+    match rx.recv_timeout(wait) {
+        Ok(r) => r,
+        Err(std::sync::mpsc::RecvTimeoutError::Timeout) => Err(format!(
+            "{TIME_LIMIT}: the point ran longer than limits.max_seconds_per_point = {limit} s \
+             and was abandoned"
+        )),
+        Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+            Err("internal error: the point's thread ended without a result".to_owned())
+        }
     }
 }
 

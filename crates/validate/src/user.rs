@@ -108,13 +108,7 @@ impl UserStudy {
             .sweep2
             .as_ref()
             .map_or(Ok(1), |w| w.points().map(|p| p.len()))?;
-        let n = n1.saturating_mul(n2);
-        if n > s.limits.max_points as usize {
-            return Err(Error::StudyFile(format!(
-                "{n1} × {n2} = {n} points exceed limits.max_points = {}",
-                s.limits.max_points
-            )));
-        }
+        s.limits.check_points(n1, n2)?;
         Ok(s)
     }
 }
@@ -267,7 +261,7 @@ pub fn prepare(study: &UserStudy) -> Result<Prepared, Error> {
     })
 }
 
-fn panic_message(e: &(dyn std::any::Any + Send)) -> String {
+pub(crate) fn panic_message(e: &(dyn std::any::Any + Send)) -> String {
     let m = e
         .downcast_ref::<&str>()
         .map(|s| (*s).to_owned())
@@ -513,23 +507,27 @@ pub fn compute_records(
         .filter(|(k, _)| shard.owns(*k) && !have.contains_key(k))
         .collect();
     let n_out = outputs.len();
+    let seconds = study.limits.max_seconds_per_point;
     let journal_error = std::sync::Mutex::new(None::<String>);
     let new: Vec<PointRecord> = timestep::sweep_owned(
         todo,
         |(k, job)| {
             let r = match job {
-                Ok(job) => match catch_unwind(AssertUnwindSafe(job)) {
-                    Ok(Ok(v)) if v.len() == n_out => match v.iter().position(|x| !x.is_finite()) {
+                Ok(job) => match run_with_time_limit(seconds, move || {
+                    catch_unwind(AssertUnwindSafe(job))
+                        .map_err(|p| panic_message(p.as_ref()))?
+                        .map_err(|e| e.to_string())
+                }) {
+                    Ok(v) if v.len() == n_out => match v.iter().position(|x| !x.is_finite()) {
                         // A success never carries a non-finite number.
                         Some(j) => Err(format!("non-finite output `{}` = {}", outputs[j].0, v[j])),
                         None => Ok(v),
                     },
-                    Ok(Ok(v)) => Err(format!(
+                    Ok(v) => Err(format!(
                         "internal error: {} outputs for {n_out} columns",
                         v.len()
                     )),
-                    Ok(Err(e)) => Err(e.to_string()),
-                    Err(p) => Err(panic_message(p.as_ref())),
+                    Err(e) => Err(e),
                 },
                 Err(e) => Err(e.to_string()),
             };
@@ -574,8 +572,9 @@ pub fn run_shard_from_str(toml: &str, shard: ShardSpec) -> Result<String, Error>
     let prepared = prepare(&study)?;
     let (plan, records) = compute_records(prepared, shard, Vec::new(), None, None);
     let mut text = shard::header_line(&plan.header(Some(shard)));
+    let fingerprint = plan.fingerprint();
     for r in &records {
-        text.push_str(&shard::record_line(r));
+        text.push_str(&shard::record_line(&fingerprint, r));
     }
     Ok(text)
 }
@@ -868,10 +867,11 @@ pub struct Written {
 /// Marker file that identifies a directory as a study output (so that it may be replaced).
 const MARKER: &str = ".geardyn-study";
 
-/// A lock on an output directory, released (file removed) on drop.
+/// A lock on an output directory: an OS advisory lock on `.<dir>.lock` beside it, released
+/// when this value is dropped or the process ends, however it ends ([`shard::FileLock`]).
 #[derive(Debug)]
 pub struct OutputLock {
-    path: PathBuf,
+    _lock: shard::FileLock,
     dir: PathBuf,
 }
 
@@ -879,12 +879,6 @@ impl OutputLock {
     /// The locked output directory.
     pub fn dir(&self) -> &Path {
         &self.dir
-    }
-}
-
-impl Drop for OutputLock {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.path);
     }
 }
 
@@ -898,8 +892,9 @@ fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
 /// Check and lock an output directory **before computing**: its parent must exist or be
 /// creatable and writable; the directory must be absent, empty, or a previous study output
 /// (holding the `.geardyn-study` marker) — never an unrelated directory, which would be
-/// replaced; and no other run may hold it (`<dir>.lock` beside it, created exclusively; a lock
-/// left by a killed run must be removed by hand, the error says so).
+/// replaced; and no other live run may hold it (an OS advisory lock on `.<dir>.lock` beside
+/// it, [`shard::FileLock`]: a killed run's lock is released by the OS, so its restart is not
+/// refused).
 pub fn lock_output_dir(dir: &Path) -> Result<OutputLock, Error> {
     let name = dir
         .file_name()
@@ -933,35 +928,30 @@ pub fn lock_output_dir(dir: &Path) -> Result<OutputLock, Error> {
             )));
         }
     }
-    let lock = parent.join(format!(".{name}.lock"));
-    match std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&lock)
-    {
-        Ok(mut f) => {
-            use std::io::Write;
-            let _ = writeln!(f, "pid {}", std::process::id());
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+    let lock_path = parent.join(format!(".{name}.lock"));
+    let lock = match shard::FileLock::acquire(&lock_path) {
+        Ok(l) => l,
+        Err(shard::LockRefused::Held(holder)) => {
             return Err(Error::StudyFile(format!(
-                "output directory `{}` is locked by another run ({}); if no run is active, \
-                 remove the lock file",
+                "output directory `{}` is locked by a running study ({}, lock {}); wait for \
+                 it to finish or choose another --out",
                 dir.display(),
-                lock.display()
+                if holder.is_empty() {
+                    "pid unknown"
+                } else {
+                    holder.as_str()
+                },
+                lock_path.display()
             )));
         }
-        Err(e) => return Err(io(&lock)(e)),
-    }
+        Err(shard::LockRefused::Io(e)) => return Err(e),
+    };
     // Probe writability now rather than after the computation.
     let probe = parent.join(format!(".{name}.probe-{}", std::process::id()));
-    std::fs::write(&probe, b"").map_err(|e| {
-        let _ = std::fs::remove_file(&lock);
-        io(&probe)(e)
-    })?;
+    std::fs::write(&probe, b"").map_err(io(&probe))?;
     let _ = std::fs::remove_file(&probe);
     Ok(OutputLock {
-        path: lock,
+        _lock: lock,
         dir: dir.to_path_buf(),
     })
 }
@@ -1191,6 +1181,26 @@ pub fn run_study_shard_file(
     if let Some(p) = path.parent() {
         std::fs::create_dir_all(p).map_err(io(p))?;
     }
+    // One task per shard file: a second copy of the same task (a resubmitted array task while
+    // the first still runs) is refused; a killed task's lock is released by the OS.
+    let mut lock_path = path.as_os_str().to_owned();
+    lock_path.push(".lock");
+    let lock_path = PathBuf::from(lock_path);
+    let _lock = match shard::FileLock::acquire(&lock_path) {
+        Ok(l) => l,
+        Err(shard::LockRefused::Held(holder)) => {
+            return Err(Error::Shard(format!(
+                "shard {shard} is being computed by another run ({}, lock {})",
+                if holder.is_empty() {
+                    "pid unknown"
+                } else {
+                    holder.as_str()
+                },
+                lock_path.display()
+            )));
+        }
+        Err(shard::LockRefused::Io(e)) => return Err(e),
+    };
     let prepared = prepare(&study)?;
     let (journal, done) = Journal::open(&path, &plan_ref(&prepared).header(Some(shard)))?;
     let owned = shard.points(prepared.len()).count();
@@ -1213,7 +1223,10 @@ pub fn merge_study_files(
     let plan = plan_of(prepare(&study)?);
     let mut read = Vec::with_capacity(parts.len());
     for p in parts {
-        let t = std::fs::read_to_string(p).map_err(io(p))?;
+        // Bytes, not text: a flipped bit that breaks UTF-8 is then a checksum error naming the
+        // line, like any other damage.
+        let bytes = std::fs::read(p).map_err(io(p))?;
+        let t = String::from_utf8_lossy(&bytes);
         let name = p.display().to_string();
         let (h, recs) = shard::read_points(&t, &name)?;
         if h.shard.is_none() {

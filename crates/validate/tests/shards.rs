@@ -132,7 +132,7 @@ fn a_stopped_run_resumes_without_recomputing_finished_points() {
     }
     drop(j);
     let mut text = std::fs::read_to_string(&journal).unwrap();
-    text.push_str(&shard::record_line(&all[10])[..12]);
+    text.push_str(&shard::record_line(&plan.fingerprint(), &all[10])[..12]);
     std::fs::write(&journal, text).unwrap();
 
     let n = Count(AtomicUsize::new(0));
@@ -309,4 +309,154 @@ fn sharded_time_stepping_study_keeps_its_step_statistics() {
         a.keys()
     );
     let _ = std::fs::remove_dir_all(&root);
+}
+
+/// `text` with one bit flipped in the first value of line `line` (1-based).
+fn flip_value(text: &str, line: usize) -> String {
+    let mut out = String::new();
+    for (k, l) in text.split_inclusive('\n').enumerate() {
+        if k + 1 == line {
+            let at = l.find("\"v\":[\"").expect("a record with values") + 6;
+            let mut b = l.as_bytes().to_vec();
+            b[at + 3] ^= 0x01; // one bit of the mantissa's leading digits
+            out.push_str(std::str::from_utf8(&b).unwrap());
+        } else {
+            out.push_str(l);
+        }
+    }
+    out
+}
+
+#[test]
+fn a_damaged_journal_record_is_dropped_named_and_recomputed() {
+    let root = scratch("damaged-journal");
+    let file = root.join("map.toml");
+    std::fs::write(&file, MAP).unwrap();
+    let out = root.join("out");
+    let study = UserStudy::parse(MAP).unwrap();
+    let (plan, all) = compute_records(
+        prepare(&study).unwrap(),
+        ShardSpec::whole(),
+        Vec::new(),
+        None,
+        None,
+    );
+    let journal = root.join(".out.journal");
+    let (j, _) = Journal::open(&journal, &plan.header(None)).unwrap();
+    for r in all.iter().take(10) {
+        j.record(r).unwrap();
+    }
+    drop(j);
+    // line 4 holds point 2: flip a bit of its first value
+    let text = std::fs::read_to_string(&journal).unwrap();
+    let damaged = flip_value(&text, 4);
+    assert_ne!(damaged, text);
+    std::fs::write(&journal, &damaged).unwrap();
+
+    // the lenient reader names the file, the line and the point
+    let (_, recs, dropped) = shard::read_points_lenient(&damaged, "j").unwrap();
+    assert_eq!(recs.len(), 9);
+    assert_eq!(dropped.len(), 1, "{dropped:?}");
+    assert!(
+        dropped[0].starts_with("j, line 4 (point 2?): checksum mismatch"),
+        "{}",
+        dropped[0]
+    );
+    // the strict reader (merge) refuses it, naming the line
+    let e = shard::read_points(&damaged, "j").unwrap_err().to_string();
+    assert!(e.contains("j, line 4: checksum mismatch"), "{e}");
+
+    // the resumed run recomputes exactly the damaged point and the 26 never done
+    let n = Count(AtomicUsize::new(0));
+    run_study_file(&file, Some(&out), &n).unwrap();
+    assert_eq!(n.0.load(Ordering::Relaxed), 27);
+    let fresh = root.join("fresh");
+    run_study_file(&file, Some(&fresh), &n).unwrap();
+    assert_eq!(files(&out), files(&fresh));
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_damaged_part_is_refused_by_merge_naming_file_and_line() {
+    let root = scratch("damaged-part");
+    let file = root.join("map.toml");
+    std::fs::write(&file, MAP).unwrap();
+    let out = root.join("out");
+    let n = Count(AtomicUsize::new(0));
+    let parts: Vec<PathBuf> = (1..=3)
+        .map(|i| {
+            run_study_shard_file(&file, Some(&out), ShardSpec::new(i, 3).unwrap(), &n).unwrap()
+        })
+        .collect();
+    merge_study_files(&file, Some(&out), &parts).unwrap();
+    // every kind of damage: a value bit, the point index, an error message, a line moved to
+    // another study's part
+    let text = std::fs::read_to_string(&parts[1]).unwrap();
+    let damages = [
+        flip_value(&text, 2),
+        text.replacen("{\"i\":4,", "{\"i\":7,", 1),
+        text.replacen("\"v\":[\"", "\"v\":[\"\u{e9}", 1),
+    ];
+    for d in &damages {
+        assert_ne!(d, &text);
+        std::fs::write(&parts[1], d).unwrap();
+        let e = merge_study_files(&file, Some(&out), &parts)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("{}, line ", parts[1].display())) && e.contains("checksum"),
+            "{e}"
+        );
+    }
+    // a record copied from another study's part (valid JSON, valid checksum there)
+    let other = MAP.replace("omega1 = 10.0", "omega1 = 11.0");
+    let other_part = run_shard_from_str(&other, ShardSpec::new(2, 3).unwrap()).unwrap();
+    let moved: Vec<&str> = text
+        .lines()
+        .take(1)
+        .chain(other_part.lines().skip(1))
+        .collect();
+    std::fs::write(&parts[1], moved.join("\n") + "\n").unwrap();
+    let e = merge_study_files(&file, Some(&out), &parts)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("line 2: checksum mismatch"), "{e}");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+#[test]
+fn a_time_limit_fails_the_point_and_the_study_goes_on() {
+    // The limit is far below any point's time; every point is stopped, none is lost.
+    let toml = format!("{MAP}\n[limits]\nmax_seconds_per_point = 1e-9\n");
+    let study = UserStudy::parse(&toml).unwrap();
+    let (_, recs) = compute_records(
+        prepare(&study).unwrap(),
+        ShardSpec::whole(),
+        Vec::new(),
+        None,
+        None,
+    );
+    assert_eq!(recs.len(), 36);
+    // a nanosecond: a point may still win the race against the watchdog on a fast machine, so
+    // the test asserts the record, not how many were stopped
+    for r in &recs {
+        match &r.error {
+            Some(e) => assert!(e.starts_with("time limit: "), "{e}"),
+            None => assert!(r.values.iter().all(|x| x.is_finite())),
+        }
+    }
+    // a generous limit changes nothing
+    let toml = format!("{MAP}\n[limits]\nmax_seconds_per_point = 600\n");
+    let limited = geardyn_validate::run_study_from_str(&toml, &Default::default()).unwrap();
+    let free = geardyn_validate::run_study_from_str(MAP, &Default::default()).unwrap();
+    assert_eq!(limited.table.to_csv(), free.table.to_csv());
+    // out of bounds: named with the bound
+    for bad in ["0", "-1", "1e9", "nan"] {
+        let toml = format!("{MAP}\n[limits]\nmax_seconds_per_point = {bad}\n");
+        let e = UserStudy::parse(&toml).unwrap_err().to_string();
+        assert!(
+            e.contains("limits.max_seconds_per_point must be in (0, 604800]"),
+            "{e}"
+        );
+    }
 }

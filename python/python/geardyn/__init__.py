@@ -17,7 +17,9 @@ Parameters keep the Rust field names and SI units (``liu.params`` lists them).
 """
 
 import json
+import math
 import os
+import sys
 
 import numpy as np
 
@@ -68,6 +70,84 @@ def _arrays(value):
     return value
 
 
+def _rust_float(x):
+    """A float as the Rust messages print it (``NaN``, ``inf``, ``-inf``)."""
+    if math.isnan(x):
+        return "NaN"
+    if math.isinf(x):
+        return "inf" if x > 0 else "-inf"
+    return repr(x)
+
+
+def _check_finite(value, what, path=""):
+    """Raise :class:`ParameterError` naming the field if any number in ``value`` (nested
+    dicts and lists included) is NaN or infinite: the rule of a study file's entries."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _check_finite(v, what, f"{path}.{k}" if path else str(k))
+    elif isinstance(value, (list, tuple)):
+        for v in value:
+            _check_finite(v, what, path)
+    elif isinstance(value, (float, np.floating)) and not math.isfinite(float(value)):
+        raise ParameterError(f"{what} `{path}` must be finite, got {_rust_float(float(value))}")
+
+
+def _limits_json(limits):
+    """``limits`` (``None`` or a dict of ``max_points``, ``max_steps``,
+    ``max_seconds_per_point``) as JSON for the Rust side, which checks it like a study file's
+    ``[limits]``."""
+    if limits is None:
+        return "null"
+    if not isinstance(limits, dict):
+        raise TypeError(f"limits must be a dict, got {type(limits).__name__}")
+    for k, v in limits.items():
+        if isinstance(v, (float, np.floating)) and not math.isfinite(float(v)):
+            raise ParameterError(f"limits.{k} must be finite, got {_rust_float(float(v))}")
+    return json.dumps(_plain(limits), allow_nan=False)
+
+
+def _plain(value):
+    """numpy scalars and arrays as plain Python numbers and lists (for JSON)."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist())
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.floating):
+        return float(value)
+    return value
+
+
+def _size(values):
+    """The number of points in ``values`` without converting it: an array's size from its
+    shape (0-d: 1), a sequence's length, else 1 (a scalar)."""
+    shape = getattr(values, "shape", None)
+    if isinstance(shape, tuple):
+        n = 1
+        for d in shape:
+            n *= int(d)  # Python ints: no overflow for any virtual shape
+        return n
+    if hasattr(values, "__len__") and not isinstance(values, (str, bytes)):
+        return len(values)
+    return 1
+
+
+def _sweep_values(values, limits):
+    """``values`` as a 1-D float array, its size checked against ``limits.max_points``
+    *before* any conversion (a 10⁷-point sweep is refused at once)."""
+    _unwrap(_geardyn.check_points(min(_size(values), sys.maxsize), _limits_json(limits)))
+    arr = np.asarray(values, dtype=float)
+    if arr.ndim != 1:
+        raise ValueError(f"sweep values must be a 1-D sequence, got shape {arr.shape}")
+    _unwrap(_geardyn.check_points(arr.size, _limits_json(limits)))
+    return arr
+
+
 def presets():
     """Every ``(model, preset)`` pair, e.g. ``("liu2021", "table1")``."""
     return [tuple(p) for p in _geardyn.PRESETS]
@@ -102,16 +182,23 @@ class Model:
         if params:
             self._params = self._checked(_merge(self._params, params))
 
+    #: Parameters a model takes beyond its preset's fields (Yu's ``omega``).
+    extra_params = ()
+
     def _checked(self, params):
-        # validate names early (the Rust side names unknown keys and checks ranges on solve)
+        # validate names and finiteness early (the Rust side names unknown keys and checks
+        # ranges on solve)
         for k in params:
+            if not isinstance(k, str):
+                raise TypeError(f"parameter names are strings, got {k!r}")
             if k not in self._base_keys():
                 raise ParameterError(
                     f"unknown parameter `{k}` of {self.key}; known: {sorted(self._base_keys())}")
-        return params
+        _check_finite(params, "parameter")
+        return _plain(params)
 
     def _base_keys(self):
-        return set(_preset(self.key, self.default_preset))
+        return set(_preset(self.key, self.default_preset)) | set(self.extra_params)
 
     @property
     def params(self):
@@ -125,25 +212,43 @@ class Model:
         return new
 
     def _settings(self, settings):
-        return json.dumps(settings, allow_nan=False)
+        _check_finite(settings, "setting")
+        return json.dumps(_plain(settings), allow_nan=False)
 
-    def solve(self, method=None, **settings):
-        """Solve one point; returns a dict whose number lists are numpy arrays."""
-        method = method or self.methods[0]
-        text = _geardyn.solve(self.key, json.dumps(self._params), method,
-                              self._settings(settings))
-        return _arrays(_unwrap(text))
+    def solve(self, method=None, *, limits=None, **settings):
+        """Solve one point; returns a dict whose number lists are numpy arrays.
 
-    def sweep(self, parameter, values, method=None, **settings):
-        """Solve every value of ``parameter`` (in parallel, results in input order).
-
-        Returns a list with one result dict per value; a point that failed holds the
-        exception instance instead (a sweep is not aborted by one bad point).
+        ``limits`` (optional dict): ``max_seconds_per_point`` — over it the point raises
+        :class:`SolverError` with a message starting with "time limit" (checked like a study
+        file's ``[limits]``).
         """
         method = method or self.methods[0]
-        values = [float(v) for v in np.asarray(values, dtype=float).ravel()]
+        if not isinstance(method, str):
+            raise TypeError(f"method must be a name, got {method!r}")
+        text = _geardyn.solve(self.key, json.dumps(self._params), method,
+                              self._settings(settings), _limits_json(limits))
+        return _arrays(_unwrap(text))
+
+    def sweep(self, parameter, values, method=None, *, limits=None, **settings):
+        """Solve every value of ``parameter`` (in parallel, results in input order).
+
+        ``values`` must be 1-D (else :class:`ValueError`); their number is checked against
+        ``limits["max_points"]`` (default 10 000, as in a study file) before anything is
+        converted or computed (:class:`ParameterError`). ``limits["max_seconds_per_point"]``
+        bounds each point's wall-clock time.
+
+        Returns a list with one result dict per value; a point that failed holds the
+        exception instance instead, whose message is the reason (a sweep is not aborted by one
+        bad point: a NaN value, a value out of range, a solver failure, the time limit).
+        """
+        method = method or self.methods[0]
+        if not isinstance(parameter, str):
+            raise TypeError(f"parameter must be a name, got {parameter!r}")
+        if not isinstance(method, str):
+            raise TypeError(f"method must be a name, got {method!r}")
+        values = [float(v) for v in _sweep_values(values, limits)]
         text = _geardyn.sweep(self.key, json.dumps(self._params), parameter, values, method,
-                              self._settings(settings))
+                              self._settings(settings), _limits_json(limits))
         out = []
         for point in _unwrap(text):
             if "error" in point:
@@ -164,10 +269,12 @@ class Liu2021(Model):
 
     Presets: ``"table1"``. Readings: ``readings="printed"`` or ``"consistent"`` (default), or
     a dict of single readings (``{"rigid_acceleration": "printed_eq20"}``). Methods:
-    ``"hbm"`` (settings ``full_r`` = 0 for the paper's basis, ``warm_start``, ``tol``,
-    ``max_iter``, ``samples``) and ``"time-stepping"`` (``options`` = a dict of
-    ``IntegrationOptions``). Results: ``rsv``, ``ppv``, ``converged``, ``tau``, ``q``
-    (and ``v`` for time stepping).
+    ``"hbm"`` (the settings of ``geardyn study``, same names and bounds: ``full_r`` in
+    [1, 8], absent for the paper's basis, ``tol``, ``max_iter``, ``samples`` = AFT samples per
+    period in [8, 65536]; and ``warm_start``, ``output_samples`` = points of the returned
+    ``tau``/``q``, default 512) and ``"time-stepping"`` (``options`` = a dict of
+    ``IntegrationOptions``, checked against the study settings of the same names). Results:
+    ``rsv``, ``ppv``, ``converged``, ``tau``, ``q`` (and ``v`` for time stepping).
     """
 
     key = "liu2021"
@@ -185,16 +292,29 @@ class Liu2021(Model):
             readings = _preset("liu2021-readings", readings)
         return self.with_params(readings=readings)
 
-    def rattle_sweep(self, omega1, method="time-stepping", **settings):
-        """rsv and ppv against the pinion speed ``omega1`` [rad/s] as numpy arrays
-        (``rsv`` is NaN where a point failed or did not converge)."""
+    def rattle_sweep(self, omega1, method="time-stepping", *, limits=None, **settings):
+        """rsv and ppv against the pinion speed ``omega1`` [rad/s] as numpy arrays of the
+        shape of ``omega1`` (any shape; the points are solved flat, in C order).
+
+        ``rsv`` and ``ppv`` are NaN where a point failed or did not converge, and ``reason``
+        (an object array of the same shape) says why: the error message, or "did not
+        converge"; ``None`` where the point is good. ``limits`` as in :meth:`sweep`.
+        """
+        _unwrap(_geardyn.check_points(min(_size(omega1), sys.maxsize), _limits_json(limits)))
         omega1 = np.asarray(omega1, dtype=float)
-        res = self.sweep("omega1", omega1, method, **settings)
-        rsv = np.array([r["rsv"] if isinstance(r, dict) and r["converged"] else np.nan
-                        for r in res], dtype=float)
-        ppv = np.array([r["ppv"] if isinstance(r, dict) and r["converged"] else np.nan
-                        for r in res], dtype=float)
-        return {"omega1": omega1, "rsv": rsv, "ppv": ppv}
+        res = self.sweep("omega1", omega1.ravel(), method, limits=limits, **settings)
+        rsv = np.full(len(res), np.nan)
+        ppv = np.full(len(res), np.nan)
+        reason = np.empty(len(res), dtype=object)
+        for k, r in enumerate(res):
+            if isinstance(r, Exception):
+                reason[k] = str(r)
+            elif not r["converged"]:
+                reason[k] = "did not converge"
+            else:
+                rsv[k], ppv[k] = r["rsv"], r["ppv"]
+        return {"omega1": omega1, "rsv": rsv.reshape(omega1.shape),
+                "ppv": ppv.reshape(omega1.shape), "reason": reason.reshape(omega1.shape)}
 
 
 class Karpov2017(Model):
@@ -214,14 +334,17 @@ class Yu2021(Model):
     """Yu, Sun, Li, Wu 2021: 6-DOF spur pair with fractal and dynamic backlash.
 
     Presets: ``"table1"``, ``"table2"``. Methods: ``"time-stepping"`` (the timestep engine),
-    ``"rk4"`` (the model's fixed-step RK4) and ``"hbm"`` (torsional models); settings
-    ``omega`` (ω*, required), ``options`` (a dict of model options or ``"chen"``),
-    ``transient_periods``, ``record_periods``, ``hbm`` (a dict of HBM settings).
+    ``"rk4"`` (the model's fixed-step RK4) and ``"hbm"`` (torsional models). ``omega`` (ω*,
+    required) is a parameter, as in a study file (``Yu2021().with_params(omega=0.5)``, or
+    ``sweep("omega", ...)``); as a setting it is still accepted. Settings ``options`` (a dict
+    of model options or ``"chen"``), ``transient_periods``, ``record_periods`` (the bounds of
+    ``geardyn study``), ``hbm`` (a dict of HBM settings).
     """
 
     key = "yu2021"
     default_preset = "table1"
     methods = ("time-stepping", "rk4", "hbm")
+    extra_params = ("omega",)
 
     def _settings(self, settings):
         opts = settings.get("options")

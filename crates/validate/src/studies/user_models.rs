@@ -467,6 +467,27 @@ impl Settings {
     }
 }
 
+/// Check solver settings of `model` under `method` against the definitions `geardyn models`
+/// prints — the code, bounds and messages of a study file's `[solver.settings]` — for front
+/// ends that take settings by other routes (the Python package).
+pub fn check_settings(
+    model: &str,
+    method: Method,
+    given: &BTreeMap<String, Value>,
+) -> Result<(), Error> {
+    let spec = REGISTRY
+        .iter()
+        .find(|m| m.name == model)
+        .ok_or_else(|| Error::StudyFile(format!("unknown model `{model}`")))?;
+    let info = (spec.describe)();
+    let m = info
+        .methods
+        .iter()
+        .find(|m| m.method == method)
+        .ok_or_else(|| wrong_method(model, method, &[]))?;
+    Settings::read(model, method, &m.settings, given, &[]).map(|_| ())
+}
+
 /// Remove the choices (names) from a point, checking old numeric spellings.
 fn take_choice(p: &mut Point, name: &str, legacy: Option<&str>) -> Result<Option<Value>, Error> {
     match p.remove(name) {
