@@ -297,6 +297,13 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
         ("liu2021", "time-stepping") => {
             let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
             let opts_over = s.remove("options").unwrap_or(Value::Null);
+            // long-window rattle statistics (issue 22): windows of n periods, 0 = off
+            let lw_periods = take_f64(&mut s, "long_window_periods", 0.0)?;
+            if !((0.0..=1e4).contains(&lw_periods) && lw_periods.fract() == 0.0) {
+                return Err(Failure::parameter(format!(
+                    "setting `long_window_periods` must be an integer in [0, 10000], got {lw_periods}"
+                )));
+            }
             no_leftovers(method, s)?;
             // the integration options share their names, bounds and messages with the study
             // setting of `geardyn study` (all but `initial`, a state)
@@ -313,11 +320,43 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
                 &liu2021::IntegrationOptions::default(),
                 &opts_over,
             )?;
-            let r = liu2021::integrate(&p.model()?, &opts)?;
+            let model = p.model()?;
+            let r = liu2021::integrate(&model, &opts)?;
+            let window = if lw_periods >= 1.0 {
+                let o = liu2021::LongWindowOptions {
+                    periods: lw_periods as usize,
+                    rtol: opts.rtol,
+                    max_step: opts.max_step,
+                    sample_step: opts.sample_step,
+                    ..liu2021::LongWindowOptions::default()
+                };
+                let lw = liu2021::long_window(&model, &o)?;
+                let (fl, fh) = lw.interval(|w| w.bilateral_fraction());
+                let (pl, ph) = lw.interval(|w| w.ppv);
+                json!({
+                    "rsv": lw.nominal.state.rsv(),
+                    "state_robust": lw.state().is_some(),
+                    "fractions": lw.nominal.fraction,
+                    "bilateral_fraction_range": [fl, fh],
+                    "ppv": lw.nominal.ppv,
+                    "ppv_range": [pl, ph],
+                    "back_impacts_per_period": lw.nominal.back.rate,
+                    "back_impact_speed_max": lw.nominal.back.max_speed,
+                    "drive_impacts_per_period": lw.nominal.drive.rate,
+                    "drive_impact_speed_max": lw.nominal.drive.max_speed,
+                    "line_fc": lw.nominal.line_incoherent[0],
+                    "line_fe": lw.nominal.line_incoherent[1],
+                    "chaos_k": lw.nominal.chaos_k,
+                    "spread": lw.describe(),
+                })
+            } else {
+                Value::Null
+            };
             Ok(json!({
                 "tau": r.tau, "q": r.q, "v": r.v,
                 "rsv": r.rattle.state.rsv(), "ppv": r.rattle.ppv,
                 "converged": true, "contact_events": r.contact_events,
+                "window": window,
             }))
         }
         ("liu2021", "hbm") => {

@@ -151,5 +151,51 @@ fn bench_timestep(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench, bench_timestep);
+/// The cost of the long-window statistics per simulated period against the plain time response
+/// (issue 22 goal: at most 1.2×). At ω1 = 177.5 rad/s (non-periodic bilateral rattle):
+/// `plain` integrates 10 + 50 periods with uniform samples (60 periods simulated);
+/// `long_window` runs the nominal record (10 + 2·50), the rtol/100 record (10 + 50) and the
+/// second start (10 + 50) and computes every statistic (230 periods simulated). Cost per period
+/// = time / periods simulated; the tighter-tolerance run costs more steps per period by design.
+fn bench_long_window(c: &mut Criterion) {
+    let mut p = liu2021::table1();
+    p.readings.base_radius = BaseRadius::Mean;
+    p.omega1 = 177.5;
+    let m = p.model().expect("valid");
+    let mut g = c.benchmark_group("liu2021_long_window");
+    g.sample_size(10);
+    let plain = IntegrationOptions {
+        transient_periods: 10.0,
+        record_periods: 50.0,
+        ..IntegrationOptions::default()
+    };
+    g.bench_function("plain_response_60_periods_177.5", |b| {
+        b.iter(|| liu2021::integrate(black_box(&m), &plain))
+    });
+    let lw = liu2021::LongWindowOptions::default();
+    g.bench_function("long_window_230_periods_177.5", |b| {
+        b.iter(|| liu2021::long_window(black_box(&m), &lw))
+    });
+    // the statistics alone on a recorded window (no integration)
+    let r = liu2021::integrate(&m, &plain).expect("integrates");
+    let wo = geardyn_models::response::WindowOptions {
+        lines: [1, m.z2],
+        ..geardyn_models::response::WindowOptions::new(m.period())
+    };
+    g.bench_function("window_stats_only_50_periods", |b| {
+        b.iter(|| {
+            geardyn_models::response::window_stats(
+                black_box(&r.tau),
+                &r.q,
+                &r.v,
+                |t| m.backlash_at(t),
+                &[],
+                &wo,
+            )
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench, bench_timestep, bench_long_window);
 criterion_main!(benches);

@@ -273,8 +273,10 @@ class Liu2021(Model):
     [1, 8], absent for the paper's basis, ``tol``, ``max_iter``, ``samples`` = AFT samples per
     period in [8, 65536]; and ``warm_start``, ``output_samples`` = points of the returned
     ``tau``/``q``, default 512) and ``"time-stepping"`` (``options`` = a dict of
-    ``IntegrationOptions``, checked against the study settings of the same names). Results:
-    ``rsv``, ``ppv``, ``converged``, ``tau``, ``q`` (and ``v`` for time stepping).
+    ``IntegrationOptions``, checked against the study settings of the same names;
+    ``long_window_periods=n`` adds ``window``, the long-window rattle statistics over ``n``
+    periods with their range over two tolerances, two windows and two starts). Results:
+    ``rsv``, ``ppv``, ``converged``, ``tau``, ``q`` (and ``v`` and ``window`` for time stepping).
     """
 
     key = "liu2021"

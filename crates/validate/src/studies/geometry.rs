@@ -481,6 +481,50 @@ fn liu_table2() -> Result<StudyOutput, Error> {
             .class(Evidence::Consistency)
             .reading("R-LIU-TABLE2"),
     );
+    // Seed items without a row before (issue 22): the frequency ratio and the HBM size.
+    let n_rig = paper.value("sect38.motor-rpm")?.value;
+    let ratio = fitted.mesh_frequency(n_rig) / fitted.centre_frequency(n_rig);
+    out.claim(
+        Claim::new(
+            "ω̄_e/ω̄_c = Z2, a positive integer.",
+            "Sect. 2.4",
+            format!(
+                "rig kinematics (belt 21/16, Z2 = {}): f_e/f_c = {} at {} rpm",
+                fitted.z2,
+                fmt6(ratio),
+                fmt6(n_rig)
+            ),
+            Verdict::from_bool((ratio - f64::from(fitted.z2)).abs() <= 1e-12 * ratio),
+        )
+        .class(Evidence::ByConstruction)
+        .cause("the mesh turns Z2 times per revolution of the instantaneous centre: an identity of the kinematics"),
+    );
+    out.claim(
+        Claim::new(
+            "For a common NFG pair, the frequency of the meshing stiffness is 40–100 times that of the instantaneous center.",
+            "Sect. 2.2",
+            format!("the rig's ratio Z2 = {} (Table 2 frequencies)", fmt6(ratio)),
+            Verdict::from_bool((40.0..=100.0).contains(&ratio)),
+        )
+        .class(Evidence::Consistency)
+        .cause("the text's range against the rig's own Z2 (paper against paper)"),
+    );
+    let basis = hbm::Basis::liu_multifrequency(1, fitted.z2 as usize)
+        .map_err(|e| Error::Study(format!("liu2021 basis: {e}")))?;
+    out.claim(
+        Claim::new(
+            "With the first-order harmonics alone, R = 1 in Eqs. (13)–(14), resulting in 15 unknown variables.",
+            "Sect. 3.2, Eq. (13)-(14)",
+            format!(
+                "the library's multifrequency basis for R = 1 (harmonics {:?} of ω̄_c): {} coefficients",
+                basis.harmonics(),
+                basis.n_coefficients()
+            ),
+            Verdict::from_bool(basis.n_coefficients() == 15),
+        )
+        .class(Evidence::Consistency)
+        .cause("Eq. (13)'s basis counted against the text's number"),
+    );
     // Experimental vs theoretical frequencies (the text's claim of agreement).
     let mut worst: f64 = 0.0;
     for rpm in paper.values_with_prefix("table2.rpm.") {

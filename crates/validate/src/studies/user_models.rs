@@ -1145,7 +1145,7 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
             };
             let check = s.name("tolerance_check") == "on";
             let lw_periods = s.f("long_window_periods");
-            if lw_periods != lw_periods.trunc() {
+            if lw_periods.fract() != 0.0 {
                 return Err(Error::StudyFile(format!(
                     "liu2021: long_window_periods must be a whole number (0: off), got {lw_periods}"
                 )));

@@ -95,6 +95,23 @@ fn run() -> Result<StudyOutput, Error> {
         "e_r before the first bilateral point",
         &pts[..onset],
     ));
+    let tail = &pts[onset..];
+    let (stays, tail_flags) = always(tail, |r| r == 2);
+    out.claim(
+        Claim::new(
+            "As e_r increases, the NFG maintains the bilateral vibration state in the end.",
+            "Sect. 3.4, Fig. 12a",
+            format!(
+                "long-window rsv from the first bilateral point ({}) to the end of the sweep: {:?}",
+                at(tail.first().map_or(f64::NAN, |p| p.x)),
+                tail.iter().map(Point::rsv).collect::<Vec<_>>()
+            ),
+            Verdict::from_bool(!tail.is_empty() && stays),
+        )
+        .cause("a robust non-bilateral point after the onset refutes 'maintains'")
+        .needs(tail.iter().map(|p| p.x))
+        .flagged_all(tail_flags),
+    );
     out.claim(rise_claim(
         "Then, as the amplitude of transmission error continues to increase, the ppv slowly rises.",
         "Sect. 3.4, Fig. 12b",
@@ -135,6 +152,44 @@ fn run() -> Result<StudyOutput, Error> {
             .cause("long-window ppv at ε = 0 and at Table 1's ε")
             .needs([c.x, nfg.x])
             .flagged_all([c, nfg].into_iter().filter_map(|p| p.ppv_flag(0.5))),
+        );
+    }
+    // Sect. 3.5: rattle appears more easily in the NFG than in the circular gear, and the more
+    // so the greater ε: the long-window rsv at 160 rad/s against ε (robust points only)
+    if let (Some(c), Some(nfg)) = (pts.first(), pts.iter().find(|p| (p.x - eps0).abs() < 1e-9)) {
+        let robust = |p: &Point| p.flag().is_none();
+        let more = c.rsv() < nfg.rsv();
+        out.claim(
+            Claim::new(
+                "The rattle vibration appears more easily in the noncircular face gear than in the circular gear.",
+                "Sect. 3.5, Fig. 13",
+                format!(
+                    "long-window rsv at ω1 = 160 rad/s: {} at ε = 0 (circular), {} at ε = {} (Table 1)",
+                    c.rsv(),
+                    nfg.rsv(),
+                    at(nfg.x)
+                ),
+                Verdict::from_bool(more),
+            )
+            .cause("rattle state of the circular and the Table 1 gear at the same speed")
+            .needs([c.x, nfg.x])
+            .flagged_all([c, nfg].into_iter().filter(|p| !robust(p)).filter_map(Point::flag)),
+        );
+        // 'the greater ε, the easier it rattles': the first ε with rsv ≥ 1 and with rsv = 2
+        // exist and the state never falls robustly below an earlier robust state
+        let robust_states: Vec<u8> = pts.iter().filter(|p| robust(p)).map(Point::rsv).collect();
+        let never_falls = robust_states.windows(2).all(|w| w[1] >= w[0]);
+        out.claim(
+            Claim::new(
+                "The greater the eccentricity is, the easier the NFG is to rattle.",
+                "Sect. 3.5, Fig. 13a",
+                format!(
+                    "long-window rsv at ω1 = 160 rad/s over ε = 0…0.3 (robust points): {robust_states:?}"
+                ),
+                Verdict::from_bool(never_falls && robust_states.last().is_some_and(|&r| r > robust_states[0])),
+            )
+            .cause("the rattle state at fixed speed does not fall robustly as ε grows, and rises over the range")
+            .needs(pts.iter().map(|p| p.x)),
         );
     }
     // Fig. 13c: ppv grows with ε before bilateral rattle, then drops while still bilateral
