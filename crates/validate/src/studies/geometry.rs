@@ -353,6 +353,97 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
         .class(Evidence::ByConstruction)
         .reading("R-KARPOV-EQ1-CLOSURE"),
     );
+    // Seed items (issue 22): the φ2 approximation after Eq. (2) against the exact integral,
+    // and the range of k = j/z1.
+    let (u, b) = (pair.u(), pair.b());
+    let mut worst: f64 = 0.0;
+    let mut scale: f64 = 0.0;
+    for i in 0..=360 {
+        let phi1 = std::f64::consts::TAU * f64::from(i) / 360.0;
+        let exact = pair.output_angle(phi1) - phi1 / u;
+        let approx = pair.output_angle_approx(phi1) - phi1 / u;
+        worst = worst.max((approx - exact).abs());
+        scale = scale.max(exact.abs());
+    }
+    out.compare(
+        Comparison::new(
+            "largest |φ2 (approximation after Eq. 2) − φ2 (exact integral of i)| over one turn, relative to the largest O(B) part of φ2",
+            "1",
+            Reference::computed(0.0, "Sect. 2: the approximation of φ2"),
+            worst / scale,
+            Tolerance::stated(
+                ToleranceBand::Absolute(2.0 * b),
+                "the approximation drops the O(B²) terms of i: relative error ≤ 2B (as for Eq. 6)",
+            ),
+        )
+        .class(Evidence::Consistency)
+        .cause("a closed-form approximation against the exact integral of the same ratio"),
+    );
+    // Eq. (10) at ω = 1: ω_e = 1 only at τ = multiples of π/k (the zeros of ω_e − 1 over two
+    // periods of the modulation, by sign changes on a fine grid refined by bisection)
+    let dev = pair.deviation();
+    let k = pair.k();
+    let f = |tau: f64| dev.dimensionless_mesh_frequency(tau, 1.0, k) - 1.0;
+    let span = 4.0 * std::f64::consts::PI / k;
+    let n = 4000;
+    let mut zeros = Vec::new();
+    for i in 0..n {
+        let (mut a, mut c) = (span * f64::from(i) / f64::from(n), span * f64::from(i + 1) / f64::from(n));
+        let (fa, fc) = (f(a), f(c));
+        if fa == 0.0 {
+            zeros.push(a);
+            continue;
+        }
+        if fa * fc < 0.0 {
+            for _ in 0..60 {
+                let m = 0.5 * (a + c);
+                if f(a) * f(m) <= 0.0 {
+                    c = m;
+                } else {
+                    a = m;
+                }
+            }
+            zeros.push(0.5 * (a + c));
+        }
+    }
+    let off = zeros
+        .iter()
+        .map(|z| {
+            let m = (z * k / std::f64::consts::PI).round();
+            (z - m * std::f64::consts::PI / k).abs()
+        })
+        .fold(0.0, f64::max);
+    out.claim(
+        Claim::new(
+            "At ω = 1, according to Eq. (10), the equality ω_e = 1 holds only at the values of τ which are multiples of π/k.",
+            "Sect. 3.3, Eq. (10)",
+            format!(
+                "zeros of ω_e − 1 over τ ∈ [0, 4π/k] (k = {}): {} found, largest distance from a multiple of π/k {} (of π/k = {})",
+                fmt6(k),
+                zeros.len(),
+                fmt_sig(off, 3),
+                fmt6(std::f64::consts::PI / k)
+            ),
+            Verdict::from_bool(!zeros.is_empty() && off <= 1e-9 * span),
+        )
+        .class(Evidence::Consistency)
+        .cause("the zeros of the library's Eq. (10) against the text's statement about the same formula"),
+    );
+    let (kmin, kmax) = (1.0 / 100.0, 4.0 / 20.0);
+    out.claim(
+        Claim::new(
+            "A variation of k in the range between 1/100 and 1/5 corresponds to the ranges 20 ≤ z1 ≤ 100 and 1 ≤ j ≤ 4.",
+            "Sect. 3.3",
+            format!(
+                "k = j/z1 over z1 ∈ [20, 100], j ∈ [1, 4]: from {} (j = 1, z1 = 100) to {} (j = 4, z1 = 20)",
+                fmt6(kmin),
+                fmt6(kmax)
+            ),
+            Verdict::from_bool((kmin - 0.01).abs() < 1e-15 && (kmax - 0.2).abs() < 1e-15),
+        )
+        .class(Evidence::Consistency)
+        .cause("paper arithmetic (k = j/z1), no model"),
+    );
     // δ and ε_max of the pair against the allowable range.
     let d = pair.speed_fluctuation();
     let d4 = pair.speed_fluctuation_eq4();

@@ -243,12 +243,14 @@ struct Threshold {
 /// are needed, so only their flags count.
 fn first_time(pts: &[Point], cond: impl Fn(&Point) -> bool) -> Threshold {
     match pts.iter().position(&cond) {
+        // no onset: a robust absence is a result (deviation); only the points whose state is
+        // not robust could hide one, so only their flags count
         None => Threshold {
             x: f64::NAN,
             lo: f64::NAN,
             hi: f64::NAN,
-            needs: Vec::new(),
-            flags: vec!["no point of the sweep meets the condition".to_owned()],
+            needs: pts.iter().map(|p| p.x).collect(),
+            flags: flags_of(pts),
             note: "no onset in the sweep".to_owned(),
         },
         Some(i) => {
@@ -630,10 +632,22 @@ fn span(pts: &[Point]) -> String {
 /// The claim that ppv rises over `pts` (a contiguous run of one rattle regime), judged by the
 /// fitted slope against its standard error ([`ppv_rises`]); every point of the run is needed.
 fn rise_claim(text: &str, source: &str, what: &str, pts: &[Point]) -> crate::Claim {
-    let t = ppv_rises(pts);
-    let fit = ppv_slope(pts).map_or("no fit (fewer than three points)".to_owned(), |(b, se)| {
-        format!("fitted slope {} ± {} (1 SE)", sig(b), sig(se))
-    });
+    // only robust points enter the fit (state the same under every variant, ppv within 50 %)
+    let (robust, dropped): (Vec<Point>, Vec<Point>) = pts
+        .iter()
+        .cloned()
+        .partition(|p| p.flag().is_none() && p.ppv_flag(0.5).is_none());
+    let t = ppv_rises(&robust);
+    let mut fit = ppv_slope(&robust)
+        .map_or("no fit (fewer than three robust points)".to_owned(), |(b, se)| {
+            format!("fitted slope {} ± {} (1 SE)", sig(b), sig(se))
+        });
+    if !dropped.is_empty() {
+        fit.push_str(&format!(
+            " over the robust points; not robust, left out: {}",
+            dropped.iter().map(|p| at(p.x)).collect::<Vec<_>>().join(", ")
+        ));
+    }
     crate::Claim::new(
         text,
         source,
