@@ -331,24 +331,14 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
                     ..liu2021::LongWindowOptions::default()
                 };
                 let lw = liu2021::long_window(&model, &o)?;
-                let (fl, fh) = lw.interval(|w| w.bilateral_fraction());
-                let (pl, ph) = lw.interval(|w| w.ppv);
-                json!({
-                    "rsv": lw.nominal.state.rsv(),
-                    "state_robust": lw.state().is_some(),
-                    "fractions": lw.nominal.fraction,
-                    "bilateral_fraction_range": [fl, fh],
-                    "ppv": lw.nominal.ppv,
-                    "ppv_range": [pl, ph],
-                    "back_impacts_per_period": lw.nominal.back.rate,
-                    "back_impact_speed_max": lw.nominal.back.max_speed,
-                    "drive_impacts_per_period": lw.nominal.drive.rate,
-                    "drive_impact_speed_max": lw.nominal.drive.max_speed,
-                    "line_fc": lw.nominal.line_incoherent[0],
-                    "line_fe": lw.nominal.line_incoherent[1],
-                    "chaos_k": lw.nominal.chaos_k,
-                    "spread": lw.describe(),
-                })
+                // the columns of `geardyn study` (one definition: Robust::COLUMNS)
+                let mut m: serde_json::Map<String, Value> = models::response::Robust::COLUMNS
+                    .iter()
+                    .zip(lw.values())
+                    .map(|((name, _), v)| ((*name).to_owned(), json!(v)))
+                    .collect();
+                m.insert("spread".to_owned(), json!(lw.describe()));
+                Value::Object(m)
             } else {
                 Value::Null
             };

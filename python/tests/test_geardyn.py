@@ -57,9 +57,9 @@ def test_liu_long_window_statistics():
     liu = geardyn.Liu2021().with_params(omega1=120.0)
     t = liu.solve("time-stepping", long_window_periods=2)
     w = t["window"]
-    assert w["rsv"] == 0 and w["state_robust"]
-    assert list(w["fractions"]) == [1.0, 0.0, 0.0]
-    assert w["back_impacts_per_period"] == 0.0
+    assert w["rsv_window"] == 0 and w["window_state_robust"] == 1.0
+    assert (w["no_rattle_fraction"], w["unilateral_fraction"], w["bilateral_fraction"]) == (1.0, 0.0, 0.0)
+    assert w["back_impacts_per_period"] == 0.0 and "variants" in w["spread"]
     assert liu.solve("time-stepping")["window"] is None
     with pytest.raises(geardyn.ParameterError, match="long_window_periods"):
         liu.solve("time-stepping", long_window_periods=1.5)

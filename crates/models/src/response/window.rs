@@ -498,6 +498,62 @@ impl Robust {
         hi - lo
     }
 
+    /// Names and units of [`Robust::values`]: the columns a study file or a table gets for a
+    /// point's long-window statistics (one definition for the library, the CLI and Python).
+    pub const COLUMNS: [(&'static str, &'static str); 19] = [
+        ("rsv_window", "1"),
+        ("window_state_robust", "1"),
+        ("no_rattle_fraction", "1"),
+        ("unilateral_fraction", "1"),
+        ("bilateral_fraction", "1"),
+        ("bilateral_fraction_lo", "1"),
+        ("bilateral_fraction_hi", "1"),
+        ("ppv_window", "1"),
+        ("ppv_window_lo", "1"),
+        ("ppv_window_hi", "1"),
+        ("back_impacts_per_period", "1"),
+        ("back_impact_speed_mean", "1"),
+        ("back_impact_speed_max", "1"),
+        ("drive_impacts_per_period", "1"),
+        ("drive_impact_speed_mean", "1"),
+        ("drive_impact_speed_max", "1"),
+        ("line_1", "1"),
+        ("line_2", "1"),
+        ("chaos_k_01", "1"),
+    ];
+
+    /// The values of [`Robust::COLUMNS`]: the nominal window's state (rsv), whether every
+    /// variant agrees on it (1/0), the fractions of periods per state, the bilateral fraction's
+    /// range over the variants, the long-window ppv with its range, the impact rates and speeds
+    /// per flank, the incoherent amplitudes of the two lines ([`WindowOptions::lines`]) and the
+    /// 0–1 test.
+    pub fn values(&self) -> [f64; 19] {
+        let w = &self.nominal;
+        let (fl, fh) = self.interval(WindowStats::bilateral_fraction);
+        let (pl, ph) = self.interval(|s| s.ppv);
+        [
+            f64::from(w.state.rsv()),
+            if self.state().is_some() { 1.0 } else { 0.0 },
+            w.fraction[0],
+            w.fraction[1],
+            w.fraction[2],
+            fl,
+            fh,
+            w.ppv,
+            pl,
+            ph,
+            w.back.rate,
+            w.back.mean_speed,
+            w.back.max_speed,
+            w.drive.rate,
+            w.drive.mean_speed,
+            w.drive.max_speed,
+            w.line_incoherent[0],
+            w.line_incoherent[1],
+            w.chaos_k,
+        ]
+    }
+
     /// A one-line description of the spread: `rsv 2 (all), P_bi 0.41–0.47, ppv 1.62–1.70`.
     pub fn describe(&self) -> String {
         let (rl, rh) = self.rsv_interval();

@@ -891,58 +891,9 @@ const LIU_TS: &[SettingDef] = &[
     },
 ];
 
-/// The long-window outputs of the Liu time stepping (`long_window_periods` ≥ 1): the state,
-/// fractions, ppv, impacts and 0–1 test of the nominal window, and `[lo, hi]` over the
-/// variants of the statistics a verdict reads.
-const LIU_WINDOW_OUT: &[(&str, &str)] = &[
-    ("rsv_window", "1"),
-    ("window_state_robust", "1"),
-    ("no_rattle_fraction", "1"),
-    ("unilateral_fraction", "1"),
-    ("bilateral_fraction", "1"),
-    ("bilateral_fraction_lo", "1"),
-    ("bilateral_fraction_hi", "1"),
-    ("ppv_window", "1"),
-    ("ppv_window_lo", "1"),
-    ("ppv_window_hi", "1"),
-    ("back_impacts_per_period", "1"),
-    ("back_impact_speed_mean", "1"),
-    ("back_impact_speed_max", "1"),
-    ("drive_impacts_per_period", "1"),
-    ("drive_impact_speed_mean", "1"),
-    ("drive_impact_speed_max", "1"),
-    ("line_fc", "1"),
-    ("line_fe", "1"),
-    ("chaos_k_01", "1"),
-];
-
-/// The values of [`LIU_WINDOW_OUT`].
-fn liu_window_values(r: &models::response::Robust) -> Vec<f64> {
-    let w = &r.nominal;
-    let (fl, fh) = r.interval(models::response::WindowStats::bilateral_fraction);
-    let (pl, ph) = r.interval(|s| s.ppv);
-    vec![
-        f64::from(w.state.rsv()),
-        if r.state().is_some() { 1.0 } else { 0.0 },
-        w.fraction[0],
-        w.fraction[1],
-        w.fraction[2],
-        fl,
-        fh,
-        w.ppv,
-        pl,
-        ph,
-        w.back.rate,
-        w.back.mean_speed,
-        w.back.max_speed,
-        w.drive.rate,
-        w.drive.mean_speed,
-        w.drive.max_speed,
-        w.line_incoherent[0],
-        w.line_incoherent[1],
-        w.chaos_k,
-    ]
-}
+/// The long-window outputs of the Liu time stepping (`long_window_periods` ≥ 1):
+/// [`models::response::Robust::COLUMNS`] (the lines are f_c and f_e).
+const LIU_WINDOW_OUT: &[(&str, &str)] = &models::response::Robust::COLUMNS;
 
 const LIU_HBM: &[SettingDef] = &[
     SettingDef {
@@ -1207,7 +1158,7 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                                 };
                                 let lw = liu2021::long_window(&model, &wo)
                                     .context("liu2021 long window")?;
-                                v.extend(liu_window_values(&lw));
+                                v.extend(lw.values());
                             }
                             Ok((v, r.stats))
                         })

@@ -465,20 +465,9 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
         ("ppv_hbm_full", "1"),
         ("hbm_full_converged", "1"),
         ("hbm_full_stable", "1"),
-        ("rsv_window", "1"),
-        ("window_state_robust", "1"),
-        ("bilateral_fraction", "1"),
-        ("bilateral_fraction_lo", "1"),
-        ("bilateral_fraction_hi", "1"),
-        ("ppv_window", "1"),
-        ("ppv_window_lo", "1"),
-        ("ppv_window_hi", "1"),
-        ("back_impacts_per_period", "1"),
-        ("back_impact_speed_max", "1"),
-        ("drive_impacts_per_period", "1"),
-        ("chaos_k_01", "1"),
     ];
-    let mut cols = columns(&own, &RUN_COLUMNS);
+    let mut cols = columns(&own, &Robust::COLUMNS);
+    cols.extend(RUN_COLUMNS);
     cols.extend([
         ("residual_norm_hbm_warm", "1"),
         ("truncation_hbm_warm", "1"),
@@ -506,27 +495,11 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
             flag01(p.full.converged).into(),
             p.full.stable().map_or(f64::NAN, flag01).into(),
         ];
-        match &p.window {
-            Some(w) => {
-                let (fl, fh) = w.interval(|s| s.bilateral_fraction());
-                let (pl, ph) = w.interval(|s| s.ppv);
-                row.extend([
-                    f64::from(w.nominal.state.rsv()).into(),
-                    flag01(w.state().is_some()).into(),
-                    w.nominal.bilateral_fraction().into(),
-                    fl.into(),
-                    fh.into(),
-                    w.nominal.ppv.into(),
-                    pl.into(),
-                    ph.into(),
-                    w.nominal.back.rate.into(),
-                    w.nominal.back.max_speed.into(),
-                    w.nominal.drive.rate.into(),
-                    w.nominal.chaos_k.into(),
-                ]);
-            }
-            None => row.extend(std::iter::repeat_n(Cell::Num(f64::NAN), 12)),
-        }
+        let window = p
+            .window
+            .as_ref()
+            .map_or([f64::NAN; Robust::COLUMNS.len()], Robust::values);
+        row.extend(window.map(Cell::Num));
         row.extend(run_cells(&p.stats, p.accuracy[0]));
         row.extend(
             p.accuracy[1..]
