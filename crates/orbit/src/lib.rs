@@ -4,6 +4,7 @@
 
 #![deny(missing_docs)]
 
+mod continuation;
 mod error;
 mod floquet;
 mod flow;
@@ -11,6 +12,9 @@ mod impact;
 mod problem;
 mod shooting;
 
+pub use continuation::{
+    Branch, BranchPoint, ContinuationOptions, Extremum, SpecialKind, SpecialPoint, StopReason,
+};
 pub use error::{OrbitError, Result};
 pub use floquet::{
     Crossing, Floquet, OutsideCount, STABILITY_TOLERANCE, classify_crossing, floquet,
