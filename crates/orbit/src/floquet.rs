@@ -218,3 +218,75 @@ pub fn real_eigenvector(a: &DMatrix<f64>, lambda: f64) -> Result<DVector<f64>> {
     }
     Ok(v)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn multipliers_and_condition_of_known_matrices() {
+        // a scaled rotation: μ = 0.9 e^{±0.3i}, normal, κ = 1
+        let (c, s) = (0.9 * 0.3_f64.cos(), 0.9 * 0.3_f64.sin());
+        let f = floquet(&DMatrix::from_row_slice(2, 2, &[c, -s, s, c])).unwrap();
+        assert!((f.max_modulus - 0.9).abs() < 1e-14);
+        assert!(f.stable);
+        assert!((f.multipliers[0][1].abs() - s).abs() < 1e-14);
+        for k in &f.condition {
+            assert!((k - 1.0).abs() < 1e-6, "{k}");
+        }
+        // non-normal: [[1.2, 100], [0, −0.5]]: κ = ‖x‖‖y‖/|yᴴx| ≫ 1
+        let f = floquet(&DMatrix::from_row_slice(2, 2, &[1.2, 100.0, 0.0, -0.5])).unwrap();
+        assert!(!f.stable);
+        assert!((f.multipliers[0][0] - 1.2).abs() < 1e-12);
+        // κ = sqrt(1 + (100/1.7)²) for both eigenvalues of a 2×2 upper triangular matrix
+        let k = (1.0 + (100.0_f64 / 1.7).powi(2)).sqrt();
+        for c in &f.condition {
+            assert!((c / k - 1.0).abs() < 1e-6, "{c} vs {k}");
+        }
+        // test functions: det(Φ + I) = (2.2)(0.5), det(Φ − I) = (0.2)(−1.5)
+        assert!((f.test_period_doubling - 1.1).abs() < 1e-12);
+        assert!((f.test_fold + 0.3).abs() < 1e-12);
+        assert!(floquet(&DMatrix::from_element(1, 1, f64::NAN)).is_err());
+        assert!(floquet(&DMatrix::zeros(2, 3)).is_err());
+    }
+
+    #[test]
+    fn crossings_are_classified() {
+        let inside = [[0.5, 0.0], [-0.5, 0.0]];
+        assert_eq!(
+            classify_crossing(&inside, &[[1.1, 0.0], [-0.5, 0.0]], 1e-9),
+            vec![Crossing::Fold]
+        );
+        assert_eq!(
+            classify_crossing(&inside, &[[0.5, 0.0], [-1.1, 0.0]], 1e-9),
+            vec![Crossing::PeriodDoubling]
+        );
+        assert_eq!(
+            classify_crossing(&[[0.5, 0.5], [0.5, -0.5]], &[[0.8, 0.8], [0.8, -0.8]], 1e-9),
+            vec![Crossing::NeimarkSacker]
+        );
+        // stabilisation is a crossing too; a real collision outside the circle is not
+        assert_eq!(
+            classify_crossing(&[[0.5, 0.0], [-1.1, 0.0]], &inside, 1e-9),
+            vec![Crossing::PeriodDoubling]
+        );
+        assert!(
+            classify_crossing(&[[1.5, 0.0], [1.2, 0.0]], &[[1.3, 0.2], [1.3, -0.2]], 1e-9)
+                .is_empty()
+        );
+        let c = OutsideCount::of(&[[1.5, 0.0], [-2.0, 0.0], [0.0, 1.5], [0.0, -1.5]], 1e-9);
+        assert_eq!(
+            (c.real_plus, c.real_minus, c.complex, c.total()),
+            (1, 1, 2, 4)
+        );
+    }
+
+    #[test]
+    fn real_eigenvector_of_minus_one() {
+        let a = DMatrix::from_row_slice(2, 2, &[-1.0, 0.3, 0.0, 0.5]);
+        let v = real_eigenvector(&a, -1.0).unwrap();
+        let r = &a * &v + &v;
+        assert!(r.amax() < 1e-8, "{r}");
+        assert!(real_eigenvector(&DMatrix::from_element(1, 1, f64::NAN), -1.0).is_err());
+    }
+}

@@ -92,3 +92,36 @@ impl ImpactLaw for Restitution {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn restitution_reset_and_jacobian() {
+        let law = Restitution::new(1, 0.7, vec![2]).unwrap();
+        assert!(law.is_impact(2) && !law.is_impact(0));
+        let x = [0.1, 0.2, 3.0, -4.0];
+        let mut out = [0.0; 4];
+        law.reset(2, 0.0, &x, &mut out);
+        assert_eq!(out[..3], [0.1, 0.2, 3.0]);
+        assert!((out[3] - 2.8).abs() < 1e-15);
+        let mut g = DMatrix::zeros(4, 4);
+        law.reset_jacobian(2, 0.0, &x, &mut g);
+        // the finite-difference default agrees with the exact Jacobian
+        struct Fd(Restitution);
+        impl ImpactLaw for Fd {
+            fn is_impact(&self, i: usize) -> bool {
+                self.0.is_impact(i)
+            }
+            fn reset(&self, i: usize, t: f64, x: &[f64], out: &mut [f64]) {
+                self.0.reset(i, t, x, out)
+            }
+        }
+        let mut gfd = DMatrix::zeros(4, 4);
+        Fd(law.clone()).reset_jacobian(2, 0.0, &x, &mut gfd);
+        assert!((&g - &gfd).amax() < 1e-8);
+        assert!((g[(3, 3)] + 0.7).abs() < 1e-15);
+        assert!((law.coefficient() - 0.7).abs() < 1e-15);
+    }
+}

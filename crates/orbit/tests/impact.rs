@@ -234,23 +234,3 @@ fn period_doubling_located_by_continuation_matches_closed_form() {
     assert_eq!(o2.events.len(), 2);
     assert!(o2.floquet.stable);
 }
-
-#[test]
-#[ignore]
-fn explore() {
-    for k in 0..30 {
-        let w = 1.5 + 0.1 * k as f64;
-        let s = ImpactOscillator {
-            zeta: 0.05,
-            sigma: 0.0,
-            omega: w,
-        };
-        for c in closed_form(&s, 0.8) {
-            let f = orbit::floquet(&c.monodromy).unwrap();
-            println!(
-                "w {w:.2} ti {:.4} V {:.4} mu {:?}",
-                c.ti, c.v, f.multipliers
-            );
-        }
-    }
-}
