@@ -152,6 +152,14 @@ pub enum SpecialKind {
     /// A complex pair crosses the unit circle (detected, located like the others on
     /// `Π(μ_iμ_j − 1)`).
     NeimarkSacker,
+    /// The number of crossings of event `event` per orbit changed between two points while
+    /// neither global extremum of its function changed sign: a *local* extremum grazed the
+    /// switching surface (a contact appeared or vanished inside the orbit). Detected only,
+    /// never located.
+    ContactChange {
+        /// Event index.
+        event: usize,
+    },
 }
 
 /// A point of a branch.
@@ -169,6 +177,8 @@ pub struct BranchPoint {
     pub extrema: Vec<[f64; 2]>,
     /// Located events per orbit period.
     pub events: usize,
+    /// Located events per orbit period, by event index.
+    pub event_counts: Vec<usize>,
     /// `dλ/ds` of the unit tangent (scaled variables); its sign change is a fold.
     pub tangent_parameter: f64,
 }
@@ -380,6 +390,9 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             monodromy: mono,
             extrema,
             events: fr.events.len(),
+            event_counts: (0..self.system().n_events())
+                .map(|i| fr.events.iter().filter(|e| e.index == i).count())
+                .collect(),
             tangent_parameter: tangent[nn],
         };
         Ok(Sol { z, tangent, point })
@@ -482,6 +495,14 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
                 }
             }
         }
+        for (i, (ca, cb)) in pa.event_counts.iter().zip(&pb.event_counts).enumerate() {
+            let grazed = found
+                .iter()
+                .any(|(_, k)| matches!(k, SpecialKind::Grazing { event, .. } if *event == i));
+            if ca != cb && !grazed {
+                found.push((0.0, SpecialKind::ContactChange { event: i }));
+            }
+        }
         if pa.floquet.test_period_doubling * pb.floquet.test_period_doubling < 0.0 {
             found.push((0.0, SpecialKind::PeriodDoubling));
         }
@@ -496,7 +517,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         }
         let mut located = vec![];
         for (_, kind) in found {
-            let sp = if opts.locate {
+            let sp = if opts.locate && !matches!(kind, SpecialKind::ContactChange { .. }) {
                 match self.locate_special(opts, a, ds, kind) {
                     Ok(p) => SpecialPoint {
                         kind,
@@ -543,6 +564,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             SpecialKind::PeriodDoubling => p.floquet.test_period_doubling,
             SpecialKind::Fold => p.tangent_parameter,
             SpecialKind::NeimarkSacker => p.floquet.test_neimark_sacker,
+            SpecialKind::ContactChange { .. } => f64::NAN,
         }
     }
 
