@@ -27,8 +27,14 @@ pub struct ContinuationOptions {
     pub max_step: f64,
     /// Cap on branch points.
     pub max_points: usize,
-    /// `λ` enters the arclength as `λ/parameter_scale` (make it comparable to the state).
+    /// `λ` enters the arclength as `λ/parameter_scale`.
     pub parameter_scale: f64,
+    /// The state enters the arclength as `x₀/state_scale` (choose both scales so that a typical
+    /// step changes both by comparable amounts, e.g. the backlash for the state).
+    pub state_scale: f64,
+    /// A corrected point farther than `max_correction · Δs` from its predictor is rejected and
+    /// the step halved (guards against jumping to another branch).
+    pub max_correction: f64,
     /// Periods `k` (period-`k` orbits), Newton tolerance and corrector iteration cap
     /// (`segments` must be 1: the continuation shoots singly).
     pub shooting: ShootingOptions,
@@ -49,6 +55,8 @@ impl Default for ContinuationOptions {
             max_step: 0.1,
             max_points: 500,
             parameter_scale: 1.0,
+            state_scale: 1.0,
+            max_correction: 1.0,
             shooting: ShootingOptions {
                 max_iter: 12,
                 ..ShootingOptions::default()
@@ -113,6 +121,18 @@ impl ContinuationOptions {
             "ContinuationOptions::parameter_scale",
             "> 0 and finite",
             self.parameter_scale,
+        )?;
+        check(
+            self.state_scale.is_finite() && self.state_scale > 0.0,
+            "ContinuationOptions::state_scale",
+            "> 0 and finite",
+            self.state_scale,
+        )?;
+        check(
+            self.max_correction > 0.0,
+            "ContinuationOptions::max_correction",
+            "> 0",
+            self.max_correction,
         )?;
         check(
             self.locate_tol.is_finite() && self.locate_tol > 0.0,
@@ -246,7 +266,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         let nn = self.dim();
         let k = opts.shooting.periods as f64;
         let mu = z[nn];
-        let x: Vec<f64> = z.rows(0, nn).iter().copied().collect();
+        let x: Vec<f64> = z.rows(0, nn).iter().map(|v| v * opts.state_scale).collect();
         self.set_mu(opts, mu)?;
         let f = self.flow(self.phase(), &x, k * self.period(), jac)?;
         let r = DVector::from_fn(nn, |i, _| f.state[i] - x[i]);
@@ -278,9 +298,13 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             });
         }
         let mut j = DMatrix::zeros(nn, nn + 1);
+        // ∂r/∂ξ = (Φ − I) σ for the scaled state ξ = x/σ
         j.view_mut((0, 0), (nn, nn)).copy_from(&phi);
         for i in 0..nn {
             j[(i, i)] -= 1.0;
+        }
+        j.view_mut((0, 0), (nn, nn)).scale_mut(opts.state_scale);
+        for i in 0..nn {
             j[(i, nn)] = col[i];
         }
         Ok((r, Some(j)))
@@ -326,7 +350,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             })?;
             let a = t.dot(&(&z - z_pred));
             let res = r.amax();
-            let xs = z.rows(0, nn).amax();
+            let xs = z.rows(0, nn).amax() * opts.state_scale;
             if res <= tol * (1.0 + xs) && a.abs() <= tol * (1.0 + xs) {
                 return self.finish_point(opts, z, jac, t);
             }
@@ -368,13 +392,13 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     ) -> Result<Sol> {
         let nn = self.dim();
         let tangent = Self::tangent_of(&jac, t_ref)?;
-        let mut mono = jac.view((0, 0), (nn, nn)).into_owned();
+        let mut mono = jac.view((0, 0), (nn, nn)).into_owned() / opts.state_scale;
         for i in 0..nn {
             mono[(i, i)] += 1.0;
         }
         let fl = floquet(&mono)?;
         self.set_mu(opts, z[nn])?;
-        let x: Vec<f64> = z.rows(0, nn).iter().copied().collect();
+        let x: Vec<f64> = z.rows(0, nn).iter().map(|v| v * opts.state_scale).collect();
         let k = opts.shooting.periods;
         let fr = self.flow_recorded(self.phase(), &x, k as f64 * self.period(), false)?;
         let extrema = crate::flow::extrema(
@@ -402,8 +426,9 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// shooting first) at `λ = lambda0`, in [`ContinuationOptions::parameter`].
     ///
     /// Predictor `z + Δs t`, corrector Newton on `φ_{kT}(x; λ) − x = 0` bordered by
-    /// `tᵀ(z − z_pred) = 0` (`z = (x, λ/scale)`, `t` the unit tangent), step halved on failure
-    /// and grown by 1.5 after quick convergence. Between consecutive points the test functions
+    /// `tᵀ(z − z_pred) = 0` (`z = (x/state_scale, λ/parameter_scale)`, `t` the unit tangent),
+    /// step halved on failure or on a correction longer than `max_correction · Δs`, grown by
+    /// 1.5 after success. Between consecutive points the test functions
     /// are checked for sign changes: the extrema of every event function (grazing), `det(Φ + I)`
     /// (period doubling), `dλ/ds` (fold) and the unit-circle count (Neimark–Sacker); each is
     /// located by Illinois on the arclength of the step (re-correcting at every trial).
@@ -426,7 +451,9 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         let orbit = self.shoot(x0, &opts.shooting)?;
         let mu0 = lambda0 / opts.parameter_scale;
         let mut z = DVector::zeros(nn + 1);
-        z.rows_mut(0, nn).copy_from_slice(&orbit.x0);
+        for i in 0..nn {
+            z[i] = orbit.x0[i] / opts.state_scale;
+        }
         z[nn] = mu0;
         let (_, jac) = self.residual(opts, &z, true)?;
         let jac = jac.ok_or(OrbitError::Singular {
@@ -446,7 +473,19 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         let in_range = |l: f64| l >= opts.range[0] && l <= opts.range[1];
         while branch.points.len() < opts.max_points {
             let pred = &cur.z + &cur.tangent * ds;
-            match self.correct(opts, &pred, &cur.tangent) {
+            let corrected = self.correct(opts, &pred, &cur.tangent).and_then(|next| {
+                let dist = (&next.z - &pred).norm();
+                if dist > opts.max_correction * ds {
+                    Err(OrbitError::NotConverged {
+                        what: "continuation corrector (moved farther than max_correction·Δs)",
+                        iterations: 0,
+                        residual: dist,
+                    })
+                } else {
+                    Ok(next)
+                }
+            });
+            match corrected {
                 Ok(next) => {
                     self.detect(opts, &cur, &next, ds, &mut branch);
                     branch.points.push(next.point.clone());

@@ -64,12 +64,12 @@
 //!
 //! ## Pseudo-arclength continuation
 //!
-//! [`OrbitProblem::continuation`] continues `z = (x₀, λ/s_λ)` along
+//! [`OrbitProblem::continuation`] continues `z = (x₀/s_x, λ/s_λ)` along
 //! `F(z) = φ_{kT}(x₀; λ) − x₀ = 0` in any [`Parameter`] (a named model parameter, or the base
 //! frequency with `T = 2π/ω`):
 //!
 //! ```text
-//! predictor  z_p = z_i + Δs t_i,             t_i the unit null vector of [Φ − I | F_λ s_λ]
+//! predictor  z_p = z_i + Δs t_i,             t_i the unit null vector of [(Φ − I) s_x | F_λ s_λ]
 //! corrector  F(z) = 0,  t_iᵀ (z − z_p) = 0   (Newton, F_λ by central differences)
 //! ```
 //!

@@ -91,6 +91,27 @@ fn duffing_folds_are_located_with_a_unit_multiplier() {
         );
     }
     let (w1, w2) = (folds[0].point.parameter, folds[1].point.parameter);
+    // the located folds do not depend on the arclength scaling
+    let mut p2 = OrbitProblem::new(s, 2.0 * PI / 0.8).unwrap();
+    let scaled = ContinuationOptions {
+        state_scale: 0.3,
+        parameter_scale: 0.5,
+        initial_step: 0.04,
+        max_step: 0.2,
+        ..opts.clone()
+    };
+    let br2 = p2.continuation(&[0.3, 0.0], 0.8, &scaled).unwrap();
+    let f2: Vec<f64> = br2
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .map(|s| s.point.parameter)
+        .collect();
+    assert_eq!(f2.len(), 2);
+    assert!(
+        (f2[0] - w1).abs() < 1e-6 && (f2[1] - w2).abs() < 1e-6,
+        "{f2:?} vs {w1}, {w2}"
+    );
     assert!(
         w1 > w2,
         "the upper fold comes first along the branch: {w1}, {w2}"
