@@ -115,3 +115,45 @@ fn monodromy_matches_finite_differences_of_the_flow() {
         assert!(c.is_finite() && *c >= 1.0 - 1e-9);
     }
 }
+
+/// Continuation in a *named* parameter (the forcing amplitude `f`): the linear orbit
+/// `q = P cos(ωt − ψ)`, `P = f/√((1−ω²)² + (2ζω)²)`, grazes the kink at `q = d` when `P = d`.
+#[test]
+fn grazing_in_a_named_parameter_matches_closed_form() {
+    let mut s = bilinear();
+    s.f = 0.3;
+    let t = 2.0 * PI / s.omega;
+    let mut p = OrbitProblem::new(s, t).unwrap();
+    let opts = orbit::ContinuationOptions {
+        parameter: orbit::Parameter::Named("f".into()),
+        range: [0.0, 1.2],
+        initial_step: 0.05,
+        max_step: 0.1,
+        locate_tol: 1e-10,
+        ..Default::default()
+    };
+    let br = p.continuation(&[0.0, 0.0], 0.3, &opts).unwrap();
+    assert_eq!(br.stop, orbit::StopReason::Range);
+    let g: Vec<_> = br
+        .special
+        .iter()
+        .filter(|x| {
+            matches!(
+                x.kind,
+                orbit::SpecialKind::Grazing {
+                    event: 0,
+                    extremum: orbit::Extremum::Max
+                }
+            )
+        })
+        .collect();
+    assert_eq!(g.len(), 1);
+    let w = s.omega;
+    let f_closed = s.d * ((1.0 - w * w).powi(2) + (2.0 * s.zeta * w).powi(2)).sqrt();
+    assert!(
+        (g[0].point.parameter - f_closed).abs() < 1e-8,
+        "{} vs {f_closed}",
+        g[0].point.parameter
+    );
+    assert!((p.system().f - br.points.last().unwrap().parameter).abs() < 1e-12);
+}
