@@ -1,0 +1,68 @@
+//! One shooting Newton solve of the Liu et al. (2021) period-1 bilateral orbit at ω1 = 220 rad/s
+//! (Table 1, constant b̄) from a time-stepping guess, against the 12-period time response and the
+//! warm-started harmonic balance of the same point, at the same integration tolerance
+//! (rtol 1e-8). Numbers go in `docs/performance.md`, never in a timed test.
+#![allow(missing_docs)] // criterion_group! generates an undocumented pub fn
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use models::liu2021::{self, BaseRadius, HbmOptions, HbmStart, IntegrationOptions, Model};
+use orbit::{FlowOptions, OrbitProblem, ShootingOptions};
+use std::hint::black_box;
+
+fn model() -> Model {
+    let mut p = liu2021::table1();
+    p.readings.base_radius = BaseRadius::Mean;
+    p.omega1 = 220.0;
+    p.model().expect("Table 1 model")
+}
+
+fn bench(c: &mut Criterion) {
+    let m = model();
+    let rtol = 1e-8;
+    let ti_opts = IntegrationOptions {
+        transient_periods: 11.0,
+        record_periods: 1.0,
+        rtol,
+        ..IntegrationOptions::default()
+    };
+    // the time-stepping guess: the default short run (2 transient periods, 1 recorded)
+    let guess = liu2021::integrate(&m, &IntegrationOptions::default()).expect("integration");
+    let x0 = [*guess.q.last().expect("q"), *guess.v.last().expect("v")];
+    let p = OrbitProblem::new(m, m.period())
+        .expect("problem")
+        .with_flow_options(FlowOptions {
+            rtol,
+            atol: 1e-12,
+            ..FlowOptions::default()
+        })
+        .expect("options");
+    let so = ShootingOptions {
+        tol: 1e-8,
+        ..ShootingOptions::default()
+    };
+    let mut g = c.benchmark_group("liu2021_220");
+    g.sample_size(10);
+    g.bench_function("shooting_newton_from_time_stepping_guess", |b| {
+        b.iter(|| black_box(p.shoot(black_box(&x0), &so).expect("shooting")))
+    });
+    g.bench_function("time_response_12_periods", |b| {
+        b.iter(|| black_box(liu2021::integrate(black_box(&m), &ti_opts).expect("integration")))
+    });
+    let ti = liu2021::integrate(&m, &ti_opts).expect("integration");
+    g.bench_function("hbm_warm_from_time_response", |b| {
+        b.iter(|| {
+            black_box(
+                liu2021::solve_hbm_with(
+                    &m,
+                    &HbmOptions::default(),
+                    HbmStart::FromTimeResponse(&ti),
+                )
+                .expect("hbm"),
+            )
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,736 @@
+//! Pseudo-arclength continuation of periodic orbits in one parameter, with detection and
+//! location of grazing, period doubling, folds and Neimark–Sacker points, and branch switching
+//! at a period doubling.
+
+use crate::error::{OrbitError, Result, check};
+use crate::floquet::{Crossing, Floquet, classify_crossing, floquet, real_eigenvector};
+use crate::problem::{OrbitProblem, Parameter};
+use crate::shooting::{PeriodicOrbit, ShootingOptions};
+use nalgebra::{DMatrix, DVector};
+use system::SecondOrderSystem;
+
+/// Settings of [`OrbitProblem::continuation`].
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ContinuationOptions {
+    /// The parameter `λ`.
+    pub parameter: Parameter,
+    /// The branch stops when `λ` leaves `[range[0], range[1]]`.
+    pub range: [f64; 2],
+    /// Initial direction of `λ`: `+1` (increasing) or `−1`.
+    pub direction: f64,
+    /// First arclength step (in the scaled variables `(x, λ/parameter_scale)`).
+    pub initial_step: f64,
+    /// Smallest step before the continuation stops.
+    pub min_step: f64,
+    /// Largest step.
+    pub max_step: f64,
+    /// Cap on branch points.
+    pub max_points: usize,
+    /// `λ` enters the arclength as `λ/parameter_scale`.
+    pub parameter_scale: f64,
+    /// The state enters the arclength as `x₀/state_scale` (choose both scales so that a typical
+    /// step changes both by comparable amounts, e.g. the backlash for the state).
+    pub state_scale: f64,
+    /// A corrected point farther than `max_correction · Δs` from its predictor is rejected and
+    /// the step halved (guards against jumping to another branch).
+    pub max_correction: f64,
+    /// Periods `k` (period-`k` orbits), Newton tolerance and corrector iteration cap
+    /// (`segments` must be 1: the continuation shoots singly).
+    pub shooting: ShootingOptions,
+    /// Locate special points (secant/bisection on the test function along the arclength).
+    pub locate: bool,
+    /// Special points are located to this arclength tolerance (scaled variables).
+    pub locate_tol: f64,
+}
+
+impl Default for ContinuationOptions {
+    fn default() -> Self {
+        Self {
+            parameter: Parameter::BaseFrequency,
+            range: [f64::NEG_INFINITY, f64::INFINITY],
+            direction: 1.0,
+            initial_step: 0.01,
+            min_step: 1e-7,
+            max_step: 0.1,
+            max_points: 500,
+            parameter_scale: 1.0,
+            state_scale: 1.0,
+            max_correction: 1.0,
+            shooting: ShootingOptions {
+                max_iter: 12,
+                ..ShootingOptions::default()
+            },
+            locate: true,
+            locate_tol: 1e-8,
+        }
+    }
+}
+
+impl ContinuationOptions {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`OrbitError::InvalidInput`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        self.shooting.validate()?;
+        check(
+            self.shooting.segments == 1,
+            "ContinuationOptions::shooting.segments",
+            "1",
+            self.shooting.segments as f64,
+        )?;
+        check(
+            !self.range[0].is_nan() && !self.range[1].is_nan() && self.range[0] < self.range[1],
+            "ContinuationOptions::range",
+            "range[0] < range[1]",
+            self.range[1],
+        )?;
+        check(
+            self.direction.abs().to_bits() == 1.0_f64.to_bits(),
+            "ContinuationOptions::direction",
+            "+1 or -1",
+            self.direction,
+        )?;
+        check(
+            self.min_step.is_finite() && self.min_step > 0.0,
+            "ContinuationOptions::min_step",
+            "> 0 and finite",
+            self.min_step,
+        )?;
+        check(
+            self.max_step.is_finite() && self.max_step >= self.min_step,
+            "ContinuationOptions::max_step",
+            ">= min_step and finite",
+            self.max_step,
+        )?;
+        check(
+            self.initial_step >= self.min_step && self.initial_step <= self.max_step,
+            "ContinuationOptions::initial_step",
+            "in [min_step, max_step]",
+            self.initial_step,
+        )?;
+        check(
+            self.max_points >= 1,
+            "ContinuationOptions::max_points",
+            ">= 1",
+            self.max_points as f64,
+        )?;
+        check(
+            self.parameter_scale.is_finite() && self.parameter_scale > 0.0,
+            "ContinuationOptions::parameter_scale",
+            "> 0 and finite",
+            self.parameter_scale,
+        )?;
+        check(
+            self.state_scale.is_finite() && self.state_scale > 0.0,
+            "ContinuationOptions::state_scale",
+            "> 0 and finite",
+            self.state_scale,
+        )?;
+        check(
+            self.max_correction > 0.0,
+            "ContinuationOptions::max_correction",
+            "> 0",
+            self.max_correction,
+        )?;
+        check(
+            self.locate_tol.is_finite() && self.locate_tol > 0.0,
+            "ContinuationOptions::locate_tol",
+            "> 0 and finite",
+            self.locate_tol,
+        )
+    }
+}
+
+/// Which extremum of a gap (event) function touches zero at a grazing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Extremum {
+    /// The minimum over the orbit.
+    Min,
+    /// The maximum over the orbit.
+    Max,
+}
+
+/// The kind of a special point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum SpecialKind {
+    /// The minimum or maximum of event function `event` over the orbit crosses zero: a contact
+    /// (switching surface) is touched tangentially, and contacts appear or disappear.
+    Grazing {
+        /// Event index.
+        event: usize,
+        /// Which extremum.
+        extremum: Extremum,
+    },
+    /// A multiplier crosses `−1`.
+    PeriodDoubling,
+    /// The branch turns back in `λ` (a multiplier crosses `+1`).
+    Fold,
+    /// A complex pair crosses the unit circle (detected, located like the others on
+    /// `Π(μ_iμ_j − 1)`).
+    NeimarkSacker,
+    /// The number of crossings of event `event` per orbit changed between two points while
+    /// neither global extremum of its function changed sign: a *local* extremum grazed the
+    /// switching surface (a contact appeared or vanished inside the orbit). Detected only,
+    /// never located.
+    ContactChange {
+        /// Event index.
+        event: usize,
+    },
+}
+
+/// A point of a branch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BranchPoint {
+    /// Parameter value `λ`.
+    pub parameter: f64,
+    /// Orbit state on the section.
+    pub x0: Vec<f64>,
+    /// Multipliers and stability.
+    pub floquet: Floquet,
+    /// The monodromy matrix.
+    pub monodromy: DMatrix<f64>,
+    /// `[min, max]` of every event function over the orbit.
+    pub extrema: Vec<[f64; 2]>,
+    /// Located events per orbit period.
+    pub events: usize,
+    /// Located events per orbit period, by event index.
+    pub event_counts: Vec<usize>,
+    /// `dλ/ds` of the unit tangent (scaled variables); its sign change is a fold.
+    pub tangent_parameter: f64,
+}
+
+/// A detected (and, with [`ContinuationOptions::locate`], located) special point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpecialPoint {
+    /// What happens.
+    pub kind: SpecialKind,
+    /// The special point (located, or the first point past it).
+    pub point: BranchPoint,
+    /// Index in [`Branch::points`] of the last point before it.
+    pub after: usize,
+    /// True if located to [`ContinuationOptions::locate_tol`]; false if only detected.
+    pub located: bool,
+}
+
+/// Why a continuation stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StopReason {
+    /// `λ` left the range.
+    Range,
+    /// [`ContinuationOptions::max_points`] reached.
+    MaxPoints,
+    /// The corrector failed down to [`ContinuationOptions::min_step`]; the last error.
+    StepTooSmall(OrbitError),
+}
+
+/// A continued branch of period-`k` orbits.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Branch {
+    /// The parameter.
+    pub parameter: Parameter,
+    /// `k`.
+    pub periods: usize,
+    /// Points in arclength order; stable and unstable ones alike
+    /// ([`Floquet::stable`] tells them apart).
+    pub points: Vec<BranchPoint>,
+    /// Special points in arclength order.
+    pub special: Vec<SpecialPoint>,
+    /// Why it stopped.
+    pub stop: StopReason,
+}
+
+/// A converged point with what the next step needs.
+#[derive(Clone)]
+struct Sol {
+    z: DVector<f64>,
+    tangent: DVector<f64>,
+    point: BranchPoint,
+}
+
+impl<S: SecondOrderSystem> OrbitProblem<S> {
+    fn set_mu(&mut self, opts: &ContinuationOptions, mu: f64) -> Result<()> {
+        self.set_parameter(&opts.parameter, mu * opts.parameter_scale)
+    }
+
+    /// Residual `φ_{kT}(x) − x` at `μ`, and `[Φ − I | F_μ]` if `jac`.
+    fn residual(
+        &mut self,
+        opts: &ContinuationOptions,
+        z: &DVector<f64>,
+        jac: bool,
+    ) -> Result<(DVector<f64>, Option<DMatrix<f64>>)> {
+        let nn = self.dim();
+        let k = opts.shooting.periods as f64;
+        let mu = z[nn];
+        let x: Vec<f64> = z.rows(0, nn).iter().map(|v| v * opts.state_scale).collect();
+        self.set_mu(opts, mu)?;
+        let f = self.flow(self.phase(), &x, k * self.period(), jac)?;
+        let r = DVector::from_fn(nn, |i, _| f.state[i] - x[i]);
+        let Some(phi) = f.jacobian else {
+            return Ok((r, None));
+        };
+        // F_μ by central differences of the flow in μ
+        let d = 1e-6 * (1.0 + mu.abs());
+        let mut col = vec![0.0; nn];
+        let mut ok = true;
+        for (sgn, w) in [(1.0, 0.5 / d), (-1.0, -0.5 / d)] {
+            let res = self
+                .set_mu(opts, mu + sgn * d)
+                .and_then(|_| self.flow(self.phase(), &x, k * self.period(), false));
+            match res {
+                Ok(fl) => {
+                    for i in 0..nn {
+                        col[i] += w * fl.state[i];
+                    }
+                }
+                Err(_) => ok = false,
+            }
+        }
+        self.set_mu(opts, mu)?;
+        if !ok {
+            return Err(OrbitError::NonFinite {
+                what: "parameter derivative of the flow",
+                time: self.phase(),
+            });
+        }
+        let mut j = DMatrix::zeros(nn, nn + 1);
+        // ∂r/∂ξ = (Φ − I) σ for the scaled state ξ = x/σ
+        j.view_mut((0, 0), (nn, nn)).copy_from(&phi);
+        for i in 0..nn {
+            j[(i, i)] -= 1.0;
+        }
+        j.view_mut((0, 0), (nn, nn)).scale_mut(opts.state_scale);
+        for i in 0..nn {
+            j[(i, nn)] = col[i];
+        }
+        Ok((r, Some(j)))
+    }
+
+    /// Unit null vector of `jac` (`N × (N+1)`), oriented along `reference`.
+    fn tangent_of(jac: &DMatrix<f64>, reference: &DVector<f64>) -> Result<DVector<f64>> {
+        let nn = jac.nrows();
+        let mut a = DMatrix::zeros(nn + 1, nn + 1);
+        a.view_mut((0, 0), (nn, nn + 1)).copy_from(jac);
+        a.row_mut(nn).copy_from(&reference.transpose());
+        let mut rhs = DVector::zeros(nn + 1);
+        rhs[nn] = 1.0;
+        let t = a
+            .lu()
+            .solve(&rhs)
+            .filter(|t| t.iter().all(|v| v.is_finite()))
+            .ok_or(OrbitError::Singular {
+                what: "bordered continuation Jacobian",
+            })?;
+        let n = t.norm();
+        let mut t = t / n;
+        if t.dot(reference) < 0.0 {
+            t = -t;
+        }
+        Ok(t)
+    }
+
+    /// Newton corrector on `F(z) = 0`, `tᵀ(z − z_pred) = 0`.
+    fn correct(
+        &mut self,
+        opts: &ContinuationOptions,
+        z_pred: &DVector<f64>,
+        t: &DVector<f64>,
+    ) -> Result<Sol> {
+        let nn = self.dim();
+        let mut z = z_pred.clone();
+        let tol = opts.shooting.tol;
+        for it in 0..=opts.shooting.max_iter {
+            let (r, jac) = self.residual(opts, &z, true)?;
+            let jac = jac.ok_or(OrbitError::Singular {
+                what: "continuation Jacobian",
+            })?;
+            let a = t.dot(&(&z - z_pred));
+            let res = r.amax();
+            let xs = z.rows(0, nn).amax() * opts.state_scale;
+            if res <= tol * (1.0 + xs) && a.abs() <= tol * (1.0 + xs) {
+                return self.finish_point(opts, z, jac, t);
+            }
+            if it == opts.shooting.max_iter {
+                return Err(OrbitError::NotConverged {
+                    what: "continuation corrector",
+                    iterations: it,
+                    residual: res,
+                });
+            }
+            let mut m = DMatrix::zeros(nn + 1, nn + 1);
+            m.view_mut((0, 0), (nn, nn + 1)).copy_from(&jac);
+            m.row_mut(nn).copy_from(&t.transpose());
+            let mut rhs = DVector::zeros(nn + 1);
+            rhs.rows_mut(0, nn).copy_from(&(-&r));
+            rhs[nn] = -a;
+            let dz = m
+                .lu()
+                .solve(&rhs)
+                .filter(|d| d.iter().all(|v| v.is_finite()))
+                .ok_or(OrbitError::Singular {
+                    what: "bordered continuation Jacobian",
+                })?;
+            z += dz;
+        }
+        Err(OrbitError::NotConverged {
+            what: "continuation corrector",
+            iterations: opts.shooting.max_iter,
+            residual: f64::NAN,
+        })
+    }
+
+    fn finish_point(
+        &mut self,
+        opts: &ContinuationOptions,
+        z: DVector<f64>,
+        jac: DMatrix<f64>,
+        t_ref: &DVector<f64>,
+    ) -> Result<Sol> {
+        let nn = self.dim();
+        let tangent = Self::tangent_of(&jac, t_ref)?;
+        let mut mono = jac.view((0, 0), (nn, nn)).into_owned() / opts.state_scale;
+        for i in 0..nn {
+            mono[(i, i)] += 1.0;
+        }
+        let fl = floquet(&mono)?;
+        self.set_mu(opts, z[nn])?;
+        let x: Vec<f64> = z.rows(0, nn).iter().map(|v| v * opts.state_scale).collect();
+        let k = opts.shooting.periods;
+        let fr = self.flow_recorded(self.phase(), &x, k as f64 * self.period(), false)?;
+        let extrema = crate::flow::extrema(
+            self.field(),
+            self.flow_options(),
+            &fr.pieces,
+            (fr.time, &fr.state),
+        );
+        let point = BranchPoint {
+            parameter: z[nn] * opts.parameter_scale,
+            x0: x,
+            floquet: fl,
+            monodromy: mono,
+            extrema,
+            events: fr.events.len(),
+            event_counts: (0..self.system().n_events())
+                .map(|i| fr.events.iter().filter(|e| e.index == i).count())
+                .collect(),
+            tangent_parameter: tangent[nn],
+        };
+        Ok(Sol { z, tangent, point })
+    }
+
+    /// Pseudo-arclength continuation of the period-`k` orbit through `x0` (a guess, refined by
+    /// shooting first) at `λ = lambda0`, in [`ContinuationOptions::parameter`].
+    ///
+    /// Predictor `z + Δs t`, corrector Newton on `φ_{kT}(x; λ) − x = 0` bordered by
+    /// `tᵀ(z − z_pred) = 0` (`z = (x/state_scale, λ/parameter_scale)`, `t` the unit tangent),
+    /// step halved on failure or on a correction longer than `max_correction · Δs`, grown by
+    /// 1.5 after success. Between consecutive points the test functions
+    /// are checked for sign changes: the extrema of every event function (grazing), `det(Φ + I)`
+    /// (period doubling), `dλ/ds` (fold) and the unit-circle count (Neimark–Sacker); each is
+    /// located by Illinois on the arclength of the step (re-correcting at every trial).
+    ///
+    /// On return the problem's parameter is left at the last point.
+    ///
+    /// # Errors
+    /// Invalid options or input; the first orbit does not converge.
+    pub fn continuation(
+        &mut self,
+        x0: &[f64],
+        lambda0: f64,
+        opts: &ContinuationOptions,
+    ) -> Result<Branch> {
+        opts.validate()?;
+        self.check_state(x0)?;
+        check(lambda0.is_finite(), "lambda0", "finite", lambda0)?;
+        let nn = self.dim();
+        self.set_parameter(&opts.parameter, lambda0)?;
+        let orbit = self.shoot(x0, &opts.shooting)?;
+        let mu0 = lambda0 / opts.parameter_scale;
+        let mut z = DVector::zeros(nn + 1);
+        for i in 0..nn {
+            z[i] = orbit.x0[i] / opts.state_scale;
+        }
+        z[nn] = mu0;
+        let (_, jac) = self.residual(opts, &z, true)?;
+        let jac = jac.ok_or(OrbitError::Singular {
+            what: "continuation Jacobian",
+        })?;
+        let mut e = DVector::zeros(nn + 1);
+        e[nn] = opts.direction;
+        let mut cur = self.finish_point(opts, z, jac, &e)?;
+        let mut branch = Branch {
+            parameter: opts.parameter.clone(),
+            periods: opts.shooting.periods,
+            points: vec![cur.point.clone()],
+            special: vec![],
+            stop: StopReason::MaxPoints,
+        };
+        let mut ds = opts.initial_step;
+        let in_range = |l: f64| l >= opts.range[0] && l <= opts.range[1];
+        while branch.points.len() < opts.max_points {
+            let pred = &cur.z + &cur.tangent * ds;
+            let corrected = self.correct(opts, &pred, &cur.tangent).and_then(|next| {
+                let dist = (&next.z - &pred).norm();
+                if dist > opts.max_correction * ds {
+                    Err(OrbitError::NotConverged {
+                        what: "continuation corrector (moved farther than max_correction·Δs)",
+                        iterations: 0,
+                        residual: dist,
+                    })
+                } else {
+                    Ok(next)
+                }
+            });
+            match corrected {
+                Ok(next) => {
+                    self.detect(opts, &cur, &next, ds, &mut branch);
+                    branch.points.push(next.point.clone());
+                    let lam = next.point.parameter;
+                    cur = next;
+                    if !in_range(lam) {
+                        branch.stop = StopReason::Range;
+                        break;
+                    }
+                    ds = (ds * 1.5).min(opts.max_step);
+                }
+                Err(err) => {
+                    ds *= 0.5;
+                    if ds < opts.min_step {
+                        branch.stop = StopReason::StepTooSmall(err);
+                        break;
+                    }
+                }
+            }
+        }
+        Ok(branch)
+    }
+
+    /// Sign changes of the test functions between `a` and `b` (one step `ds` apart).
+    fn detect(
+        &mut self,
+        opts: &ContinuationOptions,
+        a: &Sol,
+        b: &Sol,
+        ds: f64,
+        branch: &mut Branch,
+    ) {
+        let after = branch.points.len() - 1;
+        let mut found: Vec<(f64, SpecialKind)> = vec![];
+        let (pa, pb) = (&a.point, &b.point);
+        for (i, (ea, eb)) in pa.extrema.iter().zip(&pb.extrema).enumerate() {
+            for (slot, ext) in [(0usize, Extremum::Min), (1usize, Extremum::Max)] {
+                if ea[slot].is_finite() && eb[slot].is_finite() && ea[slot] * eb[slot] < 0.0 {
+                    found.push((
+                        0.0,
+                        SpecialKind::Grazing {
+                            event: i,
+                            extremum: ext,
+                        },
+                    ));
+                }
+            }
+        }
+        for (i, (ca, cb)) in pa.event_counts.iter().zip(&pb.event_counts).enumerate() {
+            let grazed = found
+                .iter()
+                .any(|(_, k)| matches!(k, SpecialKind::Grazing { event, .. } if *event == i));
+            if ca != cb && !grazed {
+                found.push((0.0, SpecialKind::ContactChange { event: i }));
+            }
+        }
+        if pa.floquet.test_period_doubling * pb.floquet.test_period_doubling < 0.0 {
+            found.push((0.0, SpecialKind::PeriodDoubling));
+        }
+        if pa.tangent_parameter * pb.tangent_parameter < 0.0 {
+            found.push((0.0, SpecialKind::Fold));
+        }
+        let tol = crate::floquet::STABILITY_TOLERANCE;
+        if classify_crossing(&pa.floquet.multipliers, &pb.floquet.multipliers, tol)
+            .contains(&Crossing::NeimarkSacker)
+        {
+            found.push((0.0, SpecialKind::NeimarkSacker));
+        }
+        let mut located = vec![];
+        for (_, kind) in found {
+            let sp = if opts.locate && !matches!(kind, SpecialKind::ContactChange { .. }) {
+                match self.locate_special(opts, a, ds, kind) {
+                    Ok(p) => SpecialPoint {
+                        kind,
+                        point: p,
+                        after,
+                        located: true,
+                    },
+                    Err(_) => SpecialPoint {
+                        kind,
+                        point: b.point.clone(),
+                        after,
+                        located: false,
+                    },
+                }
+            } else {
+                SpecialPoint {
+                    kind,
+                    point: b.point.clone(),
+                    after,
+                    located: false,
+                }
+            };
+            located.push(sp);
+        }
+        // arclength order within the step
+        located.sort_by(|x, y| {
+            let d = |p: &SpecialPoint| (p.point.parameter - a.point.parameter).abs();
+            d(x).total_cmp(&d(y))
+        });
+        branch.special.extend(located);
+        // leave the problem at b's parameter
+        let _ = self.set_mu(opts, b.z[self.dim()]);
+    }
+
+    fn test_value(kind: SpecialKind, p: &BranchPoint) -> f64 {
+        match kind {
+            SpecialKind::Grazing { event, extremum } => {
+                let e = p.extrema.get(event).copied().unwrap_or([f64::NAN; 2]);
+                match extremum {
+                    Extremum::Min => e[0],
+                    Extremum::Max => e[1],
+                }
+            }
+            SpecialKind::PeriodDoubling => p.floquet.test_period_doubling,
+            SpecialKind::Fold => p.tangent_parameter,
+            SpecialKind::NeimarkSacker => p.floquet.test_neimark_sacker,
+            SpecialKind::ContactChange { .. } => f64::NAN,
+        }
+    }
+
+    /// Illinois on the arclength `s ∈ (0, ds)` of the step from `a`.
+    fn locate_special(
+        &mut self,
+        opts: &ContinuationOptions,
+        a: &Sol,
+        ds: f64,
+        kind: SpecialKind,
+    ) -> Result<BranchPoint> {
+        let eval = |this: &mut Self, s: f64| -> Result<(f64, BranchPoint)> {
+            let pred = &a.z + &a.tangent * s;
+            let sol = this.correct(opts, &pred, &a.tangent)?;
+            Ok((Self::test_value(kind, &sol.point), sol.point))
+        };
+        let (mut lo, mut hi) = (0.0, ds);
+        let mut flo = Self::test_value(kind, &a.point);
+        let (mut fhi, mut best) = eval(self, ds)?;
+        if flo * fhi >= 0.0 || (flo * fhi).is_nan() {
+            return Err(OrbitError::NotConverged {
+                what: "special point location (no sign change)",
+                iterations: 0,
+                residual: fhi,
+            });
+        }
+        let mut side = 0i8;
+        for _ in 0..60 {
+            if hi - lo <= opts.locate_tol {
+                return Ok(best);
+            }
+            let mut s = hi - fhi * (hi - lo) / (fhi - flo);
+            if !(s > lo && s < hi) {
+                s = 0.5 * (lo + hi);
+            }
+            let (f, p) = eval(self, s)?;
+            if f.to_bits() == 0.0_f64.to_bits() {
+                return Ok(p);
+            }
+            if f * flo > 0.0 {
+                lo = s;
+                flo = f;
+                if side == -1 {
+                    fhi *= 0.5;
+                }
+                side = -1;
+            } else {
+                hi = s;
+                fhi = f;
+                if side == 1 {
+                    flo *= 0.5;
+                }
+                side = 1;
+            }
+            best = p;
+        }
+        Ok(best)
+    }
+
+    /// Branch switching at a period doubling of a period-`k` branch: with `v` the eigenvector
+    /// of the monodromy for the multiplier `−1`, shoots a period-`2k` orbit from
+    /// `x_PD ± h v` at `λ_PD ± offset` (trying both sides of the parameter, both signs and
+    /// `h`, `4h`, `16h`) and
+    /// returns the first orbit that is not the period-`k` orbit, with its `λ`. The problem is
+    /// left at that `λ`.
+    ///
+    /// # Errors
+    /// Invalid input, eigenvector failure, or no period-`2k` orbit found.
+    pub fn switch_at_period_doubling(
+        &mut self,
+        pd: &BranchPoint,
+        parameter: &Parameter,
+        periods: usize,
+        h: f64,
+        offset: f64,
+        shooting: &ShootingOptions,
+    ) -> Result<(f64, PeriodicOrbit)> {
+        check(h.is_finite() && h > 0.0, "h", "> 0 and finite", h)?;
+        check(
+            offset.is_finite() && offset > 0.0,
+            "offset",
+            "> 0 and finite",
+            offset,
+        )?;
+        self.check_state(&pd.x0)?;
+        let v = real_eigenvector(&pd.monodromy, -1.0)?;
+        let opts2 = ShootingOptions {
+            periods: 2 * periods,
+            ..*shooting
+        };
+        let mut last = OrbitError::NotConverged {
+            what: "period-doubling branch switch",
+            iterations: 0,
+            residual: f64::NAN,
+        };
+        let trials = [offset, -offset]
+            .into_iter()
+            .flat_map(|dl| [h, 4.0 * h, 16.0 * h].map(move |hh| (dl, hh)))
+            .flat_map(|(dl, hh)| [(dl, hh, 1.0), (dl, hh, -1.0)]);
+        for (dl, hh, sgn) in trials {
+            let lam = pd.parameter + dl;
+            self.set_parameter(parameter, lam)?;
+            {
+                let x: Vec<f64> = pd
+                    .x0
+                    .iter()
+                    .zip(v.iter())
+                    .map(|(a, b)| a + sgn * hh * b)
+                    .collect();
+                match self.shoot(&x, &opts2) {
+                    Ok(o) => {
+                        let f =
+                            self.flow(self.phase(), &o.x0, periods as f64 * self.period(), false)?;
+                        let gap = f
+                            .state
+                            .iter()
+                            .zip(&o.x0)
+                            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+                        let scale = o.x0.iter().fold(1.0_f64, |m, a| m.max(a.abs()));
+                        if gap > 1e3 * shooting.tol * scale {
+                            return Ok((lam, o));
+                        }
+                    }
+                    Err(e) => last = e,
+                }
+            }
+        }
+        Err(last)
+    }
+}

@@ -1,0 +1,863 @@
+//! The event-located flow of `M q'' + C q' + K q + g(t, q, q') = f(t)` with its variational
+//! equations (adaptive Dormand–Prince 5(4)).
+
+use crate::error::{OrbitError, Result, check};
+use crate::impact::ImpactLaw;
+use nalgebra::DMatrix;
+use system::{Direction, SecondOrderSystem};
+
+/// Settings of the integrator behind every flow, shooting and continuation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct FlowOptions {
+    /// Relative tolerance of the Dormand–Prince error estimate (state only).
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+    /// Largest step, as a fraction of the flow's duration (`(0, 1]`). Bounds the step so that an
+    /// event function cannot leave and re-enter its sign within one step unseen.
+    pub max_step_fraction: f64,
+    /// Cap on accepted plus rejected steps of one flow.
+    pub max_steps: usize,
+    /// Cap on located events of one flow (guards against chattering).
+    pub max_events: usize,
+    /// Event times are located to this absolute tolerance (times `max(1, |t|)`).
+    pub event_tol: f64,
+}
+
+impl Default for FlowOptions {
+    fn default() -> Self {
+        Self {
+            rtol: 1e-10,
+            atol: 1e-12,
+            max_step_fraction: 0.02,
+            max_steps: 2_000_000,
+            max_events: 100_000,
+            event_tol: 1e-13,
+        }
+    }
+}
+
+impl FlowOptions {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// [`OrbitError::InvalidInput`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        check(
+            self.rtol.is_finite() && self.rtol > 0.0 && self.rtol < 1.0,
+            "FlowOptions::rtol",
+            "in (0, 1)",
+            self.rtol,
+        )?;
+        check(
+            self.atol.is_finite() && self.atol > 0.0,
+            "FlowOptions::atol",
+            "> 0 and finite",
+            self.atol,
+        )?;
+        check(
+            self.max_step_fraction > 0.0 && self.max_step_fraction <= 1.0,
+            "FlowOptions::max_step_fraction",
+            "in (0, 1]",
+            self.max_step_fraction,
+        )?;
+        check(
+            self.max_steps >= 1,
+            "FlowOptions::max_steps",
+            ">= 1",
+            self.max_steps as f64,
+        )?;
+        check(
+            self.event_tol.is_finite() && self.event_tol > 0.0,
+            "FlowOptions::event_tol",
+            "> 0 and finite",
+            self.event_tol,
+        )
+    }
+}
+
+/// One located event along a flow.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EventRecord {
+    /// Index of the event function.
+    pub index: usize,
+    /// Event time.
+    pub time: f64,
+    /// State on arrival (before any reset), `(q, q')`.
+    pub state: Vec<f64>,
+    /// Direction of the crossing.
+    pub direction: Direction,
+    /// True if an [`ImpactLaw`] reset the state here.
+    pub impact: bool,
+    /// `‖S − G‖_F`: how far the saltation matrix is from the reset Jacobian (`G = I` for a force
+    /// law that only switches). Zero up to the event-location tolerance for a continuous force.
+    pub saltation_jump: f64,
+}
+
+/// A smooth piece of a flow: one Dormand–Prince step of length `h` from `(t, x)`.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Piece {
+    pub t: f64,
+    pub x: Vec<f64>,
+    pub h: f64,
+}
+
+/// The result of a flow.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flow {
+    /// Final state `(q, q')`.
+    pub state: Vec<f64>,
+    /// Final time.
+    pub time: f64,
+    /// `∂x(t_end)/∂x(t_0)` from the variational equations composed with the saltation matrices
+    /// (if asked for).
+    pub jacobian: Option<DMatrix<f64>>,
+    /// Located events in time order.
+    pub events: Vec<EventRecord>,
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected steps.
+    pub rejected: usize,
+    pub(crate) pieces: Vec<Piece>,
+}
+
+/// `(M⁻¹, C, K)` of a system.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Matrices {
+    pub minv: DMatrix<f64>,
+    pub c: DMatrix<f64>,
+    pub k: DMatrix<f64>,
+}
+
+impl Matrices {
+    pub fn of<S: SecondOrderSystem + ?Sized>(s: &S) -> Result<Self> {
+        let n = s.n_dof();
+        check(n >= 1, "n_dof", ">= 1", n as f64)?;
+        let (m, c, k) = (s.mass(), s.damping(), s.stiffness());
+        for (what, a) in [
+            ("mass matrix", &m),
+            ("damping matrix", &c),
+            ("stiffness matrix", &k),
+        ] {
+            if a.nrows() != n || a.ncols() != n {
+                return Err(OrbitError::DimensionMismatch {
+                    what,
+                    expected: n * n,
+                    got: a.len(),
+                });
+            }
+            if a.iter().any(|v| !v.is_finite()) {
+                return Err(OrbitError::NonFinite { what, time: 0.0 });
+            }
+        }
+        let minv = m
+            .lu()
+            .try_inverse()
+            .filter(|x| x.iter().all(|v| v.is_finite()))
+            .ok_or(OrbitError::Singular {
+                what: "mass matrix",
+            })?;
+        Ok(Self { minv, c, k })
+    }
+}
+
+// Dormand–Prince 5(4) tableau.
+const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+const A: [[f64; 6]; 7] = [
+    [0.0; 6],
+    [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+        0.0,
+    ],
+    [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+    ],
+];
+const B: [f64; 7] = [
+    35.0 / 384.0,
+    0.0,
+    500.0 / 1113.0,
+    125.0 / 192.0,
+    -2187.0 / 6784.0,
+    11.0 / 84.0,
+    0.0,
+];
+const BSTAR: [f64; 7] = [
+    5179.0 / 57600.0,
+    0.0,
+    7571.0 / 16695.0,
+    393.0 / 640.0,
+    -92097.0 / 339200.0,
+    187.0 / 2100.0,
+    1.0 / 40.0,
+];
+
+/// The vector field, its Jacobian and the event functions of one system.
+pub(crate) struct Field<'a, S: ?Sized> {
+    pub sys: &'a S,
+    pub mats: &'a Matrices,
+    pub impacts: Option<&'a dyn ImpactLaw>,
+    n: usize,
+    g: Vec<f64>,
+    f: Vec<f64>,
+    jq: Vec<f64>,
+    jv: Vec<f64>,
+    e: Vec<f64>,
+}
+
+impl<'a, S: SecondOrderSystem + ?Sized> Field<'a, S> {
+    pub fn new(sys: &'a S, mats: &'a Matrices, impacts: Option<&'a dyn ImpactLaw>) -> Self {
+        let n = sys.n_dof();
+        Self {
+            sys,
+            mats,
+            impacts,
+            n,
+            g: vec![0.0; n],
+            f: vec![0.0; n],
+            jq: vec![0.0; n * n],
+            jv: vec![0.0; n * n],
+            e: vec![0.0; sys.n_events()],
+        }
+    }
+
+    pub fn n_events(&self) -> usize {
+        self.e.len()
+    }
+
+    /// `x' = (q', M⁻¹ (f − C q' − K q − g))`.
+    pub fn rhs(&mut self, t: f64, x: &[f64], out: &mut [f64]) {
+        let n = self.n;
+        let (q, v) = x.split_at(n);
+        self.sys.nonlinear_force(t, q, v, &mut self.g);
+        self.sys.forcing(t, &mut self.f);
+        let m = self.mats;
+        for i in 0..n {
+            let mut r = self.f[i] - self.g[i];
+            for j in 0..n {
+                r -= m.c[(i, j)] * v[j] + m.k[(i, j)] * q[j];
+            }
+            self.g[i] = r; // reuse as the force balance
+        }
+        for i in 0..n {
+            out[i] = v[i];
+            let mut a = 0.0;
+            for j in 0..n {
+                a += m.minv[(i, j)] * self.g[j];
+            }
+            out[n + i] = a;
+        }
+    }
+
+    /// `A = [[0, I], [−M⁻¹(K + ∂g/∂q), −M⁻¹(C + ∂g/∂q')]]`.
+    pub fn jacobian(&mut self, t: f64, x: &[f64], a: &mut DMatrix<f64>) {
+        let n = self.n;
+        let (q, v) = x.split_at(n);
+        self.sys.force_jacobian(t, q, v, &mut self.jq, &mut self.jv);
+        let m = self.mats;
+        a.fill(0.0);
+        for i in 0..n {
+            a[(i, n + i)] = 1.0;
+            for j in 0..n {
+                let (mut sk, mut sc) = (0.0, 0.0);
+                for l in 0..n {
+                    sk += m.minv[(i, l)] * (m.k[(l, j)] + self.jq[l * n + j]);
+                    sc += m.minv[(i, l)] * (m.c[(l, j)] + self.jv[l * n + j]);
+                }
+                a[(n + i, j)] = -sk;
+                a[(n + i, n + j)] = -sc;
+            }
+        }
+    }
+
+    pub fn events(&mut self, t: f64, x: &[f64]) -> &[f64] {
+        let n = self.n;
+        if !self.e.is_empty() {
+            self.sys.events(t, &x[..n], &x[n..], &mut self.e);
+        }
+        &self.e
+    }
+
+    fn event(&mut self, i: usize, t: f64, x: &[f64]) -> f64 {
+        self.events(t, x)[i]
+    }
+}
+
+/// One Dormand–Prince step; `phi` is carried along by the same stages (the exact derivative of
+/// the discrete step for an exact Jacobian).
+pub(crate) struct Stepper<'a, S: ?Sized> {
+    pub field: Field<'a, S>,
+    k: Vec<Vec<f64>>,
+    kp: Vec<DMatrix<f64>>,
+    y: Vec<f64>,
+    a: DMatrix<f64>,
+    yp: DMatrix<f64>,
+    pub rtol: f64,
+    pub atol: f64,
+}
+
+impl<'a, S: SecondOrderSystem + ?Sized> Stepper<'a, S> {
+    pub fn new(field: Field<'a, S>, rtol: f64, atol: f64) -> Self {
+        let m = 2 * field.n;
+        Self {
+            field,
+            k: vec![vec![0.0; m]; 7],
+            kp: vec![DMatrix::zeros(m, m); 6],
+            y: vec![0.0; m],
+            a: DMatrix::zeros(m, m),
+            yp: DMatrix::zeros(m, m),
+            rtol,
+            atol,
+        }
+    }
+
+    /// Step `(t, x) → x_new`; returns the scaled error norm. `phi` is advanced in place.
+    pub fn step(
+        &mut self,
+        t: f64,
+        x: &[f64],
+        h: f64,
+        x_new: &mut [f64],
+        phi: Option<&mut DMatrix<f64>>,
+        guard: Option<(usize, f64)>,
+    ) -> f64 {
+        let m = x.len();
+        for s in 0..7 {
+            for i in 0..m {
+                let mut acc = 0.0;
+                for j in 0..s {
+                    acc += A[s][j] * self.k[j][i];
+                }
+                self.y[i] = x[i] + h * acc;
+            }
+            let ts = t + C[s] * h;
+            let mut ks = std::mem::take(&mut self.k[s]);
+            self.field.rhs(ts, &self.y, &mut ks);
+            self.k[s] = ks;
+            if s < 6 {
+                if let Some(p) = phi.as_deref() {
+                    self.yp.copy_from(p);
+                    for j in 0..s {
+                        if A[s][j] != 0.0 {
+                            let c = h * A[s][j];
+                            self.yp.zip_apply(&self.kp[j], |d, k| *d += c * k);
+                        }
+                    }
+                    let mut yj = std::mem::take(&mut self.y);
+                    if let Some((ev, side)) = guard {
+                        // one-sided Jacobian: a stage point that overshot the located switching
+                        // surface is pulled back along the chord to the pre-event side
+                        let mut d = 1e-9;
+                        let y0 = yj.clone();
+                        while self.field.event(ev, ts, &yj) * side <= 0.0 && d < 0.5 {
+                            for i in 0..m {
+                                yj[i] = y0[i] + d * (x[i] - y0[i]);
+                            }
+                            d *= 4.0;
+                        }
+                        self.field.jacobian(ts, &yj, &mut self.a);
+                        yj.copy_from_slice(&y0);
+                    } else {
+                        self.field.jacobian(ts, &yj, &mut self.a);
+                    }
+                    self.y = yj;
+                    self.a.mul_to(&self.yp, &mut self.kp[s]);
+                }
+            }
+            if s == 6 {
+                x_new.copy_from_slice(&self.y);
+            }
+        }
+        if let Some(p) = phi {
+            for j in 0..6 {
+                if B[j] != 0.0 {
+                    let c = h * B[j];
+                    p.zip_apply(&self.kp[j], |d, k| *d += c * k);
+                }
+            }
+        }
+        let mut err = 0.0;
+        for i in 0..m {
+            let mut e = 0.0;
+            for j in 0..7 {
+                e += (B[j] - BSTAR[j]) * self.k[j][i];
+            }
+            let sc = self.atol + self.rtol * x[i].abs().max(x_new[i].abs());
+            err += (h * e / sc).powi(2);
+        }
+        (err / m as f64).sqrt()
+    }
+
+    /// State only, for event location and extrema.
+    pub fn state_at(&mut self, t: f64, x: &[f64], h: f64) -> Vec<f64> {
+        let mut out = vec![0.0; x.len()];
+        if h != 0.0 {
+            self.step(t, x, h, &mut out, None, None);
+        } else {
+            out.copy_from_slice(x);
+        }
+        out
+    }
+}
+
+fn all_finite(x: &[f64]) -> bool {
+    x.iter().all(|v| v.is_finite())
+}
+
+/// Integrates from `(t0, x0)` over `duration`, locating events, optionally with the
+/// variational equations and a record of the smooth pieces.
+pub(crate) fn integrate<S: SecondOrderSystem + ?Sized>(
+    field: Field<'_, S>,
+    opts: &FlowOptions,
+    t0: f64,
+    x0: &[f64],
+    duration: f64,
+    variational: bool,
+    record: bool,
+) -> Result<Flow> {
+    let m = x0.len();
+    check(t0.is_finite(), "t0", "finite", t0)?;
+    check(
+        duration.is_finite() && duration > 0.0,
+        "duration",
+        "> 0 and finite",
+        duration,
+    )?;
+    if !all_finite(x0) {
+        return Err(OrbitError::NonFinite {
+            what: "initial state",
+            time: t0,
+        });
+    }
+    let mut st = Stepper::new(field, opts.rtol, opts.atol);
+    let mut f0 = vec![0.0; m];
+    st.field.rhs(t0, x0, &mut f0);
+    if !all_finite(&f0) {
+        return Err(OrbitError::NonFinite {
+            what: "right-hand side",
+            time: t0,
+        });
+    }
+    let ne = st.field.n_events();
+    let t_end = t0 + duration;
+    let hmax = opts.max_step_fraction * duration;
+    let mut t = t0;
+    let mut x = x0.to_vec();
+    let mut phi = variational.then(|| DMatrix::<f64>::identity(m, m));
+    let mut e_now = st.field.events(t, &x).to_vec();
+    if !all_finite(&e_now) {
+        return Err(OrbitError::NonFinite {
+            what: "event function",
+            time: t,
+        });
+    }
+    let mut side: Vec<f64> = e_now
+        .iter()
+        .map(|&e| if e >= 0.0 { 1.0 } else { -1.0 })
+        .collect();
+    // initial step from the scale of the state and its rate
+    let mut h = {
+        let xs = x.iter().fold(0.0_f64, |a, v| a.max(v.abs())) + opts.atol;
+        let fs = f0.iter().fold(0.0_f64, |a, v| a.max(v.abs()));
+        let guess = if fs > 0.0 { 0.01 * xs / fs } else { hmax };
+        guess.min(hmax).max(1e-6 * hmax)
+    };
+    let mut flow = Flow {
+        state: vec![],
+        time: t0,
+        jacobian: None,
+        events: vec![],
+        steps: 0,
+        rejected: 0,
+        pieces: vec![],
+    };
+    let mut x_new = vec![0.0; m];
+    let mut phi_new = phi.clone();
+    let t_snap = 1e-13 * t_end.abs().max(duration);
+    loop {
+        let remaining = t_end - t;
+        if remaining <= t_snap {
+            break;
+        }
+        if flow.steps + flow.rejected >= opts.max_steps {
+            return Err(OrbitError::TooManySteps {
+                limit: opts.max_steps,
+                time: t,
+            });
+        }
+        let mut hh = h.min(hmax);
+        let last = hh >= remaining;
+        if last {
+            hh = remaining;
+        }
+        if hh <= 8.0 * f64::EPSILON * t.abs().max(duration) {
+            return Err(OrbitError::StepSizeUnderflow { time: t, step: hh });
+        }
+        if let (Some(p), Some(pn)) = (phi.as_ref(), phi_new.as_mut()) {
+            pn.copy_from(p);
+        }
+        let err = st.step(t, &x, hh, &mut x_new, phi_new.as_mut(), None);
+        if !err.is_finite() || !all_finite(&x_new) || err > 1.0 {
+            flow.rejected += 1;
+            let fac = if err.is_finite() {
+                (0.9 * err.powf(-0.2)).max(0.2)
+            } else {
+                0.25
+            };
+            h = hh * fac;
+            continue;
+        }
+        // events at the end of the trial step
+        let e_end = st.field.events(t + hh, &x_new).to_vec();
+        if !all_finite(&e_end) {
+            return Err(OrbitError::NonFinite {
+                what: "event function",
+                time: t + hh,
+            });
+        }
+        let mut first: Option<(usize, f64, f64)> = None; // (index, θ_lo, θ_hi)
+        for i in 0..ne {
+            if e_end[i] * side[i] < 0.0 {
+                let dir = if side[i] > 0.0 {
+                    Direction::Falling
+                } else {
+                    Direction::Rising
+                };
+                if st.field.sys.event_direction(i).accepts(dir) {
+                    let (lo, hi) = locate(&mut st, i, t, &x, hh, side[i], e_now[i], e_end[i], opts);
+                    if first.is_none_or(|(_, _, h0)| hi < h0) {
+                        first = Some((i, lo, hi));
+                    }
+                }
+            }
+        }
+        match first {
+            None => {
+                if record {
+                    flow.pieces.push(Piece {
+                        t,
+                        x: x.clone(),
+                        h: hh,
+                    });
+                }
+                for i in 0..ne {
+                    if e_end[i] * side[i] < 0.0 {
+                        side[i] = -side[i];
+                    }
+                }
+                t = if last { t_end } else { t + hh };
+                std::mem::swap(&mut x, &mut x_new);
+                std::mem::swap(&mut phi, &mut phi_new);
+                e_now = e_end;
+                flow.steps += 1;
+                h = hh * (0.9 * err.max(1e-10).powf(-0.2)).min(5.0);
+            }
+            Some((i, lo, hi)) => {
+                let dt = hi * hh;
+                st.step(t, &x, dt, &mut x_new, phi.as_mut(), Some((i, side[i])));
+                if record {
+                    flow.pieces.push(Piece {
+                        t,
+                        x: x.clone(),
+                        h: dt,
+                    });
+                }
+                let t_e = t + dt;
+                let t_l = t + lo * hh;
+                let x_l = st.state_at(t, &x, lo * hh);
+                flow.steps += 1;
+                let dir = if side[i] > 0.0 {
+                    Direction::Falling
+                } else {
+                    Direction::Rising
+                };
+                let (x_plus, salt, jump, impact) =
+                    event_map(&mut st.field, i, t_l, &x_l, t_e, &x_new, variational)?;
+                if let (Some(p), Some(s)) = (phi.as_mut(), salt) {
+                    *p = s * &*p;
+                }
+                flow.events.push(EventRecord {
+                    index: i,
+                    time: t_e,
+                    state: x_new.clone(),
+                    direction: dir,
+                    impact,
+                    saltation_jump: jump,
+                });
+                if flow.events.len() > opts.max_events {
+                    return Err(OrbitError::TooManyEvents {
+                        limit: opts.max_events,
+                        time: t_e,
+                    });
+                }
+                side[i] = -side[i];
+                t = t_e;
+                x = x_plus;
+                e_now = st.field.events(t, &x).to_vec();
+                for j in 0..ne {
+                    if j != i && e_now[j] * side[j] < 0.0 {
+                        side[j] = -side[j];
+                    }
+                }
+                h = hh.max(dt);
+            }
+        }
+    }
+    flow.state = x;
+    flow.time = t;
+    flow.jacobian = phi;
+    Ok(flow)
+}
+
+/// Illinois (modified regula falsi) on the fraction `θ` of the step where event `i` crosses;
+/// returns the bracket `(θ_lo, θ_hi)`: `θ_lo` before, `θ_hi` after the crossing.
+fn locate<S: SecondOrderSystem + ?Sized>(
+    st: &mut Stepper<'_, S>,
+    i: usize,
+    t: f64,
+    x: &[f64],
+    h: f64,
+    side: f64,
+    e0: f64,
+    e1: f64,
+    opts: &FlowOptions,
+) -> (f64, f64) {
+    let (mut lo, mut hi, mut elo, mut ehi) = (0.0_f64, 1.0_f64, e0, e1);
+    let tol = opts.event_tol * t.abs().max(1.0) / h.abs();
+    let mut last = 0i8;
+    for _ in 0..200 {
+        if hi - lo <= tol {
+            break;
+        }
+        let mut th = hi - ehi * (hi - lo) / (ehi - elo);
+        if !(th > lo && th < hi) {
+            th = 0.5 * (lo + hi);
+        }
+        let xt = st.state_at(t, x, th * h);
+        let e = st.field.event(i, t + th * h, &xt);
+        if !e.is_finite() {
+            hi = th; // shrink from above; the flow is checked again by the caller's step
+            continue;
+        }
+        if e * side >= 0.0 {
+            // not yet strictly past: the post-event end of the bracket is strictly past the
+            // surface, so the force law (and its Jacobian) there is the post-event one
+            lo = th;
+            elo = e;
+            if last == -1 {
+                ehi *= 0.5;
+            }
+            last = -1;
+        } else {
+            hi = th;
+            ehi = e;
+            if last == 1 {
+                elo *= 0.5;
+            }
+            last = 1;
+        }
+    }
+    (lo, hi)
+}
+
+/// `(x⁺, S, ‖S − G‖_F, impact)` of an event.
+type EventMap = (Vec<f64>, Option<DMatrix<f64>>, f64, bool);
+
+/// Reset and saltation matrix at a located event: returns `(x⁺, S, ‖S − G‖_F, impact)`.
+fn event_map<S: SecondOrderSystem + ?Sized>(
+    field: &mut Field<'_, S>,
+    i: usize,
+    t_l: f64,
+    x_l: &[f64],
+    t_e: f64,
+    x_e: &[f64],
+    variational: bool,
+) -> Result<EventMap> {
+    let m = x_e.len();
+    let impact = field.impacts.is_some_and(|l| l.is_impact(i));
+    let mut x_plus = x_e.to_vec();
+    let mut g = DMatrix::<f64>::identity(m, m);
+    if impact {
+        if let Some(law) = field.impacts {
+            law.reset(i, t_e, x_e, &mut x_plus);
+            law.reset_jacobian(i, t_e, x_e, &mut g);
+        }
+        if !all_finite(&x_plus) || g.iter().any(|v| !v.is_finite()) {
+            return Err(OrbitError::NonFinite {
+                what: "impact reset",
+                time: t_e,
+            });
+        }
+    }
+    if !variational {
+        return Ok((x_plus, None, 0.0, impact));
+    }
+    let s = saltation(field, i, t_l, x_l, t_e, &x_plus, &g)?;
+    let jump = (&s - &g).norm();
+    Ok((x_plus, Some(s), jump, impact))
+}
+
+/// `S = G + (f⁺ − G f⁻) ∇hᵀ / (∇hᵀ f⁻ + ∂h/∂t)`, `f⁻` on the pre-event side `(t_l, x_l)`,
+/// `f⁺` after the reset `(t_e, x⁺)`, `∇h` and `∂h/∂t` by central differences at the event.
+pub(crate) fn saltation<S: SecondOrderSystem + ?Sized>(
+    field: &mut Field<'_, S>,
+    i: usize,
+    t_l: f64,
+    x_l: &[f64],
+    t_e: f64,
+    x_plus: &[f64],
+    g: &DMatrix<f64>,
+) -> Result<DMatrix<f64>> {
+    let m = x_l.len();
+    let mut fm = vec![0.0; m];
+    let mut fp = vec![0.0; m];
+    field.rhs(t_l, x_l, &mut fm);
+    field.rhs(t_e, x_plus, &mut fp);
+    let fm_v = nalgebra::DVector::from_column_slice(&fm);
+    let num = nalgebra::DVector::from_column_slice(&fp) - g * &fm_v;
+    if num.iter().all(|&v| v == 0.0) {
+        return Ok(g.clone());
+    }
+    // ∇h and ∂h/∂t at the pre-event point (h is continuous across the event)
+    let mut xp = x_l.to_vec();
+    let mut grad = nalgebra::DVector::zeros(m);
+    for j in 0..m {
+        let d = 1e-7 * (1.0 + x_l[j].abs());
+        xp[j] = x_l[j] + d;
+        let a = field.event(i, t_l, &xp);
+        xp[j] = x_l[j] - d;
+        let b = field.event(i, t_l, &xp);
+        xp[j] = x_l[j];
+        grad[j] = (a - b) / (2.0 * d);
+    }
+    let d = 1e-7 * (1.0 + t_l.abs());
+    let dht = (field.event(i, t_l + d, x_l) - field.event(i, t_l - d, x_l)) / (2.0 * d);
+    let denom = grad.dot(&fm_v) + dht;
+    if denom == 0.0 || !denom.is_finite() {
+        return Err(OrbitError::TangentialEvent {
+            index: i,
+            time: t_e,
+        });
+    }
+    let s = g + num * grad.transpose() / denom;
+    if s.iter().any(|v| !v.is_finite()) {
+        return Err(OrbitError::NonFinite {
+            what: "saltation matrix",
+            time: t_e,
+        });
+    }
+    Ok(s)
+}
+
+/// Minimum and maximum of every event function along recorded pieces (the gap function's
+/// extrema, for grazing detection): sampled at the piece ends, refined by golden-section search
+/// inside the two pieces around each sampled extremum.
+pub(crate) fn extrema<S: SecondOrderSystem + ?Sized>(
+    field: Field<'_, S>,
+    opts: &FlowOptions,
+    pieces: &[Piece],
+    end: (f64, &[f64]),
+) -> Vec<[f64; 2]> {
+    let mut st = Stepper::new(field, opts.rtol, opts.atol);
+    let ne = st.field.n_events();
+    let np = pieces.len();
+    let mut out = vec![[f64::INFINITY, f64::NEG_INFINITY]; ne];
+    if np == 0 || ne == 0 {
+        return out;
+    }
+    // samples: piece starts, and each piece's end (events may sit between pieces)
+    let mut starts = vec![vec![0.0; ne]; np];
+    let mut ends = vec![vec![0.0; ne]; np];
+    for (k, p) in pieces.iter().enumerate() {
+        starts[k] = st.field.events(p.t, &p.x).to_vec();
+        let xe = if k + 1 == np {
+            end.1.to_vec()
+        } else {
+            st.state_at(p.t, &p.x, p.h)
+        };
+        ends[k] = st.field.events(p.t + p.h, &xe).to_vec();
+    }
+    for i in 0..ne {
+        for (sgn, slot) in [(1.0, 1usize), (-1.0, 0usize)] {
+            // largest of sgn·e over all samples
+            let (mut best, mut kbest) = (f64::NEG_INFINITY, 0);
+            for k in 0..np {
+                let v = (sgn * starts[k][i]).max(sgn * ends[k][i]);
+                if v > best {
+                    best = v;
+                    kbest = k;
+                }
+            }
+            let lo = kbest.saturating_sub(1);
+            let hi = (kbest + 1).min(np - 1);
+            for k in lo..=hi {
+                let p = &pieces[k];
+                let v = golden(&mut st, i, sgn, p);
+                if v > best {
+                    best = v;
+                }
+            }
+            out[i][slot] = sgn * best;
+        }
+    }
+    out
+}
+
+/// `max_θ sgn·e_i(x(t + θh))` on one piece by golden-section search.
+fn golden<S: SecondOrderSystem + ?Sized>(
+    st: &mut Stepper<'_, S>,
+    i: usize,
+    sgn: f64,
+    p: &Piece,
+) -> f64 {
+    let r = 0.5 * (5.0_f64.sqrt() - 1.0);
+    let f = |th: f64, st: &mut Stepper<'_, S>| -> f64 {
+        let x = st.state_at(p.t, &p.x, th * p.h);
+        let v = sgn * st.field.event(i, p.t + th * p.h, &x);
+        if v.is_finite() { v } else { f64::NEG_INFINITY }
+    };
+    let (mut a, mut b) = (0.0_f64, 1.0_f64);
+    let mut c = b - r * (b - a);
+    let mut d = a + r * (b - a);
+    let (mut fc, mut fd) = (f(c, st), f(d, st));
+    for _ in 0..60 {
+        if b - a < 1e-9 {
+            break;
+        }
+        if fc > fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - r * (b - a);
+            fc = f(c, st);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + r * (b - a);
+            fd = f(d, st);
+        }
+    }
+    fc.max(fd)
+}

@@ -1,0 +1,154 @@
+//! # geardyn-orbit
+//!
+//! Periodic orbits of rattling and impacting systems: shooting on the event-located flow with
+//! saltation matrices, Floquet multipliers with their conditioning, and pseudo-arclength
+//! continuation through grazing, period doubling and folds, for any
+//! [`SecondOrderSystem`](system::SecondOrderSystem) (every model of the registry).
+//!
+//! ## The flow and its variational equations
+//!
+//! With `x = (q, q')` the system `M q'' + C q' + K q + g(t, q, q') = f(t)` reads
+//!
+//! ```text
+//! x' = F(t, x) = ( q',  M⁻¹ (f(t) − C q' − K q − g(t, q, q')) )
+//! Φ' = A(t, x) Φ,   A = [[0, I], [−M⁻¹(K + ∂g/∂q), −M⁻¹(C + ∂g/∂q')]],   Φ(t₀) = I
+//! ```
+//!
+//! integrated together by an adaptive Dormand–Prince 5(4) pair (error control on `x`; `Φ`
+//! rides on the same stages, so it is the derivative of the discrete step). The zeros of the
+//! event functions `h_i(t, q, q')` ([`events`](system::SecondOrderSystem::events), e.g. the gap
+//! edges `q = ±b` where the backlash force kinks) are located in every step by Illinois on the
+//! step fraction (re-stepping from the step's start); no step straddles a switch, and the
+//! Jacobian of a step that ends on a switch is taken on its own side.
+//!
+//! ## Saltation matrices
+//!
+//! At an event at time `t_e` with reset `x⁺ = R(x⁻)` (identity unless an [`ImpactLaw`] says
+//! otherwise) the Jacobian jumps by the saltation matrix (Müller 1995; Leine & Nijmeijer,
+//! *Dynamics and Bifurcations of Non-smooth Mechanical Systems*, 2004, Sec. 7.2)
+//!
+//! ```text
+//! Φ(t_e⁺) = S Φ(t_e⁻),   S = G + (f⁺ − G f⁻) ∇hᵀ / (∇hᵀ f⁻ + ∂h/∂t),   G = ∂R/∂x
+//! ```
+//!
+//! with `f^∓` the vector field before and after the event. For a gear mesh whose force is
+//! continuous and only kinks at the gap edges (dead zone), the state is continuous (`G = I`)
+//! and `f⁺ = f⁻`, so **`S = I`**: the kinks enter the monodromy only through `A` changing
+//! along the orbit. [`EventRecord::saltation_jump`] reports `‖S − G‖` (≈ 1e-12 at kinks,
+//! tested). For an impact law with restitution `q'⁺ = −r q'⁻` ([`Restitution`]) on a stop
+//! `h = q − σ`, `S = [[−r, 0], [(a⁺ + r a⁻)/v⁻, −r]]` (`a^∓` the accelerations), which the
+//! tests check against the closed-form period-1 orbit of the impact oscillator.
+//!
+//! ## Shooting
+//!
+//! [`OrbitProblem::shoot`]: Newton on the matching conditions of `m` segments of the orbit
+//! period `kT` (the forcing period `T` times `k`, period-`k` orbits), `τ = kT/m`,
+//!
+//! ```text
+//! r_j = φ(t₀ + (j+1)τ; t₀ + jτ, x_j) − x_{j+1 mod m} = 0,   ∂r_j/∂x_j = Φ_j,  ∂r_j/∂x_{j+1} = −I
+//! ```
+//!
+//! (`m = 1`: single shooting, `(Φ − I) δ = −r`), with a backtracking line search, an iteration
+//! cap, and [`OrbitError::NotConverged`] when it fails. The monodromy is
+//! `Φ = Φ_{m−1} ⋯ Φ_0`.
+//!
+//! ## Floquet multipliers
+//!
+//! [`floquet`]: the eigenvalues `μ` of the monodromy (real Schur form), each with its
+//! condition number `κ(μ) = ‖x‖‖y‖/|yᴴx|` (right and left eigenvectors by inverse iteration):
+//! an error `E` in `Φ` moves `μ` by about `κ ‖E‖`. Stable if `max |μ| ≤ 1 + 10⁻⁶`. The test
+//! functions `det(Φ + I)` (a real multiplier at `−1`), `det(Φ − I)` (at `+1`) and
+//! `Π_{i<j}(μ_iμ_j − 1)` (a pair on the unit circle) change sign at period doubling, fold and
+//! Neimark–Sacker points; [`classify_crossing`] names the crossing between two sets of
+//! multipliers from the count outside the unit circle.
+//!
+//! ## Pseudo-arclength continuation
+//!
+//! [`OrbitProblem::continuation`] continues `z = (x₀/s_x, λ/s_λ)` along
+//! `F(z) = φ_{kT}(x₀; λ) − x₀ = 0` in any [`Parameter`] (a named model parameter, or the base
+//! frequency with `T = 2π/ω`):
+//!
+//! ```text
+//! predictor  z_p = z_i + Δs t_i,             t_i the unit null vector of [(Φ − I) s_x | F_λ s_λ]
+//! corrector  F(z) = 0,  t_iᵀ (z − z_p) = 0   (Newton, F_λ by central differences)
+//! ```
+//!
+//! with step halving on failure and growth after success. Between consecutive points the test
+//! functions are checked: the minimum and maximum of every event (gap) function over the
+//! orbit (**grazing**: the orbit touches a switching surface and contacts appear or vanish),
+//! `det(Φ + I)` (**period doubling**), the `λ`-component of the tangent (**fold**), and the
+//! unit-circle count (**Neimark–Sacker**). Each is located by Illinois on the arclength of
+//! the step, re-correcting at every trial. Stable and unstable points are kept alike.
+//! [`OrbitProblem::switch_at_period_doubling`] starts the period-`2k` branch from
+//! `x_PD ± h v` (`v` the `−1` eigenvector), shooting over `2kT`.
+//!
+//! ## Accuracy and limits
+//!
+//! * The extrema of the gap functions are refined by golden-section search inside the steps
+//!   around the sampled extremum; a gap function that leaves and re-enters its sign within one
+//!   step is not seen (bounded by [`FlowOptions::max_step_fraction`]).
+//! * Grazing of an impacting stop makes `S` singular (`v⁻ → 0`): the flow reports
+//!   [`OrbitError::TangentialEvent`] only when `dh/dt` is exactly zero; near it, Newton may
+//!   need small continuation steps.
+//! * Continuation shoots singly (`segments = 1`); very unstable orbits (`|μ| ≫ 10⁸`) want
+//!   multiple shooting ([`OrbitProblem::shoot`] with `segments > 1`).
+//!
+//! ## Example
+//!
+//! ```
+//! use nalgebra::DMatrix;
+//! use orbit::{OrbitProblem, ShootingOptions};
+//! use system::SecondOrderSystem;
+//!
+//! /// q'' + 0.1 q' + dz(q, 0.2) = 0.5 + 0.3 cos(0.9 t): a loaded rattling mesh.
+//! struct Mesh;
+//! impl SecondOrderSystem for Mesh {
+//!     fn n_dof(&self) -> usize { 1 }
+//!     fn mass(&self) -> DMatrix<f64> { DMatrix::identity(1, 1) }
+//!     fn damping(&self) -> DMatrix<f64> { DMatrix::from_element(1, 1, 0.1) }
+//!     fn nonlinear_force(&self, _t: f64, q: &[f64], _v: &[f64], g: &mut [f64]) {
+//!         let b = 0.2;
+//!         g[0] = if q[0] > b { q[0] - b } else if q[0] < -b { q[0] + b } else { 0.0 };
+//!     }
+//!     fn forcing(&self, t: f64, f: &mut [f64]) { f[0] = 0.5 + 0.3 * (0.9 * t).cos(); }
+//!     fn n_events(&self) -> usize { 2 }
+//!     fn events(&self, _t: f64, q: &[f64], _v: &[f64], e: &mut [f64]) {
+//!         system::gap_edges(q[0], 0.2, e);
+//!     }
+//! }
+//!
+//! let p = OrbitProblem::new(Mesh, 2.0 * std::f64::consts::PI / 0.9)?;
+//! let o = p.shoot(&[0.7, 0.0], &ShootingOptions::default())?;
+//! assert!(o.events.len() >= 2); // contact lost and regained once per period
+//! assert!(o.events.iter().all(|e| e.saltation_jump < 1e-8)); // S = I at the kinks
+//! assert!(o.floquet.stable);
+//! # Ok::<(), orbit::OrbitError>(())
+//! ```
+
+#![deny(missing_docs)]
+
+mod continuation;
+mod error;
+mod floquet;
+mod flow;
+mod impact;
+mod problem;
+mod shooting;
+
+pub use continuation::{
+    Branch, BranchPoint, ContinuationOptions, Extremum, SpecialKind, SpecialPoint, StopReason,
+};
+pub use error::{OrbitError, Result};
+pub use floquet::{
+    Crossing, Floquet, OutsideCount, STABILITY_TOLERANCE, classify_crossing, floquet,
+    real_eigenvector,
+};
+pub use flow::{EventRecord, Flow, FlowOptions};
+pub use impact::{ImpactLaw, Restitution};
+pub use problem::{OrbitProblem, Parameter};
+pub use shooting::{PeriodicOrbit, ShootingOptions};
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctest;
