@@ -388,7 +388,10 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
     let n = 4000;
     let mut zeros = Vec::new();
     for i in 0..n {
-        let (mut a, mut c) = (span * f64::from(i) / f64::from(n), span * f64::from(i + 1) / f64::from(n));
+        let (mut a, mut c) = (
+            span * f64::from(i) / f64::from(n),
+            span * f64::from(i + 1) / f64::from(n),
+        );
         let (fa, fc) = (f(a), f(c));
         if fa == 0.0 {
             zeros.push(a);

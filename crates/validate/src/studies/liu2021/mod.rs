@@ -568,14 +568,23 @@ fn ppv_slope(pts: &[Point]) -> Option<(f64, f64)> {
     Some((slope, se))
 }
 
+/// Smallest rise over a regime that a "grows" claim can mean: 5 % of the regime's mean ppv,
+/// about the line width of the paper's ppv figures (Fig. 11b–15b span several times the ppv of a
+/// regime), fixed before looking at the model's slopes.
+const MIN_RISE: f64 = 0.05;
+
 /// Trend of ppv over `pts` judged by the fitted slope against its standard error:
-/// `Some(true)` for a rise (slope ≥ 2 SE), `Some(false)` for a fall (slope ≤ −2 SE), `None`
-/// when the slope is within 2 SE of zero or there are fewer than three points.
+/// `Some(true)` for a rise (slope ≥ 2 SE), `Some(false)` when even the slope plus 2 SE gives a
+/// rise over the regime below [`MIN_RISE`] of its mean ppv (robustly no visible growth, or a
+/// fall), `None` in between or with fewer than three points.
 fn ppv_rises(pts: &[Point]) -> Option<bool> {
     let (slope, se) = ppv_slope(pts)?;
+    let (first, last) = (pts.first()?.x, pts.last()?.x);
+    let span = (last - first).abs();
+    let mean = pts.iter().map(Point::ppv).sum::<f64>() / pts.len() as f64;
     if slope >= 2.0 * se && slope > 0.0 {
         Some(true)
-    } else if slope <= -2.0 * se && slope < 0.0 {
+    } else if (slope + 2.0 * se) * span < MIN_RISE * mean.abs() {
         Some(false)
     } else {
         None
@@ -611,29 +620,34 @@ fn rise_claim(text: &str, source: &str, what: &str, pts: &[Point]) -> crate::Cla
         .cloned()
         .partition(|p| p.flag().is_none() && p.ppv_flag(0.5).is_none());
     let t = ppv_rises(&robust);
-    let mut fit = ppv_slope(&robust)
-        .map_or("no fit (fewer than three robust points)".to_owned(), |(b, se)| {
-            format!("fitted slope {} ± {} (1 SE)", sig(b), sig(se))
-        });
+    let mut fit = ppv_slope(&robust).map_or(
+        "no fit (fewer than three robust points)".to_owned(),
+        |(b, se)| format!("fitted slope {} ± {} (1 SE)", sig(b), sig(se)),
+    );
     if !dropped.is_empty() {
         fit.push_str(&format!(
             " over the robust points; not robust, left out: {}",
-            dropped.iter().map(|p| at(p.x)).collect::<Vec<_>>().join(", ")
+            dropped
+                .iter()
+                .map(|p| at(p.x))
+                .collect::<Vec<_>>()
+                .join(", ")
         ));
     }
     crate::Claim::new(
         text,
         source,
         format!(
-            "{what}, long-window ppv {}; {fit}; 'grows' read as a slope of at least 2 SE",
+            "{what}, long-window ppv {}; {fit}; 'grows' read as a slope of at least 2 SE, 'no growth' as a rise (slope + 2 SE) over the regime below {} % of its mean ppv",
             span(pts),
+            sig(100.0 * MIN_RISE)
         ),
         trend_verdict(t),
     )
     .cause(if t.is_none() {
-        "the fitted ppv slope is within 2 standard errors of zero, or the regime has fewer than three points"
+        "the fitted ppv slope is within 2 standard errors of zero while a visible rise cannot be excluded, or the regime has fewer than three robust points"
     } else {
-        "fitted ppv slope of the long-window statistics over the regime"
+        "fitted ppv slope of the long-window statistics over the robust points of the regime"
     })
     .needs(pts.iter().map(|p| p.x))
 }
