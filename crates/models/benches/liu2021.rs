@@ -178,6 +178,11 @@ fn bench_long_window(c: &mut Criterion) {
     });
     // the statistics alone on a recorded window (no integration)
     let r = liu2021::integrate(&m, &plain).expect("integrates");
+    eprintln!(
+        "samples in the window: {} ({} per period)",
+        r.tau.len(),
+        r.tau.len() / 50
+    );
     let wo = geardyn_models::response::WindowOptions {
         lines: [1, m.z2],
         ..geardyn_models::response::WindowOptions::new(m.period())
@@ -188,7 +193,7 @@ fn bench_long_window(c: &mut Criterion) {
                 black_box(&r.tau),
                 &r.q,
                 &r.v,
-                |t| m.backlash_at(t),
+                |_| m.backlash, // constant b̄, as `long_window` passes it
                 &[],
                 &wo,
             )

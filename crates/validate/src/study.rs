@@ -510,7 +510,12 @@ impl Comparison {
     /// lies inside the band, deviation when it lies wholly outside, inconclusive when it
     /// straddles an edge.
     pub fn within(mut self, lo: f64, hi: f64) -> Self {
-        self.interval = Some((lo.min(hi), lo.max(hi)));
+        // `f64::min` would drop a NaN bound: keep it, so that the verdict is a deviation
+        self.interval = Some(if lo.is_nan() || hi.is_nan() {
+            (f64::NAN, f64::NAN)
+        } else {
+            (lo.min(hi), lo.max(hi))
+        });
         self
     }
 

@@ -154,11 +154,19 @@ fn record(
             q.push(rec.y_final[0]);
             v.push(rec.y_final[1]);
         }
+        // a constant gap (constant b̄) needs no evaluation of the backlash law per sample
+        let constant = model.readings.base_radius == super::BaseRadius::Mean;
         out.push(window_stats(
             &t,
             &q,
             &v,
-            |tau| model.backlash_at(tau),
+            |tau| {
+                if constant {
+                    model.backlash
+                } else {
+                    model.backlash_at(tau)
+                }
+            },
             &crossings,
             &wo,
         )?);

@@ -200,12 +200,25 @@ pub fn window_stats(
     let mut state = vec![0usize; periods];
     let (mut q_min, mut q_max, mut max_depth) = (f64::INFINITY, f64::NEG_INFINITY, f64::MIN);
     let omega = std::f64::consts::TAU / period;
-    // per period: complex amplitudes of the lines (rectangle rule on the sample grid)
+    // the gap at every sample, once (the impact search reads it again)
+    let mut b_at = Vec::with_capacity(n);
+    // per period: complex amplitudes of the lines (trapezoid weights on the sample grid); the
+    // phase e^{−ikΩ(t−t0)} advances by a rotation, recomputed exactly at every period start
+    // and whenever the sample step changes, so no rounding accumulates beyond one period
     let mut line_re = vec![[0.0f64; 2]; periods];
     let mut line_im = vec![[0.0f64; 2]; periods];
+    let ks = options.lines.map(f64::from);
+    let mut rot = [(1.0f64, 0.0f64); 2];
+    let mut cur = [(1.0f64, 0.0f64); 2];
+    let mut last_dt = f64::NAN;
+    let mut last_period = usize::MAX;
     let mut last_in_window = 0;
+    let (t_stop, t_last_line) = (t_end + 1e-9 * period, t_end - 1e-9 * period);
+    // the period index advances with the (ascending) samples: no division per sample
+    let mut p = 0usize;
+    let mut next_start = t0 + period;
     for i in 0..n {
-        if t[i] > t_end + 1e-9 * period {
+        if t[i] > t_stop {
             break;
         }
         last_in_window = i;
@@ -213,7 +226,11 @@ pub fn window_stats(
         if !b.is_finite() || b < 0.0 {
             return Err(Error::invalid("response.window.gap", ">= 0 and finite", b));
         }
-        let p = period_of(t[i]);
+        b_at.push(b);
+        while p + 1 < periods && t[i] >= next_start {
+            p += 1;
+            next_start = t0 + (p + 1) as f64 * period;
+        }
         let qi = q[i];
         q_min = q_min.min(qi);
         q_max = q_max.max(qi);
@@ -227,19 +244,33 @@ pub fn window_stats(
             0
         };
         state[p] = state[p].max(s);
-        // rectangle rule with the sample's share of the interval (trapezoid weights)
-        if t[i] < t_end - 1e-9 * period {
+        if t[i] < t_last_line {
             let dt = if i + 1 < n {
                 (t[i + 1].min(t_end) - t[i]).max(0.0)
             } else {
                 0.0
             };
-            for (j, &k) in options.lines.iter().enumerate() {
-                let phase = f64::from(k) * omega * (t[i] - t0);
-                let w = if k == 0 { 1.0 } else { 2.0 } * dt / period;
-                line_re[p][j] += w * qi * phase.cos();
-                line_im[p][j] -= w * qi * phase.sin();
+            let step = if i > 0 { t[i] - t[i - 1] } else { f64::NAN };
+            // a uniform grid's steps differ in their last bits: reuse the rotation when the
+            // step agrees to 1e-9 (phase error ≤ 2πk·1e-9 over a period, reset every period)
+            let exact = p != last_period || !((step - last_dt).abs() <= 1e-9 * last_dt.abs());
+            for j in 0..2 {
+                if exact {
+                    let (sn, cs) = (ks[j] * omega * (t[i] - t0)).sin_cos();
+                    cur[j] = (cs, -sn);
+                    let (rs, rc) = (ks[j] * omega * step).sin_cos();
+                    rot[j] = (rc, -rs);
+                } else {
+                    let (a, b2) = cur[j];
+                    let (c, d) = rot[j];
+                    cur[j] = (a * c - b2 * d, a * d + b2 * c);
+                }
+                let w = if options.lines[j] == 0 { 1.0 } else { 2.0 } * dt / period;
+                line_re[p][j] += w * qi * cur[j].0;
+                line_im[p][j] += w * qi * cur[j].1;
             }
+            last_period = p;
+            last_dt = step;
         }
     }
     // impacts: located crossings when given, else sign changes between samples
@@ -259,7 +290,7 @@ pub fn window_stats(
     };
     if crossings.is_empty() {
         for i in 1..=last_in_window {
-            let (ba, bb) = (gap(t[i - 1]), gap(t[i]));
+            let (ba, bb) = (b_at[i - 1], b_at[i]);
             // drive flank entry: q + b goes from ≥ 0 to < 0
             let (da, db) = (q[i - 1] + ba, q[i] + bb);
             if da >= 0.0 && db < 0.0 {
