@@ -10,9 +10,13 @@
 //! contact switches `δ* = ±B` located as events); the model's fixed-step RK4 would only be used
 //! for Fig. 8's previous-step update (see [`engine_for`]), which no study here runs.
 
+#[path = "yu2021_readings.rs"]
+mod readings;
+
 use models::yu2021::{
-    BacklashSpec, BacklashUpdate, DynamicBacklashLaw, Engine, FractalMeshStiffness, FractalSurface,
-    Options, ReferenceCheck, ReferenceRun, Response, RunSettings, Yu2021Model, Yu2021Params,
+    BacklashSpec, BacklashUpdate, ContactAreaLaw, DynamicBacklashLaw, Engine, FractalMeshStiffness,
+    FractalSurface, Options, ReferenceCheck, ReferenceRun, Response, RunSettings, Yu2021Model,
+    Yu2021Params,
 };
 
 use super::user_models::step_cells;
@@ -23,7 +27,7 @@ use crate::{
 
 /// The studies of this file.
 pub fn studies() -> Vec<Study> {
-    vec![
+    let mut v = vec![
         Study {
             id: "yu2021-fig9-dynamic-backlash",
             paper: Paper::Yu2021,
@@ -91,7 +95,9 @@ pub fn studies() -> Vec<Study> {
             cost: Cost::Heavy,
             run: fig14,
         },
-    ]
+    ];
+    v.extend(readings::studies());
+    v
 }
 
 const D_FIG9: [f64; 3] = [1.2, 1.4, 1.6];
@@ -122,6 +128,26 @@ pub(crate) const G_FIG9: f64 = 1e-11;
 /// [`fractal_rig`] with fractal roughness `g` (m) for both the backlash (Eq. 4–5) and the
 /// stiffness (Eq. 18).
 pub(crate) fn fractal_rig_with(d: f64, g: f64) -> Result<Yu2021Params, Error> {
+    fractal_rig_full(d, g, ContactAreaLaw::Fixed)
+}
+
+/// [`fractal_rig`] with the largest contact area `a_L` of Eq. (18) obtained by `area`
+/// (`ContactAreaLaw::Fixed` is [`fractal_rig`]).
+pub(crate) fn fractal_rig_area(d: f64, area: ContactAreaLaw) -> Result<Yu2021Params, Error> {
+    fractal_rig_full(d, G_FIG9, area)
+}
+
+fn fractal_rig_full(d: f64, g: f64, area: ContactAreaLaw) -> Result<Yu2021Params, Error> {
+    fractal_rig_law(d, g, &FractalMeshStiffness::table2().with_area(area))
+}
+
+/// [`fractal_rig`] with roughness `g` and the Eq. (18) stiffness law `law` (its level, inputs
+/// and `a_L` law).
+pub(crate) fn fractal_rig_law(
+    d: f64,
+    g: f64,
+    law: &FractalMeshStiffness,
+) -> Result<Yu2021Params, Error> {
     let mut p = Yu2021Params::table2();
     p.nominal_length = B0 / 5.0;
     p.backlash = BacklashSpec::Fractal {
@@ -135,8 +161,7 @@ pub(crate) fn fractal_rig_with(d: f64, g: f64) -> Result<Yu2021Params, Error> {
             length: 1e-3,
         },
     };
-    p.with_fractal_stiffness(&FractalMeshStiffness::table2())
-        .context("Eq. (18) stiffness")
+    p.with_fractal_stiffness(law).context("Eq. (18) stiffness")
 }
 
 /// The engine of a run: the `timestep` engine (Dormand–Prince 5(4) with the contact switches
@@ -273,6 +298,11 @@ fn fig9() -> Result<StudyOutput, Error> {
             } else {
                 "about"
             }))
+            .class(Evidence::Calibration(
+                "bearing stiffness 1e8 N/m (not stated) sets b_dy ≈ 0.847 F_s sin α (1/k_px + \
+                 1/k_gx)/b_n"
+                    .to_owned(),
+            ))
             .reading("R-YU-EQ6")
             .reading("R-YU-EQ8")
             .reading("R-YU-FIG10")
@@ -721,7 +751,10 @@ fn fig13() -> Result<StudyOutput, Error> {
         if frac >= 0.8 { Verdict::Pass } else { Verdict::Deviation },
     )
     .reading("R-YU-T1-TDH")
-    .reading("R-YU-EQ19");
+    .reading("R-YU-EQ19")
+    .class(Evidence::NotCheckable(
+        "Fig. 13 experimental DF points are not printed in the seeds".to_owned(),
+    ));
     out.claim(if enough {
         ordering
     } else {
@@ -746,7 +779,10 @@ fn fig13() -> Result<StudyOutput, Error> {
         format!("{} (no experimental jump to compare with)", ev.join("; ")),
         Verdict::Inconclusive,
     )
-    .cause("the experimental DF points of Fig. 13 are not transcribed (no printed numbers; figure reading not done)"));
+    .cause("the experimental DF points of Fig. 13 are not transcribed (no printed numbers; figure reading not done)")
+    .class(Evidence::NotCheckable(
+        "Fig. 13 experimental jump is not printed in the seeds".to_owned(),
+    )));
     Ok(out)
 }
 
@@ -792,7 +828,10 @@ fn fig14() -> Result<StudyOutput, Error> {
             ),
             Verdict::Inconclusive,
         )
-        .reading("R-YU-EQ19"),
+        .reading("R-YU-EQ19")
+        .class(Evidence::NotCheckable(
+            "Fig. 14 experimental RMS points and Cao's model are not in the seeds".to_owned(),
+        )),
     );
     Ok(out)
 }
