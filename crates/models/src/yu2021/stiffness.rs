@@ -91,7 +91,7 @@ pub fn majumdar_bhushan_load(c: &FractalContact, ln_al: f64) -> f64 {
 const AREA_BRACKET: (f64, f64) = (1e-30, 1e2);
 
 /// `a_L` (m²) of the Majumdar–Bhushan load balance `P(a_L) = F` at the contact's load `F`
-/// ([`majumdar_bhushan_load`]), by bisection on `ln a_L` over [`AREA_BRACKET`] (200 halvings of
+/// ([`majumdar_bhushan_load`]), by bisection on `ln a_L` over `[1e-30, 1e2] m²` (200 halvings of
 /// a bracket 74 units wide in `ln a_L`: the result is the bisection limit, relative error
 /// ~1e-15). `E* = E/(2(1−ν²))`, `H` and `ν` from the contact; `D`, `G` its fractal parameters.
 /// Errors on invalid contact inputs or a load outside the bracket.

@@ -1286,8 +1286,9 @@ fn sensitivity() -> Result<StudyOutput, Error> {
         &jobs,
         |&(k, j, dynamic)| {
             let (r, i, v) = points[k];
-            let Ok(p) = varied_rig(D4[j], READINGS[r].area, i, v) else {
-                return Ok(None);
+            let p = match varied_rig(D4[j], READINGS[r].area, i, v) {
+                Ok(p) if p.backlash.constant_part().is_ok() => p,
+                _ => return Ok(None),
             };
             let kind = if dynamic {
                 Kind::Dynamic
