@@ -40,7 +40,9 @@ pub fn studies() -> Vec<Study> {
                 at D = 1.5: FractalMeshStiffness::table2()). The paper does not state b_n: we \
                 take b_n = b0/5, so that the smooth-surface limit b_s → b0 equals the paper's \
                 'almost 5' (one calibrated scale). Mean of B/b_n over 20 mesh periods vs the \
-                means quoted in the text. Engine: `timestep` (Dormand–Prince 5(4), rtol 1e-8, \
+                means quoted in the text; B(τ) per D over the record (table backlash-series, 64 \
+                samples per mesh period) with its peak-to-peak (table means); the four readings \
+                of Eq. (19) and a_L side by side in yu2021-fig9-11-readings. Engine: `timestep` (Dormand–Prince 5(4), rtol 1e-8, \
                 atol 1e-10, contact switches δ* = ±B located as events), state-dependent backlash.",
             cost: Cost::Heavy,
             run: fig9,
@@ -255,6 +257,7 @@ fn fig9() -> Result<StudyOutput, Error> {
             ("mean B/b_n", "1"),
             ("min B/b_n", "1"),
             ("max B/b_n", "1"),
+            ("p-p B/b_n", "1"),
         ]),
     );
     let mut fig = Figure::new(
@@ -263,6 +266,9 @@ fn fig9() -> Result<StudyOutput, Error> {
         ("τ", "1"),
         ("B/b_n", "1"),
     );
+    let mut series: Vec<Vec<f64>> = Vec::new(); // B(τ) per D, the whole record
+    let mut series_tau: Vec<f64> = Vec::new();
+    let mut series_spp = 256usize;
     let mut always_greater = true;
     let mut parts: Vec<(f64, f64)> = Vec::new(); // (text, model) dynamic part b_dy = mean B − b_s
     let mut all_flags = Vec::new();
@@ -321,9 +327,23 @@ fn fig9() -> Result<StudyOutput, Error> {
         always_greater &= min >= bs;
         let [motion, change] = check_cells(&checked);
         t.push(row_with(
-            &[*d, bs, resp.mean_backlash(), min, max, motion, change],
+            &[
+                *d,
+                bs,
+                resp.mean_backlash(),
+                min,
+                max,
+                max - min,
+                motion,
+                change,
+            ],
             stat_cells(&checked),
         ))?;
+        series.push(resp.backlash.clone());
+        if series_tau.is_empty() {
+            series_tau.clone_from(&resp.tau);
+            series_spp = resp.steps_per_period;
+        }
         let n = resp.steps_per_period * 4;
         let stride = (n / 200).max(1);
         let pts = resp
@@ -379,6 +399,19 @@ fn fig9() -> Result<StudyOutput, Error> {
     );
     out.table(t);
     out.figure(fig);
+    // B(τ) per D over the whole record (64 samples per mesh period), the Fig. 9 waveform
+    let mut cols: Vec<String> = vec!["t (mesh periods)".to_owned()];
+    cols.extend(D_FIG9.iter().map(|d| format!("B/b_n D={d}")));
+    let units: Vec<(&str, &str)> = cols.iter().map(|c| (c.as_str(), "1")).collect();
+    let mut wave = Table::new("backlash-series", &units);
+    let period = std::f64::consts::TAU / 0.2;
+    let stride = (series_spp / 64).max(1);
+    for i in (0..series_tau.len()).step_by(stride) {
+        let mut row = vec![(series_tau[i] - series_tau[0]) / period];
+        row.extend(series.iter().map(|b| b.get(i).copied().unwrap_or(f64::NAN)));
+        wave.push_nums(&row)?;
+    }
+    out.table(wave);
     Ok(out)
 }
 
