@@ -120,4 +120,6 @@ pub use model::{
 };
 pub use params::{BacklashSpec, Yu2021Params};
 pub use reference::{Metrics, ReferenceCheck, ReferenceRun};
-pub use stiffness::FractalMeshStiffness;
+pub use stiffness::{
+    ContactAreaLaw, FractalMeshStiffness, majumdar_bhushan_area, majumdar_bhushan_load,
+};

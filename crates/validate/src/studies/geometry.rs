@@ -668,7 +668,8 @@ fn yu_eq16() -> Result<StudyOutput, Error> {
     out.compare(
         Comparison::published(paper.value("sect23.alpha0")?, printed.to_degrees())?
             .note("Eq. (16) as printed, arccos((R_p + R_g)/a) at a = a0")
-            .reading("R-YU-EQ16"),
+            .reading("R-YU-EQ16")
+            .class(Evidence::Consistency),
     );
     let mut t = Table::new(
         "alpha-vs-da",
@@ -732,7 +733,8 @@ fn yu_eq16() -> Result<StudyOutput, Error> {
             ),
             Verdict::Deviation,
         )
-        .reading("R-YU-EQ16"),
+        .reading("R-YU-EQ16")
+        .class(Evidence::Consistency),
     );
     Ok(out)
 }

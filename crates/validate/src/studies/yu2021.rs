@@ -10,9 +10,13 @@
 //! contact switches `δ* = ±B` located as events); the model's fixed-step RK4 would only be used
 //! for Fig. 8's previous-step update (see [`engine_for`]), which no study here runs.
 
+#[path = "yu2021_readings.rs"]
+mod readings;
+
 use models::yu2021::{
-    BacklashSpec, BacklashUpdate, DynamicBacklashLaw, Engine, FractalMeshStiffness, FractalSurface,
-    Options, ReferenceCheck, ReferenceRun, Response, RunSettings, Yu2021Model, Yu2021Params,
+    BacklashSpec, BacklashUpdate, ContactAreaLaw, DynamicBacklashLaw, Engine, FractalMeshStiffness,
+    FractalSurface, Options, ReferenceCheck, ReferenceRun, Response, RunSettings, Yu2021Model,
+    Yu2021Params,
 };
 
 use super::user_models::step_cells;
@@ -23,7 +27,7 @@ use crate::{
 
 /// The studies of this file.
 pub fn studies() -> Vec<Study> {
-    vec![
+    let mut v = vec![
         Study {
             id: "yu2021-fig9-dynamic-backlash",
             paper: Paper::Yu2021,
@@ -36,7 +40,9 @@ pub fn studies() -> Vec<Study> {
                 at D = 1.5: FractalMeshStiffness::table2()). The paper does not state b_n: we \
                 take b_n = b0/5, so that the smooth-surface limit b_s → b0 equals the paper's \
                 'almost 5' (one calibrated scale). Mean of B/b_n over 20 mesh periods vs the \
-                means quoted in the text. Engine: `timestep` (Dormand–Prince 5(4), rtol 1e-8, \
+                means quoted in the text; B(τ) per D over the record (table backlash-series, 64 \
+                samples per mesh period) with its peak-to-peak (table means); the four readings \
+                of Eq. (19) and a_L side by side in yu2021-fig9-11-readings. Engine: `timestep` (Dormand–Prince 5(4), rtol 1e-8, \
                 atol 1e-10, contact switches δ* = ±B located as events), state-dependent backlash.",
             cost: Cost::Heavy,
             run: fig9,
@@ -91,7 +97,9 @@ pub fn studies() -> Vec<Study> {
             cost: Cost::Heavy,
             run: fig14,
         },
-    ]
+    ];
+    v.extend(readings::studies());
+    v
 }
 
 const D_FIG9: [f64; 3] = [1.2, 1.4, 1.6];
@@ -122,6 +130,26 @@ pub(crate) const G_FIG9: f64 = 1e-11;
 /// [`fractal_rig`] with fractal roughness `g` (m) for both the backlash (Eq. 4–5) and the
 /// stiffness (Eq. 18).
 pub(crate) fn fractal_rig_with(d: f64, g: f64) -> Result<Yu2021Params, Error> {
+    fractal_rig_full(d, g, ContactAreaLaw::Fixed)
+}
+
+/// [`fractal_rig`] with the largest contact area `a_L` of Eq. (18) obtained by `area`
+/// (`ContactAreaLaw::Fixed` is [`fractal_rig`]).
+pub(crate) fn fractal_rig_area(d: f64, area: ContactAreaLaw) -> Result<Yu2021Params, Error> {
+    fractal_rig_full(d, G_FIG9, area)
+}
+
+fn fractal_rig_full(d: f64, g: f64, area: ContactAreaLaw) -> Result<Yu2021Params, Error> {
+    fractal_rig_law(d, g, &FractalMeshStiffness::table2().with_area(area))
+}
+
+/// [`fractal_rig`] with roughness `g` and the Eq. (18) stiffness law `law` (its level, inputs
+/// and `a_L` law).
+pub(crate) fn fractal_rig_law(
+    d: f64,
+    g: f64,
+    law: &FractalMeshStiffness,
+) -> Result<Yu2021Params, Error> {
     let mut p = Yu2021Params::table2();
     p.nominal_length = B0 / 5.0;
     p.backlash = BacklashSpec::Fractal {
@@ -135,8 +163,7 @@ pub(crate) fn fractal_rig_with(d: f64, g: f64) -> Result<Yu2021Params, Error> {
             length: 1e-3,
         },
     };
-    p.with_fractal_stiffness(&FractalMeshStiffness::table2())
-        .context("Eq. (18) stiffness")
+    p.with_fractal_stiffness(law).context("Eq. (18) stiffness")
 }
 
 /// The engine of a run: the `timestep` engine (Dormand–Prince 5(4) with the contact switches
@@ -230,6 +257,7 @@ fn fig9() -> Result<StudyOutput, Error> {
             ("mean B/b_n", "1"),
             ("min B/b_n", "1"),
             ("max B/b_n", "1"),
+            ("p-p B/b_n", "1"),
         ]),
     );
     let mut fig = Figure::new(
@@ -238,6 +266,9 @@ fn fig9() -> Result<StudyOutput, Error> {
         ("τ", "1"),
         ("B/b_n", "1"),
     );
+    let mut series: Vec<Vec<f64>> = Vec::new(); // B(τ) per D, the whole record
+    let mut series_tau: Vec<f64> = Vec::new();
+    let mut series_spp = 256usize;
     let mut always_greater = true;
     let mut parts: Vec<(f64, f64)> = Vec::new(); // (text, model) dynamic part b_dy = mean B − b_s
     let mut all_flags = Vec::new();
@@ -273,6 +304,11 @@ fn fig9() -> Result<StudyOutput, Error> {
             } else {
                 "about"
             }))
+            .class(Evidence::Calibration(
+                "bearing stiffness 1e8 N/m (not stated) sets b_dy ≈ 0.847 F_s sin α (1/k_px + \
+                 1/k_gx)/b_n"
+                    .to_owned(),
+            ))
             .reading("R-YU-EQ6")
             .reading("R-YU-EQ8")
             .reading("R-YU-FIG10")
@@ -291,9 +327,23 @@ fn fig9() -> Result<StudyOutput, Error> {
         always_greater &= min >= bs;
         let [motion, change] = check_cells(&checked);
         t.push(row_with(
-            &[*d, bs, resp.mean_backlash(), min, max, motion, change],
+            &[
+                *d,
+                bs,
+                resp.mean_backlash(),
+                min,
+                max,
+                max - min,
+                motion,
+                change,
+            ],
             stat_cells(&checked),
         ))?;
+        series.push(resp.backlash.clone());
+        if series_tau.is_empty() {
+            series_tau.clone_from(&resp.tau);
+            series_spp = resp.steps_per_period;
+        }
         let n = resp.steps_per_period * 4;
         let stride = (n / 200).max(1);
         let pts = resp
@@ -349,6 +399,19 @@ fn fig9() -> Result<StudyOutput, Error> {
     );
     out.table(t);
     out.figure(fig);
+    // B(τ) per D over the whole record (64 samples per mesh period), the Fig. 9 waveform
+    let mut cols: Vec<String> = vec!["t (mesh periods)".to_owned()];
+    cols.extend(D_FIG9.iter().map(|d| format!("B/b_n D={d}")));
+    let units: Vec<(&str, &str)> = cols.iter().map(|c| (c.as_str(), "1")).collect();
+    let mut wave = Table::new("backlash-series", &units);
+    let period = std::f64::consts::TAU / 0.2;
+    let stride = (series_spp / 64).max(1);
+    for i in (0..series_tau.len()).step_by(stride) {
+        let mut row = vec![(series_tau[i] - series_tau[0]) / period];
+        row.extend(series.iter().map(|b| b.get(i).copied().unwrap_or(f64::NAN)));
+        wave.push_nums(&row)?;
+    }
+    out.table(wave);
     Ok(out)
 }
 
@@ -721,7 +784,10 @@ fn fig13() -> Result<StudyOutput, Error> {
         if frac >= 0.8 { Verdict::Pass } else { Verdict::Deviation },
     )
     .reading("R-YU-T1-TDH")
-    .reading("R-YU-EQ19");
+    .reading("R-YU-EQ19")
+    .class(Evidence::NotCheckable(
+        "Fig. 13 experimental DF points are not printed in the seeds".to_owned(),
+    ));
     out.claim(if enough {
         ordering
     } else {
@@ -746,7 +812,10 @@ fn fig13() -> Result<StudyOutput, Error> {
         format!("{} (no experimental jump to compare with)", ev.join("; ")),
         Verdict::Inconclusive,
     )
-    .cause("the experimental DF points of Fig. 13 are not transcribed (no printed numbers; figure reading not done)"));
+    .cause("the experimental DF points of Fig. 13 are not transcribed (no printed numbers; figure reading not done)")
+    .class(Evidence::NotCheckable(
+        "Fig. 13 experimental jump is not printed in the seeds".to_owned(),
+    )));
     Ok(out)
 }
 
@@ -792,7 +861,10 @@ fn fig14() -> Result<StudyOutput, Error> {
             ),
             Verdict::Inconclusive,
         )
-        .reading("R-YU-EQ19"),
+        .reading("R-YU-EQ19")
+        .class(Evidence::NotCheckable(
+            "Fig. 14 experimental RMS points and Cao's model are not in the seeds".to_owned(),
+        )),
     );
     Ok(out)
 }

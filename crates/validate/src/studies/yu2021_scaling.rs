@@ -21,8 +21,8 @@ use super::yu2021::{
     check_cells, checked_columns, fractal_rig, row_with, run_checked, run_flags, stat_cells,
 };
 use crate::{
-    Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
-    fmt_sig, published,
+    Claim, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table,
+    Verdict, fmt_sig, published,
 };
 
 /// The studies of this file.
@@ -207,6 +207,11 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             ),
             Verdict::Inconclusive,
         )
+        .class(Evidence::Calibration(
+            "T*(D) inverted from the text's mean DTE, so the means agree by construction of the \
+             load; the amplitudes then depend on ε only"
+                .to_owned(),
+        ))
         .reading("R-YU-FIG10")
         .flagged_all(flags),
     );
@@ -251,6 +256,7 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
             ),
             Verdict::Deviation,
         )
+        .class(Evidence::Consistency)
         .reading("R-YU-FIG10")
         .reading("R-YU-EQ18"),
     );
@@ -499,6 +505,9 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
         Verdict::Inconclusive,
     )
     .flagged_all(flags)
+    .class(Evidence::NotCheckable(
+        "Fig. 13 experimental DF points and Chen's a_z are not in the seeds".to_owned(),
+    ))
     .cause(
         "Chen's fractal amplitude a_z is not stated in the paper (swept here) and Fig. 13/14 give \
          no digitised experimental points, so 'much bigger' cannot be judged",

@@ -17,8 +17,8 @@ use super::yu2021::{
     stat_cells,
 };
 use crate::{
-    Claim, Comparison, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table,
-    Tolerance, Verdict, fmt_sig, published,
+    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
+    Table, Tolerance, Verdict, fmt_sig, published,
 };
 
 /// The studies of this file.
@@ -247,6 +247,7 @@ fn fig11() -> Result<StudyOutput, Error> {
             Verdict::from_bool(same.iter().all(|&x| x)),
         )
         .cause("main line of the DTE spectrum, compared bin by bin (resolution ω*/20 of the 20-period record)")
+        .class(Evidence::ByConstruction)
         .flagged_all(flags(&(0..cases.len()).collect::<Vec<_>>())),
     );
     // C2: D = 1.2, 1.4: only a small increase of the main amplitude, no new components
