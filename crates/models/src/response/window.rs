@@ -253,7 +253,8 @@ pub fn window_stats(
             let step = if i > 0 { t[i] - t[i - 1] } else { f64::NAN };
             // a uniform grid's steps differ in their last bits: reuse the rotation when the
             // step agrees to 1e-9 (phase error ≤ 2πk·1e-9 over a period, reset every period)
-            let exact = p != last_period || !((step - last_dt).abs() <= 1e-9 * last_dt.abs());
+            let same_step = (step - last_dt).abs() <= 1e-9 * last_dt.abs();
+            let exact = p != last_period || !same_step;
             for j in 0..2 {
                 if exact {
                     let (sn, cs) = (ks[j] * omega * (t[i] - t0)).sin_cos();

@@ -1,8 +1,10 @@
 //! Fig. 12–14: rattle state and ppv against e_r, ε and a_k.
 
+use models::liu2021::Parameters;
+
 use super::{
-    Point, always, at, base, first_at_least, flags_of, rise_claim, sig, sweep, sweep_figures,
-    sweep_table,
+    Point, Threshold, always, at, base, first_at_least, flags_of, refine, rise_claim, sig, sweep,
+    sweep_figures, sweep_table,
 };
 use crate::{Claim, Cost, Error, Paper, Study, StudyOutput, Verdict};
 
@@ -23,11 +25,32 @@ pub(super) fn study() -> Study {
     }
 }
 
-/// Claim that the time-integration states are non-decreasing and pass through all three.
-fn succession_claim(out: &mut StudyOutput, text: &str, source: &str, unit: &str, pts: &[Point]) {
+/// The unilateral and bilateral onsets of a sweep as intervals ([`refine`]: bisected below the
+/// grid step `step`, widened over the undecided readings and the rattle depth).
+fn onsets(
+    pts: &[Point],
+    set: &dyn Fn(&mut Parameters, f64),
+    step: f64,
+) -> Result<(Threshold, Threshold), Error> {
+    Ok((
+        refine(first_at_least(pts, 1), set, step, |r| r >= 1, true)?,
+        refine(first_at_least(pts, 2), set, step, |r| r >= 2, false)?,
+    ))
+}
+
+/// Claim that the time-integration states are non-decreasing and pass through all three; the
+/// onsets are reported as intervals (the paper prints no number to compare them with).
+fn succession_claim(
+    out: &mut StudyOutput,
+    text: &str,
+    source: &str,
+    unit: &str,
+    pts: &[Point],
+    set: &dyn Fn(&mut Parameters, f64),
+    step: f64,
+) -> Result<(), Error> {
     let monotone = pts.windows(2).all(|w| w[1].rsv() >= w[0].rsv());
-    let uni = first_at_least(pts, 1);
-    let bi = first_at_least(pts, 2);
+    let (uni, bi) = onsets(pts, set, step)?;
     let all = pts.first().is_some_and(|p| p.rsv() == 0) && bi.x.is_finite();
     let first: Vec<&Point> = pts.first().into_iter().collect();
     let mut needs: Vec<f64> = first.iter().map(|p| p.x).collect();
@@ -39,9 +62,13 @@ fn succession_claim(out: &mut StudyOutput, text: &str, source: &str, unit: &str,
             text,
             source,
             format!(
-                "long-window rattle state: unilateral from {} {unit}, bilateral from {} {unit}; states {}",
+                "long-window rattle state: unilateral from {} {unit} (onset in [{}, {}]), bilateral from {} {unit} (onset in [{}, {}]); states {}",
                 at(uni.x),
+                sig(uni.lo),
+                sig(uni.hi),
                 at(bi.x),
+                sig(bi.lo),
+                sig(bi.hi),
                 if monotone {
                     "non-decreasing"
                 } else {
@@ -74,19 +101,27 @@ fn succession_claim(out: &mut StudyOutput, text: &str, source: &str, unit: &str,
             flags_of,
         )),
     );
+    out.note(format!(
+        "{text} — onsets as intervals: unilateral {}; bilateral {}",
+        uni.note, bi.note
+    ));
+    Ok(())
 }
 
 fn run() -> Result<StudyOutput, Error> {
     let mut out = StudyOutput::new();
     let er: Vec<f64> = (0..=40).map(|i| 1e-6 * f64::from(i)).collect();
-    let pts = sweep(&er, |p, x| p.er = x)?;
+    let set_er = |p: &mut Parameters, x: f64| p.er = x;
+    let pts = sweep(&er, set_er)?;
     succession_claim(
         &mut out,
         "As e_r increases, the NFG undergoes non-rattle, unilateral rattle and bilateral rattle in succession.",
         "Sect. 3.4, Fig. 12",
         "m",
         &pts,
-    );
+        &set_er,
+        1e-6,
+    )?;
     // Fig. 12b: ppv grows slightly before the bilateral onset, then slowly rises after it
     let onset = pts.iter().position(|p| p.rsv() == 2).unwrap_or(pts.len());
     out.claim(rise_claim(
@@ -122,14 +157,17 @@ fn run() -> Result<StudyOutput, Error> {
     sweep_figures(&mut out, "er", ("e_r", "m"), &pts);
 
     let eps: Vec<f64> = (0..=30).map(|i| 0.01 * f64::from(i)).collect();
-    let pts = sweep(&eps, |p, x| p.eccentricity = x)?;
+    let set_eps = |p: &mut Parameters, x: f64| p.eccentricity = x;
+    let pts = sweep(&eps, set_eps)?;
     succession_claim(
         &mut out,
         "The NFG also undergoes the three rattle states with the increase in eccentric ratio.",
         "Sect. 3.5, Fig. 13",
         "",
         &pts,
-    );
+        &set_eps,
+        0.01,
+    )?;
     out.table(sweep_table("eps", ("epsilon", "1"), &pts)?);
     sweep_figures(&mut out, "eps", ("epsilon", "1"), &pts);
 
@@ -233,10 +271,21 @@ fn run() -> Result<StudyOutput, Error> {
     let ak: Vec<f64> = (1..=16).map(|i| 0.05 * f64::from(i)).collect();
     // None: the critical speed at which the text says a_k changes the state
     for (w, expected) in [(160.0, Some(1u8)), (140.0, Some(0u8)), (145.0, None)] {
-        let pts = sweep(&ak, |p, x| {
+        let set_ak = move |p: &mut Parameters, x: f64| {
             p.omega1 = w;
             p.kr = x * p.k0;
-        })?;
+        };
+        let pts = sweep(&ak, set_ak)?;
+        let (uni, bi) = onsets(&pts, &set_ak, 0.05)?;
+        out.note(format!(
+            "a_k at ω1 = {w} rad/s — onsets as intervals: unilateral in [{}, {}] ({}); bilateral in [{}, {}] ({})",
+            sig(uni.lo),
+            sig(uni.hi),
+            uni.note,
+            sig(bi.lo),
+            sig(bi.hi),
+            bi.note
+        ));
         // the text's range is a_k = 0.1–0.8 (the 0.05 point is shown, not judged)
         let judged: Vec<Point> = pts.iter().filter(|p| p.x >= 0.1 - 1e-12).cloned().collect();
         let states: Vec<u8> = judged.iter().map(Point::rsv).collect();
