@@ -262,7 +262,11 @@ fn first_time(pts: &[Point], cond: impl Fn(&Point) -> bool) -> Threshold {
                 hi: pts[i].x,
                 needs: used.iter().map(|p| p.x).collect(),
                 flags: flags_of(used),
-                note: format!("grid bracket [{}, {}]", at(pts[from].x), at(pts[i].x)),
+                note: format!(
+                    "grid bracket [{}, {}]",
+                    crate::fmt_sig(pts[from].x, 6),
+                    crate::fmt_sig(pts[i].x, 6)
+                ),
             }
         }
     }
@@ -363,8 +367,8 @@ fn refine(
         if !ok {
             notes.push(format!(
                 "{label}: no robust bracket within {WIDEN_STEPS} grid steps, interval [{}, {}]",
-                at(a),
-                at(b)
+                crate::fmt_sig(a, 6),
+                crate::fmt_sig(b, 6)
             ));
             lo_all = lo_all.min(a);
             hi_all = hi_all.max(b);
@@ -385,11 +389,15 @@ fn refine(
         notes.push(match stop {
             Some(m) => format!(
                 "{label}: [{}, {}] (state not robust at {})",
-                at(a),
-                at(b),
-                at(m)
+                crate::fmt_sig(a, 6),
+                crate::fmt_sig(b, 6),
+                crate::fmt_sig(m, 6)
             ),
-            None => format!("{label}: [{}, {}]", at(a), at(b)),
+            None => format!(
+                "{label}: [{}, {}]",
+                crate::fmt_sig(a, 6),
+                crate::fmt_sig(b, 6)
+            ),
         });
         lo_all = lo_all.min(a);
         hi_all = hi_all.max(b);
