@@ -112,14 +112,25 @@ def test_yu_omega_is_a_parameter_as_in_the_cli():
         y.solve("time-stepping", transient_periods=-1)
 
 
+def test_the_integrator_stops_itself_at_the_time_limit():
+    # 10^4 transient periods: far over 0.2 s; the integrator checks the deadline between steps
+    # and stops, so the point fails with "time limit" and no thread is left running
+    res = geardyn.Liu2021().sweep("omega1", [160.0, 170.0], "time-stepping",
+                                  transient_periods=10000.0, record_periods=1.0,
+                                  limits={"max_seconds_per_point": 0.2})
+    assert len(res) == 2
+    for r in res:
+        assert isinstance(r, geardyn.SolverError), r
+        assert str(r).startswith("time limit") and "abandoned" not in str(r), str(r)
+
+
 def test_time_limit_fails_the_point_not_the_sweep():
-    # a nanosecond: each point is stopped (or, rarely, wins the race); the sweep goes on
+    # a nanosecond: every point ends after its deadline and fails; the sweep goes on
     res = geardyn.Liu2021().sweep("omega1", [120.0, 130.0, 140.0], "hbm",
                                   limits={"max_seconds_per_point": 1e-9})
     assert len(res) == 3
     for r in res:
-        assert isinstance(r, dict) or (isinstance(r, geardyn.SolverError)
-                                       and str(r).startswith("time limit"))
+        assert isinstance(r, geardyn.SolverError) and str(r).startswith("time limit"), r
     with pytest.raises(geardyn.ParameterError, match="limits.max_seconds_per_point must be in"):
         geardyn.Liu2021().solve("hbm", limits={"max_seconds_per_point": -1.0})
     # generous: the same result as without

@@ -244,6 +244,11 @@ fn accept_trial(
 fn status(state: &SolverState, tolerance: f64) -> TerminationStatus {
     if state.get_cost() <= tolerance {
         TerminationStatus::Terminated(TerminationReason::SolverConverged)
+    } else if ::system::deadline::expired() {
+        // Checked between iterations: the thread's wall-clock deadline has passed.
+        TerminationStatus::Terminated(TerminationReason::SolverExit(
+            ::system::deadline::REASON.into(),
+        ))
     } else {
         TerminationStatus::NotTerminated
     }

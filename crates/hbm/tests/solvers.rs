@@ -114,3 +114,37 @@ fn parallel_sweep_is_bit_identical_for_any_thread_count() {
         assert_eq!(bits(a), bits(b));
     }
 }
+
+#[test]
+fn both_solvers_stop_between_iterations_at_the_threads_deadline() {
+    let omega = 0.9;
+    for method in [Method::Newton, Method::Broyden] {
+        let mut p = HbmProblem::new(
+            TwoDof {
+                omega,
+                analytic: true,
+            },
+            Basis::full(5).unwrap(),
+            omega,
+        )
+        .unwrap();
+        let z0 = p.zero_guess();
+        let options = SolverOptions {
+            method,
+            ..SolverOptions::default()
+        };
+        let stopped = system::deadline::scope(Some(std::time::Instant::now()), || {
+            p.solve(&z0, &options).unwrap()
+        });
+        assert!(!stopped.converged, "{method:?}");
+        assert_eq!(stopped.termination, system::deadline::REASON, "{method:?}");
+        assert!(
+            stopped.iterations <= 1,
+            "{method:?}: {}",
+            stopped.iterations
+        );
+        // the same solve without a deadline converges
+        let free = p.solve(&z0, &options).unwrap();
+        assert!(free.converged, "{method:?}: {}", free.termination);
+    }
+}

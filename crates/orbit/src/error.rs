@@ -57,6 +57,12 @@ pub enum OrbitError {
         /// Time reached.
         time: f64,
     },
+    /// The thread's wall-clock deadline ([`system::deadline`]) passed.
+    #[error("time limit: the flow stopped at t = {time}")]
+    TimeLimit {
+        /// Time reached.
+        time: f64,
+    },
     /// More events than [`FlowOptions::max_events`](crate::FlowOptions::max_events) (chattering).
     #[error("more than {limit} events in one flow (t = {time}): chattering?")]
     TooManyEvents {

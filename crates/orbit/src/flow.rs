@@ -506,6 +506,9 @@ pub(crate) fn integrate<S: SecondOrderSystem + ?Sized>(
                 time: t,
             });
         }
+        if system::deadline::expired_at_step((flow.steps + flow.rejected) as u64) {
+            return Err(OrbitError::TimeLimit { time: t });
+        }
         let mut hh = h.min(hmax);
         let last = hh >= remaining;
         if last {

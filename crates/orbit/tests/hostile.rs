@@ -278,3 +278,19 @@ fn caps_end_the_flow() {
         Err(OrbitError::TooManySteps { .. })
     ));
 }
+
+#[test]
+fn shooting_stops_at_the_threads_deadline() {
+    let p = OrbitProblem::new(bilinear(), 4.0).unwrap();
+    let r = system::deadline::scope(Some(std::time::Instant::now()), || {
+        p.shoot(&[0.0, 0.0], &ShootingOptions::default())
+    });
+    match r {
+        Err(e @ OrbitError::TimeLimit { .. }) => {
+            assert!(e.to_string().starts_with(system::deadline::REASON), "{e}")
+        }
+        other => panic!("{other:?}"),
+    }
+    // without a deadline the same orbit is found
+    assert!(p.shoot(&[0.0, 0.0], &ShootingOptions::default()).is_ok());
+}

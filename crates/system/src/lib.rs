@@ -63,6 +63,7 @@
 
 #![deny(missing_docs)]
 
+pub mod deadline;
 pub mod sweep;
 
 use nalgebra::DMatrix;

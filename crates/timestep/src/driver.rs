@@ -187,6 +187,10 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
             status = Status::MaxSteps { t };
             break;
         }
+        if ::system::deadline::expired_at_step(stats.n_accepted + stats.n_rejected) {
+            status = Status::TimeLimit { t };
+            break;
+        }
         let mut last = false;
         if t + 1.01 * h >= t_end || (fixed_h.is_some() && t + h * (1.0 + 1e-12) >= t_end) {
             h = t_end - t;

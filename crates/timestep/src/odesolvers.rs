@@ -36,6 +36,10 @@ struct Adapter<'a, S: ?Sized> {
     first_new: usize,
     hit: Option<(f64, f64, f64)>,
     stats: Stats,
+    /// Accepted steps seen by `solout` (for the periodic deadline check).
+    n_out: u64,
+    /// `solout` stopped the integration at the thread's deadline.
+    timed_out: bool,
 }
 
 impl<S: OdeSystem + ?Sized> System<f64, DVector<f64>> for &mut Adapter<'_, S> {
@@ -76,6 +80,11 @@ impl<S: OdeSystem + ?Sized> System<f64, DVector<f64>> for &mut Adapter<'_, S> {
         a.t_prev = x;
         a.y_prev.copy_from_slice(&a.y_last);
         a.f_prev.copy_from_slice(&a.f_last);
+        a.n_out += 1;
+        if a.watch && ::system::deadline::expired_at_step(a.n_out) {
+            a.timed_out = true;
+            return true;
+        }
         false
     }
 }
@@ -169,6 +178,8 @@ pub(crate) fn run<S: OdeSystem + ?Sized>(
             n_rhs: 1,
             ..Stats::default()
         },
+        n_out: 0,
+        timed_out: false,
     };
     ad.rec.initial(t0, y0);
     ad.mon.start(sys, t0, y0);
@@ -178,6 +189,10 @@ pub(crate) fn run<S: OdeSystem + ?Sized>(
     let mut ysave = vec![0.0; n];
     let mut steps_used: u64 = 0;
     while t < t_end {
+        if ::system::deadline::expired() {
+            status = Status::TimeLimit { t };
+            break;
+        }
         let budget = opts
             .max_steps
             .saturating_sub(steps_used)
@@ -206,6 +221,12 @@ pub(crate) fn run<S: OdeSystem + ?Sized>(
             break;
         }
         let Some((ta, h, th)) = ad.hit else {
+            if ad.timed_out {
+                status = Status::TimeLimit { t: ad.t_prev };
+                t = ad.t_prev;
+                y.copy_from_slice(&ad.y_prev);
+                break;
+            }
             t = t_end;
             y.copy_from_slice(&ad.y_last);
             break;

@@ -38,6 +38,11 @@ pub enum Status {
         /// Time reached.
         t: f64,
     },
+    /// The thread's wall-clock deadline ([`::system::deadline`]) passed; stopped at time `t`.
+    TimeLimit {
+        /// Time reached.
+        t: f64,
+    },
 }
 
 impl Status {

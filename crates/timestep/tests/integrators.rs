@@ -279,3 +279,43 @@ fn types_are_send_sync() {
     check::<SteadyState>();
     check::<Spectrum>();
 }
+
+#[test]
+fn every_method_stops_at_the_threads_deadline() {
+    use std::time::{Duration, Instant};
+    let sys = lin();
+    for m in ALL {
+        let o = Options::default()
+            .with_method(m)
+            .with_max_steps(u64::MAX / 2);
+        // Already passed: stopped before the first step.
+        let s = system::deadline::scope(Some(Instant::now()), || {
+            integrate(&sys, 0.0, &[1.0, 0.0], 1e12, &o).unwrap()
+        });
+        assert!(
+            matches!(s.status, Status::TimeLimit { .. }),
+            "{m:?}: {:?}",
+            s.status
+        );
+        assert!(!s.status.is_success());
+        assert!(s.stats.n_accepted <= 1, "{m:?}: {}", s.stats.n_accepted);
+        // Passes mid-run: stopped between steps, the state is the last accepted one.
+        let s = system::deadline::scope(Some(Instant::now() + Duration::from_millis(20)), || {
+            integrate(&sys, 0.0, &[1.0, 0.0], 1e12, &o).unwrap()
+        });
+        match s.status {
+            Status::TimeLimit { t } => {
+                assert!(t > 0.0 && t < 1e12, "{m:?}: {t}");
+                assert_eq!(s.t_final.to_bits(), t.to_bits());
+                // the undamped oscillator keeps its energy to the tolerance: a real state
+                let (x, v) = (s.y_final[0], s.y_final[1]);
+                let e = 1.3f64.powi(2) * x * x + v * v;
+                assert!((e / 1.3f64.powi(2) - 1.0).abs() < 0.5, "{m:?}: {e}");
+            }
+            other => panic!("{m:?}: {other:?}"),
+        }
+        // No deadline: the same call is unaffected (short end time).
+        let s = integrate(&sys, 0.0, &[1.0, 0.0], 1.0, &o).unwrap();
+        assert_eq!(s.status, Status::Completed);
+    }
+}

@@ -243,12 +243,20 @@ impl Limits {
 
 /// Run `job` under a wall-clock limit of `seconds` (`None`: on the calling thread, no limit).
 ///
-/// The engines have no cancellation hook, so the job runs on a thread of its own while the
-/// caller waits at most `seconds` for it: on time, its result (a panic in it becomes an
-/// `Err` with the panic's message); over time, `Err` with a message starting with
-/// [`TIME_LIMIT`] and the caller goes on. An abandoned job keeps its thread until it ends by
-/// itself — which it does, because every engine has a step budget ([`Limits::max_steps`]) —
-/// and its result is dropped.
+/// Two layers stop a point that runs too long:
+///
+/// 1. **Cooperative.** The job runs with a [`system::deadline`] in force on its thread, so the
+///    engines stop themselves at the limit: the integrators between steps, the harmonic balance
+///    solvers between iterations, shooting between flow steps. A job that ends after the
+///    limit, however it ends, becomes `Err` with a message starting with [`TIME_LIMIT`] and
+///    naming what the engine reported.
+/// 2. **Watchdog.** The job runs on a thread of its own and the caller waits at most
+///    `seconds × 1.1 + 1 s` for it, for work the deadline does not reach (a model that hands
+///    work to other threads). Over that, `Err` with [`TIME_LIMIT`] and the caller goes on; the
+///    abandoned job ends by itself (every engine has a step budget, [`Limits::max_steps`]) and
+///    its result is dropped.
+///
+/// A panic in the job becomes an `Err` with the panic's message.
 pub fn run_with_time_limit<T: Send + 'static>(
     seconds: Option<f64>,
     job: impl FnOnce() -> Result<T, String> + Send + 'static,
@@ -256,25 +264,48 @@ pub fn run_with_time_limit<T: Send + 'static>(
     let Some(limit) = seconds else {
         return job();
     };
+    let budget =
+        std::time::Duration::try_from_secs_f64(limit.max(0.0)).unwrap_or(std::time::Duration::MAX);
     let (tx, rx) = std::sync::mpsc::sync_channel(1);
     let spawned = std::thread::Builder::new()
         .name("geardyn-point".to_owned())
         .spawn(move || {
-            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
-                .unwrap_or_else(|p| Err(crate::user::panic_message(p.as_ref())));
-            // The receiver may have given up (time limit): nothing to do then.
+            let start = std::time::Instant::now();
+            let deadline = start.checked_add(budget);
+            let r = system::deadline::scope(deadline, || {
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
+                    .unwrap_or_else(|p| Err(crate::user::panic_message(p.as_ref())))
+            });
+            let r = if start.elapsed() >= budget {
+                Err(match r {
+                    Err(e) => format!(
+                        "{TIME_LIMIT}: the point ran longer than limits.max_seconds_per_point = \
+                         {limit} s and was stopped by its solver ({e})"
+                    ),
+                    Ok(_) => format!(
+                        "{TIME_LIMIT}: the point ran longer than limits.max_seconds_per_point = \
+                         {limit} s"
+                    ),
+                })
+            } else {
+                r
+            };
+            // The receiver may have given up (watchdog): nothing to do then.
             let _ = tx.send(r);
         });
     if let Err(e) = spawned {
         return Err(format!("{TIME_LIMIT}: no thread for the point ({e})"));
     }
-    let wait =
-        std::time::Duration::try_from_secs_f64(limit.max(0.0)).unwrap_or(std::time::Duration::MAX);
-    match rx.recv_timeout(wait) {
+    let grace = budget
+        .checked_mul(11)
+        .map(|d| d / 10)
+        .and_then(|d| d.checked_add(std::time::Duration::from_secs(1)))
+        .unwrap_or(std::time::Duration::MAX);
+    match rx.recv_timeout(grace) {
         Ok(r) => r,
         Err(std::sync::mpsc::RecvTimeoutError::Timeout) => Err(format!(
             "{TIME_LIMIT}: the point ran longer than limits.max_seconds_per_point = {limit} s \
-             and was abandoned"
+             and was abandoned (its solver did not stop at the deadline)"
         )),
         Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
             Err("internal error: the point's thread ended without a result".to_owned())

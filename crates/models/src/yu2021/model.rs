@@ -672,6 +672,12 @@ impl Yu2021Model {
         };
         for step in 0..total {
             let tau = step as f64 * h;
+            if ::system::deadline::expired_at_step(step as u64) {
+                return Err(Error::Solver(format!(
+                    "{}: yu2021 stopped at tau = {tau} (step {step} of {total})",
+                    ::system::deadline::REASON
+                )));
+            }
             let g = model.geometry(w, tau, &s);
             if step >= start_rec {
                 let (delta, _, force) = model.mesh(w, tau, &s, &g, g.backlash);
