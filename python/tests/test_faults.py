@@ -116,7 +116,8 @@ def test_the_integrator_stops_itself_at_the_time_limit():
     # 10^4 transient periods: far over 0.2 s; the integrator checks the deadline between steps
     # and stops, so the point fails with "time limit" and no thread is left running
     res = geardyn.Liu2021().sweep("omega1", [160.0, 170.0], "time-stepping",
-                                  transient_periods=10000.0, record_periods=1.0,
+                                  options={"transient_periods": 10000.0,
+                                           "record_periods": 1.0},
                                   limits={"max_seconds_per_point": 0.2})
     assert len(res) == 2
     for r in res:
