@@ -296,7 +296,33 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
     match (model, method) {
         ("liu2021", "time-stepping") => {
             let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
-            let opts_over = s.remove("options").unwrap_or(Value::Null);
+            let mut opts_over = s.remove("options").unwrap_or(Value::Null);
+            // The study-file names work here too, at the top level as in `geardyn study`
+            // (`transient_periods=…`), or inside `options={…}`; not both for one name.
+            for k in [
+                "transient_periods",
+                "record_periods",
+                "sample_step",
+                "max_step",
+                "rtol",
+            ] {
+                if let Some(v) = s.remove(k) {
+                    if opts_over.is_null() {
+                        opts_over = Value::Object(serde_json::Map::new());
+                    }
+                    let Value::Object(o) = &mut opts_over else {
+                        return Err(Failure::parameter(format!(
+                            "setting `options` must be a mapping, got {opts_over}"
+                        )));
+                    };
+                    if o.contains_key(k) {
+                        return Err(Failure::parameter(format!(
+                            "setting `{k}` given twice (top level and in `options`)"
+                        )));
+                    }
+                    o.insert(k.to_owned(), v);
+                }
+            }
             // long-window rattle statistics (issue 22): windows of n periods, 0 = off
             let lw_periods = take_f64(&mut s, "long_window_periods", 0.0)?;
             if !((0.0..=1e4).contains(&lw_periods) && lw_periods.fract() == 0.0) {

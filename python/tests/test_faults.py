@@ -116,13 +116,24 @@ def test_the_integrator_stops_itself_at_the_time_limit():
     # 10^4 transient periods: far over 0.2 s; the integrator checks the deadline between steps
     # and stops, so the point fails with "time limit" and no thread is left running
     res = geardyn.Liu2021().sweep("omega1", [160.0, 170.0], "time-stepping",
-                                  options={"transient_periods": 10000.0,
-                                           "record_periods": 1.0},
+                                  transient_periods=10000.0, record_periods=1.0,
                                   limits={"max_seconds_per_point": 0.2})
     assert len(res) == 2
     for r in res:
         assert isinstance(r, geardyn.SolverError), r
         assert str(r).startswith("time limit") and "abandoned" not in str(r), str(r)
+
+
+def test_liu_time_stepping_takes_the_study_file_names_at_the_top_level():
+    liu = geardyn.Liu2021().with_params(omega1=150.0)
+    a = liu.solve("time-stepping", transient_periods=2.0, record_periods=1.0)
+    b = liu.solve("time-stepping", options={"transient_periods": 2.0, "record_periods": 1.0})
+    assert a["ppv"] == b["ppv"]
+    with pytest.raises(geardyn.ParameterError, match="given twice"):
+        liu.solve("time-stepping", transient_periods=2.0, options={"transient_periods": 3.0})
+    # the CLI's bounds and message
+    with pytest.raises(geardyn.ParameterError, match="transient_periods"):
+        liu.solve("time-stepping", transient_periods=-1.0)
 
 
 def test_time_limit_fails_the_point_not_the_sweep():
