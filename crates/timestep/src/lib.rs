@@ -2,7 +2,7 @@
 //!
 //! A generic engine (no gear knowledge) for the long, accurate time integrations that check
 //! harmonic balance, reveal rattle and chaos, and give the resonance amplitudes of
-//! Karpov et al. 2017. A model implements [`OdeSystem`] (or [`SecondOrderSystem`] wrapped in
+//! Karpov et al. 2017. A model implements [`OdeSystem`] (or [`ExplicitSecondOrder`] wrapped in
 //! [`FirstOrder`]), or — the way the geardyn models do it — the shared system description
 //! `geardyn_system::SecondOrderSystem` (`M q'' + C q' + K q + g = f`, the trait the harmonic
 //! balance engine solves too) wrapped in [`Mechanical`] and then [`FirstOrder`], and gets:
@@ -128,7 +128,7 @@ pub use steady::{
 pub use sweep::sweep_with_threads;
 pub use sweep::{sweep, sweep_owned};
 pub use system::{
-    Direction, EventAction, FirstOrder, FnSystem, Mechanical, OdeSystem, SecondOrderSystem,
+    Direction, EventAction, ExplicitSecondOrder, FirstOrder, FnSystem, Mechanical, OdeSystem,
     gap_edges,
 };
 

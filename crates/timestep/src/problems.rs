@@ -1,7 +1,7 @@
 //! Reference problems with known answers, used by the tests and benches and available to
 //! users for checking their own set-ups.
 
-use crate::system::{Direction, EventAction, SecondOrderSystem, gap_edges};
+use crate::system::{Direction, EventAction, ExplicitSecondOrder, gap_edges};
 use crate::{Event, FirstOrder};
 
 /// Linear oscillator `x'' + 2 ζ ω0 x' + ω0² x = F cos(Ω t)`.
@@ -32,7 +32,7 @@ impl LinearOscillator {
     }
 }
 
-impl SecondOrderSystem for LinearOscillator {
+impl ExplicitSecondOrder for LinearOscillator {
     fn ndof(&self) -> usize {
         1
     }
@@ -80,7 +80,7 @@ impl Duffing {
     }
 }
 
-impl SecondOrderSystem for Duffing {
+impl ExplicitSecondOrder for Duffing {
     fn ndof(&self) -> usize {
         1
     }
@@ -154,7 +154,7 @@ impl DeadZoneOscillator {
     }
 }
 
-impl SecondOrderSystem for DeadZoneOscillator {
+impl ExplicitSecondOrder for DeadZoneOscillator {
     fn ndof(&self) -> usize {
         1
     }
@@ -200,7 +200,7 @@ impl BouncingBall {
     }
 }
 
-impl SecondOrderSystem for BouncingBall {
+impl ExplicitSecondOrder for BouncingBall {
     fn ndof(&self) -> usize {
         1
     }

@@ -76,11 +76,13 @@ impl<S: OdeSystem + ?Sized> OdeSystem for &S {
     }
 }
 
-/// A second-order system `q'' = a(t, q, q')` with `n` degrees of freedom.
+/// A second-order system in explicit form, `q'' = a(t, q, q')`, with `n` degrees of freedom:
+/// for users who write accelerations directly. (A model written as `M q'' + C q' + K q + g = f`
+/// implements `system::SecondOrderSystem` instead and is integrated through [`Mechanical`].)
 ///
 /// Wrap it in [`FirstOrder`] to integrate it; the first-order state is `y = [q; q']`
 /// (positions first, then velocities).
-pub trait SecondOrderSystem {
+pub trait ExplicitSecondOrder {
     /// Number of degrees of freedom `n` (the first-order state has `2n` entries).
     fn ndof(&self) -> usize;
 
@@ -106,11 +108,11 @@ pub trait SecondOrderSystem {
     }
 }
 
-/// Adapter that turns a [`SecondOrderSystem`] into an [`OdeSystem`] with `y = [q; q']`.
+/// Adapter that turns an [`ExplicitSecondOrder`] into an [`OdeSystem`] with `y = [q; q']`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FirstOrder<S>(pub S);
 
-impl<S: SecondOrderSystem> OdeSystem for FirstOrder<S> {
+impl<S: ExplicitSecondOrder> OdeSystem for FirstOrder<S> {
     fn dim(&self) -> usize {
         2 * self.0.ndof()
     }
@@ -169,7 +171,7 @@ const STACK_DOF: usize = 16;
 
 /// Adapter that integrates a model written once for the shared system description
 /// [`system::SecondOrderSystem`](::system::SecondOrderSystem),
-/// `M q'' + C q' + K q + g(t, q, q') = f(t)`, as an explicit [`SecondOrderSystem`]
+/// `M q'' + C q' + K q + g(t, q, q') = f(t)`, as an [`ExplicitSecondOrder`]
 ///
 /// ```text
 /// q'' = M⁻¹ (f(t) − C q' − K q − g(t, q, q'))
@@ -283,7 +285,7 @@ fn row_major(m: &nalgebra::DMatrix<f64>) -> Vec<f64> {
         .collect()
 }
 
-impl<S: ::system::SecondOrderSystem> SecondOrderSystem for Mechanical<S> {
+impl<S: ::system::SecondOrderSystem> ExplicitSecondOrder for Mechanical<S> {
     fn ndof(&self) -> usize {
         self.n
     }
