@@ -5,11 +5,25 @@
 //! work) plus `O(m² n_z)` for the Arnoldi basis, against `O(n_z² N)` to assemble and
 //! `O(n_z³)` to factorise the dense Jacobian (`n_z = n(2H + 1)` unknowns).
 //!
-//! Preconditioner: the Jacobian with the force Jacobians replaced by their period means
-//! `J̄_q`, `J̄_v`, which no longer couples harmonics: per harmonic `k` the `2n × 2n` block
-//! `[[D, kωC̄], [−kωC̄, D]]`, `D = K + J̄_q − (kω)² M`, `C̄ = C + J̄_v` (`K + J̄_q` for the
-//! constant), each factorised once per Newton iteration (`O(H n³)`).
+//! Preconditioners ([`Preconditioner`]), each built and factorised once per Newton iteration:
+//!
+//! * **Banded** (default, `b = 2`): the exact AFT Jacobian of the force with its Jacobians
+//!   low-passed to the harmonics `|l| ≤ b`, `J_b(t) = Σ_{|l|≤b} Ĵ_l e^{ilωt}`. Harmonic `k'`
+//!   then couples to `k` only where `|k − k'| ≤ b`: for a basis of increasing harmonics a band
+//!   matrix with about `(2b + 2) n` sub- and super-diagonals, factorised by band LU with partial
+//!   pivoting in `O(n_z (2b + 2)² n²)`. It keeps the couplings that dominate a smooth or mildly
+//!   non-smooth force (a cubic force couples `k` to `k ± 2` through `q²`), so GMRES needs few
+//!   products. A basis whose harmonics are not increasing falls back to the block form.
+//!   Measured (Duffing `q'' + 0.1q' + q + q³ = 0.3 cos 1.3t`, H = 50…400, 3 Newton iterations):
+//!   11 products with `b = 2` and 7 with `b = 4`, against 26 with the block form; `b = 2` is
+//!   the fastest overall (the band LU grows as `b²`). On a dead zone (a force whose Jacobian
+//!   jumps) the spectrum decays slowly and every form needs about as many products.
+//! * **Harmonic block** (`b = 0` in effect, the mean only): the Jacobian with the force
+//!   Jacobians replaced by their period means `J̄_q`, `J̄_v`, which no longer couples harmonics:
+//!   per harmonic `k` the `2n × 2n` block `[[D, kωC̄], [−kωC̄, D]]`, `D = K + J̄_q − (kω)² M`,
+//!   `C̄ = C + J̄_v` (`K + J̄_q` for the constant), `O(H n³)`.
 
+use crate::band::BandLu;
 use crate::solution::HbmEquations;
 use crate::solve::{line_search, norm};
 use crate::{HbmError, HbmProblem, SecondOrderSystem, SolverOptions};
@@ -25,6 +39,32 @@ pub struct KrylovOptions {
     pub max_products: usize,
     /// Linear solve converged when `‖J δ + r‖ ≤ relative_tolerance ‖r‖`, in (0, 1).
     pub relative_tolerance: f64,
+    /// The right preconditioner of GMRES (see the module docs).
+    pub preconditioner: Preconditioner,
+}
+
+/// The right preconditioner of the GMRES solve of each Newton step (module docs of
+/// [`KrylovOptions`]'s module: equations and costs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
+pub enum Preconditioner {
+    /// Per-harmonic blocks of the mean Jacobian (no coupling between harmonics).
+    HarmonicBlock,
+    /// The Jacobian with the force Jacobians low-passed to `|l| ≤ harmonics`, band LU.
+    Banded {
+        /// Fourier orders kept, `b` in `1..=`[`MAX_BAND_HARMONICS`].
+        harmonics: usize,
+    },
+}
+
+/// Largest `b` of [`Preconditioner::Banded`].
+pub const MAX_BAND_HARMONICS: usize = 64;
+
+impl Default for Preconditioner {
+    fn default() -> Self {
+        Self::Banded { harmonics: 2 }
+    }
 }
 
 impl Default for KrylovOptions {
@@ -33,6 +73,7 @@ impl Default for KrylovOptions {
             restart: 60,
             max_products: 600,
             relative_tolerance: 1e-9,
+            preconditioner: Preconditioner::default(),
         }
     }
 }
@@ -62,6 +103,15 @@ impl KrylovOptions {
                 bound: "in (0, 1)",
                 value: t,
             });
+        }
+        if let Preconditioner::Banded { harmonics } = self.preconditioner {
+            if !(1..=MAX_BAND_HARMONICS).contains(&harmonics) {
+                return Err(HbmError::InvalidParameter {
+                    name: "preconditioner.harmonics",
+                    bound: "in 1..=64",
+                    value: harmonics as f64,
+                });
+            }
         }
         Ok(())
     }
@@ -127,6 +177,70 @@ impl BlockPreconditioner {
     }
 }
 
+/// The banded preconditioner (module docs), factorised.
+struct BandPreconditioner {
+    lu: BandLu,
+}
+
+impl BandPreconditioner {
+    /// Build `P = J_b` at the point of the last `prepare_jacobian_products`; `None` when the
+    /// basis is not ordered (no band) or `P` is singular.
+    fn new<S: SecondOrderSystem>(p: &mut HbmProblem<S>, b: usize) -> Option<Self> {
+        let hs = p.basis().harmonics();
+        if !hs.windows(2).all(|w| w[0] < w[1]) {
+            return None;
+        }
+        let n = p.n_dof();
+        let nz = p.n_unknowns();
+        // Bandwidths in the unknowns: coefficient c holds unknowns c·n .. c·n + n; the
+        // constant (c = 0) couples to harmonics ≤ b, harmonic index j (c = 2j+1, 2j+2) to the
+        // harmonics within ±b.
+        let (mut kl, mut ku) = (n - 1, n - 1);
+        for (jc, &kp) in hs.iter().enumerate() {
+            let lo = hs.partition_point(|&k| k + b < kp);
+            let hi = hs.partition_point(|&k| k <= kp + b); // exclusive
+            let col_lo = (2 * jc + 1) * n;
+            let col_hi = (2 * jc + 3) * n - 1;
+            let row_lo = if kp <= b { 0 } else { (2 * lo + 1) * n };
+            let row_hi = (2 * hi + 1) * n - 1;
+            kl = kl.max(row_hi.saturating_sub(col_lo));
+            ku = ku.max(col_hi.saturating_sub(row_lo));
+        }
+        if hs.first().is_some_and(|&k| k <= b) {
+            // the constant's column couples to the rows of harmonics ≤ b
+            let hi = hs.partition_point(|&k| k <= b);
+            kl = kl.max((2 * hi + 1) * n - 1);
+        }
+        let (kl, ku) = (kl.min(nz - 1), ku.min(nz - 1));
+        p.jacobian_spectra();
+        let mut lu = BandLu::zeros(nz, kl, ku);
+        let mut inside = true;
+        p.jacobian_entries(Some(b), |i, j, v| inside &= lu.add(i, j, v));
+        (inside && lu.factor()).then_some(Self { lu })
+    }
+}
+
+/// The preconditioner of one Newton step.
+enum Precond {
+    Block(BlockPreconditioner),
+    Band(BandPreconditioner),
+}
+
+impl Precond {
+    fn apply(&self, x: &mut [f64]) {
+        match self {
+            Self::Block(p) => p.apply(x),
+            Self::Band(p) => {
+                let keep = x.to_vec();
+                p.lu.solve(x);
+                if !x.iter().all(|v| v.is_finite()) {
+                    x.copy_from_slice(&keep);
+                }
+            }
+        }
+    }
+}
+
 /// Outcome of one GMRES solve.
 struct Gmres {
     x: Vec<f64>,
@@ -139,7 +253,7 @@ struct Gmres {
 /// At most `max_products` products; every loop is bounded by it.
 fn gmres(
     mut apply: impl FnMut(&[f64], &mut [f64]),
-    pre: &BlockPreconditioner,
+    pre: &Precond,
     b: &[f64],
     o: &KrylovOptions,
 ) -> Gmres {
@@ -283,9 +397,20 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 termination = "maximum number of iterations reached".into();
                 break;
             }
+            if ::system::deadline::expired() {
+                termination = ::system::deadline::REASON.into();
+                break;
+            }
             iterations += 1;
             let (mq, mv) = self.prepare_jacobian_products(&x, &mut r)?;
-            let pre = BlockPreconditioner::new(self, &mq, &mv);
+            let banded = match krylov.preconditioner {
+                Preconditioner::Banded { harmonics } => BandPreconditioner::new(self, harmonics),
+                Preconditioner::HarmonicBlock => None,
+            };
+            let pre = match banded {
+                Some(b) => Precond::Band(b),
+                None => Precond::Block(BlockPreconditioner::new(self, &mq, &mv)),
+            };
             let rhs: Vec<f64> = r.iter().map(|v| -v).collect();
             let sol = gmres(|v, out| self.jacobian_times(v, out), &pre, &rhs, krylov);
             if !sol.converged {

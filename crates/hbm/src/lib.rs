@@ -127,6 +127,7 @@
 //! ```
 #![deny(missing_docs)]
 
+mod band;
 mod basis;
 mod continuation;
 mod error;
@@ -151,8 +152,8 @@ pub use continuation::{
     Branch, BranchPoint, ContinuationEnd, ContinuationOptions, ContinuationParameter, FoldPoint,
 };
 pub use error::HbmError;
-pub use krylov::KrylovOptions;
-pub use problem::HbmProblem;
+pub use krylov::{KrylovOptions, Preconditioner};
+pub use problem::{Counters, HbmProblem};
 pub use solution::{HarmonicAmplitude, PeriodicSolution, TimeSeries, TruncationEstimate};
 pub use solve::{
     AUTO_KRYLOV_UNKNOWNS, Broyden, Method, Newton, NonlinearEquations, SolveReport, SolverOptions,

@@ -35,6 +35,18 @@ pub struct HbmProblem<S> {
     ws: Workspace,
 }
 
+/// Work counters of an [`HbmProblem`] (see [`HbmProblem::counters`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct Counters {
+    /// Residual evaluations that ran the AFT (a repeated evaluation at the same point is
+    /// served from the cache and not counted).
+    pub residuals: u64,
+    /// Jacobian-vector products of Newton–Krylov (each costs about one residual evaluation:
+    /// `2n` FFTs and `N n²` multiplications).
+    pub jacobian_products: u64,
+}
+
 struct Workspace {
     n_grid: usize,
     fwd: Arc<dyn Fft<f64>>,
@@ -77,6 +89,8 @@ struct Workspace {
     vqd: Vec<f64>,
     vh: Vec<f64>,
     vhc: Vec<f64>,
+    /// work counters (see [`HbmProblem::counters`])
+    counters: Counters,
 }
 
 impl Workspace {
@@ -112,6 +126,7 @@ impl Workspace {
             vqd: Vec::new(),
             vh: Vec::new(),
             vhc: Vec::new(),
+            counters: Counters::default(),
         }
     }
 }
@@ -490,6 +505,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         }
         if !(self.ws.last_valid && self.ws.last_z == z) {
             self.ws.last_valid = false;
+            self.ws.counters.residuals += 1;
             self.synthesize(z);
             self.sample_forces()?;
             self.analyse_forces();
@@ -522,10 +538,19 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 got: jac.nrows() * jac.ncols(),
             });
         }
+        self.sample_jacobians()?;
+        self.jacobian_spectra();
+        jac.fill(0.0);
+        self.jacobian_entries(None, |i, j, v| jac[(i, j)] += v);
+        Ok(())
+    }
+
+    /// Fourier spectra of the sampled force-Jacobian entries (`jq_hat`, `jv_hat`, scaled by
+    /// `1/N`), from the samples of the last [`sample_jacobians`](Self::sample_jacobians).
+    pub(crate) fn jacobian_spectra(&mut self) {
         let n = self.n;
         let nn = self.ws.n_grid;
         let nsq = n * n;
-        self.sample_jacobians()?;
         // spectra of each entry
         let scale = 1.0 / nn as f64;
         for e in 0..nsq {
@@ -551,11 +576,28 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 out[e * nn..(e + 1) * nn].copy_from_slice(&self.ws.buf);
             }
         }
+    }
+
+    /// The entries of the AFT Jacobian `∂r/∂z` at the point of the last
+    /// [`jacobian_spectra`](Self::jacobian_spectra), passed as `add(row, col, value)` (an entry
+    /// may come in several parts, to be summed; the linear part first).
+    ///
+    /// `band = Some(b)`: the Jacobian of the force with its Jacobians low-passed to the
+    /// harmonics `|l| ≤ b`, `J_b(t) = Σ_{|l|≤b} Ĵ_l e^{ilωt}` — harmonic `k'` couples to `k` only
+    /// where `|k − k'| ≤ b` or `k + k' ≤ b`, a band matrix in the unknowns of an ordered basis
+    /// (the preconditioner of Newton–Krylov). `None`: the exact Jacobian.
+    pub(crate) fn jacobian_entries<F: FnMut(usize, usize, f64)>(
+        &self,
+        band: Option<usize>,
+        mut add: F,
+    ) {
+        let n = self.n;
+        let nn = self.ws.n_grid;
+        let nsq = n * n;
         // linear part
-        jac.fill(0.0);
         for i in 0..n {
             for j in 0..n {
-                jac[(i, j)] = self.k[(i, j)];
+                add(i, j, self.k[(i, j)]);
             }
         }
         for (jh, &k) in self.basis.harmonics().iter().enumerate() {
@@ -565,10 +607,10 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                 for j in 0..n {
                     let d = self.k[(i, j)] - kw * kw * self.m[(i, j)];
                     let cw = kw * self.c[(i, j)];
-                    jac[(ca + i, ca + j)] = d;
-                    jac[(ca + i, cb + j)] = cw;
-                    jac[(cb + i, cb + j)] = d;
-                    jac[(cb + i, ca + j)] = -cw;
+                    add(ca + i, ca + j, d);
+                    add(ca + i, cb + j, cw);
+                    add(cb + i, cb + j, d);
+                    add(cb + i, ca + j, -cw);
                 }
             }
         }
@@ -576,11 +618,16 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         let nc = self.basis.n_coefficients();
         let w = self.omega;
         let half_i = Complex::new(0.0, -0.5); // 1/(2i)
+        let hs = self.basis.harmonics();
+        let sorted = hs.windows(2).all(|w| w[0] < w[1]);
         for e in 0..nsq {
             let (i, j) = (e / n, e % n);
             let jq = &self.ws.jq_hat[e * nn..(e + 1) * nn];
             let jv = &self.ws.jv_hat[e * nn..(e + 1) * nn];
-            let at = |spec: &[Complex<f64>], l: i64| spec[l.rem_euclid(nn as i64) as usize];
+            let at = |spec: &[Complex<f64>], l: i64| match band {
+                Some(b) if l.unsigned_abs() > b as u64 => Complex::default(),
+                _ => spec[l.rem_euclid(nn as i64) as usize],
+            };
             for col in 0..nc {
                 let (kp, kind_p) = self
                     .basis
@@ -605,15 +652,30 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
                         }
                     }
                 };
-                jac[(i, col * n + j)] += prod(0).re;
-                for (jh, &k) in self.basis.harmonics().iter().enumerate() {
+                // (k + k' ≤ b implies |k − k'| ≤ b: one condition)
+                let coupled = |k: i64| band.is_none_or(|b| (k - kp).unsigned_abs() <= b as u64);
+                if coupled(0) {
+                    add(i, col * n + j, prod(0).re);
+                }
+                let rows = match band {
+                    Some(b) if sorted => {
+                        let (lo, hi) = (kp - b as i64, kp + b as i64);
+                        hs.partition_point(|&k| (k as i64) < lo)
+                            ..hs.partition_point(|&k| (k as i64) <= hi)
+                    }
+                    _ => 0..hs.len(),
+                };
+                for jh in rows {
+                    let k = hs[jh];
+                    if !coupled(k as i64) {
+                        continue;
+                    }
                     let p = prod(k as i64);
-                    jac[((2 * jh + 1) * n + i, col * n + j)] += 2.0 * p.re;
-                    jac[((2 * jh + 2) * n + i, col * n + j)] -= 2.0 * p.im;
+                    add((2 * jh + 1) * n + i, col * n + j, 2.0 * p.re);
+                    add((2 * jh + 2) * n + i, col * n + j, -(2.0 * p.im));
                 }
             }
         }
-        Ok(())
     }
 
     /// Sample the force Jacobians `∂g/∂q`, `∂g/∂q'` at the samples of the last residual.
@@ -672,6 +734,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
     /// [`prepare_jacobian_products`](Self::prepare_jacobian_products)) with `v`, by AFT:
     /// `δh(t_m) = ∂g/∂q(t_m) δq(t_m) + ∂g/∂q'(t_m) δq'(t_m)`, `2n` FFTs, no matrix.
     pub(crate) fn jacobian_times(&mut self, v: &[f64], out: &mut [f64]) {
+        self.ws.counters.jacobian_products += 1;
         let (n, nn) = (self.n, self.ws.n_grid);
         let nsq = n * n;
         let (mut dq, mut dqd) = (take(&mut self.ws.vq), take(&mut self.ws.vqd));
@@ -695,6 +758,17 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         self.analyse_into(&dh, &mut dhc);
         self.assemble(&dhc, v, out);
         (self.ws.vq, self.ws.vqd, self.ws.vh, self.ws.vhc) = (dq, dqd, dh, dhc);
+    }
+
+    /// The work done since the problem was built (or since [`reset_counters`](Self::reset_counters)):
+    /// a deterministic measure of a solver's cost, independent of the machine.
+    pub fn counters(&self) -> Counters {
+        self.ws.counters
+    }
+
+    /// Set the [`counters`](Self::counters) to zero.
+    pub fn reset_counters(&mut self) {
+        self.ws.counters = Counters::default();
     }
 
     /// The system's mass, damping and stiffness matrices as currently cached.

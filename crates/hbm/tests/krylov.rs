@@ -3,7 +3,9 @@
 mod common;
 
 use common::{DeadZone, Duffing};
-use geardyn_hbm::{Basis, HbmError, HbmProblem, KrylovOptions, Method, SolverOptions};
+use geardyn_hbm::{
+    Basis, HbmError, HbmProblem, KrylovOptions, Method, Preconditioner, SolverOptions,
+};
 
 fn opts(method: Method) -> SolverOptions {
     SolverOptions {
@@ -97,6 +99,8 @@ fn a_starved_linear_solve_is_a_typed_error_and_bad_bounds_are_rejected() {
         restart: 1,
         max_products: 1,
         relative_tolerance: 1e-12,
+        // (the banded one can be exact for a small basis, and one product then suffices)
+        preconditioner: Preconditioner::HarmonicBlock,
     };
     match p.solve_newton_krylov(&z0, &opts(Method::NewtonKrylov), &starved) {
         Err(HbmError::KrylovNotConverged {
@@ -152,4 +156,86 @@ fn auto_takes_the_dense_path_below_the_crossover() {
     let a = p.solve(&z0, &opts(Method::Auto)).unwrap();
     let n = p.solve(&z0, &opts(Method::Newton)).unwrap();
     assert_eq!(a, n);
+}
+
+/// Newton–Krylov on the bench's Duffing problem at H = 400 (801 unknowns) from the embedded
+/// H = 1 solution, with each preconditioner: (iterations, products, residuals, solution).
+fn h400(pre: Preconditioner) -> (u64, u64, u64, Vec<f64>) {
+    let omega = 1.3;
+    let sys = Duffing {
+        zeta: 0.05,
+        gamma: 1.0,
+        force: 0.3,
+        omega,
+    };
+    let mut p1 = HbmProblem::new(sys.clone(), Basis::full(1).unwrap(), omega).unwrap();
+    let mut g = p1.zero_guess();
+    g[1] = 0.8;
+    let s1 = p1.solve(&g, &opts(Method::Newton)).unwrap();
+    let big = Basis::full(400).unwrap();
+    let z0 = s1.embed(&big);
+    let mut p = HbmProblem::new(sys, big, omega).unwrap();
+    let k = KrylovOptions {
+        preconditioner: pre,
+        ..KrylovOptions::default()
+    };
+    p.reset_counters();
+    let s = p
+        .solve_newton_krylov(&z0, &opts(Method::NewtonKrylov), &k)
+        .unwrap();
+    assert!(s.converged, "{pre:?}: {}", s.termination);
+    let c = p.counters();
+    (
+        s.iterations,
+        c.jacobian_products,
+        c.residuals,
+        s.coefficients,
+    )
+}
+
+#[test]
+fn the_banded_preconditioner_needs_few_products_per_newton_iteration() {
+    let (it_b, prod_b, res_b, z_b) = h400(Preconditioner::HarmonicBlock);
+    let (it, prod, res, z) = h400(Preconditioner::default());
+    assert_eq!(
+        Preconditioner::default(),
+        Preconditioner::Banded { harmonics: 2 }
+    );
+    let (it4, prod4, _, z4) = h400(Preconditioner::Banded { harmonics: 4 });
+    assert!(rel_diff(&z4, &z_b) < 1e-8);
+    // a wider band keeps more coupling: fewer products
+    assert!(prod4 < prod && it4 <= it + 1, "{prod4} {prod}");
+    // the same root
+    assert!(rel_diff(&z, &z_b) < 1e-8, "{}", rel_diff(&z, &z_b));
+    // Work per Newton iteration, in residual-evaluation equivalents (a product costs one):
+    // goal of issue 26, ≤ 12 at H = 400. The mean-Jacobian blocks need about twice that.
+    let per_iteration = (prod + res) as f64 / it as f64;
+    let per_iteration_block = (prod_b + res_b) as f64 / it_b as f64;
+    eprintln!(
+        "H = 400: banded {it} iterations, {prod} products, {res} residuals ({per_iteration:.1}/iteration); \
+         block {it_b}, {prod_b}, {res_b} ({per_iteration_block:.1}/iteration)"
+    );
+    assert!(per_iteration <= 12.0, "{per_iteration}");
+    assert!(per_iteration < per_iteration_block);
+}
+
+#[test]
+fn band_width_bounds_are_checked() {
+    let (omega, sys) = duffing();
+    let mut p = HbmProblem::new(sys, Basis::full(3).unwrap(), omega).unwrap();
+    let z0 = p.zero_guess();
+    for bad in [0, 65, usize::MAX] {
+        let k = KrylovOptions {
+            preconditioner: Preconditioner::Banded { harmonics: bad },
+            ..KrylovOptions::default()
+        };
+        let e = p
+            .solve_newton_krylov(&z0, &opts(Method::NewtonKrylov), &k)
+            .unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("preconditioner.harmonics must be in 1..=64"),
+            "{e}"
+        );
+    }
 }
