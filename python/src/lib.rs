@@ -488,6 +488,25 @@ fn envelope(r: Res<Value>) -> String {
     }
 }
 
+/// `describe(model)` → JSON of the model's self-description (parameters with units and
+/// defaults, choices and readings, methods with their settings, bounds and outputs): the
+/// registry's, the same as `geardyn models --json` and the generated table of docs/studies.md.
+/// An empty name: every model.
+#[pyfunction]
+fn describe(model: &str) -> String {
+    envelope((|| {
+        if model.is_empty() {
+            return Ok(validate::describe_all());
+        }
+        let m = validate::model_spec(model).map_err(parameter_error)?;
+        Ok(json!({
+            "name": m.name,
+            "description": m.description,
+            "info": (m.describe)(),
+        }))
+    })())
+}
+
 /// `preset(model, name)` → JSON of the named parameter set (see the Python `geardyn.presets`).
 #[pyfunction]
 fn preset(model: &str, name: &str) -> String {
@@ -719,6 +738,7 @@ fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
             .map(|(a, b)| (a.to_string(), b.to_string()))
             .collect::<Vec<_>>(),
     )?;
+    m.add_function(wrap_pyfunction!(describe, m)?)?;
     m.add_function(wrap_pyfunction!(preset, m)?)?;
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;

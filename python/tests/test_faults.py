@@ -150,3 +150,17 @@ def test_time_limit_fails_the_point_not_the_sweep():
     a = liu.solve("hbm", limits={"max_seconds_per_point": 600.0})
     b = liu.solve("hbm")
     assert a["ppv"] == b["ppv"]
+
+
+def test_describe_comes_from_the_registry():
+    every = geardyn.describe()
+    names = [m["name"] for m in every]
+    assert {"liu2021", "yu2021", "karpov2017"} <= set(names)
+    liu = geardyn.Liu2021.describe()
+    assert liu["name"] == "liu2021"
+    params = {p["name"]: p for p in liu["info"]["parameters"]}
+    assert params["omega1"]["unit"] == "rad/s"
+    methods = {m["method"] for m in liu["info"]["methods"]}
+    assert "time-stepping" in methods and "hbm" in methods
+    with pytest.raises(geardyn.ParameterError, match="nonesuch"):
+        geardyn.describe("nonesuch")

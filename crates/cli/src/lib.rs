@@ -231,6 +231,9 @@ pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Fa
     for w in &summary.warnings {
         eprintln!("{w}");
     }
+    if sync_models_doc(root, check)? {
+        println!("updated {MODELS_DOC} (model reference)");
+    }
     let (pass, dev, inc) = summary.tally;
     println!(
         "{} studies in {:.1} s: {pass} pass, {dev} deviation, {inc} inconclusive",
@@ -238,6 +241,146 @@ pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Fa
     );
     println!("{}", summary.message);
     Ok(())
+}
+
+/// The file that holds the generated model reference.
+pub const MODELS_DOC: &str = "docs/studies.md";
+const MODELS_BEGIN: &str = "<!-- BEGIN generated: model reference. `cargo xtask validate` writes \
+it from the models' self-description (the source of `geardyn models`); `--check` fails when it is \
+stale. Do not edit by hand. -->";
+const MODELS_END: &str = "<!-- END generated: model reference -->";
+
+/// Escape a table cell.
+fn cell(s: &str) -> String {
+    s.replace('|', "\\|").replace('\n', " ")
+}
+
+/// The model reference of [`MODELS_DOC`], in Markdown, from the registry's self-description
+/// (the same source as [`models_text`]): per model its parameters with units and defaults, its
+/// choices and readings, and per method its settings with bounds and its output columns.
+pub fn models_markdown() -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    for m in validate::REGISTRY.iter() {
+        let info = (m.describe)();
+        let _ = writeln!(s, "### `{}`\n\n{}\n", m.name, cell(m.description));
+        let methods: Vec<String> = info
+            .methods
+            .iter()
+            .map(|x| format!("`{}`", x.method.name()))
+            .collect();
+        let _ = writeln!(s, "Methods: {}.\n", methods.join(", "));
+        let _ = writeln!(s, "| parameter | unit | default |\n| --- | --- | --- |");
+        for p in &info.parameters {
+            let _ = writeln!(
+                s,
+                "| `{}` | {} | {} |",
+                p.name,
+                cell(&p.unit),
+                cell(&p.default)
+            );
+        }
+        s.push('\n');
+        if !info.choices.is_empty() {
+            let _ = writeln!(
+                s,
+                "| choice or reading | options (default first) | note |\n| --- | --- | --- |"
+            );
+            for c in &info.choices {
+                let mut opts = vec![c.default.clone()];
+                opts.extend(c.options.iter().filter(|o| **o != c.default).cloned());
+                let opts: Vec<String> = opts.iter().map(|o| format!("`\"{o}\"`")).collect();
+                let _ = writeln!(
+                    s,
+                    "| `{}` | {} | {} |",
+                    c.name,
+                    cell(&opts.join(" | ")),
+                    cell(&c.note)
+                );
+            }
+            s.push('\n');
+        }
+        for meth in &info.methods {
+            let _ = writeln!(s, "`solver.method = \"{}\"`", meth.method.name());
+            s.push('\n');
+            if meth.settings.is_empty() {
+                let _ = writeln!(s, "Settings: none.\n");
+            } else {
+                let _ = writeln!(
+                    s,
+                    "| setting | range, default | meaning |\n| --- | --- | --- |"
+                );
+                for d in &meth.settings {
+                    let bound = match d.kind {
+                        validate::Kind::Num { lo, hi, default } => {
+                            format!("number in [{lo:e}, {hi:e}], default {default:e}")
+                        }
+                        validate::Kind::Int { lo, hi, default } => format!(
+                            "integer in [{lo}, {hi}], default {}",
+                            default.map_or("the model's".to_owned(), |d| d.to_string())
+                        ),
+                        validate::Kind::Name { options, default } => {
+                            format!("`\"{}\"`, default `\"{default}\"`", options.join("\" | \""))
+                        }
+                    };
+                    let _ = writeln!(s, "| `{}` | {} | {} |", d.name, cell(&bound), cell(d.doc));
+                }
+                s.push('\n');
+            }
+            let outs: Vec<String> = meth
+                .outputs
+                .iter()
+                .map(|(n, u)| format!("`{n}` [{u}]"))
+                .collect();
+            let _ = writeln!(s, "Outputs: {}.", cell(&outs.join(", ")));
+            if let Some(i) = meth.initial {
+                let _ = writeln!(s, "Initial state: `initial = {i}`.");
+            }
+            s.push('\n');
+        }
+    }
+    s
+}
+
+/// Bring the generated model reference of `root/`[`MODELS_DOC`] up to date (between its
+/// markers); with `check`, fail instead when it is stale. Returns whether the file changed.
+///
+/// # Errors
+/// The file or its markers missing, unwritable, or (with `check`) stale.
+pub fn sync_models_doc(root: &Path, check: bool) -> Result<bool, Failure> {
+    let path = root.join(MODELS_DOC);
+    let fail = |message: String| Failure { message, code: 1 };
+    let text =
+        std::fs::read_to_string(&path).map_err(|e| fail(format!("{}: {e}", path.display())))?;
+    let (Some(a), Some(b)) = (text.find(MODELS_BEGIN), text.find(MODELS_END)) else {
+        return Err(fail(format!(
+            "{}: the markers of the generated model reference are missing",
+            path.display()
+        )));
+    };
+    if b < a {
+        return Err(fail(format!(
+            "{}: the model reference markers are out of order",
+            path.display()
+        )));
+    }
+    let start = a + MODELS_BEGIN.len();
+    let fresh = format!("\n\n{}", models_markdown());
+    if text[start..b] == fresh {
+        return Ok(false);
+    }
+    if check {
+        return Err(fail(format!(
+            "{MODELS_DOC}: the model reference is stale (a model's parameters, settings or \
+             outputs changed); run `cargo xtask validate` to regenerate it"
+        )));
+    }
+    let new = format!("{}{}{}", &text[..start], fresh, &text[b..]);
+    let tmp = path.with_extension("md.tmp");
+    std::fs::write(&tmp, new)
+        .and_then(|()| std::fs::rename(&tmp, &path))
+        .map_err(|e| fail(format!("{}: {e}", path.display())))?;
+    Ok(true)
 }
 
 /// The text of `geardyn models [NAME]`.

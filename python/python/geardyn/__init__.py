@@ -38,6 +38,7 @@ __all__ = [
     "Karpov2017",
     "Yu2021",
     "StudyResult",
+    "describe",
     "presets",
     "run_study",
     "run_study_file",
@@ -148,6 +149,14 @@ def _sweep_values(values, limits):
     return arr
 
 
+def describe(model=None):
+    """The self-description of one model (by its registry name, e.g. ``"liu2021"``) or, with no
+    name, of every model: parameters with units and defaults, choices and readings, methods with
+    their settings (kind, bounds, default) and output columns with units. The same data as
+    ``geardyn models --json`` and the generated model reference of ``docs/studies.md``."""
+    return _unwrap(_geardyn.describe(model or ""))
+
+
 def presets():
     """Every ``(model, preset)`` pair, e.g. ``("liu2021", "table1")``."""
     return [tuple(p) for p in _geardyn.PRESETS]
@@ -176,6 +185,11 @@ class Model:
     key = ""
     default_preset = ""
     methods = ()
+
+    @classmethod
+    def describe(cls):
+        """This model's self-description (see :func:`describe`)."""
+        return describe(cls.key)
 
     def __init__(self, preset=None, **params):
         self._params = _preset(self.key, preset or self.default_preset)
