@@ -7,8 +7,12 @@
 //! as they evolve, by two updates — inside every right-hand side with the contact switches
 //! located as events (`timestep` engine, the judged run) and Fig. 8's previous-step update
 //! (fixed-step RK4, shown) — its peak-to-peak and its spectrum (is it quasi-periodic?), the DTE
-//! with dynamic and constant backlash, the text's Fig. 9–10 numbers beside every reading, and
-//! the Fig. 11 spectrum components.
+//! with dynamic and constant backlash, the text's Fig. 9–10 numbers beside every reading, the
+//! Fig. 11 spectrum components, and Fig. 12 (a: D trend, b: G trend at ω* = 0.31).
+//!
+//! The DF/RMS sweeps of Figs. 13–14 (`yu2021-df-rms-sweeps`, also here) run both Eq. (19) forms;
+//! `a_L` does not enter them ([`AREA_NOT_APPLICABLE`]), and the judged form is
+//! [`SWEEP_JUDGED_FORM`].
 //!
 //! Which reading is judged (fixed before the runs, `docs/readings/yu.md` R-YU-READINGS): `a_L`
 //! load-dependent, because the text defines it as "related to force applied on surface"; the
@@ -40,8 +44,8 @@ pub fn studies() -> Vec<Study> {
         Study {
             id: "yu2021-fig9-11-readings",
             paper: Paper::Yu2021,
-            source: "Fig. 9, Fig. 10, Fig. 11, Eq. (17)-(19), Sect. 4.1-4.2, Conclusions (1)-(2)",
-            title: "Figs. 9–11 under the four readings: Eq. (19) consistent/printed × a_L fixed/load-dependent",
+            source: "Fig. 9, Fig. 10, Fig. 11, Fig. 12, Eq. (17)-(19), Sect. 4.1-4.3, Conclusions (1)-(2)",
+            title: "Figs. 9–12 under the four readings: Eq. (19) consistent/printed × a_L fixed/load-dependent",
             description: "Fig. 9–10 rig (Table 2 pair, fractal backlash of Eq. 4–5, b_n = b0/5, \
             Eq. (18) stiffness of the same surface at level 4e8 N/m at D = 1.5, G = 1e-11 m, \
             ω* = 0.2, bearings 1e8 N/m) under Eq. (19) consistent or printed and a_L = π l_a²/4 \
@@ -52,7 +56,10 @@ pub fn studies() -> Vec<Study> {
             peak-to-peak and spectrum, the DTE with dynamic and constant backlash \
             (DynamicBacklashLaw::Off), and the text's numbers beside each reading. The judged \
             reading is fixed by a rule stated before the runs (module docs, R-YU-READINGS); \
-            the others are reading variants. Every run checked (motion type, 100× tighter repeat).",
+            the others are reading variants. Fig. 12 at ω* = 0.31 under every reading: (a) D = \
+            1.2 … 1.8 at G = 1e-11 m, (b) G = 1e-12 … 1e-10 m at D = 1.5 (table fig12). A \
+            consistency row checks that yu2021-df-rms-sweeps judges the Eq. (19) form selected \
+            here. Every run checked (motion type, 100× tighter repeat).",
             cost: Cost::Heavy,
             run: readings,
         },
