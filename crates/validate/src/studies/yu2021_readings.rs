@@ -2132,6 +2132,27 @@ mod tests {
     }
 
     #[test]
+    fn fitted_trend_needs_two_standard_errors() {
+        let fit = |half: f64, slope: f64| {
+            let pts: Vec<(f64, f64, f64)> = (0..31)
+                .map(|i| {
+                    let x = 0.2 + 0.02 * f64::from(i);
+                    // alternating residual ±0.1 about the line
+                    let r = if i % 2 == 0 { 0.1 } else { -0.1 };
+                    (x, slope * x + r, half)
+                })
+                .collect();
+            let (b, se) = crate::studies::liu2021::fitted_slope(&pts);
+            trend_sign(b, se)
+        };
+        assert_eq!(fit(0.0, 10.0), Some(1));
+        assert_eq!(fit(0.0, -10.0), Some(-1));
+        // the same slope with each point spread over ±50 by its variants is undecided
+        assert_eq!(fit(50.0, 10.0), None);
+        assert_eq!(fit(0.0, 0.0), None);
+    }
+
+    #[test]
     fn variant_range_spans_both_sweeps_and_repeats() {
         let pt = |df: f64, dfr: f64| SweepPoint {
             df,
