@@ -165,6 +165,30 @@ impl Yu2021Model {
         engine: &Engine,
         check: &ReferenceCheck,
     ) -> Result<ReferenceRun, Error> {
+        self.reference_run_from(settings, engine, check, self.static_state(settings.omega))
+    }
+
+    /// [`Yu2021Model::reference_run`] from the state `start` at `τ = 0` instead of the static
+    /// state: the point of a continuation sweep (up- and down-sweeps start every point from the
+    /// previous point's final state, so a coexisting response is followed), with the same
+    /// motion type and repeat at the tightened tolerance.
+    ///
+    /// Errors as [`Yu2021Model::reference_run`], and on a non-finite `start` (the field and the
+    /// index are named).
+    pub fn reference_run_from(
+        &self,
+        settings: &RunSettings,
+        engine: &Engine,
+        check: &ReferenceCheck,
+        start: [f64; STATE_LEN],
+    ) -> Result<ReferenceRun, Error> {
+        if let Some((i, v)) = start.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::invalid(
+                format!("yu2021.reference.start[{i}]"),
+                "finite",
+                *v,
+            ));
+        }
         let f = check.refine_factor;
         if !(f > 1.0 && f.is_finite()) {
             return Err(Error::invalid(
@@ -180,8 +204,7 @@ impl Yu2021Model {
                 0.0,
             ));
         }
-        let response =
-            self.simulate_with(settings, engine, Some(self.static_state(settings.omega)))?;
+        let response = self.simulate_with(settings, engine, Some(start))?;
         let (refined_settings, refined_engine) = match *engine {
             Engine::Timestep {
                 method,
@@ -388,6 +411,40 @@ mod tests {
             m.reference_run(&short(0.3), &Engine::timestep(), &bad)
                 .is_err()
         );
+    }
+
+    #[test]
+    fn reference_run_from_the_static_state_is_reference_run() {
+        let m = Yu2021Model::new(&Yu2021Params::table2(), Options::default()).unwrap();
+        let check = ReferenceCheck::default();
+        let a = m
+            .reference_run(&short(0.3), &Engine::timestep(), &check)
+            .unwrap();
+        let b = m
+            .reference_run_from(
+                &short(0.3),
+                &Engine::timestep(),
+                &check,
+                m.static_state(0.3),
+            )
+            .unwrap();
+        assert_eq!(a, b);
+    }
+
+    #[test]
+    fn reference_run_from_refuses_a_non_finite_start() {
+        let m = Yu2021Model::new(&Yu2021Params::table2(), Options::kahraman_singh()).unwrap();
+        let mut s = m.initial_state();
+        s[3] = f64::NAN;
+        let e = m
+            .reference_run_from(
+                &short(0.3),
+                &Engine::timestep(),
+                &ReferenceCheck::default(),
+                s,
+            )
+            .unwrap_err();
+        assert!(e.to_string().contains("start[3]"), "{e}");
     }
 
     #[test]

@@ -65,9 +65,9 @@ pub fn studies() -> Vec<Study> {
 }
 
 const D4: [f64; 4] = [1.2, 1.4, 1.6, 1.8];
-const G5: [f64; 5] = [1e-12, 3e-12, 1e-11, 3e-11, 1e-10];
+pub(super) const G5: [f64; 5] = [1e-12, 3e-12, 1e-11, 3e-11, 1e-10];
 /// D of the Fig. 12b sweep (not stated by the paper): the reference surface of the stiffness law.
-const D_G: f64 = 1.5;
+pub(super) const D_G: f64 = 1.5;
 const W_FIG10: f64 = 0.2;
 const W_FIG12: f64 = 0.31;
 /// A spectral line counts when it exceeds this fraction of the main (largest AC) amplitude.
@@ -125,7 +125,7 @@ fn list(v: &[f64]) -> String {
 }
 
 /// Strictly falling (each step beyond the integration accuracy), `None` when a step is within it.
-fn falls(v: &[f64]) -> Option<bool> {
+pub(super) fn falls(v: &[f64]) -> Option<bool> {
     let undecided = v
         .windows(2)
         .any(|w| (w[1] - w[0]).abs() <= DECIDABLE * w[0].abs().max(w[1].abs()));
@@ -136,7 +136,7 @@ fn falls(v: &[f64]) -> Option<bool> {
     }
 }
 
-fn trend_verdict(t: Option<bool>) -> Verdict {
+pub(super) fn trend_verdict(t: Option<bool>) -> Verdict {
     t.map_or(Verdict::Inconclusive, Verdict::from_bool)
 }
 
@@ -410,13 +410,13 @@ type Expectation = (usize, &'static str, fn(Motion) -> bool);
 
 /// One period of the phase portrait `(δ*, δ*')` (the last recorded period) and the Poincaré
 /// points (period starts, from the second period on: the rate needs a left neighbour).
-struct Portrait {
-    orbit: Vec<(f64, f64)>,
-    section: Vec<(f64, f64)>,
-    rate_pp: f64,
+pub(super) struct Portrait {
+    pub(super) orbit: Vec<(f64, f64)>,
+    pub(super) section: Vec<(f64, f64)>,
+    pub(super) rate_pp: f64,
 }
 
-fn portrait(r: &Response) -> Portrait {
+pub(super) fn portrait(r: &Response) -> Portrait {
     let v = r.dte_rate();
     let n = r.steps_per_period;
     let len = r.dte.len().min(v.len());
@@ -438,7 +438,7 @@ fn portrait(r: &Response) -> Portrait {
 }
 
 /// Largest distance between two portraits normalised to unit peak-to-peak per axis.
-fn shape_distance(a: &Portrait, b: &Portrait) -> f64 {
+pub(super) fn shape_distance(a: &Portrait, b: &Portrait) -> f64 {
     let norm = |o: &[(f64, f64)]| {
         let span = |f: fn(&(f64, f64)) -> f64| {
             let (lo, hi) = o

@@ -31,6 +31,7 @@ mod readings_thresholds;
 mod responses;
 mod speed_sweep;
 mod table2;
+pub(in crate::studies) use table2::fitted_slope;
 
 /// The studies of the Liu paper, in report order.
 pub fn studies() -> Vec<Study> {

@@ -379,7 +379,7 @@ fn line_residual_rms(pts: &[(f64, f64)]) -> f64 {
 
 /// Fitted slope of `(x, y, half-spread)` points and its standard error (residual scatter plus
 /// the half-spreads propagated as measurement errors).
-fn fitted_slope(pts: &[(f64, f64, f64)]) -> (f64, f64) {
+pub(in crate::studies) fn fitted_slope(pts: &[(f64, f64, f64)]) -> (f64, f64) {
     let xy: Vec<(f64, f64)> = pts.iter().map(|&(x, y, _)| (x, y)).collect();
     let (mx, _, slope) = line_fit(&xy);
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
