@@ -1,6 +1,5 @@
 //! The generated model reference of docs/studies.md.
 
-
 #[test]
 fn the_model_reference_in_the_docs_is_current() {
     // `cargo xtask validate` writes it; GEARDYN_BLESS=1 writes it from this test.
@@ -28,11 +27,18 @@ fn a_stale_model_reference_fails_the_check() {
     assert!(stale != text, "the reference lists omega1 in rad/s");
     std::fs::write(dir.join(geardyn_cli::MODELS_DOC), &stale).unwrap();
     let e = geardyn_cli::sync_models_doc(&dir, true).unwrap_err();
-    assert!(e.message.contains("model reference is stale"), "{}", e.message);
+    assert!(
+        e.message.contains("model reference is stale"),
+        "{}",
+        e.message
+    );
     // regenerating restores it
     assert!(geardyn_cli::sync_models_doc(&dir, false).unwrap());
     let fixed = std::fs::read_to_string(dir.join(geardyn_cli::MODELS_DOC)).unwrap();
-    assert!(fixed == text, "regenerated differs from the committed reference");
+    assert!(
+        fixed == text,
+        "regenerated differs from the committed reference"
+    );
     assert!(!geardyn_cli::sync_models_doc(&dir, true).unwrap());
     // missing markers: an error, not a silent rewrite
     std::fs::write(dir.join(geardyn_cli::MODELS_DOC), "no markers\n").unwrap();

@@ -522,9 +522,9 @@ pub struct PairResponse {
 }
 
 impl PairResponse {
-    /// Dynamic factor `max F / F_s` ([`timestep::dynamic_factor`]; NaN if undefined).
+    /// Dynamic factor `max F / F_s` ([`crate::response::dynamic_factor`]; NaN if undefined).
     pub fn dynamic_factor(&self, static_force: f64) -> f64 {
-        timestep::dynamic_factor(&self.force, static_force).unwrap_or(f64::NAN)
+        crate::response::dynamic_factor(&self.force, static_force).unwrap_or(f64::NAN)
     }
 
     /// Fourier coefficients `[c_0, a_1, b_1, …]` of `δ` over the record

@@ -35,11 +35,10 @@
 //!   point is an `Err` in its slot, not a lost sweep.
 //! * **Spectra** ([`amplitude_spectrum`], rustfft): one-sided, a sine of amplitude `A` shows
 //!   `A`; [`harmonic_amplitudes`] reads harmonic `h` from bin `h·n_periods`.
-//! * **Metrics**: peak-to-peak ([`peak_to_peak`], Liu's ppv), rattle state ([`rattle_state`],
-//!   Liu's rsv 0/1/2 from where `q` goes relative to `±b`), dynamic factor
-//!   `DF = max F_m / F_s` ([`dynamic_factor`], Yu et al. 2021 Eq. 20) and
-//!   `RMS = sqrt(Σ_{i=1}^n A_i² / n)` over harmonic amplitudes ([`rms_of_harmonics`],
-//!   Yu Eq. 21).
+//! * **Signal metrics**: peak-to-peak ([`peak_to_peak`]), [`rms`], Fourier projection onto the
+//!   harmonics of a frequency ([`fourier_projection`]). The gear metrics built on them (rattle
+//!   state, dynamic factor, RMS over harmonics) are in `geardyn_models::response`: this crate
+//!   knows no gears.
 //! * **Sweeps** ([`sweep`], [`sweep_with_threads`]): rayon over a parameter list, results in
 //!   input order, bit-identical for any thread count, progress callback.
 //!
@@ -111,9 +110,7 @@ pub use bifurcation::{
 pub use driver::integrate;
 pub use error::{Error, Result};
 pub use metrics::{
-    RattleState, dynamic_factor, fourier_projection, fourier_projection_at,
-    harmonic_amplitudes_of_projection, peak_to_peak, rattle_state, rattle_state_with_gap, rms,
-    rms_of_harmonics,
+    fourier_projection, fourier_projection_at, harmonic_amplitudes_of_projection, peak_to_peak, rms,
 };
 pub use options::{Method, Options, Output};
 pub use problems::{BouncingBall, DeadZoneOscillator, Duffing, LinearOscillator};

@@ -37,7 +37,6 @@ fn steady_forced_linear_oscillator_has_exact_amplitude() {
     let (f, a) = sp.amplitude_at(0.8 / (2.0 * std::f64::consts::PI)).unwrap();
     assert!((f - 1.0 / period).abs() < 1e-12 && (a - a_exact).abs() < 1e-6 * a_exact);
     assert!((peak_to_peak(&x).unwrap() - 2.0 * a_exact).abs() < 1e-3 * a_exact);
-    assert!((rms_of_harmonics(&h[..1]).unwrap() - a_exact).abs() < 1e-6 * a_exact);
 }
 
 fn classify(sys: &dyn OdeSystem, period: f64, y0: &[f64]) -> Classification {
@@ -117,31 +116,6 @@ fn user_surface_section_of_harmonic_oscillator() {
         assert!((sec.point(k)[1] - 1.0).abs() < 1e-8);
     }
     assert_eq!(detect_period(&sec, 3, 1e-6), Some(1));
-}
-
-#[test]
-fn rattle_states_of_backlash_oscillator() {
-    let base = DeadZoneOscillator {
-        zeta: 0.05,
-        kappa: 0.2,
-        omega: 1.5,
-        f_mean: 0.1,
-        f_amp: 0.0,
-        b: 1.0,
-    };
-    let run = |f_amp: f64| {
-        let p = DeadZoneOscillator { f_amp, ..base };
-        let period = 2.0 * std::f64::consts::PI / p.omega;
-        let ss = SteadyOptions {
-            transient: Transient::Periods(150),
-            ..SteadyOptions::new(period)
-        };
-        let st = steady_state(&FirstOrder(p), 0.0, &[1.1, 0.0], &Options::default(), &ss).unwrap();
-        rattle_state(&st.component(0), p.b, 1e-9).unwrap()
-    };
-    assert_eq!(run(0.02), RattleState::NoRattle);
-    assert_eq!(run(0.5), RattleState::Unilateral);
-    assert_eq!(run(3.0), RattleState::Bilateral);
 }
 
 #[test]

@@ -397,12 +397,12 @@ struct TimeTrig {
     cph: f64,
 }
 
-/// Rattle state value `rsv` (Sect. 3.2): the workspace's one [`timestep::RattleState`]. This
+/// Rattle state value `rsv` (Sect. 3.2): the workspace's one [`crate::response::RattleState`]. This
 /// model's classifier ([`Model::rattle`]) knows the drive flank (`q < −b̄`): `NoRattle` when
 /// `q < −b̄` throughout, `Unilateral` when the flanks separate (`q ≥ −b̄` somewhere) but never
 /// reach the back flank, `Bilateral` when back-flank contact `q > b̄` occurs; never
 /// `NoContact`.
-pub use timestep::RattleState;
+pub use crate::response::RattleState;
 
 /// The state of one sample `q` in a gap of half width `b` (Liu's flank convention): back flank
 /// (`q > b`, bilateral), in the gap (`−b ≤ q ≤ b`, unilateral), drive flank (no rattle). The

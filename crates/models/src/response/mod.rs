@@ -1,5 +1,7 @@
-//! Gear response metrics on any record (design: `models/response/`): the long-window rattle
-//! statistics that decide rattle claims for periodic, intermittent and chaotic motion alike.
+//! Gear response metrics on any record (design: `models/response/`): the one-record metrics
+//! ([`RattleState`] and [`rattle_state`], [`dynamic_factor`], [`rms_of_harmonics`]) and the
+//! long-window rattle statistics that decide rattle claims for periodic, intermittent and
+//! chaotic motion alike.
 //!
 //! One-period metrics (Liu's `rsv` and `ppv` of the last period, [`crate::liu2021::Rattle`])
 //! describe a period-1 orbit and nothing else. For an intermittent or chaotic orbit the
@@ -20,8 +22,12 @@
 //! combines the statistics of several records of the same point (two tolerances, two windows,
 //! two initial states) into intervals, so that a verdict can say whether its statistic is robust.
 
+mod metrics;
 mod window;
 
+pub use metrics::{
+    RattleState, dynamic_factor, rattle_state, rattle_state_with_gap, rms_of_harmonics,
+};
 pub use window::{
     Crossing, Flank, FlankImpacts, Robust, WindowOptions, WindowStats, window_stats, zero_one_test,
 };

@@ -2,8 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::metrics::RattleState;
 use crate::Error;
-use timestep::RattleState;
 
 /// A gear flank of the backlash coordinate `q` in the gap `−b(t) ≤ q ≤ b(t)`.
 ///

@@ -316,10 +316,10 @@ pub struct Response {
 }
 
 impl Response {
-    /// Dynamic factor, Eq. (20): `max F_m / F_s` ([`timestep::dynamic_factor`]; NaN for an
+    /// Dynamic factor, Eq. (20): `max F_m / F_s` ([`crate::response::dynamic_factor`]; NaN for an
     /// empty or non-finite record).
     pub fn dynamic_factor(&self) -> f64 {
-        timestep::dynamic_factor(&self.force, self.load).unwrap_or(f64::NAN)
+        crate::response::dynamic_factor(&self.force, self.load).unwrap_or(f64::NAN)
     }
 
     /// Amplitudes `A_i` (units of `b_n`) of the first `n` mesh harmonics of the DTE, from the
@@ -342,12 +342,12 @@ impl Response {
     }
 
     /// RMS of Eq. (21): `sqrt(Σ A_i²/n)` over the first `n` mesh harmonics (units of `b_n`),
-    /// [`timestep::rms_of_harmonics`]; 0 for `n = 0`, NaN for a non-finite record.
+    /// [`crate::response::rms_of_harmonics`]; 0 for `n = 0`, NaN for a non-finite record.
     pub fn rms(&self, n: usize) -> f64 {
         if n == 0 {
             return 0.0;
         }
-        timestep::rms_of_harmonics(&self.harmonic_amplitudes(n)).unwrap_or(f64::NAN)
+        crate::response::rms_of_harmonics(&self.harmonic_amplitudes(n)).unwrap_or(f64::NAN)
     }
 
     /// Mean of a series.
@@ -863,11 +863,13 @@ mod tests {
         assert_eq!(r.harmonic_amplitudes(2), a);
         assert_eq!(
             r.rms(2).to_bits(),
-            timestep::rms_of_harmonics(&a).unwrap().to_bits()
+            crate::response::rms_of_harmonics(&a).unwrap().to_bits()
         );
         assert_eq!(
             r.dynamic_factor().to_bits(),
-            timestep::dynamic_factor(&force, 0.8).unwrap().to_bits()
+            crate::response::dynamic_factor(&force, 0.8)
+                .unwrap()
+                .to_bits()
         );
         assert!((a[0] - 0.2).abs() < 1e-13 && (a[1] - 0.1).abs() < 1e-13);
         assert!((r.rms(2) - (0.05f64 / 2.0).sqrt()).abs() < 1e-13);
