@@ -331,12 +331,19 @@ pub fn apply_values<T: Serialize + DeserializeOwned>(
         return Err(Error::StudyFile("parameter set is not a struct".to_owned()));
     }
     for (k, x) in overrides {
-        let slot = find_slot(&mut v, k).ok_or_else(|| {
-            Error::StudyFile(format!(
-                "unknown parameter `{k}`; parameters: {}",
-                field_names(base).join(", ")
-            ))
-        })?;
+        let slot = find_slot(&mut v, k)
+            .map_err(|names| {
+                Error::StudyFile(format!(
+                    "parameter `{k}` is ambiguous: write one of {}",
+                    names.join(", ")
+                ))
+            })?
+            .ok_or_else(|| {
+                Error::StudyFile(format!(
+                    "unknown parameter `{k}`; parameters: {}",
+                    field_names(base).join(", ")
+                ))
+            })?;
         let old = slot.clone();
         let candidates: Vec<serde_json::Value> = match (x, &old) {
             // A name: try the serde spellings of a variant (CamelCase, snake_case, as given).
@@ -351,7 +358,7 @@ pub fn apply_values<T: Serialize + DeserializeOwned>(
         // Deserialise after each field so that an out-of-type value names its field.
         let mut last = None;
         for c in candidates {
-            if let Some(slot) = find_slot(&mut v, k) {
+            if let Ok(Some(slot)) = find_slot(&mut v, k) {
                 *slot = c;
             }
             match serde_json::from_value::<T>(v.clone()) {
@@ -391,17 +398,42 @@ pub fn apply_overrides<T: Serialize + DeserializeOwned>(
     apply_values(base, &o)
 }
 
-fn find_slot<'a>(v: &'a mut serde_json::Value, k: &str) -> Option<&'a mut serde_json::Value> {
-    let obj = v.as_object_mut()?;
-    if obj.contains_key(k) {
-        return obj.get_mut(k);
+/// The field an override names: a dotted path (`readings.rigid_acceleration`) walks the
+/// nested structs; a bare name is a top-level field, else the one nested field of that name.
+/// A bare name that two nested structs hold is ambiguous: `Err` with the dotted names.
+fn find_slot<'a>(
+    v: &'a mut serde_json::Value,
+    k: &str,
+) -> Result<Option<&'a mut serde_json::Value>, Vec<String>> {
+    if k.contains('.') {
+        let mut cur = v;
+        for seg in k.split('.') {
+            match cur.as_object_mut().and_then(|o| o.get_mut(seg)) {
+                Some(next) => cur = next,
+                None => return Ok(None),
+            }
+        }
+        return Ok(Some(cur));
     }
-    let holder = obj
+    let Some(obj) = v.as_object_mut() else {
+        return Ok(None);
+    };
+    if obj.contains_key(k) {
+        return Ok(obj.get_mut(k));
+    }
+    let holders: Vec<String> = obj
         .iter()
         .filter(|(_, inner)| inner.as_object().is_some_and(|o| o.contains_key(k)))
         .map(|(name, _)| name.clone())
-        .next()?;
-    obj.get_mut(&holder)?.as_object_mut()?.get_mut(k)
+        .collect();
+    match holders.as_slice() {
+        [] => Ok(None),
+        [one] => Ok(obj
+            .get_mut(one)
+            .and_then(|o| o.as_object_mut())
+            .and_then(|o| o.get_mut(k))),
+        many => Err(many.iter().map(|h| format!("{h}.{k}")).collect()),
+    }
 }
 
 /// The settable fields of a parameter struct (top level and one level down).
@@ -526,5 +558,63 @@ pub fn choice<E: DeserializeOwned>(field: &str, v: &Value) -> Result<E, Error> {
             other.label(),
             opts()
         ))),
+    }
+}
+
+#[cfg(test)]
+mod dotted_tests {
+    use super::*;
+    use serde::Deserialize;
+
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+    struct Inner {
+        k: f64,
+        only_a: f64,
+    }
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+    struct Outer {
+        top: f64,
+        a: Inner,
+        b: Inner,
+    }
+
+    fn base() -> Outer {
+        let i = Inner {
+            k: 1.0,
+            only_a: 2.0,
+        };
+        Outer {
+            top: 0.0,
+            a: i.clone(),
+            b: i,
+        }
+    }
+
+    fn set(name: &str, v: f64) -> Result<Outer, Error> {
+        let o: BTreeMap<String, Value> = [(name.to_owned(), Value::Num(v))].into();
+        apply_values(&base(), &o)
+    }
+
+    #[test]
+    fn dotted_paths_address_nested_fields() {
+        assert_eq!(set("a.k", 5.0).unwrap().a.k, 5.0);
+        assert_eq!(set("b.k", 6.0).unwrap().b.k, 6.0);
+        assert_eq!(set("b.k", 6.0).unwrap().a.k, 1.0);
+        assert_eq!(set("top", 3.0).unwrap().top, 3.0);
+        // both nested structs hold `only_a` too: the bare name is refused, not the first holder
+        let o = set("only_a", 7.0).unwrap_err().to_string();
+        assert!(o.contains("ambiguous"), "{o}");
+        assert_eq!(set("a.only_a", 7.0).unwrap().a.only_a, 7.0);
+    }
+
+    #[test]
+    fn a_bare_name_two_structs_hold_is_ambiguous() {
+        let e = set("k", 5.0).unwrap_err().to_string();
+        assert!(
+            e.contains("parameter `k` is ambiguous: write one of a.k, b.k"),
+            "{e}"
+        );
+        let e = set("a.nonesuch", 5.0).unwrap_err().to_string();
+        assert!(e.contains("unknown parameter `a.nonesuch`"), "{e}");
     }
 }

@@ -22,6 +22,39 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::bifurcation::{self, BifurcationSpec};
+
+/// One `[overrides]` entry as TOML gives it: a value, or a table of entries (dotted keys).
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum OverrideEntry {
+    Leaf(Value),
+    Table(BTreeMap<String, OverrideEntry>),
+}
+
+/// `[overrides]` with its sub-tables flattened to dotted names (`a.b = 1` → `"a.b"`).
+fn dotted_overrides<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<BTreeMap<String, Value>, D::Error> {
+    fn walk(prefix: &str, m: BTreeMap<String, OverrideEntry>, out: &mut BTreeMap<String, Value>) {
+        for (k, e) in m {
+            let name = if prefix.is_empty() {
+                k
+            } else {
+                format!("{prefix}.{k}")
+            };
+            match e {
+                OverrideEntry::Leaf(v) => {
+                    out.insert(name, v);
+                }
+                OverrideEntry::Table(t) => walk(&name, t, out),
+            }
+        }
+    }
+    let raw = BTreeMap::<String, OverrideEntry>::deserialize(d)?;
+    let mut out = BTreeMap::new();
+    walk("", raw, &mut out);
+    Ok(out)
+}
 use crate::error::{Error, check_name};
 use crate::figure::{Figure, Series};
 use crate::heatmap::{HeatScale, Heatmap};
@@ -45,8 +78,11 @@ pub struct UserStudy {
     pub description: String,
     /// Model: see [`MODELS`] / `geardyn models`.
     pub model: String,
-    /// Parameter overrides and choices `name = value` on top of the model's base set.
-    #[serde(default)]
+    /// Parameter overrides and choices `name = value` on top of the model's base set. A name
+    /// is a field of the parameter struct, or a dotted path into its nested structs
+    /// (`readings.rigid_acceleration`, written as a TOML dotted key or a sub-table); a bare name
+    /// that two nested structs hold is an error that lists the dotted names.
+    #[serde(default, deserialize_with = "dotted_overrides")]
     pub overrides: BTreeMap<String, Value>,
     /// Initial state of the time integration (model-specific length; see `geardyn models`);
     /// absent: the model's default start.

@@ -666,3 +666,22 @@ fn every_result_states_its_statistics_and_accuracy() {
     .unwrap();
     assert_stats(&out, 0, &sol.stats, "karpov2017 timestep");
 }
+
+#[test]
+fn overrides_take_dotted_paths_as_keys_or_sub_tables() {
+    let run = |overrides: &str| {
+        let toml = format!(
+            "name = \"dotted\"\nmodel = \"liu2021\"\n\n[overrides]\n{overrides}\n\n[solver]\nmethod = \"hbm\"\n"
+        );
+        geardyn_validate::run_study_from_str(&toml, &Default::default()).map(|o| o.table.to_csv())
+    };
+    let bare = run("rigid_acceleration = \"printed-eq20\"").unwrap();
+    let dotted = run("readings.rigid_acceleration = \"printed-eq20\"").unwrap();
+    let table = run("[overrides.readings]\nrigid_acceleration = \"printed-eq20\"").unwrap();
+    let default = run("").unwrap();
+    assert_eq!(bare, dotted);
+    assert_eq!(bare, table);
+    assert_ne!(bare, default, "the reading changes the result");
+    let e = run("readings.nonesuch = 1.0").unwrap_err().to_string();
+    assert!(e.contains("readings.nonesuch"), "{e}");
+}
