@@ -562,6 +562,7 @@ pub fn choice<E: DeserializeOwned>(field: &str, v: &Value) -> Result<E, Error> {
 }
 
 #[cfg(test)]
+#[allow(clippy::float_cmp)] // exact: values are copied, not computed
 mod dotted_tests {
     use super::*;
     use serde::Deserialize;
