@@ -250,6 +250,23 @@ it from the models' self-description (the source of `geardyn models`); `--check`
 stale. Do not edit by hand. -->";
 const MODELS_END: &str = "<!-- END generated: model reference -->";
 
+/// A setting's kind, range and default in words (`quote` around names: "`" in Markdown).
+fn setting_bound(kind: &validate::Kind, quote: &str) -> String {
+    match *kind {
+        validate::Kind::Num { lo, hi, default } => {
+            format!("number in [{lo:e}, {hi:e}], default {default:e}")
+        }
+        validate::Kind::Int { lo, hi, default } => format!(
+            "integer in [{lo}, {hi}], default {}",
+            default.map_or("the model's".to_owned(), |d| d.to_string())
+        ),
+        validate::Kind::Name { options, default } => format!(
+            "{quote}\"{}\"{quote}, default {quote}\"{default}\"{quote}",
+            options.join("\" | \"")
+        ),
+    }
+}
+
 /// Escape a table cell.
 fn cell(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
@@ -311,18 +328,7 @@ pub fn models_markdown() -> String {
                     "| setting | range, default | meaning |\n| --- | --- | --- |"
                 );
                 for d in &meth.settings {
-                    let bound = match d.kind {
-                        validate::Kind::Num { lo, hi, default } => {
-                            format!("number in [{lo:e}, {hi:e}], default {default:e}")
-                        }
-                        validate::Kind::Int { lo, hi, default } => format!(
-                            "integer in [{lo}, {hi}], default {}",
-                            default.map_or("the model's".to_owned(), |d| d.to_string())
-                        ),
-                        validate::Kind::Name { options, default } => {
-                            format!("`\"{}\"`, default `\"{default}\"`", options.join("\" | \""))
-                        }
-                    };
+                    let bound = setting_bound(&d.kind, "`");
                     let _ = writeln!(s, "| `{}` | {} | {} |", d.name, cell(&bound), cell(d.doc));
                 }
                 s.push('\n');
@@ -421,18 +427,7 @@ pub fn models_text(name: Option<&str>) -> Result<String, Failure> {
                 let _ = writeln!(s, "    settings: none");
             }
             for d in &meth.settings {
-                let bound = match d.kind {
-                    validate::Kind::Num { lo, hi, default } => {
-                        format!("number in [{lo:e}, {hi:e}], default {default:e}")
-                    }
-                    validate::Kind::Int { lo, hi, default } => format!(
-                        "integer in [{lo}, {hi}], default {}",
-                        default.map_or("model's".to_owned(), |d| d.to_string())
-                    ),
-                    validate::Kind::Name { options, default } => {
-                        format!("\"{}\", default \"{default}\"", options.join("\" | \""))
-                    }
-                };
+                let bound = setting_bound(&d.kind, "");
                 let _ = writeln!(s, "    {}: {bound} — {}", d.name, d.doc);
             }
             let outs: Vec<String> = meth

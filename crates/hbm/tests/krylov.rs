@@ -161,13 +161,7 @@ fn auto_takes_the_dense_path_below_the_crossover() {
 /// Newton–Krylov on the bench's Duffing problem at H = 400 (801 unknowns) from the embedded
 /// H = 1 solution, with each preconditioner: (iterations, products, residuals, solution).
 fn h400(pre: Preconditioner) -> (u64, u64, u64, Vec<f64>) {
-    let omega = 1.3;
-    let sys = Duffing {
-        zeta: 0.05,
-        gamma: 1.0,
-        force: 0.3,
-        omega,
-    };
+    let (omega, sys) = duffing();
     let mut p1 = HbmProblem::new(sys.clone(), Basis::full(1).unwrap(), omega).unwrap();
     let mut g = p1.zero_guess();
     g[1] = 0.8;
