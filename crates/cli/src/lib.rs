@@ -240,6 +240,16 @@ pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Fa
     Ok(())
 }
 
+/// `cargo xtask validate --diff [REV]`: print the markdown summary of what changed in meaning
+/// (verdicts, evidence classes, rows, model values against their band, figures) between
+/// `validation/verdicts.csv` at `REV` (default: the merge base with `main`) and the working
+/// tree. Exit status 0 whatever changed (`--check` is the gate).
+pub fn validate_diff(root: &Path, rev: Option<&str>) -> Result<(), Failure> {
+    let md = validate::diff_against(root, rev)?;
+    print!("{md}");
+    Ok(())
+}
+
 /// The text of `geardyn models [NAME]`.
 pub fn models_text(name: Option<&str>) -> Result<String, Failure> {
     use std::fmt::Write;

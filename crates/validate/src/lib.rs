@@ -122,6 +122,7 @@ mod figure;
 mod format;
 pub mod heatmap;
 mod output;
+pub mod precision;
 mod published;
 mod render;
 pub mod shard;
@@ -130,18 +131,20 @@ mod studies;
 mod study;
 mod table;
 mod user;
+pub mod verdicts;
 
 pub use audit::{Problem, audit, audit_output, output_files};
 pub use bifurcation::{BifurcationSpec, MAX_BIFURCATION_PERIODS, MAX_BIFURCATION_POINTS};
 pub use error::{Error, ResultExt};
 pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
 pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
-pub use output::{ValidationSummary, run_validation};
+pub use output::{STATS_DIR, ValidationSummary, diff_against, run_validation};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
-    ReadingsIndex, StudyResult, comparisons_csv, insta_snap, render_all, report, run_studies,
-    snapshot_body,
+    ReadingsIndex, STATS_DIGEST_FILE, StudyResult, comparisons_csv, comparisons_csv_full,
+    insta_snap, render_all, render_stats, report, run_studies, snapshot_body, stats_digest,
 };
+pub use verdicts::{VERDICTS_FILE, VerdictDiff, check_verdicts, diff_verdicts, parse_verdicts};
 pub use studies::all_studies;
 pub use studies::user_models::{
     Adapter, BIFURCATION, BifurcationModel, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo,
