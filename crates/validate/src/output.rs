@@ -179,11 +179,7 @@ const AGGREGATES: &[&str] = &["REPORT.md", crate::VERDICTS_FILE, crate::STATS_DI
 /// The uncommitted statistics directory, relative to `validation/` (gitignored).
 pub const STATS_DIR: &str = "stats";
 
-fn write_stats(
-    vdir: &Path,
-    stats: &BTreeMap<String, Vec<u8>>,
-    prune: bool,
-) -> Result<(), Error> {
+fn write_stats(vdir: &Path, stats: &BTreeMap<String, Vec<u8>>, prune: bool) -> Result<(), Error> {
     let dir = vdir.join(STATS_DIR);
     if prune && dir.is_dir() {
         std::fs::remove_dir_all(&dir).map_err(io(&dir))?;
@@ -222,14 +218,16 @@ fn check_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>) -> Result<String,
         ))
     } else {
         // the meaning first: verdicts, classes, rows added or removed
-        let verdicts = match (old.get(crate::VERDICTS_FILE), files.get(crate::VERDICTS_FILE)) {
-            (Some(o), Some(n)) => crate::check_verdicts(
-                &String::from_utf8_lossy(o),
-                &String::from_utf8_lossy(n),
-            )
-            .err()
-            .map(|m| format!("VERDICTS DIFFER from the committed ones:\n{m}\n"))
-            .unwrap_or_default(),
+        let verdicts = match (
+            old.get(crate::VERDICTS_FILE),
+            files.get(crate::VERDICTS_FILE),
+        ) {
+            (Some(o), Some(n)) => {
+                crate::check_verdicts(&String::from_utf8_lossy(o), &String::from_utf8_lossy(n))
+                    .err()
+                    .map(|m| format!("VERDICTS DIFFER from the committed ones:\n{m}\n"))
+                    .unwrap_or_default()
+            }
             _ => String::new(),
         };
         let digest = if old.get(crate::STATS_DIGEST_FILE) != files.get(crate::STATS_DIGEST_FILE) {
@@ -348,8 +346,8 @@ pub fn diff_against(root: &Path, rev: Option<&str>) -> Result<String, Error> {
     let d = crate::diff_verdicts(&old, &new);
     let detail = |o: &crate::verdicts::VerdictRow, n: &crate::verdicts::VerdictRow| {
         let before = git(&["show", &vpath(&o.paper)]).unwrap_or_default();
-        let after = std::fs::read_to_string(root.join("validation").join(&n.paper))
-            .unwrap_or_default();
+        let after =
+            std::fs::read_to_string(root.join("validation").join(&n.paper)).unwrap_or_default();
         crate::verdicts::figure_change(&before, &after)
     };
     let mut md = d.to_markdown(&label, &detail);

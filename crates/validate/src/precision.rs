@@ -132,9 +132,11 @@ pub fn one_period_samples(table: &Table, row: &[Cell]) -> Vec<usize> {
         .zip(row)
         .any(|(c, v)| is_motion_period(&c.name) && matches!(v, Cell::Num(x) if *x == 0.0));
     let non_periodic = non_periodic
-        || table.columns.iter().zip(row).any(|(c, v)| {
-            is_motion_period(&c.name) && matches!(v, Cell::Count(0))
-        });
+        || table
+            .columns
+            .iter()
+            .zip(row)
+            .any(|(c, v)| is_motion_period(&c.name) && matches!(v, Cell::Count(0)));
     if !non_periodic {
         return Vec::new();
     }
@@ -362,7 +364,12 @@ mod tests {
         ] {
             assert!(is_solver_statistic(n), "{n}");
         }
-        for n in ["B D=1.8 events", "ppv_time", "omega1", "time_reproducible_100x"] {
+        for n in [
+            "B D=1.8 events",
+            "ppv_time",
+            "omega1",
+            "time_reproducible_100x",
+        ] {
             assert!(!is_solver_statistic(n), "{n}");
         }
     }

@@ -79,12 +79,7 @@ impl VerdictRow {
         } else {
             String::new()
         };
-        format!(
-            "`{}` · {} «{}{more}»{occ}",
-            self.study,
-            self.kind,
-            md(&key)
-        )
+        format!("`{}` · {} «{}{more}»{occ}", self.study, self.kind, md(&key))
     }
 
     /// Reading, flags and cause, for an entry.
@@ -344,7 +339,7 @@ pub struct VerdictDiff {
 /// The numbers of a committed model value: the value, then the interval bounds.
 fn numbers(model: &str) -> Vec<f64> {
     model
-        .split(|c: char| c == ' ' || c == '[' || c == ']' || c == ',')
+        .split([' ', '[', ']', ','])
         .filter(|t| !t.is_empty())
         .map(|t| t.parse::<f64>().unwrap_or(f64::NAN))
         .collect()
@@ -388,7 +383,10 @@ pub fn diff_verdicts(old: &[VerdictRow], new: &[VerdictRow]) -> VerdictDiff {
                             (x - y).abs()
                         }
                     })
-                    .fold(0.0_f64, |m, v| if v.is_nan() { f64::INFINITY } else { m.max(v) })
+                    .fold(
+                        0.0_f64,
+                        |m, v| if v.is_nan() { f64::INFINITY } else { m.max(v) },
+                    )
             } else {
                 f64::INFINITY
             };
@@ -502,10 +500,23 @@ impl VerdictDiff {
                 self.removed.len()
             );
             for r in &self.added {
-                let _ = writeln!(s, "- added {}: {} ({}) — {}", r.name(), r.verdict, r.evidence, r.why());
+                let _ = writeln!(
+                    s,
+                    "- added {}: {} ({}) — {}",
+                    r.name(),
+                    r.verdict,
+                    r.evidence,
+                    r.why()
+                );
             }
             for r in &self.removed {
-                let _ = writeln!(s, "- removed {}: was {} ({})", r.name(), r.verdict, r.evidence);
+                let _ = writeln!(
+                    s,
+                    "- removed {}: was {} ({})",
+                    r.name(),
+                    r.verdict,
+                    r.evidence
+                );
             }
             s.push('\n');
         }
@@ -543,7 +554,13 @@ impl VerdictDiff {
                 self.figures.len()
             );
             for (o, n) in &self.figures {
-                let _ = writeln!(s, "- {} (`validation/{}`): {}", n.name(), n.paper, figure_detail(o, n));
+                let _ = writeln!(
+                    s,
+                    "- {} (`validation/{}`): {}",
+                    n.name(),
+                    n.paper,
+                    figure_detail(o, n)
+                );
             }
             s.push('\n');
         }
@@ -590,8 +607,8 @@ pub fn figure_change(old_csv: &str, new_csv: &str) -> String {
         match a.get(name) {
             None => parts.push(format!("series «{name}» added")),
             Some(pa) if pa != pb => {
-                let moved = pa.iter().zip(pb).filter(|(x, y)| x != y).count()
-                    + pa.len().abs_diff(pb.len());
+                let moved =
+                    pa.iter().zip(pb).filter(|(x, y)| x != y).count() + pa.len().abs_diff(pb.len());
                 parts.push(format!(
                     "series «{name}»: {moved} of {} points moved",
                     pb.len()
@@ -619,7 +636,11 @@ pub fn check_verdicts(committed: &str, fresh: &str) -> Result<(), String> {
     let new = parse_verdicts(fresh).map_err(|e| e.to_string())?;
     let d = diff_verdicts(&old, &new);
     if d.changes_meaning() {
-        Err(d.to_markdown("the committed validation/verdicts.csv", &|_, _| String::new()))
+        Err(
+            d.to_markdown("the committed validation/verdicts.csv", &|_, _| {
+                String::new()
+            }),
+        )
     } else {
         Ok(())
     }

@@ -153,7 +153,10 @@ fn results(run: fn() -> Result<StudyOutput, geardyn_validate::Error>) -> Vec<Stu
 }
 
 /// Changed lines per file (a line-multiset difference: what `git diff` would count).
-fn changed_lines(a: &BTreeMap<String, Vec<u8>>, b: &BTreeMap<String, Vec<u8>>) -> BTreeMap<String, usize> {
+fn changed_lines(
+    a: &BTreeMap<String, Vec<u8>>,
+    b: &BTreeMap<String, Vec<u8>>,
+) -> BTreeMap<String, usize> {
     let mut out = BTreeMap::new();
     for (k, va) in a {
         let vb = b.get(k).cloned().unwrap_or_default();
@@ -161,7 +164,11 @@ fn changed_lines(a: &BTreeMap<String, Vec<u8>>, b: &BTreeMap<String, Vec<u8>>) -
             continue;
         }
         let la: Vec<&str> = std::str::from_utf8(va).unwrap().lines().collect();
-        let lb: Vec<String> = String::from_utf8(vb).unwrap().lines().map(str::to_owned).collect();
+        let lb: Vec<String> = String::from_utf8(vb)
+            .unwrap()
+            .lines()
+            .map(str::to_owned)
+            .collect();
         let mut count = 0;
         for l in &la {
             if !lb.iter().any(|m| m == l) {
@@ -200,7 +207,10 @@ fn retune_inside_the_bands_is_a_small_diff_and_no_verdict_change() {
             "{f} changed although its data moved below drawing precision"
         );
     }
-    assert!(changed.contains_key("stats-digest.txt"), "the stats digest catches the counters");
+    assert!(
+        changed.contains_key("stats-digest.txt"),
+        "the stats digest catches the counters"
+    );
     let stats_a = render_stats(&ra);
     let stats_b = render_stats(&rb);
     let sweep = "liu2021/liu2021-synthetic_sweep.csv";
@@ -218,8 +228,14 @@ fn retune_inside_the_bands_is_a_small_diff_and_no_verdict_change() {
     assert!(!d.changes_meaning());
     let md = d.to_markdown("main", &|_, _| String::new());
     assert!(md.contains("**No verdict changed.**"), "{md}");
-    assert!(md.contains("«ratio»") && md.contains("1.0010 → 1.0030"), "{md}");
-    assert!(!md.contains("f_c at ω1"), "a move of 0.002 band is not listed: {md}");
+    assert!(
+        md.contains("«ratio»") && md.contains("1.0010 → 1.0030"),
+        "{md}"
+    );
+    assert!(
+        !md.contains("f_c at ω1"),
+        "a move of 0.002 band is not listed: {md}"
+    );
     assert_eq!(d.moved.len(), 1);
     assert!(d.figures.is_empty());
     assert!(check_verdicts(&verdicts(&a), &verdicts(&b)).is_ok());
@@ -239,10 +255,7 @@ fn a_flipped_verdict_tops_the_diff_and_fails_the_check() {
     assert!(d.changes_meaning());
     assert_eq!(d.verdicts.len(), 1);
     let md = d.to_markdown("main", &|_, _| String::new());
-    let first = md
-        .lines()
-        .find(|l| l.starts_with("- "))
-        .expect("an entry");
+    let first = md.lines().find(|l| l.starts_with("- ")).expect("an entry");
     assert!(
         first.contains("pass → DEVIATION") && first.contains("f_c at ω1 = 160 rad/s"),
         "{md}"
