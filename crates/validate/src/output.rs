@@ -358,3 +358,67 @@ pub fn diff_against(root: &Path, rev: Option<&str>) -> Result<String, Error> {
     }
     Ok(md)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Comparison, Cost, Paper, Reference, StudyOutput, StudyResult, Tolerance};
+
+    fn run_with(model: f64) -> Vec<StudyResult> {
+        fn pass() -> Result<StudyOutput, Error> {
+            Ok(StudyOutput::new())
+        }
+        let study = Study {
+            id: "liu2021-check",
+            paper: Paper::Liu2021,
+            source: "p. 1",
+            title: "t",
+            description: "",
+            cost: Cost::Fast,
+            run: pass,
+        };
+        let mut out = StudyOutput::new();
+        out.compare(Comparison::new(
+            "f_c",
+            "Hz",
+            Reference::computed(38.67, "Table 2"),
+            model,
+            Tolerance::printed("38.67").unwrap(),
+        ));
+        vec![StudyResult {
+            study,
+            output: Ok(out),
+        }]
+    }
+
+    /// `--check` against committed files: passes on identical outputs, fails on a flipped
+    /// verdict and names it first; a move inside the band fails too (a byte changed) but
+    /// without a verdict section.
+    #[test]
+    fn check_names_a_flipped_verdict_first() {
+        let dir = std::env::temp_dir().join(format!("geardyn-check-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let idx = ReadingsIndex::default();
+        let base = crate::render_all(&run_with(38.6712), &idx);
+        write_files(&dir, &base, true).unwrap();
+        assert!(check_files(&dir, &base).is_ok());
+
+        let flipped = crate::render_all(&run_with(38.69), &idx);
+        let err = check_files(&dir, &flipped).unwrap_err().to_string();
+        assert!(
+            err.starts_with("validation study error: VERDICTS DIFFER")
+                || err.contains("VERDICTS DIFFER"),
+            "{err}"
+        );
+        let first = err
+            .find("pass → DEVIATION")
+            .expect("the flipped row is named");
+        assert!(first < err.find("changed:").unwrap(), "{err}");
+
+        let moved = crate::render_all(&run_with(38.6741), &idx);
+        let err = check_files(&dir, &moved).unwrap_err().to_string();
+        assert!(!err.contains("VERDICTS DIFFER"), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
