@@ -350,11 +350,14 @@ pub fn diff_against(root: &Path, rev: Option<&str>) -> Result<String, Error> {
             std::fs::read_to_string(root.join("validation").join(&n.paper)).unwrap_or_default();
         crate::verdicts::figure_change(&before, &after)
     };
-    let mut md = d.to_markdown(&label, &detail);
+    let md = d.to_markdown(&label, &detail);
     if old_text.is_empty() {
-        md.push_str(
-            "_The base revision has no `validation/verdicts.csv`: every row is listed as added._\n",
-        );
+        // say so before the list of added rows
+        let (head, rest) = md.split_once("\n\n").unwrap_or((md.as_str(), ""));
+        return Ok(format!(
+            "{head}\n\n_The base revision has no `validation/verdicts.csv`: every row is listed as \
+             added._\n\n{rest}"
+        ));
     }
     Ok(md)
 }
