@@ -175,6 +175,15 @@ pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> Stri
         }
     }
     for t in &out.tables {
+        if t.non_periodic {
+            let _ = writeln!(
+                s,
+                "table {}: {} rows, record of a non-periodic orbit (validation/stats/ only)",
+                t.name,
+                t.rows.len()
+            );
+            continue;
+        }
         let csv = crate::precision::committed_table_csv(t);
         let _ = writeln!(
             s,
@@ -185,6 +194,15 @@ pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> Stri
         );
     }
     for f in &out.figures {
+        if f.non_periodic {
+            let _ = writeln!(
+                s,
+                "figure {}: {} series, record of a non-periodic orbit (validation/stats/ only)",
+                f.name,
+                f.series.len()
+            );
+            continue;
+        }
         let csv = crate::precision::drawn_figure(f).to_table().to_csv();
         let _ = writeln!(
             s,
@@ -479,18 +497,26 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
         }
     };
     let mut files = vec![format!("[{0}.csv]({1})", st.id, out_path(st, ".csv"))];
+    // records of non-periodic orbits live in the uncommitted stats/ (written by every run)
+    let at = |non_periodic: bool, suffix: String| {
+        if non_periodic {
+            format!("stats/{}", out_path(st, &suffix))
+        } else {
+            out_path(st, &suffix)
+        }
+    };
     for t in &out.tables {
         files.push(format!(
             "[{n}.csv]({p})",
             n = t.name,
-            p = out_path(st, &format!("_{}.csv", t.name))
+            p = at(t.non_periodic, format!("_{}.csv", t.name))
         ));
     }
     for f in &out.figures {
         files.push(format!(
             "[{n}.svg]({p})",
             n = f.name,
-            p = out_path(st, &format!("_{}.svg", f.name))
+            p = at(f.non_periodic, format!("_{}.svg", f.name))
         ));
     }
     let _ = writeln!(s, "Outputs: {}\n", files.join(", "));
@@ -568,13 +594,13 @@ pub fn render_all(results: &[StudyResult], idx: &ReadingsIndex) -> BTreeMap<Stri
         let mut body = snapshot_body(st, &r.output);
         if let Ok(out) = &r.output {
             files.insert(out_path(st, ".csv"), comparisons_csv(out).into_bytes());
-            for t in &out.tables {
+            for t in out.tables.iter().filter(|t| !t.non_periodic) {
                 files.insert(
                     out_path(st, &format!("_{}.csv", t.name)),
                     crate::precision::committed_table_csv(t).into_bytes(),
                 );
             }
-            for f in &out.figures {
+            for f in out.figures.iter().filter(|f| !f.non_periodic) {
                 let drawn = crate::precision::drawn_figure(f);
                 files.insert(
                     out_path(st, &format!("_{}.csv", f.name)),
@@ -631,6 +657,12 @@ pub fn render_stats(results: &[StudyResult]) -> BTreeMap<String, Vec<u8>> {
                     out_path(st, &format!("_{}.csv", f.name)),
                     f.to_table().to_csv().into_bytes(),
                 );
+                // a non-periodic record is drawn here only (its committed SVG does not exist)
+                if f.non_periodic {
+                    if let Ok(svg) = f.to_svg() {
+                        files.insert(out_path(st, &format!("_{}.svg", f.name)), svg.into_bytes());
+                    }
+                }
             }
         }
     }

@@ -119,6 +119,22 @@ fn output(k: &Knobs) -> Result<StudyOutput, geardyn_validate::Error> {
                 .collect(),
         )),
     );
+    // a time record at the chaotic point: reshuffled by any retune
+    out.figure(
+        Figure::new(
+            "time_152.5",
+            "record at 152.5 rad/s",
+            ("t", "s"),
+            ("q", "1"),
+        )
+        .with(Series::line(
+            "time integration",
+            (0..40)
+                .map(|i| (i as f64, (i as f64 * k.chaotic_sample).sin()))
+                .collect(),
+        ))
+        .non_periodic_record(),
+    );
     Ok(out)
 }
 
@@ -220,6 +236,10 @@ fn retune_inside_the_bands_is_a_small_diff_and_no_verdict_change() {
     let committed = String::from_utf8(b[sweep].clone()).unwrap();
     assert!(!committed.contains("steps_accepted") && !committed.contains("residual_norm"));
     assert!(committed.contains("n/p") && !committed.contains("280.7"));
+    // the record of the non-periodic orbit: in stats/ (moved), not committed
+    let record = "liu2021/liu2021-synthetic_time_152.5.csv";
+    assert!(!a.contains_key(record) && !b.contains_key(record.replace(".csv", ".svg").as_str()));
+    assert_ne!(stats_a[record], stats_b[record]);
 
     let d = diff_verdicts(
         &parse_verdicts(&verdicts(&a)).unwrap(),
