@@ -172,12 +172,12 @@ impl Figure {
         }
     }
 
-    /// Mark the figure as a record of a non-periodic orbit (a time series, phase portrait or
+    /// Mark the figure (when `non_periodic`) as a record of a non-periodic orbit (a time series, phase portrait or
     /// one-record spectrum at a point whose motion is not periodic): written to
     /// `validation/stats/` only, with one line in the snapshot; a solver retune that reshuffles
     /// the chaotic record then changes no committed byte (issue 28).
-    pub fn non_periodic_record(mut self) -> Self {
-        self.non_periodic = true;
+    pub fn non_periodic_record(mut self, non_periodic: bool) -> Self {
+        self.non_periodic = non_periodic;
         self
     }
 

@@ -104,10 +104,10 @@ impl Table {
         }
     }
 
-    /// Mark the table as a record of a non-periodic orbit (time series at a chaotic point):
+    /// Mark the table (when `non_periodic`) as a record of a non-periodic orbit (time series at a chaotic point):
     /// written to `validation/stats/` only, with one line in the snapshot (issue 28).
-    pub fn non_periodic_record(mut self) -> Self {
-        self.non_periodic = true;
+    pub fn non_periodic_record(mut self, non_periodic: bool) -> Self {
+        self.non_periodic = non_periodic;
         self
     }
 

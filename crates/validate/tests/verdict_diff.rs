@@ -133,7 +133,7 @@ fn output(k: &Knobs) -> Result<StudyOutput, geardyn_validate::Error> {
                 .map(|i| (i as f64, (i as f64 * k.chaotic_sample).sin()))
                 .collect(),
         ))
-        .non_periodic_record(),
+        .non_periodic_record(true),
     );
     Ok(out)
 }
