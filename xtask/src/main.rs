@@ -3,7 +3,9 @@
 //! * `cargo xtask validate` — run every validation study, write `validation/` (CSV, SVG,
 //!   snapshots, `REPORT.md`).
 //! * `cargo xtask validate --check` — regenerate in memory and fail if any committed output or
-//!   snapshot would change (CI).
+//!   snapshot would change (CI); a changed verdict is listed first.
+//! * `cargo xtask validate --diff [REV]` — markdown summary of what changed in meaning between
+//!   `validation/verdicts.csv` at REV (default: merge base with `main`) and the working tree.
 //! * `cargo xtask study <file.toml>` — run a user study (format in `docs/studies.md`).
 //!
 //! Both run the code of the `geardyn` command (`cli::validate`, `cli::study`).
@@ -30,6 +32,11 @@ enum Cmd {
         /// Only studies whose id contains this text (never with --check).
         #[arg(long)]
         filter: Option<String>,
+        /// Do not run: print the verdict diff (markdown) between validation/verdicts.csv at REV
+        /// (default: the merge base with `main`) and the working tree.
+        #[arg(long, value_name = "REV", num_args = 0..=1, default_missing_value = "",
+              conflicts_with_all = ["check", "filter"])]
+        diff: Option<String>,
     },
     /// Run a user study file (see docs/studies.md); writes CSV, SVG and a JSON summary.
     Study {
@@ -64,7 +71,12 @@ fn repo_root() -> PathBuf {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.cmd {
-        Cmd::Validate { check, filter } => cli::validate(&repo_root(), check, filter.as_deref()),
+        Cmd::Validate {
+            diff: Some(rev), ..
+        } => cli::validate_diff(&repo_root(), Some(rev.as_str()).filter(|r| !r.is_empty())),
+        Cmd::Validate { check, filter, .. } => {
+            cli::validate(&repo_root(), check, filter.as_deref())
+        }
         Cmd::Study { file, out, shard } => match shard {
             Some(s) => cli::study_shard(&file, out.as_deref(), &s),
             None => cli::study(&file, out.as_deref()),

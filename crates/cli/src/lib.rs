@@ -389,6 +389,18 @@ pub fn sync_models_doc(root: &Path, check: bool) -> Result<bool, Failure> {
     Ok(true)
 }
 
+/// `cargo xtask validate --diff [REV]`: print the markdown summary of what changed in meaning
+/// (verdicts, evidence classes, rows, model values against their band, figures) between
+/// `validation/verdicts.csv` at `REV` (default: the merge base with `main`) and the working
+/// tree. Exit status 0 whatever changed (`--check` is the gate).
+pub fn validate_diff(root: &Path, rev: Option<&str>) -> Result<(), Failure> {
+    use std::io::Write as _;
+    let md = validate::diff_against(root, rev)?;
+    // a closed pipe (`| head`) is not an error of the diff
+    let _ = std::io::stdout().lock().write_all(md.as_bytes());
+    Ok(())
+}
+
 /// The text of `geardyn models [NAME]`.
 pub fn models_text(name: Option<&str>) -> Result<String, Failure> {
     use std::fmt::Write;

@@ -73,6 +73,11 @@ enum Cmd {
         /// Only studies whose id contains this text (never with --check).
         #[arg(long)]
         filter: Option<String>,
+        /// Do not run: print the verdict diff (markdown) between validation/verdicts.csv at REV
+        /// (default: the merge base with `main`) and the working tree.
+        #[arg(long, value_name = "REV", num_args = 0..=1, default_missing_value = "",
+              conflicts_with_all = ["check", "filter"])]
+        diff: Option<String>,
         /// Repository root holding `validation/` and `docs/` (default: current directory).
         #[arg(long, default_value = ".")]
         root: PathBuf,
@@ -120,9 +125,15 @@ fn main() -> ExitCode {
             }
         }
         Cmd::Validate {
+            diff: Some(rev),
+            root,
+            ..
+        } => geardyn_cli::validate_diff(&root, Some(rev.as_str()).filter(|r| !r.is_empty())),
+        Cmd::Validate {
             check,
             filter,
             root,
+            ..
         } => geardyn_cli::validate(&root, check, filter.as_deref()),
     };
     match result {

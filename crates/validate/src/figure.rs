@@ -151,6 +151,10 @@ pub struct Figure {
     pub x_range: Option<(f64, f64)>,
     /// Fixed y range (else from the data).
     pub y_range: Option<(f64, f64)>,
+    /// The figure draws a record of a non-periodic (chaotic) orbit, not reproducible below its
+    /// scatter: its data and SVG go to the uncommitted `validation/stats/` only
+    /// ([`Figure::non_periodic_record`]).
+    pub non_periodic: bool,
 }
 
 impl Figure {
@@ -164,7 +168,17 @@ impl Figure {
             series: Vec::new(),
             x_range: None,
             y_range: None,
+            non_periodic: false,
         }
+    }
+
+    /// Mark the figure (when `non_periodic`) as a record of a non-periodic orbit (a time series, phase portrait or
+    /// one-record spectrum at a point whose motion is not periodic): written to
+    /// `validation/stats/` only, with one line in the snapshot; a solver retune that reshuffles
+    /// the chaotic record then changes no committed byte (issue 28).
+    pub fn non_periodic_record(mut self, non_periodic: bool) -> Self {
+        self.non_periodic = non_periodic;
+        self
     }
 
     /// Add a series (builder style).

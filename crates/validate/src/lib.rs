@@ -47,11 +47,16 @@
 //!
 //! # Outputs (`cargo xtask validate`)
 //!
-//! [`run_studies`] runs the studies in parallel; [`render_all`] turns the results into files
-//! relative to `validation/`: `<paper>/<id>.csv` (comparison and claim rows),
-//! `<paper>/<id>_<table>.csv`, `<paper>/<id>_<figure>.svg` (+ `.csv`), `snapshots/<id>.snap`
-//! (insta format, every number at 6 significant digits) and `REPORT.md` (headline: reproductions
-//! by paper; every comparison and claim with class, verdict and links to the readings).
+//! [`run_studies`] runs the studies in parallel; [`render_all`] turns the results into the
+//! committed files relative to `validation/`, at the precision a reviewer judges
+//! ([`precision`]: model values rounded relative to their band, data at drawing precision):
+//! `<paper>/<id>.csv` (comparison and claim rows), `<paper>/<id>_<table>.csv` (without solver
+//! statistics and one-period samples of non-periodic orbits), `<paper>/<id>_<figure>.svg`
+//! (+ `.csv`), `snapshots/<id>.snap` (insta format), `verdicts.csv` ([`verdicts`], read by
+//! `cargo xtask validate --diff [REV]`), `stats-digest.txt` and `REPORT.md` (headline:
+//! reproductions by paper; every comparison and claim with class, verdict and links to the
+//! readings). [`render_stats`] gives the uncommitted `validation/stats/` (every column at 6
+//! significant digits).
 //! `cargo xtask validate --check` regenerates everything in memory and fails if any byte differs
 //! from the committed files, or if [`audit`] finds a deviation/inconclusive row without a reading
 //! or cause, two outputs sharing a file name, or a verdict resting on a flagged point.
@@ -122,6 +127,7 @@ mod figure;
 mod format;
 pub mod heatmap;
 mod output;
+pub mod precision;
 mod published;
 mod render;
 pub mod shard;
@@ -130,17 +136,18 @@ mod studies;
 mod study;
 mod table;
 mod user;
+pub mod verdicts;
 
 pub use audit::{Problem, audit, audit_output, output_files};
 pub use bifurcation::{BifurcationSpec, MAX_BIFURCATION_PERIODS, MAX_BIFURCATION_POINTS};
 pub use error::{Error, ResultExt};
 pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
 pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
-pub use output::{ValidationSummary, run_validation};
+pub use output::{STATS_DIR, ValidationSummary, diff_against, run_validation};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
-    ReadingsIndex, StudyResult, comparisons_csv, insta_snap, render_all, report, run_studies,
-    snapshot_body,
+    ReadingsIndex, STATS_DIGEST_FILE, StudyResult, comparisons_csv, comparisons_csv_full,
+    insta_snap, render_all, render_stats, report, run_studies, snapshot_body, stats_digest,
 };
 pub use studies::all_studies;
 pub use studies::user_models::{
@@ -163,6 +170,7 @@ pub use user::{
     run_study_from_str, run_study_shard_file, run_user_study, run_with_time_limit, shard_path,
     variant_names, write_outputs,
 };
+pub use verdicts::{VERDICTS_FILE, VerdictDiff, check_verdicts, diff_verdicts, parse_verdicts};
 
 #[cfg(test)]
 mod tests {

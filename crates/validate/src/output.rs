@@ -73,6 +73,9 @@ pub fn run_validation(
 
     let idx = ReadingsIndex::scan(root)?;
     let files = crate::render_all(&results, &idx);
+    // solver statistics and full-precision data: written (also under --check, for inspection),
+    // never compared byte for byte; their digest is in the committed stats-digest.txt
+    write_stats(&vdir, &crate::render_stats(&results), filter.is_none())?;
 
     let mut warnings = Vec::new();
     let (mut p, mut d, mut i) = (0, 0, 0);
@@ -160,14 +163,35 @@ fn committed(vdir: &Path) -> Result<BTreeMap<String, Vec<u8>>, Error> {
             }
         }
     }
-    let report = vdir.join("REPORT.md");
-    if report.is_file() {
-        m.insert(
-            "REPORT.md".to_owned(),
-            std::fs::read(&report).map_err(io(&report))?,
-        );
+    for name in AGGREGATES {
+        let path = vdir.join(name);
+        if path.is_file() {
+            m.insert((*name).to_owned(), std::fs::read(&path).map_err(io(&path))?);
+        }
     }
     Ok(m)
+}
+
+/// Generated files at the top of `validation/` that sum up every study (not written by a
+/// `--filter` run).
+const AGGREGATES: &[&str] = &["REPORT.md", crate::VERDICTS_FILE, crate::STATS_DIGEST_FILE];
+
+/// The uncommitted statistics directory, relative to `validation/` (gitignored).
+pub const STATS_DIR: &str = "stats";
+
+fn write_stats(vdir: &Path, stats: &BTreeMap<String, Vec<u8>>, prune: bool) -> Result<(), Error> {
+    let dir = vdir.join(STATS_DIR);
+    if prune && dir.is_dir() {
+        std::fs::remove_dir_all(&dir).map_err(io(&dir))?;
+    }
+    for (k, v) in stats {
+        let path = dir.join(k);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(io(parent))?;
+        }
+        std::fs::write(&path, v).map_err(io(&path))?;
+    }
+    Ok(())
 }
 
 fn check_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>) -> Result<String, Error> {
@@ -193,8 +217,28 @@ fn check_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>) -> Result<String,
             files.len()
         ))
     } else {
+        // the meaning first: verdicts, classes, rows added or removed
+        let verdicts = match (
+            old.get(crate::VERDICTS_FILE),
+            files.get(crate::VERDICTS_FILE),
+        ) {
+            (Some(o), Some(n)) => {
+                crate::check_verdicts(&String::from_utf8_lossy(o), &String::from_utf8_lossy(n))
+                    .err()
+                    .map(|m| format!("VERDICTS DIFFER from the committed ones:\n{m}\n"))
+                    .unwrap_or_default()
+            }
+            _ => String::new(),
+        };
+        let digest = if old.get(crate::STATS_DIGEST_FILE) != files.get(crate::STATS_DIGEST_FILE) {
+            "validation/stats/ digest differs: a solver statistic or full-precision value \
+             changed (regenerate and commit) or is not deterministic (compare validation/stats/ \
+             of two runs with different RAYON_NUM_THREADS)\n"
+        } else {
+            ""
+        };
         Err(Error::Study(format!(
-            "{}\n{} generated file(s) differ from the committed validation outputs/snapshots; {HINT}",
+            "{verdicts}{digest}{}\n{} generated file(s) differ from the committed validation outputs/snapshots; {HINT}",
             problems
                 .iter()
                 .map(|p| p.to_string())
@@ -227,7 +271,7 @@ fn write_files(
     let mut changed = 0;
     for (k, v) in files {
         let path = vdir.join(k);
-        if old.get(k) == Some(v) || (!prune && k == "REPORT.md") {
+        if old.get(k) == Some(v) || (!prune && AGGREGATES.contains(&k.as_str())) {
             // (a --filter run writes its studies' files but not a partial report)
             continue;
         }
@@ -257,5 +301,127 @@ fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::Io {
         path: path.display().to_string(),
         source,
+    }
+}
+
+/// `cargo xtask validate --diff [REV]`: the markdown summary of what changed in meaning between
+/// `validation/verdicts.csv` at `rev` (default: the merge base of `HEAD` with `main`, else
+/// `origin/main`) and the working tree's file as it is (run `cargo xtask validate` first, or
+/// rely on CI's `--check`, which guarantees the committed file is fresh). Figures whose data
+/// digest changed are compared series by series from their committed CSVs.
+pub fn diff_against(root: &Path, rev: Option<&str>) -> Result<String, Error> {
+    let git = |args: &[&str]| -> Result<String, Error> {
+        let out = std::process::Command::new("git")
+            .arg("-C")
+            .arg(root)
+            .args(args)
+            .output()
+            .map_err(|e| Error::Study(format!("git {}: {e}", args.join(" "))))?;
+        if out.status.success() {
+            Ok(String::from_utf8_lossy(&out.stdout).into_owned())
+        } else {
+            Err(Error::Study(format!(
+                "git {}: {}",
+                args.join(" "),
+                String::from_utf8_lossy(&out.stderr).trim()
+            )))
+        }
+    };
+    let base = match rev {
+        Some(r) if !r.is_empty() => r.to_owned(),
+        _ => git(&["merge-base", "HEAD", "main"])
+            .or_else(|_| git(&["merge-base", "HEAD", "origin/main"]))?
+            .trim()
+            .to_owned(),
+    };
+    let label = git(&["rev-parse", "--short", &base])
+        .map(|s| format!("{} ({})", base, s.trim()))
+        .unwrap_or_else(|_| base.clone());
+    let vpath = |p: &str| format!("{base}:validation/{p}");
+    let old_text = git(&["show", &vpath(crate::VERDICTS_FILE)]).unwrap_or_default();
+    let new_path = root.join("validation").join(crate::VERDICTS_FILE);
+    let new_text = std::fs::read_to_string(&new_path).map_err(io(&new_path))?;
+    let old = crate::parse_verdicts(&old_text)?;
+    let new = crate::parse_verdicts(&new_text)?;
+    let d = crate::diff_verdicts(&old, &new);
+    let detail = |o: &crate::verdicts::VerdictRow, n: &crate::verdicts::VerdictRow| {
+        let before = git(&["show", &vpath(&o.paper)]).unwrap_or_default();
+        let after =
+            std::fs::read_to_string(root.join("validation").join(&n.paper)).unwrap_or_default();
+        crate::verdicts::figure_change(&before, &after)
+    };
+    let md = d.to_markdown(&label, &detail);
+    if old_text.is_empty() {
+        // say so before the list of added rows
+        let (head, rest) = md.split_once("\n\n").unwrap_or((md.as_str(), ""));
+        return Ok(format!(
+            "{head}\n\n_The base revision has no `validation/verdicts.csv`: every row is listed as \
+             added._\n\n{rest}"
+        ));
+    }
+    Ok(md)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Comparison, Cost, Paper, Reference, StudyOutput, StudyResult, Tolerance};
+
+    fn run_with(model: f64) -> Vec<StudyResult> {
+        fn pass() -> Result<StudyOutput, Error> {
+            Ok(StudyOutput::new())
+        }
+        let study = Study {
+            id: "liu2021-check",
+            paper: Paper::Liu2021,
+            source: "p. 1",
+            title: "t",
+            description: "",
+            cost: Cost::Fast,
+            run: pass,
+        };
+        let mut out = StudyOutput::new();
+        out.compare(Comparison::new(
+            "f_c",
+            "Hz",
+            Reference::computed(38.67, "Table 2"),
+            model,
+            Tolerance::printed("38.67").unwrap(),
+        ));
+        vec![StudyResult {
+            study,
+            output: Ok(out),
+        }]
+    }
+
+    /// `--check` against committed files: passes on identical outputs, fails on a flipped
+    /// verdict and names it first; a move inside the band fails too (a byte changed) but
+    /// without a verdict section.
+    #[test]
+    fn check_names_a_flipped_verdict_first() {
+        let dir = std::env::temp_dir().join(format!("geardyn-check-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let idx = ReadingsIndex::default();
+        let base = crate::render_all(&run_with(38.6712), &idx);
+        write_files(&dir, &base, true).unwrap();
+        assert!(check_files(&dir, &base).is_ok());
+
+        let flipped = crate::render_all(&run_with(38.69), &idx);
+        let err = check_files(&dir, &flipped).unwrap_err().to_string();
+        assert!(
+            err.starts_with("validation study error: VERDICTS DIFFER")
+                || err.contains("VERDICTS DIFFER"),
+            "{err}"
+        );
+        let first = err
+            .find("pass → DEVIATION")
+            .expect("the flipped row is named");
+        assert!(first < err.find("changed:").unwrap(), "{err}");
+
+        let moved = crate::render_all(&run_with(38.6741), &idx);
+        let err = check_files(&dir, &moved).unwrap_err().to_string();
+        assert!(!err.contains("VERDICTS DIFFER"), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

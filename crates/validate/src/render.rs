@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::Error;
-use crate::format::{SIGNIFICANT_DIGITS, csv_field, fmt6, md_cell};
+use crate::format::{csv_field, fmt6, md_cell};
 use crate::study::{Paper, Study, StudyOutput};
 
 /// The result of running one study.
@@ -39,21 +39,41 @@ fn out_path(study: &Study, suffix: &str) -> String {
     format!("{}/{}{}", study.paper.dir(), study.id, suffix)
 }
 
-/// The comparisons and claims of a study as one CSV.
+/// The comparisons and claims of a study as one CSV, as committed: model values and deviations
+/// rounded relative to each row's band ([`crate::Comparison::committed_model`]).
 pub fn comparisons_csv(out: &StudyOutput) -> String {
+    comparisons_csv_with(out, true)
+}
+
+/// The comparisons and claims at 6 significant digits (`validation/stats/`, not committed).
+pub fn comparisons_csv_full(out: &StudyOutput) -> String {
+    comparisons_csv_with(out, false)
+}
+
+fn comparisons_csv_with(out: &StudyOutput, committed: bool) -> String {
     let mut s = String::from(
         "kind,quantity,unit,paper,model,deviation_abs,deviation_rel,tolerance,tolerance_basis,\
          verdict,source,readings,evidence,tolerance_derivation,flags,cause\n",
     );
     for c in &out.comparisons {
+        let (model, dev, rel) = if committed {
+            let (d, r) = c.committed_deviation();
+            (c.committed_model(), d, r)
+        } else {
+            (
+                c.model_label(),
+                fmt6(c.deviation_abs()),
+                fmt6(c.deviation_rel()),
+            )
+        };
         let row = [
             "comparison".to_owned(),
             c.quantity.clone(),
             c.unit.clone(),
             c.reference.printed.clone(),
-            c.model_label(),
-            fmt6(c.deviation_abs()),
-            fmt6(c.deviation_rel()),
+            model,
+            dev,
+            rel,
             c.tolerance.label(),
             c.tolerance.basis.label(),
             c.verdict().label().to_owned(),
@@ -94,14 +114,23 @@ pub fn comparisons_csv(out: &StudyOutput) -> String {
     s
 }
 
-/// The snapshot body of one study: every number at [`SIGNIFICANT_DIGITS`] significant digits,
-/// in a stable plain-text layout (what `validation/snapshots/<id>.snap` holds under insta's
-/// header).
+/// The snapshot body of one study: what a reviewer judges, at the precision that matters
+/// (what `validation/snapshots/<id>.snap` holds under insta's header). Per comparison: paper
+/// value as printed, model value rounded relative to the row's band
+/// ([`crate::Comparison::committed_model`]), band, verdict, class, flags; per claim: verdict,
+/// class, the model's evidence and flags; per table and figure one line with the digest of its
+/// committed data (tables without solver statistics or one-period samples of non-periodic
+/// orbits; figures at drawing precision). Solver statistics are in `validation/stats/` only.
 pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "study: {}", study.id);
     let _ = writeln!(s, "source: {}", study.source);
-    let _ = writeln!(s, "significant_digits: {SIGNIFICANT_DIGITS}");
+    let _ = writeln!(
+        s,
+        "precision: model values to 1/{} of max(band, |model - paper|); data at 1/{} of range",
+        crate::precision::BAND_FRACTION,
+        crate::precision::DRAWING_STEPS
+    );
     let out = match output {
         Ok(o) => o,
         Err(e) => {
@@ -114,12 +143,11 @@ pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> Stri
         for c in &out.comparisons {
             let _ = writeln!(
                 s,
-                "  - {} [{}]: paper {} | model {} | dev {} | tol {} | {} | {}",
+                "  - {} [{}]: paper {} | model {} | tol {} | {} | {}",
                 c.quantity,
                 c.unit,
                 c.reference.printed,
-                c.model_label(),
-                fmt6(c.deviation_abs()),
+                c.committed_model(),
                 c.tolerance.label(),
                 c.verdict().label(),
                 c.evidence.label()
@@ -147,16 +175,42 @@ pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> Stri
         }
     }
     for t in &out.tables {
-        let _ = writeln!(s, "table {}:", t.name);
-        for line in t.to_csv().lines() {
-            let _ = writeln!(s, "  {line}");
+        if t.non_periodic {
+            let _ = writeln!(
+                s,
+                "table {}: {} rows, record of a non-periodic orbit (validation/stats/ only)",
+                t.name,
+                t.rows.len()
+            );
+            continue;
         }
+        let csv = crate::precision::committed_table_csv(t);
+        let _ = writeln!(
+            s,
+            "table {}: {} rows, data digest {}",
+            t.name,
+            t.rows.len(),
+            crate::precision::digest(csv.as_bytes())
+        );
     }
     for f in &out.figures {
-        let _ = writeln!(s, "figure {}:", f.name);
-        for line in f.to_table().to_csv().lines() {
-            let _ = writeln!(s, "  {line}");
+        if f.non_periodic {
+            let _ = writeln!(
+                s,
+                "figure {}: {} series, record of a non-periodic orbit (validation/stats/ only)",
+                f.name,
+                f.series.len()
+            );
+            continue;
         }
+        let csv = crate::precision::drawn_figure(f).to_table().to_csv();
+        let _ = writeln!(
+            s,
+            "figure {}: {} series, data digest {}",
+            f.name,
+            f.series.len(),
+            crate::precision::digest(csv.as_bytes())
+        );
     }
     s
 }
@@ -165,8 +219,8 @@ pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> Stri
 /// `assert_snapshot!` test in this crate read the same file.
 pub fn insta_snap(study: &Study, body: &str) -> String {
     format!(
-        "---\nsource: xtask validate\nexpression: \"{} at {} significant digits\"\n---\n{}",
-        study.id, SIGNIFICANT_DIGITS, body
+        "---\nsource: xtask validate\nexpression: \"{} at the precision of each row\"\n---\n{}",
+        study.id, body
     )
 }
 
@@ -316,7 +370,10 @@ pub fn report(results: &[StudyResult], idx: &ReadingsIndex) -> String {
          tolerances, two windows, two starts) or a solver did not converge, and lists the flag. \
          Thresholds are intervals: pass inside the band, deviation outside, inconclusive when \
          they straddle an edge. Every tolerance shows its derivation (CSV column \
-         `tolerance_derivation`). Numbers at 6 significant digits, paper values as printed.\n\n",
+         `tolerance_derivation`). Paper values as printed; each model value rounded to a power of ten \
+         at most 1/20 of the larger of its band half-width and its distance to the paper value, \
+         so that a move well inside the band changes no digit (solver statistics and full \
+         precision: `validation/stats/`, not committed).\n\n",
     );
     let mut errs = 0;
     // (paper, class label) -> (pass, deviation, inconclusive, shown)
@@ -440,18 +497,26 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
         }
     };
     let mut files = vec![format!("[{0}.csv]({1})", st.id, out_path(st, ".csv"))];
+    // records of non-periodic orbits live in the uncommitted stats/ (written by every run)
+    let at = |non_periodic: bool, suffix: String| {
+        if non_periodic {
+            format!("stats/{}", out_path(st, &suffix))
+        } else {
+            out_path(st, &suffix)
+        }
+    };
     for t in &out.tables {
         files.push(format!(
             "[{n}.csv]({p})",
             n = t.name,
-            p = out_path(st, &format!("_{}.csv", t.name))
+            p = at(t.non_periodic, format!("_{}.csv", t.name))
         ));
     }
     for f in &out.figures {
         files.push(format!(
             "[{n}.svg]({p})",
             n = f.name,
-            p = out_path(st, &format!("_{}.svg", f.name))
+            p = at(f.non_periodic, format!("_{}.svg", f.name))
         ));
     }
     let _ = writeln!(s, "Outputs: {}\n", files.join(", "));
@@ -459,12 +524,7 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
         s.push_str("| # | quantity | unit | paper | model | deviation (abs / rel) | tolerance (derivation) | class | verdict | readings / cause |\n");
         s.push_str("| ---: | --- | --- | ---: | ---: | ---: | --- | --- | --- | --- |\n");
         for (i, c) in out.comparisons.iter().enumerate() {
-            let rel = c.deviation_rel();
-            let rel = if rel.is_finite() {
-                format!("{}%", crate::fmt_sig(100.0 * rel, 3))
-            } else {
-                "—".to_owned()
-            };
+            let (dev, rel) = c.committed_deviation();
             let _ = writeln!(
                 s,
                 "| {} | {} | {} | {} | {} | {} / {} | {} ({}) | {} | {} | {} |",
@@ -472,8 +532,8 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
                 md_cell(&c.quantity),
                 md_cell(&c.unit),
                 md_cell(&c.reference.printed),
-                c.model_label(),
-                crate::fmt_sig(c.deviation_abs(), 3),
+                c.committed_model(),
+                dev,
                 rel,
                 c.tolerance.label(),
                 md_cell(&c.tolerance.derivation),
@@ -519,10 +579,13 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
     }
 }
 
-/// Every generated file, path relative to `validation/` → contents. Deterministic.
+/// Every committed generated file, path relative to `validation/` → contents. Deterministic.
 ///
-/// Layout: `<paper>/<id>.csv` (comparisons and claims), `<paper>/<id>_<table>.csv`,
-/// `<paper>/<id>_<figure>.svg` and `.csv`, `snapshots/<id>.snap`, `REPORT.md`.
+/// Layout: `<paper>/<id>.csv` (comparisons and claims, model values rounded relative to their
+/// band), `<paper>/<id>_<table>.csv` (no solver statistics, no one-period samples of
+/// non-periodic orbits, numbers at drawing precision), `<paper>/<id>_<figure>.svg` and `.csv`
+/// (drawing precision), `snapshots/<id>.snap`, `verdicts.csv` (one line per row and figure, read
+/// by `--diff`), `stats-digest.txt` (digest of [`render_stats`]) and `REPORT.md`.
 /// A figure that fails to render is reported as an error in the study's snapshot.
 pub fn render_all(results: &[StudyResult], idx: &ReadingsIndex) -> BTreeMap<String, Vec<u8>> {
     let mut files = BTreeMap::new();
@@ -531,18 +594,19 @@ pub fn render_all(results: &[StudyResult], idx: &ReadingsIndex) -> BTreeMap<Stri
         let mut body = snapshot_body(st, &r.output);
         if let Ok(out) = &r.output {
             files.insert(out_path(st, ".csv"), comparisons_csv(out).into_bytes());
-            for t in &out.tables {
+            for t in out.tables.iter().filter(|t| !t.non_periodic) {
                 files.insert(
                     out_path(st, &format!("_{}.csv", t.name)),
-                    t.to_csv().into_bytes(),
+                    crate::precision::committed_table_csv(t).into_bytes(),
                 );
             }
-            for f in &out.figures {
+            for f in out.figures.iter().filter(|f| !f.non_periodic) {
+                let drawn = crate::precision::drawn_figure(f);
                 files.insert(
                     out_path(st, &format!("_{}.csv", f.name)),
-                    f.to_table().to_csv().into_bytes(),
+                    drawn.to_table().to_csv().into_bytes(),
                 );
-                match f.to_svg() {
+                match drawn.to_svg() {
                     Ok(svg) => {
                         files.insert(out_path(st, &format!("_{}.svg", f.name)), svg.into_bytes());
                     }
@@ -557,8 +621,73 @@ pub fn render_all(results: &[StudyResult], idx: &ReadingsIndex) -> BTreeMap<Stri
             insta_snap(st, &body).into_bytes(),
         );
     }
+    files.insert(
+        crate::verdicts::VERDICTS_FILE.to_owned(),
+        crate::verdicts::verdicts_csv(&crate::verdicts::verdict_rows(results)).into_bytes(),
+    );
+    files.insert(
+        STATS_DIGEST_FILE.to_owned(),
+        stats_digest(&render_stats(results)).into_bytes(),
+    );
     files.insert("REPORT.md".to_owned(), report(results, idx).into_bytes());
     files
+}
+
+/// The committed file holding the digest of the uncommitted `validation/stats/`.
+pub const STATS_DIGEST_FILE: &str = "stats-digest.txt";
+
+/// The uncommitted files of `validation/stats/` (path relative to it → contents): every study's
+/// comparisons and tables at 6 significant digits with every column (solver statistics,
+/// one-period samples), and its figures' data at 6 significant digits. Written by every run,
+/// never snapshot-tested; `--check` compares their digest ([`stats_digest`]).
+pub fn render_stats(results: &[StudyResult]) -> BTreeMap<String, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    for r in results {
+        let st = &r.study;
+        if let Ok(out) = &r.output {
+            files.insert(out_path(st, ".csv"), comparisons_csv_full(out).into_bytes());
+            for t in &out.tables {
+                files.insert(
+                    out_path(st, &format!("_{}.csv", t.name)),
+                    t.to_csv().into_bytes(),
+                );
+            }
+            for f in &out.figures {
+                files.insert(
+                    out_path(st, &format!("_{}.csv", f.name)),
+                    f.to_table().to_csv().into_bytes(),
+                );
+                // a non-periodic record is drawn here only (its committed SVG does not exist)
+                if f.non_periodic {
+                    if let Ok(svg) = f.to_svg() {
+                        files.insert(out_path(st, &format!("_{}.svg", f.name)), svg.into_bytes());
+                    }
+                }
+            }
+        }
+    }
+    files
+}
+
+/// The text of `validation/stats-digest.txt`: one digest over every stats file (path and
+/// contents, in path order), so that a retune changes one committed line while `--check`
+/// still catches a non-deterministic statistic (the same digest for any thread count).
+pub fn stats_digest(stats: &BTreeMap<String, Vec<u8>>) -> String {
+    let mut all = Vec::new();
+    for (k, v) in stats {
+        all.extend_from_slice(k.as_bytes());
+        all.push(0);
+        all.extend_from_slice(v);
+        all.push(0);
+    }
+    format!(
+        "# FNV-1a 64 digest of validation/stats/ (solver statistics and full-precision data;\n\
+         # gitignored, written by every `cargo xtask validate`). The same for any thread count:\n\
+         # `--check` fails when it differs. See validation/README.md, \"Reviewing a PR\".\n\
+         stats: {} files, digest {}\n",
+        stats.len(),
+        crate::precision::digest(&all)
+    )
 }
 
 #[cfg(test)]

@@ -82,6 +82,9 @@ pub struct Table {
     pub columns: Vec<Column>,
     /// Rows, each as long as the header.
     pub rows: Vec<Vec<Cell>>,
+    /// The table records a non-periodic (chaotic) orbit: written to the uncommitted
+    /// `validation/stats/` only ([`Table::non_periodic_record`]).
+    pub non_periodic: bool,
 }
 
 impl Table {
@@ -97,7 +100,15 @@ impl Table {
                 })
                 .collect(),
             rows: Vec::new(),
+            non_periodic: false,
         }
+    }
+
+    /// Mark the table (when `non_periodic`) as a record of a non-periodic orbit (time series at a chaotic point):
+    /// written to `validation/stats/` only, with one line in the snapshot (issue 28).
+    pub fn non_periodic_record(mut self, non_periodic: bool) -> Self {
+        self.non_periodic = non_periodic;
+        self
     }
 
     /// Append a row of cells.

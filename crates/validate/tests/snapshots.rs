@@ -1,5 +1,5 @@
 //! insta snapshots of the fast studies, against the same files `cargo xtask validate` writes
-//! (`validation/snapshots/<id>.snap`, every number at 6 significant digits). Heavy studies are
+//! (`validation/snapshots/<id>.snap`, model values rounded relative to their band). Heavy studies are
 //! snapshot-checked by `cargo xtask validate --check` only.
 //!
 //! Under `CI=true` insta never writes and fails on a changed or missing snapshot; locally a

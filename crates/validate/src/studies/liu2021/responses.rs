@@ -121,7 +121,8 @@ fn run() -> Result<StudyOutput, Error> {
                 ("q", "1"),
             )
             .with(Series::line("time integration", pick(&ti.q)))
-            .with(Series::line("HBM paper basis", hbm_q)),
+            .with(Series::line("HBM paper basis", hbm_q))
+            .non_periodic_record(non_periodic(time)),
         );
         let phase: Vec<(f64, f64)> =
             ti.q.iter()
@@ -136,10 +137,17 @@ fn run() -> Result<StudyOutput, Error> {
                 ("q", "1"),
                 ("dq/dtau", "1"),
             )
-            .with(Series::line("time integration", phase)),
+            .with(Series::line("time integration", phase))
+            .non_periodic_record(non_periodic(time)),
         );
     }
     Ok(out)
+}
+
+/// The recorded period is a sample of a non-periodic orbit: its time series, phase portrait and
+/// spectrum go to `validation/stats/` only (issue 28).
+fn non_periodic(time: &TimeReference) -> bool {
+    !matches!(time.motion, timestep::Motion::Periodic(_))
 }
 
 /// Samples per period for the spectra of Fig. 8c–10c (bin k = harmonic k f_c, no leakage).
@@ -248,7 +256,8 @@ fn spectrum_outputs(
                 ("amplitude", "1"),
             )
             .with(Series::markers("time integration (one period)", spec))
-            .with(Series::markers("HBM paper basis", hbm_pts)),
+            .with(Series::markers("HBM paper basis", hbm_pts))
+            .non_periodic_record(non_periodic(time)),
         );
     }
     out.table(t);
