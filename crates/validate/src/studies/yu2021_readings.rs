@@ -473,7 +473,17 @@ fn readings() -> Result<StudyOutput, Error> {
             cols.push(format!("B D={d} Fig. 8"));
         }
         let units: Vec<(&str, &str)> = cols.iter().map(|c| (c.as_str(), "1")).collect();
-        let mut wave = Table::new(&format!("backlash-series-{slug}"), &units);
+        // Records of orbits that are not periodic (quasi-periodic B at some D, as the text
+        // says) go to validation/stats/ only: their samples are not a reviewer's quantity, the
+        // peak-to-peak and the mesh-line rows above are (issue 28).
+        let non_periodic = (0..D4.len()).any(|j| {
+            case(r, j)
+                .runs
+                .iter()
+                .any(|run| !matches!(run.motion, timestep::Motion::Periodic(_)))
+        });
+        let mut wave = Table::new(&format!("backlash-series-{slug}"), &units)
+            .non_periodic_record(non_periodic);
         let first = &case(r, 0).runs[0].response;
         let n = first.tau.len();
         let stride = (first.steps_per_period / WAVE_SAMPLES).max(1);
@@ -510,13 +520,15 @@ fn readings() -> Result<StudyOutput, Error> {
             ),
             ("t", "mesh periods"),
             ("B/b_n", "1"),
-        );
+        )
+        .non_periodic_record(non_periodic);
         let mut spec = Figure::new(
             &format!("backlash-spectrum-{slug}"),
             &format!("Spectrum of B − mean under '{}', ω* = 0.2", reading.name),
             ("ω*", "1"),
             ("amplitude of B/b_n", "1"),
-        );
+        )
+        .non_periodic_record(non_periodic);
         for (j, &d) in D4.iter().enumerate() {
             let resp = &case(r, j).runs[0].response;
             let pp = max_of(&resp.backlash) - min_of(&resp.backlash);
@@ -1486,7 +1498,15 @@ fn sweeps() -> Result<StudyOutput, Error> {
             .map(|(i, c)| (c.as_str(), if i == 0 || i >= n_val { "1" } else { unit }))
             .collect();
         let name = if t == 0 { "df-sweep" } else { "rms-sweep" };
-        let mut tab = Table::new(name, &units);
+        // A sweep with points that do not reproduce at 100× tighter tolerance (non-periodic
+        // or not converged) is a record of non-periodic orbits: its samples go to
+        // validation/stats/ only; the rows judge it through intervals (issue 28).
+        let non_periodic = (0..models.len()).any(|m| {
+            [true, false]
+                .iter()
+                .any(|&up| get(t, m, up).iter().any(|p| !p.reproducible))
+        });
+        let mut tab = Table::new(name, &units).non_periodic_record(non_periodic);
         let mut fig = Figure::new(
             &format!("{name}_curves"),
             &format!(
@@ -1496,7 +1516,8 @@ fn sweeps() -> Result<StudyOutput, Error> {
             ),
             ("ω*", "1"),
             (what, unit),
-        );
+        )
+        .non_periodic_record(non_periodic);
         for (i, w) in ws.iter().enumerate() {
             let mut row = vec![*w];
             for m in 0..models.len() {

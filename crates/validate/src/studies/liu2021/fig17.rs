@@ -44,6 +44,9 @@ fn run() -> Result<StudyOutput, Error> {
     let top = (1..sp.amplitude.len()).map(amp).fold(0.0, f64::max);
     let flags: Vec<String> = time.flag().into_iter().collect();
     let mut out = StudyOutput::new();
+    // A one-record spectrum of a non-periodic orbit goes to validation/stats/ only (issue 28);
+    // the line rows below judge it.
+    let non_periodic = !matches!(time.motion, timestep::Motion::Periodic(_));
     let mut t = Table::new(
         "spectrum",
         &[
@@ -52,7 +55,8 @@ fn run() -> Result<StudyOutput, Error> {
             ("amplitude q", "1"),
             ("amplitude q / largest", "1"),
         ],
-    );
+    )
+    .non_periodic_record(non_periodic);
     let kmax = (3 * z2).min(sp.amplitude.len() - 1);
     for k in 1..=kmax {
         t.push_nums(&[k as f64, k as f64 * fc, amp(k), amp(k) / top])?;
@@ -63,7 +67,8 @@ fn run() -> Result<StudyOutput, Error> {
         "Liu Fig. 17(a): amplitude spectrum of q at 864 rpm, 3 N·m (model)",
         ("f", "Hz"),
         ("amplitude of q", "1"),
-    );
+    )
+    .non_periodic_record(non_periodic);
     fig.push(Series::line(
         "model, time integration",
         (1..=kmax).map(|k| (k as f64 * fc, amp(k))).collect(),
