@@ -42,6 +42,9 @@ pub struct ContinuationOptions {
     pub locate: bool,
     /// Special points are located to this arclength tolerance (scaled variables).
     pub locate_tol: f64,
+    /// Also locate [`SpecialKind::ContactChange`] points (bisection on the crossing count; an
+    /// orbit spanning many mesh cycles can have dozens per branch, so off by default).
+    pub locate_contact_changes: bool,
 }
 
 impl Default for ContinuationOptions {
@@ -63,6 +66,7 @@ impl Default for ContinuationOptions {
             },
             locate: true,
             locate_tol: 1e-8,
+            locate_contact_changes: false,
         }
     }
 }
@@ -174,8 +178,8 @@ pub enum SpecialKind {
     NeimarkSacker,
     /// The number of crossings of event `event` per orbit changed between two points while
     /// neither global extremum of its function changed sign: a *local* extremum grazed the
-    /// switching surface (a contact appeared or vanished inside the orbit). Detected only,
-    /// never located.
+    /// switching surface (a contact appeared or vanished inside the orbit). Located by
+    /// bisection on the arclength with the crossing count as indicator.
     ContactChange {
         /// Event index.
         event: usize,
@@ -214,6 +218,22 @@ pub struct SpecialPoint {
     pub after: usize,
     /// True if located to [`ContinuationOptions::locate_tol`]; false if only detected.
     pub located: bool,
+    /// `[λ_lo, λ_hi]`: the parameter at the two ends of the last arclength bracket that holds
+    /// the special point (sorted; the two branch points around it when only detected). Its
+    /// width is the precision of [`SpecialPoint::point`]'s parameter.
+    pub bracket: [f64; 2],
+}
+
+impl SpecialPoint {
+    /// Width of [`SpecialPoint::bracket`]: the precision of the located parameter.
+    pub fn precision(&self) -> f64 {
+        self.bracket[1] - self.bracket[0]
+    }
+}
+
+/// Sorted pair.
+fn sorted(a: f64, b: f64) -> [f64; 2] {
+    if a <= b { [a, b] } else { [b, a] }
 }
 
 /// Why a continuation stopped.
@@ -556,28 +576,29 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         }
         let mut located = vec![];
         for (_, kind) in found {
-            let sp = if opts.locate && !matches!(kind, SpecialKind::ContactChange { .. }) {
-                match self.locate_special(opts, a, ds, kind) {
-                    Ok(p) => SpecialPoint {
+            let detected = SpecialPoint {
+                kind,
+                point: b.point.clone(),
+                after,
+                located: false,
+                bracket: sorted(pa.parameter, pb.parameter),
+            };
+            let wanted = opts.locate
+                && (opts.locate_contact_changes
+                    || !matches!(kind, SpecialKind::ContactChange { .. }));
+            let sp = if wanted {
+                self.locate_special(opts, (a, b), ds, kind).map_or(
+                    detected,
+                    |(point, bracket, located)| SpecialPoint {
                         kind,
-                        point: p,
+                        point,
                         after,
-                        located: true,
+                        located,
+                        bracket,
                     },
-                    Err(_) => SpecialPoint {
-                        kind,
-                        point: b.point.clone(),
-                        after,
-                        located: false,
-                    },
-                }
+                )
             } else {
-                SpecialPoint {
-                    kind,
-                    point: b.point.clone(),
-                    after,
-                    located: false,
-                }
+                detected
             };
             located.push(sp);
         }
@@ -607,22 +628,45 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         }
     }
 
-    /// Illinois on the arclength `s ∈ (0, ds)` of the step from `a`.
+    /// Locates a special point inside the step `s ∈ (0, ds)` from `a`: Illinois on the test
+    /// function, and, when that fails (a test function that jumps at a contact change, a
+    /// corrector failure inside the step) or for a [`SpecialKind::ContactChange`], bisection
+    /// on the sign of the test function (the crossing count). Returns the point, the parameter
+    /// bracket and whether the arclength bracket shrank to `locate_tol`.
     fn locate_special(
         &mut self,
         opts: &ContinuationOptions,
-        a: &Sol,
+        (a, b): (&Sol, &Sol),
         ds: f64,
         kind: SpecialKind,
-    ) -> Result<BranchPoint> {
-        let eval = |this: &mut Self, s: f64| -> Result<(f64, BranchPoint)> {
-            let pred = &a.z + &a.tangent * s;
-            let sol = this.correct(opts, &pred, &a.tangent)?;
-            Ok((Self::test_value(kind, &sol.point), sol.point))
-        };
+    ) -> Result<(BranchPoint, [f64; 2], bool)> {
+        if !matches!(kind, SpecialKind::ContactChange { .. }) {
+            if let Ok(r) = self.illinois(opts, (a, b), ds, kind) {
+                return Ok(r);
+            }
+        }
+        self.bisect(opts, (a, b), ds, kind)
+    }
+
+    /// The corrected point at arclength `s` of the step from `a`.
+    fn point_at(&mut self, opts: &ContinuationOptions, a: &Sol, s: f64) -> Result<BranchPoint> {
+        let pred = &a.z + &a.tangent * s;
+        Ok(self.correct(opts, &pred, &a.tangent)?.point)
+    }
+
+    /// Illinois on the arclength `s ∈ (0, ds)` of the step from `a`.
+    fn illinois(
+        &mut self,
+        opts: &ContinuationOptions,
+        (a, b): (&Sol, &Sol),
+        ds: f64,
+        kind: SpecialKind,
+    ) -> Result<(BranchPoint, [f64; 2], bool)> {
         let (mut lo, mut hi) = (0.0, ds);
         let mut flo = Self::test_value(kind, &a.point);
-        let (mut fhi, mut best) = eval(self, ds)?;
+        let mut best = b.point.clone();
+        let mut fhi = Self::test_value(kind, &best);
+        let (mut plo, mut phi) = (a.point.parameter, best.parameter);
         if flo * fhi >= 0.0 || (flo * fhi).is_nan() {
             return Err(OrbitError::NotConverged {
                 what: "special point location (no sign change)",
@@ -633,19 +677,28 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         let mut side = 0i8;
         for _ in 0..60 {
             if hi - lo <= opts.locate_tol {
-                return Ok(best);
+                return Ok((best, sorted(plo, phi), true));
             }
             let mut s = hi - fhi * (hi - lo) / (fhi - flo);
             if !(s > lo && s < hi) {
                 s = 0.5 * (lo + hi);
             }
-            let (f, p) = eval(self, s)?;
+            let p = self.point_at(opts, a, s)?;
+            let f = Self::test_value(kind, &p);
+            if f.is_nan() {
+                return Err(OrbitError::NonFinite {
+                    what: "test function",
+                    time: self.phase(),
+                });
+            }
             if f.to_bits() == 0.0_f64.to_bits() {
-                return Ok(p);
+                let l = p.parameter;
+                return Ok((p, [l, l], true));
             }
             if f * flo > 0.0 {
                 lo = s;
                 flo = f;
+                plo = p.parameter;
                 if side == -1 {
                     fhi *= 0.5;
                 }
@@ -653,6 +706,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             } else {
                 hi = s;
                 fhi = f;
+                phi = p.parameter;
                 if side == 1 {
                     flo *= 0.5;
                 }
@@ -660,7 +714,74 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             }
             best = p;
         }
-        Ok(best)
+        // a test function that jumps (non-smooth) converges slowly: hand over to bisection
+        Err(OrbitError::NotConverged {
+            what: "special point location (Illinois)",
+            iterations: 60,
+            residual: hi - lo,
+        })
+    }
+
+    /// Bisection on the arclength of the step from `a`: the indicator is the sign of the test
+    /// function (for a contact change: whether the crossing count still equals `a`'s). A
+    /// corrector failure at a midpoint stops the bisection with the bracket reached so far.
+    fn bisect(
+        &mut self,
+        opts: &ContinuationOptions,
+        (a, b): (&Sol, &Sol),
+        ds: f64,
+        kind: SpecialKind,
+    ) -> Result<(BranchPoint, [f64; 2], bool)> {
+        let side_of = |p: &BranchPoint| -> Option<bool> {
+            match kind {
+                SpecialKind::ContactChange { event } => {
+                    let ca = a.point.event_counts.get(event)?;
+                    Some(p.event_counts.get(event)? == ca)
+                }
+                _ => {
+                    let (f0, f) = (Self::test_value(kind, &a.point), Self::test_value(kind, p));
+                    (f0 * f).is_finite().then_some(f0 * f > 0.0)
+                }
+            }
+        };
+        let mut hi_pt = b.point.clone();
+        if side_of(&hi_pt) != Some(false) {
+            return Err(OrbitError::NotConverged {
+                what: "special point location (no change across the step)",
+                iterations: 0,
+                residual: f64::NAN,
+            });
+        }
+        let (mut lo, mut hi) = (0.0, ds);
+        let mut plo = a.point.parameter;
+        for _ in 0..80 {
+            if hi - lo <= opts.locate_tol {
+                let b = sorted(plo, hi_pt.parameter);
+                return Ok((hi_pt, b, true));
+            }
+            // Newton can stall next to a grazing (the flow is only C¹ there): try other
+            // interior points of the bracket before giving up
+            let trial = [0.5, 0.3, 0.7, 0.15, 0.85].into_iter().find_map(|f| {
+                let s = lo + f * (hi - lo);
+                self.point_at(opts, a, s).ok().map(|p| (s, p))
+            });
+            let Some((s, p)) = trial else {
+                break;
+            };
+            match side_of(&p) {
+                Some(true) => {
+                    lo = s;
+                    plo = p.parameter;
+                }
+                Some(false) => {
+                    hi = s;
+                    hi_pt = p;
+                }
+                None => break,
+            }
+        }
+        let b = sorted(plo, hi_pt.parameter);
+        Ok((hi_pt, b, hi - lo <= opts.locate_tol))
     }
 
     /// Branch switching at a period doubling of a period-`k` branch: with `v` the eigenvector

@@ -206,6 +206,13 @@ fn period_doubling_located_by_continuation_matches_closed_form() {
     assert!(pd[0].located);
     let w_pd = pd[0].point.parameter;
     assert!((w_pd - pd_closed).abs() < 1e-6, "{w_pd} vs {pd_closed}");
+    // the reported bracket is tight and holds the closed-form flip
+    let [lo, hi] = pd[0].bracket;
+    assert!(pd[0].precision() < 1e-6, "bracket {lo} … {hi}");
+    assert!(
+        lo - 1e-9 <= pd_closed && pd_closed <= hi + 1e-9,
+        "{lo} … {hi} vs {pd_closed}"
+    );
     // stable before, unstable after
     for pt in &br.points {
         assert_eq!(
