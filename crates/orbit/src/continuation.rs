@@ -45,6 +45,12 @@ pub struct ContinuationOptions {
     /// Also locate [`SpecialKind::ContactChange`] points (bisection on the crossing count; an
     /// orbit spanning many mesh cycles can have dozens per branch, so off by default).
     pub locate_contact_changes: bool,
+    /// Before locating, the step is sampled at this many equal arclength pieces and the
+    /// location runs in the first piece where the test function (crossing count) has left
+    /// `a`'s side: on a non-smooth branch a multiplier can cross `−1` several times within one
+    /// step (it jumps at every contact change), and this picks the first crossing down to the
+    /// piece length. `1`: no sampling.
+    pub locate_samples: usize,
 }
 
 impl Default for ContinuationOptions {
@@ -67,6 +73,7 @@ impl Default for ContinuationOptions {
             locate: true,
             locate_tol: 1e-8,
             locate_contact_changes: false,
+            locate_samples: 1,
         }
     }
 }
@@ -137,6 +144,12 @@ impl ContinuationOptions {
             "ContinuationOptions::max_correction",
             "> 0",
             self.max_correction,
+        )?;
+        check(
+            (1..=1000).contains(&self.locate_samples),
+            "ContinuationOptions::locate_samples",
+            "in [1, 1000]",
+            self.locate_samples as f64,
         )?;
         check(
             self.locate_tol.is_finite() && self.locate_tol > 0.0,
@@ -261,6 +274,15 @@ pub struct Branch {
     pub special: Vec<SpecialPoint>,
     /// Why it stopped.
     pub stop: StopReason,
+}
+
+/// An arclength bracket `[lo, hi]` inside a step with its two corrected points.
+#[derive(Clone)]
+struct Bracket {
+    lo: f64,
+    hi: f64,
+    lo_pt: BranchPoint,
+    hi_pt: BranchPoint,
 }
 
 /// A converged point with what the next step needs.
@@ -640,12 +662,53 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         ds: f64,
         kind: SpecialKind,
     ) -> Result<(BranchPoint, [f64; 2], bool)> {
+        // the first sampled piece [lo, hi] whose end has left a's side
+        let (mut lo, mut lo_pt) = (0.0, a.point.clone());
+        let (mut hi, mut hi_pt) = (ds, b.point.clone());
+        for k in 1..opts.locate_samples {
+            let s = ds * k as f64 / opts.locate_samples as f64;
+            let Ok(p) = self.point_at(opts, a, s) else {
+                continue;
+            };
+            match Self::same_side(kind, &a.point, &p) {
+                Some(true) => {
+                    lo = s;
+                    lo_pt = p;
+                }
+                Some(false) => {
+                    hi = s;
+                    hi_pt = p;
+                    break;
+                }
+                None => {}
+            }
+        }
+        let bracket = Bracket {
+            lo,
+            hi,
+            lo_pt,
+            hi_pt,
+        };
         if !matches!(kind, SpecialKind::ContactChange { .. }) {
-            if let Ok(r) = self.illinois(opts, (a, b), ds, kind) {
+            if let Ok(r) = self.illinois(opts, a, bracket.clone(), kind) {
                 return Ok(r);
             }
         }
-        self.bisect(opts, (a, b), ds, kind)
+        self.bisect(opts, a, bracket, kind)
+    }
+
+    /// Whether `p` is on the same side of the test function (crossing count) as `a`; `None`
+    /// when undecidable (NaN).
+    fn same_side(kind: SpecialKind, a: &BranchPoint, p: &BranchPoint) -> Option<bool> {
+        match kind {
+            SpecialKind::ContactChange { event } => {
+                Some(p.event_counts.get(event)? == a.event_counts.get(event)?)
+            }
+            _ => {
+                let v = Self::test_value(kind, a) * Self::test_value(kind, p);
+                v.is_finite().then_some(v > 0.0)
+            }
+        }
     }
 
     /// The corrected point at arclength `s` of the step from `a`.
@@ -654,19 +717,19 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         Ok(self.correct(opts, &pred, &a.tangent)?.point)
     }
 
-    /// Illinois on the arclength `s ∈ (0, ds)` of the step from `a`.
+    /// Illinois on the arclength bracket of the step from `a`.
     fn illinois(
         &mut self,
         opts: &ContinuationOptions,
-        (a, b): (&Sol, &Sol),
-        ds: f64,
+        a: &Sol,
+        br: Bracket,
         kind: SpecialKind,
     ) -> Result<(BranchPoint, [f64; 2], bool)> {
-        let (mut lo, mut hi) = (0.0, ds);
-        let mut flo = Self::test_value(kind, &a.point);
-        let mut best = b.point.clone();
+        let (mut lo, mut hi) = (br.lo, br.hi);
+        let mut flo = Self::test_value(kind, &br.lo_pt);
+        let mut best = br.hi_pt;
         let mut fhi = Self::test_value(kind, &best);
-        let (mut plo, mut phi) = (a.point.parameter, best.parameter);
+        let (mut plo, mut phi) = (br.lo_pt.parameter, best.parameter);
         if flo * fhi >= 0.0 || (flo * fhi).is_nan() {
             return Err(OrbitError::NotConverged {
                 what: "special point location (no sign change)",
@@ -722,38 +785,27 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         })
     }
 
-    /// Bisection on the arclength of the step from `a`: the indicator is the sign of the test
-    /// function (for a contact change: whether the crossing count still equals `a`'s). A
-    /// corrector failure at a midpoint stops the bisection with the bracket reached so far.
+    /// Bisection on the arclength bracket of the step from `a`: the indicator is the side of
+    /// the test function (for a contact change: whether the crossing count still equals
+    /// `a`'s). A corrector failure at every trial point stops the bisection with the bracket
+    /// reached so far.
     fn bisect(
         &mut self,
         opts: &ContinuationOptions,
-        (a, b): (&Sol, &Sol),
-        ds: f64,
+        a: &Sol,
+        br: Bracket,
         kind: SpecialKind,
     ) -> Result<(BranchPoint, [f64; 2], bool)> {
-        let side_of = |p: &BranchPoint| -> Option<bool> {
-            match kind {
-                SpecialKind::ContactChange { event } => {
-                    let ca = a.point.event_counts.get(event)?;
-                    Some(p.event_counts.get(event)? == ca)
-                }
-                _ => {
-                    let (f0, f) = (Self::test_value(kind, &a.point), Self::test_value(kind, p));
-                    (f0 * f).is_finite().then_some(f0 * f > 0.0)
-                }
-            }
-        };
-        let mut hi_pt = b.point.clone();
-        if side_of(&hi_pt) != Some(false) {
+        let mut hi_pt = br.hi_pt;
+        if Self::same_side(kind, &a.point, &hi_pt) != Some(false) {
             return Err(OrbitError::NotConverged {
                 what: "special point location (no change across the step)",
                 iterations: 0,
                 residual: f64::NAN,
             });
         }
-        let (mut lo, mut hi) = (0.0, ds);
-        let mut plo = a.point.parameter;
+        let (mut lo, mut hi) = (br.lo, br.hi);
+        let mut plo = br.lo_pt.parameter;
         for _ in 0..80 {
             if hi - lo <= opts.locate_tol {
                 let b = sorted(plo, hi_pt.parameter);
@@ -768,7 +820,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             let Some((s, p)) = trial else {
                 break;
             };
-            match side_of(&p) {
+            match Self::same_side(kind, &a.point, &p) {
                 Some(true) => {
                     lo = s;
                     plo = p.parameter;

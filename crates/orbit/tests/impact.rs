@@ -189,6 +189,28 @@ fn period_doubling_located_by_continuation_matches_closed_form() {
         ..Default::default()
     };
     let br = p.continuation(&c[0].x_section, w0, &opts).unwrap();
+    // sampling the step before locating finds the same (single) flip
+    let sampled = problem(w0, r)
+        .continuation(
+            &c[0].x_section,
+            w0,
+            &ContinuationOptions {
+                locate_samples: 4,
+                ..opts.clone()
+            },
+        )
+        .unwrap();
+    let pd_sampled: Vec<f64> = sampled
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::PeriodDoubling && s.located)
+        .map(|s| s.point.parameter)
+        .collect();
+    assert_eq!(pd_sampled.len(), 1);
+    assert!(
+        (pd_sampled[0] - pd_closed).abs() < 1e-6,
+        "{pd_sampled:?} vs {pd_closed}"
+    );
     let pd: Vec<_> = br
         .special
         .iter()
