@@ -712,9 +712,21 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     }
 
     /// The corrected point at arclength `s` of the step from `a`.
+    /// The corrected point at arclength `s` of the step from `a`, rejected (like a step) when
+    /// the corrector moved farther than `max_correction · max(s, locate_tol)` from the
+    /// predictor (it jumped to another branch).
     fn point_at(&mut self, opts: &ContinuationOptions, a: &Sol, s: f64) -> Result<BranchPoint> {
         let pred = &a.z + &a.tangent * s;
-        Ok(self.correct(opts, &pred, &a.tangent)?.point)
+        let sol = self.correct(opts, &pred, &a.tangent)?;
+        let dist = (&sol.z - &pred).norm();
+        if dist > opts.max_correction * s.max(opts.locate_tol) {
+            return Err(OrbitError::NotConverged {
+                what: "special point location (corrector left the step)",
+                iterations: 0,
+                residual: dist,
+            });
+        }
+        Ok(sol.point)
     }
 
     /// Illinois on the arclength bracket of the step from `a`.
