@@ -488,6 +488,22 @@ pub fn check_settings(
     Settings::read(model, method, &m.settings, given, &[]).map(|_| ())
 }
 
+/// One Liu point by shooting for front ends without a study file (the Python package): the
+/// settings are checked by the study's definitions and the result is the study's columns
+/// `(name, value)` of `method = "shooting"`, computed by the same code.
+///
+/// # Errors
+/// A bad setting (named with its bound), an invalid model, or a shooting failure.
+pub fn liu_shooting_point(
+    model: liu2021::Model,
+    given: &BTreeMap<String, Value>,
+    initial: Option<(f64, f64)>,
+) -> Result<Vec<(&'static str, f64)>, Error> {
+    let s = Settings::read("liu2021", Method::Shooting, LIU_SHOOT, given, &[])?;
+    let v = liu_shoot(model, &s, initial)?;
+    Ok(LIU_SHOOT_OUT.iter().map(|(n, _)| *n).zip(v).collect())
+}
+
 /// Remove the choices (names) from a point, checking old numeric spellings.
 fn take_choice(p: &mut Point, name: &str, legacy: Option<&str>) -> Result<Option<Value>, Error> {
     match p.remove(name) {

@@ -548,15 +548,28 @@ fn run() -> Result<StudyOutput, Error> {
                 .note("fold that ends the unilateral period-1 branch from 100 rad/s (past it this orbit no longer exists)"),
         );
     }
-    if let Some(pd) = first(&down.branch, SpecialKind::PeriodDoubling) {
-        // independent check: a 0.005 rad/s grid of single shootings from the last branch point
-        // before the flip down to 0.5 rad/s past it; the first sign change of det(Φ + I)
-        let w_pd = pd.point.parameter / down.scale;
-        let start = &down.branch.points[pd.after];
-        let scan = pd_scan(start.parameter / down.scale, &start.x0, w_pd - 0.5, 0.005)?;
-        let first_flip = scan.windows(2).find(|w| w[0].1 * w[1].1 < 0.0);
+    // first loss of stability of the bilateral branch from 220 rad/s down: bisection in ω1 on
+    // max |μ| > 1 by single shooting (warm-started from the stable side), and a 0.005 rad/s
+    // shooting scan from the last stable branch point as the cross-check
+    let last_stable = down
+        .branch
+        .points
+        .iter()
+        .take_while(|p| p.floquet.stable)
+        .last()
+        .cloned();
+    let first_unstable = down
+        .branch
+        .points
+        .iter()
+        .find(|p| !p.floquet.stable)
+        .cloned();
+    if let (Some(st), Some(un)) = (last_stable, first_unstable) {
+        let (w_st, w_un) = (st.parameter / down.scale, un.parameter / down.scale);
+        let (lo, hi, kind) = stability_bisection(w_st, &st.x0, w_un, 24)?;
+        let scan = pd_scan(w_st, &st.x0, w_un - 0.5, 0.005)?;
         let mut scan_t = Table::new(
-            "pd_scan",
+            "stability_scan",
             &[
                 ("omega1", "rad/s"),
                 ("det_phi_plus_i", "1"),
@@ -568,37 +581,41 @@ fn run() -> Result<StudyOutput, Error> {
         }
         out.table(scan_t);
         let flips = scan.windows(2).filter(|w| w[0].1 * w[1].1 < 0.0).count();
-        if let Some(f) = first_flip {
-            let (lo, hi) = (f[1].0, f[0].0);
+        let first_scan = scan.windows(2).find(|w| {
+            w[0].2 <= orbit::STABILITY_TOLERANCE + 1.0 && w[1].2 > 1.0 + orbit::STABILITY_TOLERANCE
+        });
+        let w_loss = 0.5 * (lo + hi);
+        if let Some(f) = first_scan {
+            let (slo, shi) = (f[1].0, f[0].0);
             out.compare(
                 Comparison::new(
-                    "first period doubling ω1 of the bilateral branch: located vs a 0.005 rad/s shooting scan",
+                    "first loss of stability ω1 of the bilateral period-1 branch: bisection vs a 0.005 rad/s shooting scan",
                     "rad/s",
                     Reference::computed(
-                        0.5 * (lo + hi),
-                        "first sign change of det(Φ + I) on a 0.005 rad/s grid of single shootings from 220 rad/s down",
+                        0.5 * (slo + shi),
+                        "first grid point with max |μ| > 1 on a 0.005 rad/s grid of single shootings from the last stable branch point down",
                     ),
-                    w_pd,
+                    w_loss,
                     Tolerance::stated(
-                        ToleranceBand::Absolute(0.5 * (hi - lo) + 0.5 * pd.precision() / down.scale),
-                        "half the scan step plus half the located bracket",
+                        ToleranceBand::Absolute(0.5 * (shi - slo) + 0.5 * (hi - lo)),
+                        "half the scan step plus half the bisection bracket",
                     ),
                 )
-                .within(pd.bracket[0] / down.scale, pd.bracket[1] / down.scale)
+                .within(lo, hi)
                 .class(Evidence::Consistency)
-                .note(&format!(
-                    "det(Φ + I) changes sign {flips} times over the {} scanned points (the multipliers jump at every contact change)",
-                    scan.len()
-                )),
+                .note(&format!("bisection bracket [{}, {}] rad/s; {kind}", fmt(lo), fmt(hi))),
             );
         }
         out.compare(
-            Comparison::published(bi_p, pd.point.parameter / down.scale)?
+            Comparison::published(bi_p, w_loss)?
                 .with_tolerance(speed_tolerance(&bi_p.printed))
-                .within(pd.bracket[0] / down.scale, pd.bracket[1] / down.scale)
+                .within(lo, hi)
                 .shown_only()
                 .reading("R-LIU-EQ21")
-                .note("first period doubling of the bilateral period-1 branch from 220 rad/s: below it the period-1 bilateral orbit is unstable"),
+                .note(&format!(
+                    "lower end of the stable bilateral period-1 orbits (from 220 rad/s down; {kind}); det(Φ + I) changes sign {flips} times over the {} scan points below it (multipliers jump at contact changes), so the first period doubling is not a robust onset",
+                    scan.len()
+                )),
         );
     }
     // --- T2 and a_k onsets (shown: located on the branch; the judged rows are the long-window ones)
@@ -639,6 +656,60 @@ fn run() -> Result<StudyOutput, Error> {
     out.table(onset_t);
     out.figure(fig);
     Ok(out)
+}
+
+/// `[lo, hi]` in ω1 where the period-1 orbit loses stability between the stable `w_st` (orbit
+/// `x_st`) and the unstable `w_un`, after `n` halvings by single shooting warm-started from the
+/// stable side; with the kind of the leading multiplier on the unstable side.
+fn stability_bisection(
+    w_st: f64,
+    x_st: &[f64],
+    w_un: f64,
+    n: usize,
+) -> Result<(f64, f64, String), Error> {
+    let mut p = base();
+    p.omega1 = w_st;
+    let m = model(&p)?;
+    let conv = m.omega_c / w_st;
+    let mut prob = OrbitProblem::new(m, m.period()).context("orbit problem")?;
+    let (mut a, mut b) = (w_st, w_un);
+    let mut x = x_st.to_vec();
+    let mut kind = String::from("no unstable orbit reached");
+    for _ in 0..n {
+        let w = 0.5 * (a + b);
+        prob.set_parameter(&Parameter::BaseFrequency, w * conv)
+            .context("bisection parameter")?;
+        let Ok(o) = prob.shoot(&x, &shooting()) else {
+            break;
+        };
+        if o.floquet.stable {
+            a = w;
+            x = o.x0;
+        } else {
+            b = w;
+            let lead = o
+                .floquet
+                .multipliers
+                .iter()
+                .copied()
+                .max_by(|u, v| u[0].hypot(u[1]).total_cmp(&v[0].hypot(v[1])))
+                .unwrap_or([f64::NAN; 2]);
+            kind = if lead[1].abs() > 1e-9 * lead[0].hypot(lead[1]) {
+                format!(
+                    "a complex pair leaves the unit circle (|μ| = {})",
+                    sig(lead[0].hypot(lead[1]))
+                )
+            } else if lead[0] < 0.0 {
+                format!("a real multiplier leaves through −1 (μ = {})", sig(lead[0]))
+            } else {
+                format!(
+                    "a real multiplier leaves through +1 (μ = {}), without a fold of the branch",
+                    sig(lead[0])
+                )
+            };
+        }
+    }
+    Ok((a.min(b), a.max(b), kind))
 }
 
 /// Scan in ω1 from `w_from` down to `w_to` (step `dw`) by single shooting, warm-started from
