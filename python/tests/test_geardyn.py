@@ -88,7 +88,7 @@ def test_typed_errors():
     with pytest.raises(geardyn.ParameterError, match="omega2"):
         geardyn.Liu2021().with_params(omega2=1.0)
     with pytest.raises(geardyn.ParameterError, match="method"):
-        geardyn.Liu2021().solve("shooting")
+        geardyn.Liu2021().solve("collocation")
     with pytest.raises(geardyn.ParameterError, match="preset"):
         geardyn.Liu2021("table9")
     # ParameterError is also a ValueError
