@@ -479,34 +479,17 @@ fn run() -> Result<StudyOutput, Error> {
     if let Some(g) = first(&up.branch, UNI) {
         let w = g.point.parameter / up.scale;
         let (lo, hi) = (g.bracket[0] / up.scale, g.bracket[1] / up.scale);
-        // bisection on time integration: any gap-edge crossing over 8 periods after 200
-        let ti = ti_bisection(w - 2.0, w + 2.0, 12)?;
-        let half = 0.5 * (ti.1 - ti.0) + 0.5 * (hi - lo);
-        out.compare(
-            Comparison::new(
-                "unilateral onset ω1: grazing on the shooting branch vs bisection on time integration",
-                "rad/s",
-                Reference::computed(
-                    0.5 * (ti.0 + ti.1),
-                    "bisection in ω1 on time integration (200 + 8 periods from drive-flank contact, any gap-edge crossing)",
-                ),
-                w,
-                Tolerance::stated(
-                    ToleranceBand::Absolute(half.max(1e-6)),
-                    "half-width of the time-integration bracket plus that of the located grazing",
-                ),
-            )
-            .within(lo, hi)
-            .class(Evidence::Consistency)
-            .note(&format!(
-                "grazing located in [{}, {}] rad/s (width {}); time integration brackets it in [{}, {}]",
-                fmt(lo),
-                fmt(hi),
-                sig(hi - lo),
-                fmt(ti.0),
-                fmt(ti.1)
-            )),
-        );
+        // bisection on time integration (any gap-edge crossing over 8 periods after 200) from
+        // a bracket not centred on the grazing, so that no midpoint falls on it
+        let ti = ti_bisection(w - 1.7, w + 2.3, 12)?;
+        out.compare(grazing_row(
+            "unilateral onset ω1: grazing on the shooting branch vs bisection on time integration",
+            "rad/s",
+            g,
+            up.scale,
+            ti,
+            "bisection in ω1 on time integration (200 + 8 periods from drive-flank contact, any gap-edge crossing)",
+        ));
         out.compare(
             Comparison::published(uni_p, w)?
                 .with_tolerance(speed_tolerance(&uni_p.printed))
@@ -612,6 +595,16 @@ fn run() -> Result<StudyOutput, Error> {
     let below = paper.value("sect37.t2-bilateral-below")?;
     let from = paper.value("sect37.t2-no-rattle-from")?;
     if let Some(g) = first(&t2.branch, UNI) {
+        let x = g.point.parameter;
+        let ti = ti_bisection_in(|p, v| p.load_torque = v, x + 1.7, x - 2.3, 12)?;
+        out.compare(grazing_row(
+            "unilateral onset T2: grazing on the shooting branch vs bisection on time integration",
+            "N m",
+            g,
+            1.0,
+            ti,
+            "bisection in T2 on time integration (200 + 8 periods from drive-flank contact, any gap-edge crossing)",
+        ));
         out.compare(
             Comparison::published(from, g.point.parameter)?
                 .with_tolerance(Tolerance::printed(&from.printed)?)
@@ -640,6 +633,27 @@ fn run() -> Result<StudyOutput, Error> {
                 .reading("R-LIU-FIG15")
                 .note("T2 at which the period-1 branch (from 80 N m down) touches the back flank (grazing)"),
         );
+    }
+    let ak = &runs[3];
+    if let Some(g) = first(&ak.branch, UNI) {
+        let x = g.point.parameter;
+        let ti = ti_bisection_in(
+            |p, v| {
+                p.omega1 = 145.0;
+                p.kr = v * p.k0;
+            },
+            x - 0.017,
+            x + 0.023,
+            12,
+        )?;
+        out.compare(grazing_row(
+            "unilateral onset a_k at 145 rad/s: grazing on the shooting branch vs bisection on time integration",
+            "1",
+            g,
+            1.0,
+            ti,
+            "bisection in a_k on time integration (200 + 8 periods from drive-flank contact, any gap-edge crossing)",
+        ));
     }
     out.table(branch_t);
     out.table(onset_t);
@@ -736,9 +750,20 @@ fn pd_scan(w_from: f64, x_from: &[f64], w_to: f64, dw: f64) -> Result<Vec<ScanPo
 /// `[lo, hi]` in ω1 bracketing the first gap-edge crossing of the time-integrated steady state
 /// (200 periods from drive-flank contact, 8 recorded), from `[a, b]` after `n` halvings.
 fn ti_bisection(a: f64, b: f64, n: usize) -> Result<(f64, f64), Error> {
-    let crosses = |w: f64| -> Result<bool, Error> {
+    ti_bisection_in(|p, w| p.omega1 = w, a, b, n)
+}
+
+/// `[lo, hi]` bracketing the first gap-edge crossing of the time-integrated steady state in a
+/// parameter set by `set`: `a` without crossing, `b` with; `(NaN, NaN)` if that does not hold.
+fn ti_bisection_in(
+    set: impl Fn(&mut Parameters, f64),
+    a: f64,
+    b: f64,
+    n: usize,
+) -> Result<(f64, f64), Error> {
+    let crosses = |x: f64| -> Result<bool, Error> {
         let mut p = base();
-        p.omega1 = w;
+        set(&mut p, x);
         let m = model(&p)?;
         Ok(settle(&m, 200.0, 8.0, 1e-10)?.2)
     };
@@ -755,6 +780,32 @@ fn ti_bisection(a: f64, b: f64, n: usize) -> Result<(f64, f64), Error> {
         }
     }
     Ok((lo, hi))
+}
+
+/// The consistency row of a located grazing against bisection on time integration.
+fn grazing_row(
+    what: &str,
+    unit: &str,
+    g: &SpecialPoint,
+    scale: f64,
+    ti: (f64, f64),
+    ti_source: &str,
+) -> Comparison {
+    let x = g.point.parameter / scale;
+    let (lo, hi) = (g.bracket[0] / scale, g.bracket[1] / scale);
+    let half = 0.5 * (ti.1 - ti.0).abs() + 0.5 * (hi - lo);
+    Comparison::new(
+        what,
+        unit,
+        Reference::computed(0.5 * (ti.0 + ti.1), ti_source),
+        x,
+        Tolerance::stated(
+            ToleranceBand::Absolute(half.max(1e-12)),
+            "half-width of the time-integration bracket plus that of the located grazing",
+        ),
+    )
+    .within(lo, hi)
+    .class(Evidence::Consistency)
 }
 
 fn base_backlash() -> Result<f64, Error> {
