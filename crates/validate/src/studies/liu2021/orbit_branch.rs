@@ -93,7 +93,7 @@ impl SecondOrderSystem for Liu {
         SecondOrderSystem::event_direction(&self.m, index)
     }
     fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), SystemError> {
-        let mut p = self.p.clone();
+        let mut p = self.p;
         match name {
             "load_torque" => p.load_torque = value,
             "ak" => p.kr = value * p.k0,
