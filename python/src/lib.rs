@@ -401,16 +401,14 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
             let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
             let initial = match s.remove("initial") {
                 None | Some(Value::Null) => None,
-                Some(Value::Array(a)) if a.len() == 2 => {
-                    match (a[0].as_f64(), a[1].as_f64()) {
-                        (Some(q), Some(v)) => Some((q, v)),
-                        _ => {
-                            return Err(Failure::parameter(
-                                "setting `initial` must be [q, q'] (two numbers)".to_owned(),
-                            ));
-                        }
+                Some(Value::Array(a)) if a.len() == 2 => match (a[0].as_f64(), a[1].as_f64()) {
+                    (Some(q), Some(v)) => Some((q, v)),
+                    _ => {
+                        return Err(Failure::parameter(
+                            "setting `initial` must be [q, q'] (two numbers)".to_owned(),
+                        ));
                     }
-                }
+                },
                 Some(v) => {
                     return Err(Failure::parameter(format!(
                         "setting `initial` must be [q, q'] (two numbers), got {v}"
@@ -431,8 +429,7 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
                 map.insert(k, value);
             }
             let m = p.model()?;
-            let cols =
-                validate::liu_shooting_point(m, &map, initial).map_err(parameter_error)?;
+            let cols = validate::liu_shooting_point(m, &map, initial).map_err(parameter_error)?;
             let mut o: serde_json::Map<String, Value> = cols
                 .into_iter()
                 .map(|(k, v)| (k.to_owned(), json!(v)))
