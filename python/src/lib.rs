@@ -420,6 +420,49 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
                 "coefficients": r.solution.coefficients,
             }))
         }
+        ("liu2021", "shooting") => {
+            // the study's method "shooting": settings (transient_periods, rtol, tol, max_iter,
+            // segments) checked and computed by the study code; `initial` = [q, q'] where the
+            // guess's integration starts
+            let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
+            let initial = match s.remove("initial") {
+                None | Some(Value::Null) => None,
+                Some(Value::Array(a)) if a.len() == 2 => match (a[0].as_f64(), a[1].as_f64()) {
+                    (Some(q), Some(v)) => Some((q, v)),
+                    _ => {
+                        return Err(Failure::parameter(
+                            "setting `initial` must be [q, q'] (two numbers)".to_owned(),
+                        ));
+                    }
+                },
+                Some(v) => {
+                    return Err(Failure::parameter(format!(
+                        "setting `initial` must be [q, q'] (two numbers), got {v}"
+                    )));
+                }
+            };
+            let mut map = BTreeMap::new();
+            for (k, v) in std::mem::take(&mut s) {
+                let value = match &v {
+                    Value::Number(n) => validate::Value::Num(n.as_f64().unwrap_or(f64::NAN)),
+                    Value::String(t) => validate::Value::Text(t.clone()),
+                    _ => {
+                        return Err(Failure::parameter(format!(
+                            "setting `{k}` must be a number, got {v}"
+                        )));
+                    }
+                };
+                map.insert(k, value);
+            }
+            let m = p.model()?;
+            let cols = validate::liu_shooting_point(m, &map, initial).map_err(parameter_error)?;
+            let mut o: serde_json::Map<String, Value> = cols
+                .into_iter()
+                .map(|(k, v)| (k.to_owned(), json!(v)))
+                .collect();
+            o.insert("converged".to_owned(), json!(true));
+            Ok(Value::Object(o))
+        }
         ("karpov2017", "duhamel") | ("karpov2017", "time-stepping") => {
             let base = karpov2017::Karpov2017::fig3().params();
             let p: karpov2017::Karpov2017Params = with_overrides("karpov2017", &base, params)?;
@@ -475,7 +518,7 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
             to_json(&r)
         }
         _ => Err(Failure::parameter(format!(
-            "unknown model/method `{model}`/`{method}`; known: liu2021 (hbm, time-stepping), \
+            "unknown model/method `{model}`/`{method}`; known: liu2021 (hbm, time-stepping, shooting), \
              karpov2017 (duhamel), yu2021 (time-stepping, rk4, hbm)"
         ))),
     }

@@ -88,7 +88,7 @@ def test_typed_errors():
     with pytest.raises(geardyn.ParameterError, match="omega2"):
         geardyn.Liu2021().with_params(omega2=1.0)
     with pytest.raises(geardyn.ParameterError, match="method"):
-        geardyn.Liu2021().solve("shooting")
+        geardyn.Liu2021().solve("collocation")
     with pytest.raises(geardyn.ParameterError, match="preset"):
         geardyn.Liu2021("table9")
     # ParameterError is also a ValueError
@@ -119,3 +119,25 @@ method = "kinematics"
     assert f.data.shape[0] == 50 * 4
     with pytest.raises(geardyn.StudyError):
         geardyn.run_study("name = 'x'\nmodel = 'nope'\n[solver]\nmethod = 'hbm'\n")
+
+
+def test_liu_shooting_columns_and_errors():
+    """Method "shooting": the study's columns; below the unilateral onset (134.8 rad/s in the
+    validation study) the orbit keeps contact and is stable, as the time response says; above
+    it the drive-flank margin is positive; bad settings name the setting."""
+    liu = geardyn.Liu2021().with_params(omega1=120.0)
+    r = liu.solve("shooting", transient_periods=50)
+    for k in ("rsv", "q0", "dq0", "max_multiplier", "mu1_re", "mu1_im", "stable",
+              "det_phi_plus_i", "gap_max_drive", "gap_max_back", "events_per_period"):
+        assert k in r, k
+    ts = liu.solve("time-stepping", options={"transient_periods": 50.0})
+    assert r["rsv"] == ts["rsv"] == 0
+    assert r["stable"] == 1.0 and r["max_multiplier"] < 1.0
+    assert r["gap_max_drive"] < 0.0 and r["events_per_period"] == 0.0
+    assert abs(complex(r["mu1_re"], r["mu1_im"])) == r["max_multiplier"]
+    hot = geardyn.Liu2021().with_params(omega1=145.0).solve("shooting", transient_periods=50)
+    assert hot["gap_max_drive"] > 0.0 and hot["rsv"] >= 1
+    with pytest.raises(geardyn.ParameterError, match="segments"):
+        liu.solve("shooting", segments=0)
+    with pytest.raises(geardyn.ParameterError, match="nope"):
+        liu.solve("shooting", nope=1)

@@ -71,10 +71,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     for s in &br.special {
         println!(
-            "{:?} at ω1 = {:.5} rad/s (located {}, stable {})",
+            "{:?} at ω1 = {:.5} rad/s (located {}, bracket ±{:.2e} rad/s, stable {})",
             s.kind,
             s.point.parameter / conv,
             s.located,
+            0.5 * s.precision() / conv,
             s.point.floquet.stable
         );
     }

@@ -42,6 +42,15 @@ pub struct ContinuationOptions {
     pub locate: bool,
     /// Special points are located to this arclength tolerance (scaled variables).
     pub locate_tol: f64,
+    /// Also locate [`SpecialKind::ContactChange`] points (bisection on the crossing count; an
+    /// orbit spanning many mesh cycles can have dozens per branch, so off by default).
+    pub locate_contact_changes: bool,
+    /// Before locating, the step is sampled at this many equal arclength pieces and the
+    /// location runs in the first piece where the test function (crossing count) has left
+    /// `a`'s side: on a non-smooth branch a multiplier can cross `−1` several times within one
+    /// step (it jumps at every contact change), and this picks the first crossing down to the
+    /// piece length. `1`: no sampling.
+    pub locate_samples: usize,
 }
 
 impl Default for ContinuationOptions {
@@ -63,6 +72,8 @@ impl Default for ContinuationOptions {
             },
             locate: true,
             locate_tol: 1e-8,
+            locate_contact_changes: false,
+            locate_samples: 1,
         }
     }
 }
@@ -135,6 +146,12 @@ impl ContinuationOptions {
             self.max_correction,
         )?;
         check(
+            (1..=1000).contains(&self.locate_samples),
+            "ContinuationOptions::locate_samples",
+            "in [1, 1000]",
+            self.locate_samples as f64,
+        )?;
+        check(
             self.locate_tol.is_finite() && self.locate_tol > 0.0,
             "ContinuationOptions::locate_tol",
             "> 0 and finite",
@@ -174,8 +191,8 @@ pub enum SpecialKind {
     NeimarkSacker,
     /// The number of crossings of event `event` per orbit changed between two points while
     /// neither global extremum of its function changed sign: a *local* extremum grazed the
-    /// switching surface (a contact appeared or vanished inside the orbit). Detected only,
-    /// never located.
+    /// switching surface (a contact appeared or vanished inside the orbit). Located by
+    /// bisection on the arclength with the crossing count as indicator.
     ContactChange {
         /// Event index.
         event: usize,
@@ -214,6 +231,22 @@ pub struct SpecialPoint {
     pub after: usize,
     /// True if located to [`ContinuationOptions::locate_tol`]; false if only detected.
     pub located: bool,
+    /// `[λ_lo, λ_hi]`: the parameter at the two ends of the last arclength bracket that holds
+    /// the special point (sorted; the two branch points around it when only detected). Its
+    /// width is the precision of [`SpecialPoint::point`]'s parameter.
+    pub bracket: [f64; 2],
+}
+
+impl SpecialPoint {
+    /// Width of [`SpecialPoint::bracket`]: the precision of the located parameter.
+    pub fn precision(&self) -> f64 {
+        self.bracket[1] - self.bracket[0]
+    }
+}
+
+/// Sorted pair.
+fn sorted(a: f64, b: f64) -> [f64; 2] {
+    if a <= b { [a, b] } else { [b, a] }
 }
 
 /// Why a continuation stopped.
@@ -241,6 +274,15 @@ pub struct Branch {
     pub special: Vec<SpecialPoint>,
     /// Why it stopped.
     pub stop: StopReason,
+}
+
+/// An arclength bracket `[lo, hi]` inside a step with its two corrected points.
+#[derive(Clone)]
+struct Bracket {
+    lo: f64,
+    hi: f64,
+    lo_pt: BranchPoint,
+    hi_pt: BranchPoint,
 }
 
 /// A converged point with what the next step needs.
@@ -556,28 +598,29 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         }
         let mut located = vec![];
         for (_, kind) in found {
-            let sp = if opts.locate && !matches!(kind, SpecialKind::ContactChange { .. }) {
-                match self.locate_special(opts, a, ds, kind) {
-                    Ok(p) => SpecialPoint {
+            let detected = SpecialPoint {
+                kind,
+                point: b.point.clone(),
+                after,
+                located: false,
+                bracket: sorted(pa.parameter, pb.parameter),
+            };
+            let wanted = opts.locate
+                && (opts.locate_contact_changes
+                    || !matches!(kind, SpecialKind::ContactChange { .. }));
+            let sp = if wanted {
+                self.locate_special(opts, (a, b), ds, kind).map_or(
+                    detected,
+                    |(point, bracket, located)| SpecialPoint {
                         kind,
-                        point: p,
+                        point,
                         after,
-                        located: true,
+                        located,
+                        bracket,
                     },
-                    Err(_) => SpecialPoint {
-                        kind,
-                        point: b.point.clone(),
-                        after,
-                        located: false,
-                    },
-                }
+                )
             } else {
-                SpecialPoint {
-                    kind,
-                    point: b.point.clone(),
-                    after,
-                    located: false,
-                }
+                detected
             };
             located.push(sp);
         }
@@ -607,22 +650,98 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         }
     }
 
-    /// Illinois on the arclength `s ∈ (0, ds)` of the step from `a`.
+    /// Locates a special point inside the step `s ∈ (0, ds)` from `a`: Illinois on the test
+    /// function, and, when that fails (a test function that jumps at a contact change, a
+    /// corrector failure inside the step) or for a [`SpecialKind::ContactChange`], bisection
+    /// on the sign of the test function (the crossing count). Returns the point, the parameter
+    /// bracket and whether the arclength bracket shrank to `locate_tol`.
     fn locate_special(
         &mut self,
         opts: &ContinuationOptions,
-        a: &Sol,
+        (a, b): (&Sol, &Sol),
         ds: f64,
         kind: SpecialKind,
-    ) -> Result<BranchPoint> {
-        let eval = |this: &mut Self, s: f64| -> Result<(f64, BranchPoint)> {
-            let pred = &a.z + &a.tangent * s;
-            let sol = this.correct(opts, &pred, &a.tangent)?;
-            Ok((Self::test_value(kind, &sol.point), sol.point))
+    ) -> Result<(BranchPoint, [f64; 2], bool)> {
+        // the first sampled piece [lo, hi] whose end has left a's side
+        let (mut lo, mut lo_pt) = (0.0, a.point.clone());
+        let (mut hi, mut hi_pt) = (ds, b.point.clone());
+        for k in 1..opts.locate_samples {
+            let s = ds * k as f64 / opts.locate_samples as f64;
+            let Ok(p) = self.point_at(opts, a, s) else {
+                continue;
+            };
+            match Self::same_side(kind, &a.point, &p) {
+                Some(true) => {
+                    lo = s;
+                    lo_pt = p;
+                }
+                Some(false) => {
+                    hi = s;
+                    hi_pt = p;
+                    break;
+                }
+                None => {}
+            }
+        }
+        let bracket = Bracket {
+            lo,
+            hi,
+            lo_pt,
+            hi_pt,
         };
-        let (mut lo, mut hi) = (0.0, ds);
-        let mut flo = Self::test_value(kind, &a.point);
-        let (mut fhi, mut best) = eval(self, ds)?;
+        if !matches!(kind, SpecialKind::ContactChange { .. }) {
+            if let Ok(r) = self.illinois(opts, a, bracket.clone(), kind) {
+                return Ok(r);
+            }
+        }
+        self.bisect(opts, a, bracket, kind)
+    }
+
+    /// Whether `p` is on the same side of the test function (crossing count) as `a`; `None`
+    /// when undecidable (NaN).
+    fn same_side(kind: SpecialKind, a: &BranchPoint, p: &BranchPoint) -> Option<bool> {
+        match kind {
+            SpecialKind::ContactChange { event } => {
+                Some(p.event_counts.get(event)? == a.event_counts.get(event)?)
+            }
+            _ => {
+                let v = Self::test_value(kind, a) * Self::test_value(kind, p);
+                v.is_finite().then_some(v > 0.0)
+            }
+        }
+    }
+
+    /// The corrected point at arclength `s` of the step from `a`.
+    /// The corrected point at arclength `s` of the step from `a`, rejected (like a step) when
+    /// the corrector moved farther than `max_correction · max(s, locate_tol)` from the
+    /// predictor (it jumped to another branch).
+    fn point_at(&mut self, opts: &ContinuationOptions, a: &Sol, s: f64) -> Result<BranchPoint> {
+        let pred = &a.z + &a.tangent * s;
+        let sol = self.correct(opts, &pred, &a.tangent)?;
+        let dist = (&sol.z - &pred).norm();
+        if dist > opts.max_correction * s.max(opts.locate_tol) {
+            return Err(OrbitError::NotConverged {
+                what: "special point location (corrector left the step)",
+                iterations: 0,
+                residual: dist,
+            });
+        }
+        Ok(sol.point)
+    }
+
+    /// Illinois on the arclength bracket of the step from `a`.
+    fn illinois(
+        &mut self,
+        opts: &ContinuationOptions,
+        a: &Sol,
+        br: Bracket,
+        kind: SpecialKind,
+    ) -> Result<(BranchPoint, [f64; 2], bool)> {
+        let (mut lo, mut hi) = (br.lo, br.hi);
+        let mut flo = Self::test_value(kind, &br.lo_pt);
+        let mut best = br.hi_pt;
+        let mut fhi = Self::test_value(kind, &best);
+        let (mut plo, mut phi) = (br.lo_pt.parameter, best.parameter);
         if flo * fhi >= 0.0 || (flo * fhi).is_nan() {
             return Err(OrbitError::NotConverged {
                 what: "special point location (no sign change)",
@@ -633,19 +752,28 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         let mut side = 0i8;
         for _ in 0..60 {
             if hi - lo <= opts.locate_tol {
-                return Ok(best);
+                return Ok((best, sorted(plo, phi), true));
             }
             let mut s = hi - fhi * (hi - lo) / (fhi - flo);
             if !(s > lo && s < hi) {
                 s = 0.5 * (lo + hi);
             }
-            let (f, p) = eval(self, s)?;
+            let p = self.point_at(opts, a, s)?;
+            let f = Self::test_value(kind, &p);
+            if f.is_nan() {
+                return Err(OrbitError::NonFinite {
+                    what: "test function",
+                    time: self.phase(),
+                });
+            }
             if f.to_bits() == 0.0_f64.to_bits() {
-                return Ok(p);
+                let l = p.parameter;
+                return Ok((p, [l, l], true));
             }
             if f * flo > 0.0 {
                 lo = s;
                 flo = f;
+                plo = p.parameter;
                 if side == -1 {
                     fhi *= 0.5;
                 }
@@ -653,6 +781,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             } else {
                 hi = s;
                 fhi = f;
+                phi = p.parameter;
                 if side == 1 {
                     flo *= 0.5;
                 }
@@ -660,7 +789,63 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             }
             best = p;
         }
-        Ok(best)
+        // a test function that jumps (non-smooth) converges slowly: hand over to bisection
+        Err(OrbitError::NotConverged {
+            what: "special point location (Illinois)",
+            iterations: 60,
+            residual: hi - lo,
+        })
+    }
+
+    /// Bisection on the arclength bracket of the step from `a`: the indicator is the side of
+    /// the test function (for a contact change: whether the crossing count still equals
+    /// `a`'s). A corrector failure at every trial point stops the bisection with the bracket
+    /// reached so far.
+    fn bisect(
+        &mut self,
+        opts: &ContinuationOptions,
+        a: &Sol,
+        br: Bracket,
+        kind: SpecialKind,
+    ) -> Result<(BranchPoint, [f64; 2], bool)> {
+        let mut hi_pt = br.hi_pt;
+        if Self::same_side(kind, &a.point, &hi_pt) != Some(false) {
+            return Err(OrbitError::NotConverged {
+                what: "special point location (no change across the step)",
+                iterations: 0,
+                residual: f64::NAN,
+            });
+        }
+        let (mut lo, mut hi) = (br.lo, br.hi);
+        let mut plo = br.lo_pt.parameter;
+        for _ in 0..80 {
+            if hi - lo <= opts.locate_tol {
+                let b = sorted(plo, hi_pt.parameter);
+                return Ok((hi_pt, b, true));
+            }
+            // Newton can stall next to a grazing (the flow is only C¹ there): try other
+            // interior points of the bracket before giving up
+            let trial = [0.5, 0.3, 0.7, 0.15, 0.85].into_iter().find_map(|f| {
+                let s = lo + f * (hi - lo);
+                self.point_at(opts, a, s).ok().map(|p| (s, p))
+            });
+            let Some((s, p)) = trial else {
+                break;
+            };
+            match Self::same_side(kind, &a.point, &p) {
+                Some(true) => {
+                    lo = s;
+                    plo = p.parameter;
+                }
+                Some(false) => {
+                    hi = s;
+                    hi_pt = p;
+                }
+                None => break,
+            }
+        }
+        let b = sorted(plo, hi_pt.parameter);
+        Ok((hi_pt, b, hi - lo <= opts.locate_tol))
     }
 
     /// Branch switching at a period doubling of a period-`k` branch: with `v` the eigenvector

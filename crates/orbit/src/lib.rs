@@ -78,7 +78,15 @@
 //! orbit (**grazing**: the orbit touches a switching surface and contacts appear or vanish),
 //! `det(Φ + I)` (**period doubling**), the `λ`-component of the tangent (**fold**), and the
 //! unit-circle count (**Neimark–Sacker**). Each is located by Illinois on the arclength of
-//! the step, re-correcting at every trial. Stable and unstable points are kept alike.
+//! the step, re-correcting at every trial, with bisection on the sign as the fallback (a test
+//! function that jumps at a contact change, a corrector that stalls next to a grazing); a
+//! change of the crossing count of an event (a *local* extremum grazing,
+//! [`SpecialKind::ContactChange`]) is located by bisection on the count when
+//! [`ContinuationOptions::locate_contact_changes`] is set. Every special point carries its
+//! parameter bracket ([`SpecialPoint::bracket`]). On non-smooth branches the multipliers jump
+//! at contact changes and a test function can flip several times within one step;
+//! [`ContinuationOptions::locate_samples`] samples the step first and locates the first flip.
+//! Stable and unstable points are kept alike.
 //! [`OrbitProblem::switch_at_period_doubling`] starts the period-`2k` branch from
 //! `x_PD ± h v` (`v` the `−1` eigenvector), shooting over `2kT`.
 //!

@@ -155,6 +155,10 @@ fn bad_options_name_their_field() {
             ..Default::default()
         },
         ContinuationOptions {
+            locate_samples: 0,
+            ..Default::default()
+        },
+        ContinuationOptions {
             shooting: ShootingOptions {
                 segments: 2,
                 ..Default::default()

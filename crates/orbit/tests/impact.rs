@@ -189,6 +189,28 @@ fn period_doubling_located_by_continuation_matches_closed_form() {
         ..Default::default()
     };
     let br = p.continuation(&c[0].x_section, w0, &opts).unwrap();
+    // sampling the step before locating finds the same (single) flip
+    let sampled = problem(w0, r)
+        .continuation(
+            &c[0].x_section,
+            w0,
+            &ContinuationOptions {
+                locate_samples: 4,
+                ..opts.clone()
+            },
+        )
+        .unwrap();
+    let pd_sampled: Vec<f64> = sampled
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::PeriodDoubling && s.located)
+        .map(|s| s.point.parameter)
+        .collect();
+    assert_eq!(pd_sampled.len(), 1);
+    assert!(
+        (pd_sampled[0] - pd_closed).abs() < 1e-6,
+        "{pd_sampled:?} vs {pd_closed}"
+    );
     let pd: Vec<_> = br
         .special
         .iter()
@@ -206,6 +228,13 @@ fn period_doubling_located_by_continuation_matches_closed_form() {
     assert!(pd[0].located);
     let w_pd = pd[0].point.parameter;
     assert!((w_pd - pd_closed).abs() < 1e-6, "{w_pd} vs {pd_closed}");
+    // the reported bracket is tight and holds the closed-form flip
+    let [lo, hi] = pd[0].bracket;
+    assert!(pd[0].precision() < 1e-6, "bracket {lo} … {hi}");
+    assert!(
+        lo - 1e-9 <= pd_closed && pd_closed <= hi + 1e-9,
+        "{lo} … {hi} vs {pd_closed}"
+    );
     // stable before, unstable after
     for pt in &br.points {
         assert_eq!(

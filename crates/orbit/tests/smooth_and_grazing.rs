@@ -228,6 +228,13 @@ fn grazing_by_continuation_matches_time_integration_and_closed_form() {
     let u = 0.5 * ((2.0 - c) - ((2.0 - c).powi(2) - 4.0 * (1.0 - r2)).sqrt());
     let w_closed = u.sqrt();
     assert!((w_cont - w_closed).abs() < 1e-7, "{w_cont} vs {w_closed}");
+    // the reported bracket is tight and holds the closed form
+    let [lo, hi] = g[0].bracket;
+    assert!(g[0].precision() < 1e-8, "bracket {lo} … {hi}");
+    assert!(
+        lo - 1e-8 <= w_closed && w_closed <= hi + 1e-8,
+        "{lo} … {hi} vs {w_closed}"
+    );
     // bisection on time integration
     let (mut a, mut b) = (0.7, 0.85);
     let (fa, fb) = (

@@ -151,6 +151,10 @@ pub enum Method {
     Hbm,
     /// Closed-form kinematics/geometry (no dynamics).
     Kinematics,
+    /// Periodic orbit by shooting on the event-located flow (`orbit` crate): the orbit through
+    /// a time-integration guess, its Floquet multipliers and the grazing / period-doubling
+    /// test functions.
+    Shooting,
 }
 
 impl Method {
@@ -160,6 +164,7 @@ impl Method {
             Method::TimeStepping => "time-stepping",
             Method::Hbm => "hbm",
             Method::Kinematics => "kinematics",
+            Method::Shooting => "shooting",
         }
     }
 }
@@ -168,7 +173,7 @@ impl Method {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Solver {
-    /// `time-stepping`, `hbm` or `kinematics`.
+    /// `time-stepping`, `hbm`, `kinematics` or `shooting`.
     pub method: Method,
     /// Method settings by name (see `geardyn models`); unknown names are an error.
     #[serde(default)]

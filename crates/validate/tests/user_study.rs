@@ -685,3 +685,74 @@ fn overrides_take_dotted_paths_as_keys_or_sub_tables() {
     let e = run("readings.nonesuch = 1.0").unwrap_err().to_string();
     assert!(e.contains("readings.nonesuch"), "{e}");
 }
+
+/// `method = "shooting"` (Liu): every column against a direct `orbit` call, the grazing marker
+/// (sign change of `gap_max_drive`) between 130 and 140 rad/s where the library's continuation
+/// locates the unilateral grazing (134.809 rad/s, study liu2021-orbit-branch), and errors that
+/// name the setting and its bound.
+#[test]
+fn liu_shooting_columns_match_the_orbit_crate() {
+    use models::liu2021;
+    let out = run(
+        "name = \"s\"\nmodel = \"liu2021\"\n[overrides]\nbase_radius = \"mean\"\n\
+                   [sweep]\nparameter = \"omega1\"\nfrom = 130.0\nto = 140.0\nsteps = 2\n\
+                   [solver]\nmethod = \"shooting\"\n[solver.settings]\ntransient_periods = 50\n",
+    );
+    let (rsv, drive, back) = (
+        col(&out, "rsv"),
+        col(&out, "gap_max_drive"),
+        col(&out, "gap_max_back"),
+    );
+    assert_eq!(rsv, vec![0.0, 1.0]);
+    assert!(drive[0] < 0.0 && drive[1] > 0.0, "{drive:?}");
+    assert!(back.iter().all(|&b| b < 0.0), "{back:?}");
+    assert_eq!(col(&out, "stable"), vec![1.0, 1.0]);
+    assert_eq!(col(&out, "events_per_period")[0], 0.0);
+    // the 140 rad/s row against the orbit crate directly
+    let mut p = liu2021::table1();
+    p.readings.base_radius = liu2021::BaseRadius::Mean;
+    p.omega1 = 140.0;
+    let m = p.model().unwrap();
+    let r = liu2021::integrate(
+        &m,
+        &liu2021::IntegrationOptions {
+            transient_periods: 49.0,
+            record_periods: 1.0,
+            sample_step: m.period() / 8.0,
+            initial: Some((-m.backlash - m.b0, 0.0)),
+            ..liu2021::IntegrationOptions::default()
+        },
+    )
+    .unwrap();
+    let x = [*r.q.last().unwrap(), *r.v.last().unwrap()];
+    let prob = orbit::OrbitProblem::new(m, m.period()).unwrap();
+    let o = prob.shoot(&x, &orbit::ShootingOptions::default()).unwrap();
+    assert_eq!(col(&out, "q0")[1], o.x0[0]);
+    assert_eq!(col(&out, "dq0")[1], o.x0[1]);
+    assert_eq!(col(&out, "max_multiplier")[1], o.floquet.max_modulus);
+    assert_eq!(
+        col(&out, "det_phi_plus_i")[1],
+        o.floquet.test_period_doubling
+    );
+    assert_eq!(col(&out, "events_per_period")[1], o.events.len() as f64);
+    assert!(o.events.len() >= 2);
+    let ext = prob.event_extrema(&o.x0, 1).unwrap();
+    assert_eq!(drive[1], ext[1][1] / m.backlash);
+    let mu: f64 = col(&out, "mu1_re")[1].hypot(col(&out, "mu1_im")[1]);
+    assert_eq!(mu, o.floquet.max_modulus);
+    // bad settings name the entry and its bound; other models refuse the method
+    for (setting, needle) in [
+        ("segments = 0", "segments"),
+        ("rtol = 1.0", "rtol"),
+        ("max_iter = 2.5", "max_iter"),
+        ("nope = 1", "nope"),
+    ] {
+        let e = err(&format!(
+            "name = \"x\"\nmodel = \"liu2021\"\n[solver]\nmethod = \"shooting\"\n\
+             [solver.settings]\n{setting}\n"
+        ));
+        assert!(e.contains(needle), "{setting}: {e}");
+    }
+    let e = err("name = \"x\"\nmodel = \"yu2021\"\n[solver]\nmethod = \"shooting\"\n");
+    assert!(e.contains("shooting") && e.contains("time-stepping"), "{e}");
+}

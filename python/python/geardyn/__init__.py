@@ -291,11 +291,19 @@ class Liu2021(Model):
     ``long_window_periods=n`` adds ``window``, the long-window rattle statistics over ``n``
     periods with their range over two tolerances, two windows and two starts). Results:
     ``rsv``, ``ppv``, ``converged``, ``tau``, ``q`` (and ``v`` and ``window`` for time stepping).
+    ``"shooting"``: the periodic orbit by shooting on the event-located flow from a
+    time-integration guess (study settings ``transient_periods``, ``rtol``, ``tol``,
+    ``max_iter``, ``segments``; ``initial=[q, q']`` where the guess starts); results are the
+    columns of ``geardyn study``'s method ``shooting``: ``rsv``, ``q0``, ``dq0``,
+    ``events_per_period``, ``max_multiplier``, ``mu1_re``/``mu1_im``/``mu2_re``/``mu2_im``,
+    ``stable``, ``det_phi_plus_i`` (its sign change between two points is a period doubling),
+    ``gap_max_drive``/``gap_max_back`` (max of (q ± b̄)/b̄: a sign change is a grazing, the
+    unilateral / bilateral onset), ``newton_iterations``, ``residual``.
     """
 
     key = "liu2021"
     default_preset = "table1"
-    methods = ("hbm", "time-stepping")
+    methods = ("hbm", "time-stepping", "shooting")
 
     def __init__(self, preset=None, readings=None, **params):
         super().__init__(preset, **params)

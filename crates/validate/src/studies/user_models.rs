@@ -488,6 +488,22 @@ pub fn check_settings(
     Settings::read(model, method, &m.settings, given, &[]).map(|_| ())
 }
 
+/// One Liu point by shooting for front ends without a study file (the Python package): the
+/// settings are checked by the study's definitions and the result is the study's columns
+/// `(name, value)` of `method = "shooting"`, computed by the same code.
+///
+/// # Errors
+/// A bad setting (named with its bound), an invalid model, or a shooting failure.
+pub fn liu_shooting_point(
+    model: liu2021::Model,
+    given: &BTreeMap<String, Value>,
+    initial: Option<(f64, f64)>,
+) -> Result<Vec<(&'static str, f64)>, Error> {
+    let s = Settings::read("liu2021", Method::Shooting, LIU_SHOOT, given, &[])?;
+    let v = liu_shoot(model, &s, initial)?;
+    Ok(LIU_SHOOT_OUT.iter().map(|(n, _)| *n).zip(v).collect())
+}
+
 /// Remove the choices (names) from a point, checking old numeric spellings.
 fn take_choice(p: &mut Point, name: &str, legacy: Option<&str>) -> Result<Option<Value>, Error> {
     match p.remove(name) {
@@ -934,6 +950,77 @@ const LIU_HBM: &[SettingDef] = &[
     },
 ];
 
+/// The Liu shooting outputs: the orbit's rattle state from its gap margins, the section state,
+/// the multipliers and the test functions whose sign change between two rows marks a grazing
+/// (`gap_max_drive`: unilateral onset; `gap_max_back`: bilateral onset) or a period doubling
+/// (`det_phi_plus_i`).
+const LIU_SHOOT_OUT: &[(&str, &str)] = &[
+    ("rsv", "1"),
+    ("q0", "1"),
+    ("dq0", "1"),
+    ("events_per_period", "1"),
+    ("max_multiplier", "1"),
+    ("mu1_re", "1"),
+    ("mu1_im", "1"),
+    ("mu2_re", "1"),
+    ("mu2_im", "1"),
+    ("stable", "1"),
+    ("det_phi_plus_i", "1"),
+    ("gap_max_drive", "1"),
+    ("gap_max_back", "1"),
+    ("newton_iterations", "1"),
+    ("residual", "1"),
+];
+
+const LIU_SHOOT: &[SettingDef] = &[
+    SettingDef {
+        name: "transient_periods",
+        kind: Kind::Num {
+            lo: 0.0,
+            hi: 1e4,
+            default: 200.0,
+        },
+        doc: "periods of time integration from `initial` (or the quasi-static contact at rest) \
+              whose end state is the shooting guess",
+    },
+    SettingDef {
+        name: "rtol",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-4,
+            default: 1e-10,
+        },
+        doc: "relative tolerance of the event-located flow and its variational equations",
+    },
+    SettingDef {
+        name: "tol",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-3,
+            default: 1e-8,
+        },
+        doc: "Newton tolerance on the periodicity residual",
+    },
+    SettingDef {
+        name: "max_iter",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 1000,
+            default: Some(20),
+        },
+        doc: "Newton iterations",
+    },
+    SettingDef {
+        name: "segments",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 64,
+            default: Some(1),
+        },
+        doc: "shooting segments per period (1: single shooting)",
+    },
+];
+
 fn liu_describe() -> ModelInfo {
     let p = liu2021::table1();
     let mut choices = vec![ChoiceInfo {
@@ -979,8 +1066,93 @@ fn liu_describe() -> ModelInfo {
                 outputs: outs(LIU_OUT),
                 initial: None,
             },
+            MethodInfo {
+                method: Method::Shooting,
+                settings: LIU_SHOOT.to_vec(),
+                outputs: outs(LIU_SHOOT_OUT),
+                initial: Some(
+                    "[q, q'] at τ = 0 where the guess's integration starts (default: the quasi-static contact at rest)",
+                ),
+            },
         ],
     }
+}
+
+/// One Liu point by shooting: the guess from `transient_periods` of time integration, then
+/// Newton on the event-located period map; the values of [`LIU_SHOOT_OUT`].
+fn liu_shoot(
+    model: liu2021::Model,
+    s: &Settings,
+    initial: Option<(f64, f64)>,
+) -> Result<Vec<f64>, Error> {
+    let b = model.backlash;
+    let start = initial.unwrap_or((-b - model.b0, 0.0));
+    let transient = s.f("transient_periods");
+    let x0 = if transient > 0.0 {
+        let r = liu2021::integrate(
+            &model,
+            &liu2021::IntegrationOptions {
+                transient_periods: (transient - 1.0).max(0.0),
+                record_periods: transient.min(1.0),
+                sample_step: model.period() / 8.0,
+                initial: Some(start),
+                ..liu2021::IntegrationOptions::default()
+            },
+        )
+        .context("liu2021 shooting guess")?;
+        let (Some(q), Some(v)) = (r.q.last(), r.v.last()) else {
+            return Err(Error::Study(
+                "liu2021 shooting guess: empty response".into(),
+            ));
+        };
+        [*q, *v]
+    } else {
+        [start.0, start.1]
+    };
+    let flow = orbit::FlowOptions {
+        rtol: s.f("rtol"),
+        ..orbit::FlowOptions::default()
+    };
+    let p = orbit::OrbitProblem::new(model, model.period())
+        .and_then(|p| p.with_flow_options(flow))
+        .context("liu2021 orbit problem")?;
+    let opts = orbit::ShootingOptions {
+        tol: s.f("tol"),
+        max_iter: s.u("max_iter").unwrap_or(20) as usize,
+        segments: s.u("segments").unwrap_or(1) as usize,
+        ..orbit::ShootingOptions::default()
+    };
+    let o = p.shoot(&x0, &opts).context("liu2021 shooting")?;
+    let ext = p.event_extrema(&o.x0, 1).context("liu2021 gap extrema")?;
+    // e0 = q − b̄ (back flank), e1 = q + b̄ (drive flank): contact while e1 < 0
+    let (back, drive) = (ext[0][1] / b, ext[1][1] / b);
+    let rsv = if back > 0.0 {
+        2.0
+    } else if drive > 0.0 {
+        1.0
+    } else {
+        0.0
+    };
+    let mut mu = o.floquet.multipliers.clone();
+    mu.sort_by(|x, y| y[0].hypot(y[1]).total_cmp(&x[0].hypot(x[1])));
+    let m = |i: usize, j: usize| mu.get(i).map_or(f64::NAN, |c| c[j]);
+    Ok(vec![
+        rsv,
+        o.x0[0],
+        o.x0[1],
+        o.events.len() as f64,
+        o.floquet.max_modulus,
+        m(0, 0),
+        m(0, 1),
+        m(1, 0),
+        m(1, 1),
+        if o.floquet.stable { 1.0 } else { 0.0 },
+        o.floquet.test_period_doubling,
+        drive,
+        back,
+        o.iterations as f64,
+        o.residual,
+    ])
 }
 
 fn liu_model(p: &Point) -> Result<liu2021::Model, Error> {
@@ -1198,10 +1370,33 @@ fn liu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 }),
             })
         }
+        Method::Shooting => {
+            let s = Settings::read(
+                "liu2021",
+                Method::Shooting,
+                LIU_SHOOT,
+                &ctx.solver.settings,
+                &[],
+            )?;
+            let initial = liu_initial(ctx)?;
+            let s = std::sync::Arc::new(s);
+            Ok(Adapter {
+                outputs: outs(LIU_SHOOT_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let model = liu_model(p)?;
+                    // the guess's integration plus a few Newton iterations of one period each
+                    let steps =
+                        (s.f("transient_periods") + 2.0 * s.f("max_iter")) * model.period() / 0.5;
+                    need_steps("liu2021 shooting", steps, &limits)?;
+                    let s = std::sync::Arc::clone(&s);
+                    Ok(Box::new(move || liu_shoot(model, &s, initial)) as Job)
+                }),
+            })
+        }
         m => Err(wrong_method(
             "liu2021",
             m,
-            &[Method::TimeStepping, Method::Hbm],
+            &[Method::TimeStepping, Method::Hbm, Method::Shooting],
         )),
     }
 }

@@ -26,6 +26,7 @@ use crate::{
 mod continuation;
 mod fig17;
 mod load_sweep;
+mod orbit_branch;
 mod parameter_sweeps;
 mod readings_thresholds;
 mod responses;
@@ -40,6 +41,7 @@ pub fn studies() -> Vec<Study> {
         fig17::study(),
         speed_sweep::study(),
         continuation::study(),
+        orbit_branch::study(),
         responses::study(),
         load_sweep::study(),
         parameter_sweeps::study(),
