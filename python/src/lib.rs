@@ -291,6 +291,24 @@ fn yu_inputs(
     Ok((p, o, omega))
 }
 
+/// Python settings (numbers, names) as study-file values, for the study code's checks.
+fn study_values(s: BTreeMap<String, Value>) -> Res<BTreeMap<String, validate::Value>> {
+    let mut map = BTreeMap::new();
+    for (k, v) in s {
+        let value = match &v {
+            Value::Number(n) => validate::Value::Num(n.as_f64().unwrap_or(f64::NAN)),
+            Value::String(t) => validate::Value::Text(t.clone()),
+            _ => {
+                return Err(Failure::parameter(format!(
+                    "setting `{k}` must be a number, got {v}"
+                )));
+            }
+        };
+        map.insert(k, value);
+    }
+    Ok(map)
+}
+
 fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> Res<Value> {
     let mut s = settings_map(settings)?;
     match (model, method) {
@@ -441,21 +459,24 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
                     )));
                 }
             };
-            let mut map = BTreeMap::new();
-            for (k, v) in std::mem::take(&mut s) {
-                let value = match &v {
-                    Value::Number(n) => validate::Value::Num(n.as_f64().unwrap_or(f64::NAN)),
-                    Value::String(t) => validate::Value::Text(t.clone()),
-                    _ => {
-                        return Err(Failure::parameter(format!(
-                            "setting `{k}` must be a number, got {v}"
-                        )));
-                    }
-                };
-                map.insert(k, value);
-            }
+            let map = study_values(std::mem::take(&mut s))?;
             let m = p.model()?;
             let cols = validate::liu_shooting_point(m, &map, initial).map_err(parameter_error)?;
+            let mut o: serde_json::Map<String, Value> = cols
+                .into_iter()
+                .map(|(k, v)| (k.to_owned(), json!(v)))
+                .collect();
+            o.insert("converged".to_owned(), json!(true));
+            Ok(Value::Object(o))
+        }
+        ("yu2021", "shooting") => {
+            // the study's method "shooting" (Yu's 6-DOF model with free centres): settings
+            // (transient_periods, rtol, tol, max_iter, segments) checked and computed by the
+            // study code
+            let (p, o, omega) = yu_inputs(params, &mut s)?;
+            let map = study_values(std::mem::take(&mut s))?;
+            let m = yu2021::Yu2021Model::new(&p, o)?;
+            let cols = validate::yu_shooting_point(m, omega, &map).map_err(parameter_error)?;
             let mut o: serde_json::Map<String, Value> = cols
                 .into_iter()
                 .map(|(k, v)| (k.to_owned(), json!(v)))
@@ -519,7 +540,7 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
         }
         _ => Err(Failure::parameter(format!(
             "unknown model/method `{model}`/`{method}`; known: liu2021 (hbm, time-stepping, shooting), \
-             karpov2017 (duhamel), yu2021 (time-stepping, rk4, hbm)"
+             karpov2017 (duhamel), yu2021 (time-stepping, rk4, hbm, shooting)"
         ))),
     }
 }

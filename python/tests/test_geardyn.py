@@ -141,3 +141,17 @@ def test_liu_shooting_columns_and_errors():
         liu.solve("shooting", segments=0)
     with pytest.raises(geardyn.ParameterError, match="nope"):
         liu.solve("shooting", nope=1)
+
+
+def test_yu_shooting_matches_the_study_file_method():
+    """Method "shooting" for Yu's 6-DOF model: the same columns and numbers as the study file's
+    (stable, no contact event, |μ| = 0.9505 at ω* = 0.5, the orbit crate's value against the
+    hbm period map); a 1-DOF variant has no 6-DOF orbit and says so."""
+    yu = geardyn.Yu2021().with_params(omega=0.5)
+    r = yu.solve("shooting", transient_periods=100)
+    assert r["stable"] == 1.0 and r["events_per_period"] == 0.0
+    assert abs(r["max_multiplier"] - 0.9505) < 1e-3
+    with pytest.raises(geardyn.ParameterError, match="segments"):
+        yu.solve("shooting", segments=0)
+    with pytest.raises(geardyn.GeardynError, match="free centres"):
+        yu.solve("shooting", options={"kind": "KahramanSingh"})

@@ -153,7 +153,7 @@ pub use studies::all_studies;
 pub use studies::user_models::{
     Adapter, BIFURCATION, BifurcationModel, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo,
     ModelSpec, ParamInfo, Preparer, REGISTRY, STEP_STATISTICS, SettingDef, check_settings,
-    describe_all, is_step_statistic, liu_shooting_point, step_statistics,
+    describe_all, is_step_statistic, liu_shooting_point, step_statistics, yu_shooting_point,
 };
 pub use study::{
     ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance,

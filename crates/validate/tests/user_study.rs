@@ -753,6 +753,48 @@ fn liu_shooting_columns_match_the_orbit_crate() {
         ));
         assert!(e.contains(needle), "{setting}: {e}");
     }
-    let e = err("name = \"x\"\nmodel = \"yu2021\"\n[solver]\nmethod = \"shooting\"\n");
+    // a model without the method (Karpov: no contact events, its own quadrature) names the
+    // methods it has
+    let e = err("name = \"x\"\nmodel = \"karpov2017\"\n[solver]\nmethod = \"shooting\"\n");
     assert!(e.contains("shooting") && e.contains("time-stepping"), "{e}");
+}
+
+/// `method = "shooting"` for Yu's 6-DOF model and the generic pair: the values the `orbit`
+/// crate's own tests establish against independent engines (crates/orbit/tests/models.rs) —
+/// Yu at ω* = 0.5: stable, no contact event, max |μ| = 0.9505 (the `hbm` period map agrees to
+/// 1e-4); the pair at 1 N·m, 7000 rad/s, 20 µm STE: an unstable rattling orbit, |μ| ≈ 1.307.
+#[test]
+fn yu_and_pair_shooting_give_the_orbit_crates_multipliers() {
+    let yu = run(
+        "name = \"y\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
+         [solver]\nmethod = \"shooting\"\n[solver.settings]\ntransient_periods = 100\n",
+    );
+    assert_eq!(col(&yu, "stable"), vec![1.0]);
+    assert_eq!(col(&yu, "events_per_period"), vec![0.0]);
+    let mu = col(&yu, "max_multiplier")[0];
+    assert!((mu - 0.9505).abs() < 1e-3, "{mu}");
+    let pair = run(&format!(
+        "name = \"p\"\nmodel = \"generic-pair\"\n[overrides]\nstatic_force = {}\n\
+         mesh_frequency = 7000.0\nste_amplitude = 2e-5\n\
+         [solver]\nmethod = \"shooting\"\n[solver.settings]\ntransient_periods = 100\n",
+        1.0 / 0.094
+    ));
+    assert_eq!(col(&pair, "stable"), vec![0.0]);
+    assert!(col(&pair, "events_per_period")[0] > 0.0);
+    let mu = col(&pair, "max_multiplier")[0];
+    assert!((mu - 1.307).abs() < 0.01, "{mu}");
+    // a torsional Yu variant has no 6-DOF orbit: a failed point naming why, not a panic
+    let ks = run_study_from_str(
+        "name = \"k\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\nvariant = \"kahraman-singh\"\n\
+         [solver]\nmethod = \"shooting\"\n",
+        &RunOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(ks.failed.len(), 1, "{:?}", ks.failed);
+    // settings are checked with their bounds
+    let e = err(
+        "name = \"y\"\nmodel = \"yu2021\"\n[overrides]\nomega = 0.5\n\
+         [solver]\nmethod = \"shooting\"\n[solver.settings]\nsegments = 0\n",
+    );
+    assert!(e.contains("segments"), "{e}");
 }

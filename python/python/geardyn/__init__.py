@@ -367,7 +367,7 @@ class Yu2021(Model):
 
     key = "yu2021"
     default_preset = "table1"
-    methods = ("time-stepping", "rk4", "hbm")
+    methods = ("time-stepping", "rk4", "hbm", "shooting")
     extra_params = ("omega",)
 
     def _settings(self, settings):

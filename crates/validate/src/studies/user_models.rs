@@ -504,6 +504,39 @@ pub fn liu_shooting_point(
     Ok(LIU_SHOOT_OUT.iter().map(|(n, _)| *n).zip(v).collect())
 }
 
+/// One point of Yu's 6-DOF model by shooting for front ends without a study file (the Python
+/// package): the settings checked by the study's definitions, the study's columns
+/// `(name, value)` of `method = "shooting"`, computed by the same code.
+///
+/// # Errors
+/// A bad setting (named with its bound), a model without a 6-DOF orbit, or a shooting failure.
+pub fn yu_shooting_point(
+    model: yu2021::Yu2021Model,
+    omega: f64,
+    given: &BTreeMap<String, Value>,
+) -> Result<Vec<(&'static str, f64)>, Error> {
+    let defs = shoot_settings(shoot_transient(200.0, YU_SHOOT_TRANSIENT));
+    let s = Settings::read("yu2021", Method::Shooting, &defs, given, &[])?;
+    let settings = yu2021::RunSettings {
+        omega,
+        transient_periods: s.u("transient_periods").unwrap_or(200) as usize,
+        record_periods: 1,
+        steps_per_period: 256,
+    };
+    let sys = yu2021::Yu2021SixDof::new(&model, omega).context("yu2021 shooting")?;
+    let r = model
+        .simulate_with(&settings, &yu2021::Engine::Rk4Fixed, None)
+        .context("yu2021 shooting guess")?;
+    let v = shoot_any(
+        "yu2021",
+        sys,
+        std::f64::consts::TAU / omega,
+        &r.final_state,
+        &s,
+    )?;
+    Ok(SHOOT_OUT.iter().map(|(n, _)| *n).zip(v).collect())
+}
+
 /// Remove the choices (names) from a point, checking old numeric spellings.
 fn take_choice(p: &mut Point, name: &str, legacy: Option<&str>) -> Result<Option<Value>, Error> {
     match p.remove(name) {
@@ -1020,6 +1053,91 @@ const LIU_SHOOT: &[SettingDef] = &[
         doc: "shooting segments per period (1: single shooting)",
     },
 ];
+
+/// The shooting settings of the Yu and generic-pair models: the guess from
+/// `transient_periods` of the model's own time integration, then the solver settings of
+/// [`LIU_SHOOT`] (one definition: the tail of that table).
+fn shoot_settings(transient: SettingDef) -> Vec<SettingDef> {
+    std::iter::once(transient)
+        .chain(LIU_SHOOT.iter().skip(1).cloned())
+        .collect()
+}
+
+/// The shooting outputs of any model (Yu, generic pair): events per period, the multipliers
+/// (largest two by modulus), stability and the period-doubling test function, the Newton work.
+const SHOOT_OUT: &[(&str, &str)] = &[
+    ("events_per_period", "1"),
+    ("max_multiplier", "1"),
+    ("mu1_re", "1"),
+    ("mu1_im", "1"),
+    ("mu2_re", "1"),
+    ("mu2_im", "1"),
+    ("stable", "1"),
+    ("det_phi_plus_i", "1"),
+    ("newton_iterations", "1"),
+    ("residual", "1"),
+];
+
+/// Shoot the periodic orbit of `sys` (period `period`) from `guess` with the settings of
+/// [`shoot_settings`]; the values of [`SHOOT_OUT`].
+fn shoot_any<S: system::SecondOrderSystem>(
+    what: &'static str,
+    sys: S,
+    period: f64,
+    guess: &[f64],
+    s: &Settings,
+) -> Result<Vec<f64>, Error> {
+    let flow = orbit::FlowOptions {
+        rtol: s.f("rtol"),
+        ..orbit::FlowOptions::default()
+    };
+    let p = orbit::OrbitProblem::new(sys, period)
+        .and_then(|p| p.with_flow_options(flow))
+        .map_err(|e| Error::Study(format!("{what} orbit problem: {e}")))?;
+    let opts = orbit::ShootingOptions {
+        tol: s.f("tol"),
+        max_iter: s.u("max_iter").unwrap_or(20) as usize,
+        segments: s.u("segments").unwrap_or(1) as usize,
+        ..orbit::ShootingOptions::default()
+    };
+    let o = p
+        .shoot(guess, &opts)
+        .map_err(|e| Error::Study(format!("{what} shooting: {e}")))?;
+    let mut mu = o.floquet.multipliers.clone();
+    mu.sort_by(|x, y| y[0].hypot(y[1]).total_cmp(&x[0].hypot(x[1])));
+    let m = |i: usize, j: usize| mu.get(i).map_or(f64::NAN, |c| c[j]);
+    Ok(vec![
+        o.events.len() as f64,
+        o.floquet.max_modulus,
+        m(0, 0),
+        m(0, 1),
+        m(1, 0),
+        m(1, 1),
+        if o.floquet.stable { 1.0 } else { 0.0 },
+        o.floquet.test_period_doubling,
+        o.iterations as f64,
+        o.residual,
+    ])
+}
+
+/// The transient setting of the Yu and pair shooting guesses.
+fn shoot_transient(default: f64, doc: &'static str) -> SettingDef {
+    SettingDef {
+        name: "transient_periods",
+        kind: Kind::Int {
+            lo: 0,
+            hi: 100_000,
+            default: Some(default as u64),
+        },
+        doc,
+    }
+}
+
+const YU_SHOOT_TRANSIENT: &str = "mesh periods of the model's fixed-step RK4 (256 steps per \
+     period) from `initial` (or the static contact) whose end state is the shooting guess; \
+     Yu's 6-DOF model with free centres only";
+const PAIR_SHOOT_TRANSIENT: &str = "mesh periods of the model's time integration from \
+     `initial` (or its static contact) whose end state is the shooting guess";
 
 fn liu_describe() -> ModelInfo {
     let p = liu2021::table1();
@@ -1594,11 +1712,20 @@ fn yu_describe() -> ModelInfo {
                 note: "infinitely stiff bearings (flag)".into(),
             },
         ],
-        methods: time_stepping_and_hbm(
-            (YU_TS, YU_TS_OUT),
-            "the state vector of the model (yu2021::STATE_LEN numbers)",
-            (YU_HBM, YU_HBM_OUT),
-        ),
+        methods: {
+            let mut m = time_stepping_and_hbm(
+                (YU_TS, YU_TS_OUT),
+                "the state vector of the model (yu2021::STATE_LEN numbers)",
+                (YU_HBM, YU_HBM_OUT),
+            );
+            m.push(MethodInfo {
+                method: Method::Shooting,
+                settings: shoot_settings(shoot_transient(200.0, YU_SHOOT_TRANSIENT)),
+                outputs: outs(SHOOT_OUT),
+                initial: Some("the state vector where the guess's integration starts"),
+            });
+            m
+        },
     }
 }
 
@@ -1806,10 +1933,50 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 }),
             })
         }
+        Method::Shooting => {
+            let defs = shoot_settings(shoot_transient(200.0, YU_SHOOT_TRANSIENT));
+            let s = Settings::read("yu2021", Method::Shooting, &defs, &ctx.solver.settings, &[])?;
+            let initial = match ctx.initial {
+                None => None,
+                Some(v) => Some(<[f64; yu2021::STATE_LEN]>::try_from(v).map_err(|_| {
+                    Error::StudyFile(format!(
+                        "yu2021: `initial` must have {} numbers (the model state), got {}",
+                        yu2021::STATE_LEN,
+                        v.len()
+                    ))
+                })?),
+            };
+            let transient = s.u("transient_periods").unwrap_or(200) as usize;
+            let s = std::sync::Arc::new(s);
+            Ok(Adapter {
+                outputs: outs(SHOOT_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let (model, omega) = yu_model(p)?;
+                    let settings = RunSettings {
+                        omega,
+                        transient_periods: transient,
+                        record_periods: 1,
+                        steps_per_period: 256,
+                    };
+                    let steps = model.run_steps(&settings).context("yu2021 run size")?;
+                    need_steps("yu2021 shooting", steps as f64, &limits)?;
+                    let s = std::sync::Arc::clone(&s);
+                    Ok(Box::new(move || {
+                        let sys =
+                            yu2021::Yu2021SixDof::new(&model, omega).context("yu2021 shooting")?;
+                        let r = model
+                            .simulate_with(&settings, &Engine::Rk4Fixed, initial)
+                            .context("yu2021 shooting guess")?;
+                        let period = std::f64::consts::TAU / omega;
+                        shoot_any("yu2021", sys, period, &r.final_state, &s)
+                    }) as Job)
+                }),
+            })
+        }
         m => Err(wrong_method(
             "yu2021",
             m,
-            &[Method::TimeStepping, Method::Hbm],
+            &[Method::TimeStepping, Method::Hbm, Method::Shooting],
         )),
     }
 }
@@ -1914,11 +2081,20 @@ fn pair_describe() -> ModelInfo {
             default: "torsional".into(),
             note: "1-DOF torsional or 6-DOF transverse-torsional".into(),
         }],
-        methods: time_stepping_and_hbm(
-            (PAIR_TS, PAIR_TS_OUT),
-            "[q, q'] (2 × number of DOFs)",
-            (PAIR_HBM, PAIR_HBM_OUT),
-        ),
+        methods: {
+            let mut m = time_stepping_and_hbm(
+                (PAIR_TS, PAIR_TS_OUT),
+                "[q, q'] (2 × number of DOFs)",
+                (PAIR_HBM, PAIR_HBM_OUT),
+            );
+            m.push(MethodInfo {
+                method: Method::Shooting,
+                settings: shoot_settings(shoot_transient(200.0, PAIR_SHOOT_TRANSIENT)),
+                outputs: outs(SHOOT_OUT),
+                initial: Some("[q, q'] where the guess's integration starts"),
+            });
+            m
+        },
     }
 }
 
@@ -2042,10 +2218,44 @@ fn pair_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                 }),
             })
         }
+        Method::Shooting => {
+            let defs = shoot_settings(shoot_transient(200.0, PAIR_SHOOT_TRANSIENT));
+            let s = Settings::read(
+                "generic-pair",
+                Method::Shooting,
+                &defs,
+                &ctx.solver.settings,
+                &[],
+            )?;
+            let initial = ctx.initial.map(<[f64]>::to_vec);
+            let settings = pair::TimeSettings {
+                transient_periods: s.u("transient_periods").unwrap_or(200) as usize,
+                record_periods: 1,
+                samples_per_period: 4,
+                ..pair::TimeSettings::default()
+            };
+            let s = std::sync::Arc::new(s);
+            Ok(Adapter {
+                outputs: outs(SHOOT_OUT),
+                prepare: Box::new(move |p: &Point| {
+                    let (model, _) = pair_model(p)?;
+                    let periods = settings.transient_periods + settings.record_periods;
+                    need_steps("generic-pair shooting", 8.0 * periods as f64, &limits)?;
+                    let (s, initial) = (std::sync::Arc::clone(&s), initial.clone());
+                    Ok(Box::new(move || {
+                        let r = model
+                            .time_response(&settings, initial.as_deref())
+                            .context("generic-pair shooting guess")?;
+                        let period = std::f64::consts::TAU / model.mesh_frequency();
+                        shoot_any("generic-pair", model, period, &r.final_state, &s)
+                    }) as Job)
+                }),
+            })
+        }
         m => Err(wrong_method(
             "generic-pair",
             m,
-            &[Method::TimeStepping, Method::Hbm],
+            &[Method::TimeStepping, Method::Hbm, Method::Shooting],
         )),
     }
 }
