@@ -291,6 +291,16 @@ fn yu_inputs(
     Ok((p, o, omega))
 }
 
+/// The columns of a study's `shooting` point as a result dict (a returned orbit converged).
+fn shooting_json(cols: Vec<(&'static str, f64)>) -> Value {
+    let mut o: serde_json::Map<String, Value> = cols
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), json!(v)))
+        .collect();
+    o.insert("converged".to_owned(), json!(true));
+    Value::Object(o)
+}
+
 /// Python settings (numbers, names) as study-file values, for the study code's checks.
 fn study_values(s: BTreeMap<String, Value>) -> Res<BTreeMap<String, validate::Value>> {
     let mut map = BTreeMap::new();
@@ -462,12 +472,7 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
             let map = study_values(std::mem::take(&mut s))?;
             let m = p.model()?;
             let cols = validate::liu_shooting_point(m, &map, initial).map_err(parameter_error)?;
-            let mut o: serde_json::Map<String, Value> = cols
-                .into_iter()
-                .map(|(k, v)| (k.to_owned(), json!(v)))
-                .collect();
-            o.insert("converged".to_owned(), json!(true));
-            Ok(Value::Object(o))
+            Ok(shooting_json(cols))
         }
         ("yu2021", "shooting") => {
             // the study's method "shooting" (Yu's 6-DOF model with free centres): settings
@@ -477,12 +482,7 @@ fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> R
             let map = study_values(std::mem::take(&mut s))?;
             let m = yu2021::Yu2021Model::new(&p, o)?;
             let cols = validate::yu_shooting_point(m, omega, &map).map_err(parameter_error)?;
-            let mut o: serde_json::Map<String, Value> = cols
-                .into_iter()
-                .map(|(k, v)| (k.to_owned(), json!(v)))
-                .collect();
-            o.insert("converged".to_owned(), json!(true));
-            Ok(Value::Object(o))
+            Ok(shooting_json(cols))
         }
         ("karpov2017", "duhamel") | ("karpov2017", "time-stepping") => {
             let base = karpov2017::Karpov2017::fig3().params();

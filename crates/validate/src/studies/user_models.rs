@@ -1806,6 +1806,21 @@ fn yu_model(p: &Point) -> Result<(yu2021::Yu2021Model, f64), Error> {
     Ok((model, omega))
 }
 
+/// A study's `initial` for Yu: the model state (`yu2021::STATE_LEN` numbers), or none.
+fn yu_initial(ctx: &Context<'_>) -> Result<Option<[f64; yu2021::STATE_LEN]>, Error> {
+    ctx.initial
+        .map(|v| {
+            <[f64; yu2021::STATE_LEN]>::try_from(v).map_err(|_| {
+                Error::StudyFile(format!(
+                    "yu2021: `initial` must have {} numbers (the model state), got {}",
+                    yu2021::STATE_LEN,
+                    v.len()
+                ))
+            })
+        })
+        .transpose()
+}
+
 fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
     use yu2021::{Engine, HbmSettings, RunSettings};
     let limits = ctx.limits;
@@ -1840,16 +1855,7 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
                     Engine::Rk4Fixed
                 }
             };
-            let initial = match ctx.initial {
-                None => None,
-                Some(v) => Some(<[f64; yu2021::STATE_LEN]>::try_from(v).map_err(|_| {
-                    Error::StudyFile(format!(
-                        "yu2021: `initial` must have {} numbers (the model state), got {}",
-                        yu2021::STATE_LEN,
-                        v.len()
-                    ))
-                })?),
-            };
+            let initial = yu_initial(ctx)?;
             let n_rms = s.u("rms_harmonics").unwrap_or(5) as usize;
             let base = RunSettings {
                 omega: 1.0,
@@ -1936,16 +1942,7 @@ fn yu_build(ctx: &Context<'_>) -> Result<Adapter, Error> {
         Method::Shooting => {
             let defs = shoot_settings(shoot_transient(200.0, YU_SHOOT_TRANSIENT));
             let s = Settings::read("yu2021", Method::Shooting, &defs, &ctx.solver.settings, &[])?;
-            let initial = match ctx.initial {
-                None => None,
-                Some(v) => Some(<[f64; yu2021::STATE_LEN]>::try_from(v).map_err(|_| {
-                    Error::StudyFile(format!(
-                        "yu2021: `initial` must have {} numbers (the model state), got {}",
-                        yu2021::STATE_LEN,
-                        v.len()
-                    ))
-                })?),
-            };
+            let initial = yu_initial(ctx)?;
             let transient = s.u("transient_periods").unwrap_or(200) as usize;
             let s = std::sync::Arc::new(s);
             Ok(Adapter {
