@@ -152,7 +152,7 @@ pub use continuation::{
     Branch, BranchPoint, ContinuationEnd, ContinuationOptions, ContinuationParameter, FoldPoint,
 };
 pub use error::HbmError;
-pub use krylov::{KrylovOptions, Preconditioner};
+pub use krylov::{KrylovOptions, MAX_BAND_HARMONICS, Preconditioner};
 pub use problem::{Counters, HbmProblem};
 pub use solution::{HarmonicAmplitude, PeriodicSolution, TimeSeries, TruncationEstimate};
 pub use solve::{

@@ -261,7 +261,7 @@ impl crate::Comparison {
     }
 
     /// The model value as committed (snapshot, REPORT.md, study CSV, `verdicts.csv`): rounded to
-    /// [`Comparison::committed_exponent`], with the interval (`165.0 [163.1, 166.9]`).
+    /// [`committed_exponent`](Self::committed_exponent), with the interval (`165.0 [163.1, 166.9]`).
     pub fn committed_model(&self) -> String {
         let e = self.committed_exponent();
         match self.interval {
