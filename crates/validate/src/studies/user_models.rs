@@ -1079,14 +1079,15 @@ const SHOOT_OUT: &[(&str, &str)] = &[
 ];
 
 /// Shoot the periodic orbit of `sys` (period `period`) from `guess` with the settings of
-/// [`shoot_settings`]; the values of [`SHOOT_OUT`].
-fn shoot_any<S: system::SecondOrderSystem>(
+/// [`shoot_settings`]: the problem, the orbit and the values of [`SHOOT_OUT`] (every model's
+/// shooting columns; Liu adds its own around them).
+fn shoot_on<S: system::SecondOrderSystem>(
     what: &'static str,
     sys: S,
     period: f64,
     guess: &[f64],
     s: &Settings,
-) -> Result<Vec<f64>, Error> {
+) -> Result<(orbit::OrbitProblem<S>, orbit::PeriodicOrbit, Vec<f64>), Error> {
     let flow = orbit::FlowOptions {
         rtol: s.f("rtol"),
         ..orbit::FlowOptions::default()
@@ -1106,7 +1107,7 @@ fn shoot_any<S: system::SecondOrderSystem>(
     let mut mu = o.floquet.multipliers.clone();
     mu.sort_by(|x, y| y[0].hypot(y[1]).total_cmp(&x[0].hypot(x[1])));
     let m = |i: usize, j: usize| mu.get(i).map_or(f64::NAN, |c| c[j]);
-    Ok(vec![
+    let v = vec![
         o.events.len() as f64,
         o.floquet.max_modulus,
         m(0, 0),
@@ -1117,7 +1118,19 @@ fn shoot_any<S: system::SecondOrderSystem>(
         o.floquet.test_period_doubling,
         o.iterations as f64,
         o.residual,
-    ])
+    ];
+    Ok((p, o, v))
+}
+
+/// [`shoot_on`], the values only.
+fn shoot_any<S: system::SecondOrderSystem>(
+    what: &'static str,
+    sys: S,
+    period: f64,
+    guess: &[f64],
+    s: &Settings,
+) -> Result<Vec<f64>, Error> {
+    shoot_on(what, sys, period, guess, s).map(|(_, _, v)| v)
 }
 
 /// The transient setting of the Yu and pair shooting guesses.
@@ -1227,20 +1240,7 @@ fn liu_shoot(
     } else {
         [start.0, start.1]
     };
-    let flow = orbit::FlowOptions {
-        rtol: s.f("rtol"),
-        ..orbit::FlowOptions::default()
-    };
-    let p = orbit::OrbitProblem::new(model, model.period())
-        .and_then(|p| p.with_flow_options(flow))
-        .context("liu2021 orbit problem")?;
-    let opts = orbit::ShootingOptions {
-        tol: s.f("tol"),
-        max_iter: s.u("max_iter").unwrap_or(20) as usize,
-        segments: s.u("segments").unwrap_or(1) as usize,
-        ..orbit::ShootingOptions::default()
-    };
-    let o = p.shoot(&x0, &opts).context("liu2021 shooting")?;
+    let (p, o, v) = shoot_on("liu2021", model, model.period(), &x0, s)?;
     let ext = p.event_extrema(&o.x0, 1).context("liu2021 gap extrema")?;
     // e0 = q − b̄ (back flank), e1 = q + b̄ (drive flank): contact while e1 < 0
     let (back, drive) = (ext[0][1] / b, ext[1][1] / b);
@@ -1251,26 +1251,12 @@ fn liu_shoot(
     } else {
         0.0
     };
-    let mut mu = o.floquet.multipliers.clone();
-    mu.sort_by(|x, y| y[0].hypot(y[1]).total_cmp(&x[0].hypot(x[1])));
-    let m = |i: usize, j: usize| mu.get(i).map_or(f64::NAN, |c| c[j]);
-    Ok(vec![
-        rsv,
-        o.x0[0],
-        o.x0[1],
-        o.events.len() as f64,
-        o.floquet.max_modulus,
-        m(0, 0),
-        m(0, 1),
-        m(1, 0),
-        m(1, 1),
-        if o.floquet.stable { 1.0 } else { 0.0 },
-        o.floquet.test_period_doubling,
-        drive,
-        back,
-        o.iterations as f64,
-        o.residual,
-    ])
+    // LIU_SHOOT_OUT: the shared SHOOT_OUT columns with the section state and the gap margins
+    let mut out = vec![rsv, o.x0[0], o.x0[1]];
+    out.extend_from_slice(&v[..8]);
+    out.extend_from_slice(&[drive, back]);
+    out.extend_from_slice(&v[8..]);
+    Ok(out)
 }
 
 fn liu_model(p: &Point) -> Result<liu2021::Model, Error> {
