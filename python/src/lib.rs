@@ -725,7 +725,7 @@ fn run_study(py: Python<'_>, text: &str) -> String {
                 .map(|r| {
                     r.iter()
                         .map(|c| match c {
-                            validate::Cell::Num(x) => json!(x),
+                            validate::Cell::Num(x) | validate::Cell::Unsettled(x) => json!(x),
                             validate::Cell::Text(t) => json!(t),
                             validate::Cell::Count(n) => json!(n),
                             _ => Value::Null,

@@ -60,6 +60,11 @@ pub struct Series {
     pub style: Style,
     /// Index into [`OKABE_ITO`] (modulo its length); `None` takes the next unpinned colour.
     pub colour: Option<usize>,
+    /// Per point: the value does not settle under a solver retune ([`crate::Cell::Unsettled`]:
+    /// a sample of a non-periodic orbit, a non-converged iterate, a solution seeded from one).
+    /// Such points are drawn only in the uncommitted `validation/stats/` copy of the figure;
+    /// the committed figure leaves them out. Empty: every point settles.
+    pub unsettled: Vec<bool>,
 }
 
 impl Series {
@@ -70,6 +75,7 @@ impl Series {
             points,
             style,
             colour: None,
+            unsettled: Vec::new(),
         }
     }
 
@@ -97,6 +103,18 @@ impl Series {
     pub fn colour(mut self, index: usize) -> Self {
         self.colour = Some(index);
         self
+    }
+
+    /// Mark the points that do not settle under a solver retune (one flag per point, in order;
+    /// missing flags count as settled): see [`Series::unsettled`].
+    pub fn unsettled(mut self, flags: impl IntoIterator<Item = bool>) -> Self {
+        self.unsettled = flags.into_iter().collect();
+        self
+    }
+
+    /// Whether point `i` does not settle ([`Series::unsettled`]).
+    pub fn is_unsettled(&self, i: usize) -> bool {
+        self.unsettled.get(i).copied().unwrap_or(false)
     }
 }
 
@@ -155,6 +173,9 @@ pub struct Figure {
     /// scatter: its data and SVG go to the uncommitted `validation/stats/` only
     /// ([`Figure::non_periodic_record`]).
     pub non_periodic: bool,
+    /// Why the record is not committed, when it is not a non-periodic orbit
+    /// ([`Figure::unsettled_record`]).
+    pub record_reason: Option<String>,
 }
 
 impl Figure {
@@ -169,7 +190,16 @@ impl Figure {
             x_range: None,
             y_range: None,
             non_periodic: false,
+            record_reason: None,
         }
+    }
+
+    /// Mark the figure as a record that does not settle under a solver retune for the reason
+    /// given: its data and SVG go to `validation/stats/` only, with the reason in the snapshot.
+    pub fn unsettled_record(mut self, reason: &str) -> Self {
+        self.non_periodic = true;
+        self.record_reason = Some(reason.to_owned());
+        self
     }
 
     /// Mark the figure (when `non_periodic`) as a record of a non-periodic orbit (a time series, phase portrait or

@@ -158,24 +158,39 @@ pub fn one_period_samples(table: &Table, row: &[Cell]) -> Vec<usize> {
 }
 
 /// The committed form of a data table: solver statistics dropped, one-period samples of
-/// non-periodic rows written as [`NOT_PERIODIC`], every other number at drawing precision of
-/// its column (1/[`DRAWING_STEPS`] of the column's range, or of its largest magnitude when the
-/// column is constant). Returns the CSV text.
+/// non-periodic rows and [`Cell::Unsettled`] cells written as [`NOT_PERIODIC`], every other
+/// number at drawing precision of its column (1/[`DRAWING_STEPS`] of the range of the column's
+/// committed numbers, or of their largest magnitude when they are all equal: a value left out
+/// does not set the precision of the others). Returns the CSV text.
 pub fn committed_table_csv(table: &Table) -> String {
     let keep: Vec<usize> = (0..table.columns.len())
         .filter(|&i| !is_solver_statistic(&table.columns[i].name))
         .collect();
+    let blanks: Vec<Vec<usize>> = table
+        .rows
+        .iter()
+        .map(|row| one_period_samples(table, row))
+        .collect();
     let exps: Vec<Option<i32>> = (0..table.columns.len())
-        .map(|i| column_exponent(table.rows.iter().filter_map(|r| r.get(i))))
+        .map(|i| {
+            column_exponent(
+                table
+                    .rows
+                    .iter()
+                    .zip(&blanks)
+                    .filter(|(_, b)| !b.contains(&i))
+                    .filter_map(|(r, _)| r.get(i)),
+            )
+        })
         .collect();
     let mut t = Table::new(&table.name, &[]);
     t.columns = keep.iter().map(|&i| table.columns[i].clone()).collect();
-    for row in &table.rows {
-        let blank = one_period_samples(table, row);
+    for (row, blank) in table.rows.iter().zip(&blanks) {
         let cells = keep
             .iter()
             .map(|&i| match row.get(i) {
                 Some(_) if blank.contains(&i) => Cell::Text(NOT_PERIODIC.to_owned()),
+                Some(Cell::Unsettled(_)) => Cell::Text(NOT_PERIODIC.to_owned()),
                 Some(Cell::Num(x)) => match exps[i] {
                     Some(e) => Cell::Text(fmt_data(*x, e)),
                     None => Cell::Num(*x),
@@ -263,6 +278,9 @@ impl crate::Comparison {
     /// The model value as committed (snapshot, REPORT.md, study CSV, `verdicts.csv`): rounded to
     /// [`committed_exponent`](Self::committed_exponent), with the interval (`165.0 [163.1, 166.9]`).
     pub fn committed_model(&self) -> String {
+        if self.unsettled {
+            return NOT_PERIODIC.to_owned();
+        }
         let e = self.committed_exponent();
         match self.interval {
             Some((lo, hi)) => format!(
@@ -278,6 +296,9 @@ impl crate::Comparison {
     /// The deviation as committed: `(model − paper, relative in %)`, from the rounded model
     /// value, so that it moves only when the committed model value moves.
     pub fn committed_deviation(&self) -> (String, String) {
+        if self.unsettled {
+            return (NOT_PERIODIC.to_owned(), NOT_PERIODIC.to_owned());
+        }
         let e = self.committed_exponent();
         let m = round_step(self.model, Some(e));
         let d = m - self.reference.value;
@@ -293,14 +314,32 @@ impl crate::Comparison {
     }
 }
 
-/// A figure at drawing precision: every x rounded to 1/[`DRAWING_STEPS`] of the x axis range
-/// (the fixed range, else the data's), every y likewise. Its CSV and SVG are what is committed.
+/// A figure at drawing precision: the points that do not settle under a solver retune
+/// ([`crate::Series::unsettled`]) left out (a series left without points is dropped), every x
+/// rounded to 1/[`DRAWING_STEPS`] of the x axis range (the fixed range, else the range of the
+/// points kept), every y likewise. Its CSV and SVG are what is committed.
 pub fn drawn_figure(f: &crate::Figure) -> crate::Figure {
+    let mut g = f.clone();
+    for s in &mut g.series {
+        if s.unsettled.iter().any(|&u| u) {
+            let flags = std::mem::take(&mut s.unsettled);
+            let kept = s
+                .points
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| !flags.get(*i).copied().unwrap_or(false))
+                .map(|(_, p)| *p)
+                .collect();
+            s.points = kept;
+        }
+        s.unsettled.clear();
+    }
+    g.series.retain(|s| !s.points.is_empty());
     let axis = |fixed: Option<(f64, f64)>, pick: &dyn Fn(&(f64, f64)) -> f64| {
         let scale = match fixed {
             Some((a, b)) => (b - a).abs(),
             None => {
-                let cells: Vec<Cell> = f
+                let cells: Vec<Cell> = g
                     .series
                     .iter()
                     .flat_map(|s| s.points.iter())
@@ -313,7 +352,6 @@ pub fn drawn_figure(f: &crate::Figure) -> crate::Figure {
     };
     let ex = axis(f.x_range, &|p| p.0);
     let ey = axis(f.y_range, &|p| p.1);
-    let mut g = f.clone();
     for s in &mut g.series {
         for p in &mut s.points {
             *p = (round_step(p.0, ex), round_step(p.1, ey));

@@ -176,11 +176,14 @@ pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> Stri
     }
     for t in &out.tables {
         if t.non_periodic {
+            // no row count: the record's length is part of what does not settle
             let _ = writeln!(
                 s,
-                "table {}: {} rows, record of a non-periodic orbit (validation/stats/ only)",
+                "table {}: {} (validation/stats/ only)",
                 t.name,
-                t.rows.len()
+                t.record_reason
+                    .as_deref()
+                    .unwrap_or("record of a non-periodic orbit")
             );
             continue;
         }
@@ -197,9 +200,11 @@ pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> Stri
         if f.non_periodic {
             let _ = writeln!(
                 s,
-                "figure {}: {} series, record of a non-periodic orbit (validation/stats/ only)",
+                "figure {}: {} (validation/stats/ only)",
                 f.name,
-                f.series.len()
+                f.record_reason
+                    .as_deref()
+                    .unwrap_or("record of a non-periodic orbit")
             );
             continue;
         }
@@ -657,8 +662,9 @@ pub fn render_stats(results: &[StudyResult]) -> BTreeMap<String, Vec<u8>> {
                     out_path(st, &format!("_{}.csv", f.name)),
                     f.to_table().to_csv().into_bytes(),
                 );
-                // a non-periodic record is drawn here only (its committed SVG does not exist)
-                if f.non_periodic {
+                // a non-periodic record is drawn here only (its committed SVG does not exist);
+                // a figure with unsettled points is drawn here in full
+                if f.non_periodic || f.series.iter().any(|s| s.unsettled.contains(&true)) {
                     if let Ok(svg) = f.to_svg() {
                         files.insert(out_path(st, &format!("_{}.svg", f.name)), svg.into_bytes());
                     }

@@ -418,6 +418,11 @@ pub struct Comparison {
     /// The paper value is a threshold ([`PublishedValue::threshold`]): a judged reproduction
     /// must carry an [`Comparison::interval`] (`cargo xtask validate --check`).
     pub threshold: bool,
+    /// The model value (and interval) does not settle under a solver retune: a statistic of a
+    /// non-periodic orbit, whose value moves with every change of the integrator's step
+    /// sequence while the verdict rests on the interval. Committed files write it as
+    /// [`crate::precision::NOT_PERIODIC`] with the verdict; the value is in `validation/stats/`.
+    pub unsettled: bool,
 }
 
 impl Comparison {
@@ -451,6 +456,7 @@ impl Comparison {
             interval: None,
             needs: Vec::new(),
             threshold: false,
+            unsettled: false,
         }
     }
 
@@ -497,6 +503,13 @@ impl Comparison {
     /// Add every flag of `reasons`.
     pub fn flagged_all(mut self, reasons: impl IntoIterator<Item = String>) -> Self {
         self.flags.extend(reasons);
+        self
+    }
+
+    /// Mark the model value as not settling under a solver retune when `unsettled` (see
+    /// [`Comparison::unsettled`]).
+    pub fn unsettled_if(mut self, unsettled: bool) -> Self {
+        self.unsettled = unsettled;
         self
     }
 

@@ -16,6 +16,13 @@ pub enum Cell {
     Text(String),
     /// A count (steps, right-hand-side evaluations, events): written in full, every digit.
     Count(u64),
+    /// A number that does not settle under a solver retune, so it is not what a reviewer
+    /// judges: a sample of a non-periodic orbit, a long-window statistic whose variants
+    /// disagree, an iterate of a solver that did not converge, or a solution seeded from one of
+    /// those (a warm start from a chaotic time response). Written at 6 significant digits to
+    /// the uncommitted `validation/stats/`, as [`crate::precision::NOT_PERIODIC`] in the
+    /// committed table (issue 28).
+    Unsettled(f64),
 }
 
 impl From<f64> for Cell {
@@ -43,6 +50,25 @@ impl Cell {
             Cell::Num(x) => fmt6(*x),
             Cell::Text(s) => s.clone(),
             Cell::Count(n) => n.to_string(),
+            Cell::Unsettled(x) => fmt6(*x),
+        }
+    }
+
+    /// `x` as [`Cell::Unsettled`] when `unsettled`, else as [`Cell::Num`].
+    pub fn settled_if(x: f64, unsettled: bool) -> Self {
+        if unsettled {
+            Cell::Unsettled(x)
+        } else {
+            Cell::Num(x)
+        }
+    }
+
+    /// The number in the cell (`None` for text).
+    pub fn number(&self) -> Option<f64> {
+        match self {
+            Cell::Num(x) | Cell::Unsettled(x) => Some(*x),
+            Cell::Count(n) => Some(*n as f64),
+            Cell::Text(_) => None,
         }
     }
 
@@ -85,6 +111,9 @@ pub struct Table {
     /// The table records a non-periodic (chaotic) orbit: written to the uncommitted
     /// `validation/stats/` only ([`Table::non_periodic_record`]).
     pub non_periodic: bool,
+    /// Why the record is not committed, when it is not a non-periodic orbit
+    /// ([`Table::unsettled_record`]).
+    pub record_reason: Option<String>,
 }
 
 impl Table {
@@ -101,6 +130,7 @@ impl Table {
                 .collect(),
             rows: Vec::new(),
             non_periodic: false,
+            record_reason: None,
         }
     }
 
@@ -108,6 +138,15 @@ impl Table {
     /// written to `validation/stats/` only, with one line in the snapshot (issue 28).
     pub fn non_periodic_record(mut self, non_periodic: bool) -> Self {
         self.non_periodic = non_periodic;
+        self
+    }
+
+    /// Mark the table as a record that does not settle under a solver retune for the reason
+    /// given (for example a continuation path past a loss of stability): written to
+    /// `validation/stats/` only, with the reason in the snapshot.
+    pub fn unsettled_record(mut self, reason: &str) -> Self {
+        self.non_periodic = true;
+        self.record_reason = Some(reason.to_owned());
         self
     }
 

@@ -354,11 +354,7 @@ impl UserStudyOutput {
             self.table
                 .rows
                 .iter()
-                .map(|r| match &r[i] {
-                    Cell::Num(x) => *x,
-                    Cell::Count(n) => *n as f64,
-                    Cell::Text(_) => f64::NAN,
-                })
+                .map(|r| r[i].number().unwrap_or(f64::NAN))
                 .collect(),
         )
     }

@@ -149,8 +149,30 @@ pub fn rms_of_harmonics(amplitudes: &[f64]) -> Result<f64, Error> {
     Ok((s / amplitudes.len() as f64).sqrt())
 }
 
+/// The order of magnitude of `x` as text: `1e<k>` with `k = floor(log10 x)` (so `x` lies in
+/// `[1e<k>, 1e<k+1>)`), or `infinity` (flags give the size of a change that moves
+/// with every integrator retune only to its order of magnitude).
+pub fn order_of_magnitude(x: f64) -> String {
+    if x.is_finite() && x > 0.0 {
+        format!("1e{}", x.log10().floor() as i32)
+    } else if x == 0.0 {
+        "0".to_owned()
+    } else {
+        "infinity".to_owned()
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn order_of_magnitude_rounds_the_exponent() {
+        assert_eq!(super::order_of_magnitude(2.671e-2), "1e-2");
+        assert_eq!(super::order_of_magnitude(3.97e-2), "1e-2");
+        assert_eq!(super::order_of_magnitude(1.0), "1e0");
+        assert_eq!(super::order_of_magnitude(0.0), "0");
+        assert_eq!(super::order_of_magnitude(f64::NAN), "infinity");
+    }
+
     use super::*;
 
     #[test]

@@ -26,8 +26,10 @@ mod metrics;
 mod window;
 
 pub use metrics::{
-    RattleState, dynamic_factor, rattle_state, rattle_state_with_gap, rms_of_harmonics,
+    RattleState, dynamic_factor, order_of_magnitude, rattle_state, rattle_state_with_gap,
+    rms_of_harmonics,
 };
 pub use window::{
-    Crossing, Flank, FlankImpacts, Robust, WindowOptions, WindowStats, window_stats, zero_one_test,
+    Crossing, Flank, FlankImpacts, Robust, WindowOptions, WindowStats, student_t_975, window_stats,
+    zero_one_test,
 };

@@ -464,6 +464,22 @@ pub fn zero_one_test(phi: &[f64]) -> f64 {
     }
 }
 
+/// The two-sided 95 % quantile `t₀.₉₇₅` of Student's t distribution with `dof` degrees of
+/// freedom (tabulated for 1–30, from the standard table to 3 decimals; above 30 the value at
+/// 30, which is larger than every quantile beyond it, so the interval errs wide). `dof = 0`
+/// gives infinity.
+pub fn student_t_975(dof: usize) -> f64 {
+    const T: [f64; 30] = [
+        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160,
+        2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056,
+        2.052, 2.048, 2.045, 2.042,
+    ];
+    match dof {
+        0 => f64::INFINITY,
+        d => T[d.min(30) - 1],
+    }
+}
+
 fn correlation(x: &[f64], y: &[f64]) -> f64 {
     let n = x.len() as f64;
     let mx = x.iter().sum::<f64>() / n;
@@ -502,6 +518,40 @@ impl Robust {
                 let x = f(s);
                 (lo.min(x), hi.max(x))
             })
+    }
+
+    /// A 95 % prediction interval for the statistic `f` of one more window: the nominal record
+    /// and the variants are taken as `n` samples of the statistic (windows of a non-periodic
+    /// orbit after different transients, starts and tolerances), and the interval is
+    /// `x̄ ± t₀.₉₇₅,ₙ₋₁ · s · √(1 + 1/n)` (Student t, sample standard deviation `s`), widened to
+    /// contain `[min, max]` ([`Robust::interval`]).
+    ///
+    /// `[min, max]` of four samples misses the next sample with probability 2/5; the paper's
+    /// own value, read off one window of the same orbit, is such a next sample. For a periodic
+    /// orbit (`s = 0`) the interval is the point.
+    ///
+    /// The samples are treated as independent; windows of one trajectory that decorrelates
+    /// slowly make `s` an underestimate (documented in validation/README.md).
+    pub fn prediction_interval(&self, f: impl Fn(&WindowStats) -> f64) -> (f64, f64) {
+        let xs: Vec<f64> = self.all().map(&f).collect();
+        let (lo, hi) = self.interval(&f);
+        let n = xs.len();
+        if n < 2 || xs.iter().any(|x| !x.is_finite()) {
+            return (lo, hi);
+        }
+        let nf = n as f64;
+        let mean = xs.iter().sum::<f64>() / nf;
+        let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (nf - 1.0);
+        let half = student_t_975(n - 1) * var.sqrt() * (1.0 + 1.0 / nf).sqrt();
+        ((mean - half).min(lo), (mean + half).max(hi))
+    }
+
+    /// True when the statistic `f` agrees over the nominal record and every variant within
+    /// `rel` (relative to the largest magnitude): the value is reproducible at that precision.
+    pub fn settled(&self, f: impl Fn(&WindowStats) -> f64, rel: f64) -> bool {
+        let (lo, hi) = self.interval(&f);
+        let mag = lo.abs().max(hi.abs());
+        lo.is_finite() && hi.is_finite() && (hi - lo) <= rel * mag
     }
 
     /// The window state when every variant agrees on it, else `None` (not robust).
@@ -606,6 +656,45 @@ impl Robust {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Four samples 1, 2, 3, 4 of a statistic: mean 2.5, s² = 5/3, t₀.₉₇₅,₃ = 3.182, so the
+    /// prediction half-width is 3.182 · √(5/3) · √(5/4) (hand-computed); equal samples give
+    /// the point, and `settled` follows the relative spread.
+    #[test]
+    fn prediction_interval_of_four_samples() {
+        let period = 2.0;
+        let om = std::f64::consts::TAU / period;
+        let t = grid(4, 100, period);
+        let stats = |a: f64| {
+            let q: Vec<f64> = t.iter().map(|&x| a * (om * x).sin()).collect();
+            let v: Vec<f64> = t.iter().map(|&x| a * om * (om * x).cos()).collect();
+            window_stats(&t, &q, &v, |_| 10.0, &[], &WindowOptions::new(period)).unwrap()
+        };
+        let r = Robust {
+            nominal: stats(1.0),
+            variants: vec![
+                ("b".into(), stats(2.0)),
+                ("c".into(), stats(3.0)),
+                ("d".into(), stats(4.0)),
+            ],
+        };
+        let amp = |w: &WindowStats| w.line_incoherent[0];
+        let (lo, hi) = r.prediction_interval(amp);
+        let half = 3.182 * (5.0f64 / 3.0).sqrt() * (1.25f64).sqrt();
+        assert!((lo - (2.5 - half)).abs() < 1e-6, "{lo}");
+        assert!((hi - (2.5 + half)).abs() < 1e-6, "{hi}");
+        assert!(!r.settled(amp, 1e-3));
+        let same = Robust {
+            nominal: stats(1.0),
+            variants: vec![("b".into(), stats(1.0))],
+        };
+        let (lo, hi) = same.prediction_interval(amp);
+        assert!((hi - lo).abs() < 1e-12 && (lo - 1.0).abs() < 1e-6);
+        assert!(same.settled(amp, 1e-3));
+        assert!(student_t_975(0).is_infinite());
+        assert_eq!(student_t_975(3).to_bits(), 3.182f64.to_bits());
+        assert_eq!(student_t_975(500).to_bits(), 2.042f64.to_bits());
+    }
 
     fn grid(periods: usize, per: usize, period: f64) -> Vec<f64> {
         (0..=periods * per)

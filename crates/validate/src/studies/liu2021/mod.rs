@@ -128,7 +128,28 @@ fn columns<'a>(own: &[(&'a str, &'a str)], more: &[(&'a str, &'a str)]) -> Vec<(
     own.iter().chain(more).copied().collect()
 }
 
+/// Relative spread over the long-window variants below which a window statistic is committed:
+/// the drawing precision of the committed data ([`crate::precision::DRAWING_STEPS`]).
+const SETTLED: f64 = 1.0 / crate::precision::DRAWING_STEPS;
+
 impl Point {
+    /// The one-period time reference is a sample of a non-periodic orbit.
+    fn time_unsettled(&self) -> bool {
+        self.time.motion.period_multiple() == 0
+    }
+    /// The long-window statistics move over the variants by more than [`SETTLED`] (without long
+    /// windows: the one-period reference is unsettled).
+    fn window_unsettled(&self) -> bool {
+        self.window
+            .as_ref()
+            .map_or(self.time_unsettled(), |w| !w.settled(|s| s.ppv, SETTLED))
+    }
+    /// An HBM column's values do not settle: the solver did not converge, or a warm start was
+    /// seeded from the harmonics of a non-periodic time response (which of the coexisting
+    /// solutions it reaches depends on that sample).
+    fn hbm_unsettled(&self, h: &HbmPoint, warm: bool) -> bool {
+        !h.converged || (warm && self.time_unsettled())
+    }
     /// The judged rattle state: over the long window (all periods), else the one-period one.
     fn rsv(&self) -> u8 {
         self.window
@@ -159,11 +180,13 @@ impl Point {
     fn flag(&self) -> Option<String> {
         match &self.window {
             None => self.time.flag().map(|f| format!("at {}: {f}", at(self.x))),
-            Some(w) if w.state().is_none() => Some(format!(
-                "at {}: long-window rattle state not robust ({})",
-                at(self.x),
-                w.describe()
-            )),
+            Some(w) if w.state().is_none() => {
+                let (lo, hi) = w.rsv_interval();
+                Some(format!(
+                    "at {}: long-window rattle state not robust (rsv {lo}–{hi} over the variants; fractions in validation/stats/)",
+                    at(self.x),
+                ))
+            }
             Some(_) => None,
         }
     }
@@ -173,9 +196,9 @@ impl Point {
         let w = self.window.as_ref()?;
         (w.ppv_spread() > margin).then(|| {
             format!(
-                "at {}: long-window ppv moves by {} over the variants, more than the claim's margin {}",
+                "at {}: long-window ppv moves by order {} over the variants, more than the claim's margin {}",
                 at(self.x),
-                sig(w.ppv_spread()),
+                models::response::order_of_magnitude(w.ppv_spread()),
                 sig(margin)
             )
         })
@@ -487,30 +510,45 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
     ]);
     let mut t = Table::new(name, &cols);
     for p in pts {
+        let tu = p.time_unsettled();
+        let (cu, wu, fu) = (
+            p.hbm_unsettled(&p.cold, false),
+            p.hbm_unsettled(&p.warm, true),
+            p.hbm_unsettled(&p.full, true),
+        );
+        let cell = Cell::settled_if;
         let mut row: Vec<Cell> = vec![
             p.x.into(),
-            f64::from(p.rsv()).into(),
-            p.ppv().into(),
+            cell(f64::from(p.rsv()), p.window.is_none() && tu),
+            cell(p.ppv(), p.window_unsettled()),
             f64::from(p.time.motion.period_multiple()).into(),
             flag01(p.time.reproducible).into(),
             p.time.flag().unwrap_or_default().into(),
-            f64::from(p.cold.rattle.state.rsv()).into(),
-            p.cold.rattle.ppv.into(),
+            cell(f64::from(p.cold.rattle.state.rsv()), cu),
+            cell(p.cold.rattle.ppv, cu),
             flag01(p.cold.converged).into(),
-            f64::from(p.warm.rattle.state.rsv()).into(),
-            p.warm.rattle.ppv.into(),
+            cell(f64::from(p.warm.rattle.state.rsv()), wu),
+            cell(p.warm.rattle.ppv, wu),
             flag01(p.warm.converged).into(),
-            p.warm.stable().map_or(f64::NAN, flag01).into(),
-            f64::from(p.full.rattle.state.rsv()).into(),
-            p.full.rattle.ppv.into(),
+            cell(p.warm.stable().map_or(f64::NAN, flag01), wu),
+            cell(f64::from(p.full.rattle.state.rsv()), fu),
+            cell(p.full.rattle.ppv, fu),
             flag01(p.full.converged).into(),
-            p.full.stable().map_or(f64::NAN, flag01).into(),
+            cell(p.full.stable().map_or(f64::NAN, flag01), fu),
         ];
         let window = p
             .window
             .as_ref()
             .map_or([f64::NAN; Robust::COLUMNS.len()], Robust::values);
-        row.extend(window.map(Cell::Num));
+        let wun = p.window_unsettled();
+        let robust = p.window.as_ref().is_some_and(|w| w.state().is_some());
+        // the state columns (rsv_window, window_state_robust) stay when every variant agrees
+        // on the state; the real-valued statistics only when they settle
+        row.extend(window.iter().enumerate().map(|(i, &x)| match i {
+            0 => cell(x, !robust),
+            1 => Cell::Num(x),
+            _ => cell(x, wun),
+        }));
         row.extend(run_cells(&p.stats, p.accuracy[0]));
         row.extend(
             p.accuracy[1..]
@@ -525,21 +563,27 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
 /// Figures `<name>_rsv` and `<name>_ppv` (names distinct from the tables' names).
 fn sweep_figures(out: &mut StudyOutput, name: &str, x: (&str, &str), pts: &[Point]) {
     let s = |f: &dyn Fn(&Point) -> f64| pts.iter().map(|p| (p.x, f(p))).collect::<Vec<_>>();
-    let mut rsv = Figure::new(&format!("{name}_rsv"), "Rattle state", x, ("rsv", "1"))
-        .with(Series::step("time integration", s(&|p| f64::from(p.rsv()))));
+    let u = |f: &dyn Fn(&Point) -> bool| pts.iter().map(f).collect::<Vec<_>>();
+    let robust = |p: &Point| p.window.as_ref().map(|w| w.state().is_some());
+    let mut rsv = Figure::new(&format!("{name}_rsv"), "Rattle state", x, ("rsv", "1")).with(
+        Series::step("time integration", s(&|p| f64::from(p.rsv())))
+            .unsettled(u(&|p| robust(p).map_or(p.time_unsettled(), |r| !r))),
+    );
     let mut ppv = Figure::new(
         &format!("{name}_ppv"),
         "Peak-to-peak value of q",
         x,
         ("ppv", "1"),
     )
-    .with(Series::line("time integration", s(&|p| p.ppv())));
-    for (label, kind) in HBM_KINDS {
-        rsv = rsv.with(Series::markers(
-            label,
-            s(&|p| f64::from(kind(p).rattle.state.rsv())),
-        ));
-        ppv = ppv.with(Series::markers(label, s(&|p| kind(p).rattle.ppv)));
+    .with(Series::line("time integration", s(&|p| p.ppv())).unsettled(u(&Point::window_unsettled)));
+    for (i, (label, kind)) in HBM_KINDS.into_iter().enumerate() {
+        let warm = i > 0;
+        let unsettled = u(&|p| p.hbm_unsettled(&kind(p), warm));
+        rsv = rsv.with(
+            Series::markers(label, s(&|p| f64::from(kind(p).rattle.state.rsv())))
+                .unsettled(unsettled.clone()),
+        );
+        ppv = ppv.with(Series::markers(label, s(&|p| kind(p).rattle.ppv)).unsettled(unsettled));
     }
     out.figure(rsv);
     out.figure(ppv);

@@ -7,8 +7,8 @@ use models::liu2021::{
 
 use super::{base, model, sig, strategy};
 use crate::{
-    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
-    Table, Tolerance, ToleranceBand, Verdict, published,
+    Cell, Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study,
+    StudyOutput, Table, Tolerance, ToleranceBand, Verdict, published,
 };
 
 pub(super) fn study() -> Study {
@@ -48,9 +48,15 @@ struct Row {
     stats: timestep::Stats,
     /// `(residual norm, truncation indicator)` of the HBM solution.
     hbm_accuracy: (f64, f64),
-    /// Window-averaged displacement ratio A(f_e)/A(f_c): nominal and `[lo, hi]` over the
-    /// long-window variants (two tolerances, two windows, two starts).
+    /// Window-averaged displacement ratio A(f_e)/A(f_c): nominal and the 95 % prediction
+    /// interval over the long-window variants (two tolerances, two windows, two starts;
+    /// [`models::response::Robust::prediction_interval`]).
     disp_window: (f64, f64, f64),
+    /// The ratio settles over the variants (periodic motion): else its value is a statistic of
+    /// a non-periodic orbit, committed as `n/p` ([`crate::Cell::Unsettled`]).
+    window_settled: bool,
+    /// The one-period time reference is a sample of a non-periodic orbit.
+    time_unsettled: bool,
 }
 
 /// The Sect. 3.8 rig point at motor speed `rpm`: Table 1 with T2 = 3 N·m and the rig's ratio
@@ -107,9 +113,11 @@ fn run() -> Result<StudyOutput, Error> {
                 liu2021::long_window(&m, &LongWindowOptions::default()).context("long window")?;
             let ratio =
                 |w: &models::response::WindowStats| w.line_incoherent[1] / w.line_incoherent[0];
-            let (lo, hi) = lw.interval(ratio);
+            let (lo, hi) = lw.prediction_interval(ratio);
             Ok(Row {
                 disp_window: (ratio(&lw.nominal), lo, hi),
+                window_settled: lw.settled(ratio, 1.0 / crate::precision::DRAWING_STEPS),
+                time_unsettled: time.motion.period_multiple() == 0,
                 n: *n,
                 disp_time: a(m.z2 as usize) / a(1),
                 time_flag: time.flag(),
@@ -156,6 +164,7 @@ fn run() -> Result<StudyOutput, Error> {
     let mut t = Table::new("ratios", &super::columns(&own, &super::RUN_COLUMNS));
     let (mut model_pts, mut hbm_pts, mut th_pts, mut ex_pts) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut model_unsettled, mut hbm_unsettled) = (Vec::new(), Vec::new());
     for ((key, _), r) in rpms.iter().zip(&rows) {
         let th = paper.value(&format!("table2.theory.xi.{key}"))?;
         let exv = paper.value(&format!("table2.experiment.xi.{key}"))?;
@@ -174,13 +183,15 @@ fn run() -> Result<StudyOutput, Error> {
                 .within(vlo, vhi)
                 .reading("R-LIU-TABLE2")
                 .class(observable.clone())
-                .note("model: window-averaged velocity ratio A(f_e)/A(f_c) over 50 periods, range over the long-window variants"),
+                .unsettled_if(!r.window_settled)
+                .note("model: window-averaged velocity ratio A(f_e)/A(f_c) over 50 periods, 95 % prediction interval over the long-window variants"),
         );
         out.compare(
             Comparison::published(th, vel_hbm)?
                 .reading("R-LIU-TABLE2")
                 .shown_only()
                 .flagged_all((!r.hbm_converged).then(|| "HBM not converged".to_owned()))
+                .unsettled_if(!r.hbm_converged)
                 .note(
                     "model: velocity ratio, HBM paper basis cold start (the paper's method; shown)",
                 ),
@@ -198,7 +209,8 @@ fn run() -> Result<StudyOutput, Error> {
                 .within(alo, ahi)
                 .reading("R-LIU-TABLE2")
                 .cause("like with like: the rig measures acceleration, so the model's acceleration ratio A(f_e)/A(f_c) = Z2² × displacement ratio is compared")
-                .note("model: window-averaged acceleration ratio over 50 periods, range over the long-window variants"),
+                .unsettled_if(!r.window_settled)
+                .note("model: window-averaged acceleration ratio over 50 periods, 95 % prediction interval over the long-window variants"),
         );
         out.compare(
             Comparison::published(exv, vel)?
@@ -206,29 +218,33 @@ fn run() -> Result<StudyOutput, Error> {
                 .within(vlo, vhi)
                 .reading("R-LIU-TABLE2")
                 .class(observable)
+                .unsettled_if(!r.window_settled)
                 .note("model: window-averaged velocity ratio (the observable chosen to match the theory column; shown as a calibration)"),
         );
+        let (tu, wu) = (r.time_unsettled, !r.window_settled);
         let mut row = vec![
             r.n.into(),
             th.value.into(),
             exv.value.into(),
-            r.disp_time.into(),
-            vel_once.into(),
-            (vel_once * z2).into(),
+            Cell::settled_if(r.disp_time, tu),
+            Cell::settled_if(vel_once, tu),
+            Cell::settled_if(vel_once * z2, tu),
             r.motion.clone().into(),
             r.time_flag.clone().unwrap_or_default().into(),
-            vel_hbm.into(),
+            Cell::settled_if(vel_hbm, !r.hbm_converged),
             if r.hbm_converged { 1.0 } else { 0.0 }.into(),
-            f64::from(r.rsv).into(),
-            vel.into(),
-            vlo.into(),
-            vhi.into(),
-            acc.into(),
+            Cell::settled_if(f64::from(r.rsv), tu),
+            Cell::settled_if(vel, wu),
+            Cell::settled_if(vlo, wu),
+            Cell::settled_if(vhi, wu),
+            Cell::settled_if(acc, wu),
         ];
         row.extend(super::run_cells(&r.stats, r.hbm_accuracy));
         t.push(row)?;
         model_pts.push((r.n, vel));
+        model_unsettled.push(wu);
         hbm_pts.push((r.n, vel_hbm));
+        hbm_unsettled.push(!r.hbm_converged);
         th_pts.push((r.n, th.value));
         ex_pts.push((r.n, exv.value));
     }
@@ -346,8 +362,10 @@ fn run() -> Result<StudyOutput, Error> {
         )
         .with(Series::markers("paper theory", th_pts))
         .with(Series::markers("paper experiment", ex_pts))
-        .with(Series::line("long window (velocity ratio)", model_pts))
-        .with(Series::markers("HBM paper basis (velocity ratio)", hbm_pts)),
+        .with(Series::line("long window (velocity ratio)", model_pts).unsettled(model_unsettled))
+        .with(
+            Series::markers("HBM paper basis (velocity ratio)", hbm_pts).unsettled(hbm_unsettled),
+        ),
     );
     Ok(out)
 }
