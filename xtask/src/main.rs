@@ -2,6 +2,7 @@
 //!
 //! * `cargo xtask validate` — run every validation study, write `validation/` (CSV, SVG,
 //!   snapshots, `REPORT.md`).
+//! * `cargo xtask validate --only STUDY` — run one study (exact id) and write its outputs.
 //! * `cargo xtask validate --check` — regenerate in memory and fail if any committed output or
 //!   snapshot would change (CI); a changed verdict is listed first.
 //! * `cargo xtask validate --diff [REV]` — markdown summary of what changed in meaning between
@@ -32,10 +33,14 @@ enum Cmd {
         /// Only studies whose id contains this text (never with --check).
         #[arg(long)]
         filter: Option<String>,
+        /// Only the study with exactly this id (never with --check); an unknown id lists the
+        /// studies. The fast loop for one study: `cargo xtask validate --only liu2021-table2-amplitude-ratio`.
+        #[arg(long, value_name = "STUDY", conflicts_with_all = ["check", "filter"])]
+        only: Option<String>,
         /// Do not run: print the verdict diff (markdown) between validation/verdicts.csv at REV
         /// (default: the merge base with `main`) and the working tree.
         #[arg(long, value_name = "REV", num_args = 0..=1, default_missing_value = "",
-              conflicts_with_all = ["check", "filter"])]
+              conflicts_with_all = ["check", "filter", "only"])]
         diff: Option<String>,
     },
     /// Run a user study file (see docs/studies.md); writes CSV, SVG and a JSON summary.
@@ -74,7 +79,13 @@ fn main() -> ExitCode {
         Cmd::Validate {
             diff: Some(rev), ..
         } => cli::validate_diff(&repo_root(), Some(rev.as_str()).filter(|r| !r.is_empty())),
-        Cmd::Validate { check, filter, .. } => {
+        Cmd::Validate {
+            check,
+            filter,
+            only,
+            ..
+        } => {
+            let filter = only.map(|id| format!("={id}")).or(filter);
             cli::validate(&repo_root(), check, filter.as_deref())
         }
         Cmd::Study { file, out, shard } => match shard {

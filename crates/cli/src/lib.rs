@@ -217,7 +217,7 @@ pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Fa
     let total = if let Some(f) = filter {
         validate::all_studies()
             .iter()
-            .filter(|s| s.id.contains(f))
+            .filter(|s| validate::study_selected(s.id, f))
             .count()
     } else {
         validate::all_studies().len()

@@ -104,6 +104,51 @@ pub(crate) fn half_last_digit(printed: &str) -> Result<f64, crate::error::Error>
     Ok(0.5 * 10f64.powi(exp - decimals))
 }
 
+/// Opening mark of a text span that does not settle under a solver retune ([`unsettled`]).
+pub const UNSETTLED_OPEN: char = '⟦';
+/// Closing mark of a text span that does not settle under a solver retune.
+pub const UNSETTLED_CLOSE: char = '⟧';
+
+/// Mark a number (or any text) in a claim's evidence, a flag or a note as not settling under a
+/// solver retune — a statistic of a non-periodic orbit, a count of points that move under a
+/// tighter tolerance. Committed files write the span as `n/p` ([`committed_text`]); the
+/// uncommitted `validation/stats/` has it in full ([`full_text`]).
+///
+/// ```
+/// use geardyn_validate::{committed_text, full_text, unsettled};
+/// let s = format!("slope {} ± {}", unsettled(11.5), unsettled(1.3));
+/// assert_eq!(committed_text(&s), "slope n/p ± n/p");
+/// assert_eq!(full_text(&s), "slope 11.5 ± 1.3");
+/// ```
+pub fn unsettled(x: impl std::fmt::Display) -> String {
+    format!("{UNSETTLED_OPEN}{x}{UNSETTLED_CLOSE}")
+}
+
+/// `s` with every [`unsettled`] span replaced by `n/p` (an unclosed span runs to the end).
+pub fn committed_text(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    let mut inside = false;
+    for c in s.chars() {
+        match c {
+            UNSETTLED_OPEN if !inside => {
+                inside = true;
+                out.push_str(crate::precision::NOT_PERIODIC);
+            }
+            UNSETTLED_CLOSE if inside => inside = false,
+            _ if inside => {}
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+/// `s` with the marks of [`unsettled`] spans removed (the values in full).
+pub fn full_text(s: &str) -> String {
+    s.chars()
+        .filter(|&c| c != UNSETTLED_OPEN && c != UNSETTLED_CLOSE)
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -142,8 +142,8 @@ pub use audit::{Problem, audit, audit_output, output_files};
 pub use bifurcation::{BifurcationSpec, MAX_BIFURCATION_PERIODS, MAX_BIFURCATION_POINTS};
 pub use error::{Error, ResultExt};
 pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
-pub use format::{SIGNIFICANT_DIGITS, fmt_sig, fmt6};
-pub use output::{STATS_DIR, ValidationSummary, diff_against, run_validation};
+pub use format::{SIGNIFICANT_DIGITS, committed_text, fmt_sig, fmt6, full_text, unsettled};
+pub use output::{STATS_DIR, ValidationSummary, diff_against, run_validation, study_selected};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
     ReadingsIndex, STATS_DIGEST_FILE, StudyResult, comparisons_csv, comparisons_csv_full,

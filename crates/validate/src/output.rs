@@ -36,7 +36,23 @@ pub struct ValidationSummary {
     pub message: String,
 }
 
-/// Run every validation study (or those whose id contains `filter`) under the repository
+/// Whether a study id is selected by a filter: `=ID` selects exactly that study (`cargo xtask
+/// validate --only ID`), any other text the studies whose id contains it (`--filter`).
+///
+/// ```
+/// use geardyn_validate::study_selected;
+/// assert!(study_selected("liu2021-fig11-speed-sweep", "fig11"));
+/// assert!(study_selected("liu2021-fig11-speed-sweep", "=liu2021-fig11-speed-sweep"));
+/// assert!(!study_selected("liu2021-fig11-speed-sweep", "=liu2021-fig11"));
+/// ```
+pub fn study_selected(id: &str, filter: &str) -> bool {
+    match filter.strip_prefix('=') {
+        Some(exact) => id == exact,
+        None => id.contains(filter),
+    }
+}
+
+/// Run every validation study (or those selected by `filter`, [`study_selected`]) under the repository
 /// `root`, then write `validation/` (`check = false`) or compare with it (`check = true`:
 /// an error lists every differing file). `progress(study, done, total)` is called after each
 /// study.
@@ -61,7 +77,17 @@ pub fn run_validation(
     let t0 = Instant::now();
     let mut studies = crate::all_studies();
     if let Some(f) = filter {
-        studies.retain(|s| s.id.contains(f));
+        studies.retain(|s| study_selected(s.id, f));
+        if studies.is_empty() {
+            return Err(Error::Study(format!(
+                "no study matches {f:?}; the studies are: {}",
+                crate::all_studies()
+                    .iter()
+                    .map(|s| s.id)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        }
     }
     let total = studies.len();
     let done = std::sync::atomic::AtomicUsize::new(0);

@@ -449,6 +449,67 @@ mod tests {
         );
     }
 
+    /// An unsettled cell is `n/p` and does not set its column's precision; the stats copy
+    /// (`to_csv`) has it in full.
+    #[test]
+    fn unsettled_cells_are_left_out_and_do_not_set_the_precision() {
+        let mut t = Table::new("sweep", &[("x", "1"), ("ppv", "1")]);
+        t.push(vec![1.0.into(), 0.123_456.into()]).unwrap();
+        t.push(vec![2.0.into(), 0.124_001.into()]).unwrap();
+        t.push(vec![3.0.into(), Cell::Unsettled(97.5)]).unwrap();
+        // settled range 0.000545 → step 1e-7, not the 1e-1 a range up to 97.5 would give
+        assert_eq!(
+            committed_table_csv(&t),
+            "x [1],ppv [1]\n1,0.123456\n2,0.124001\n3,n/p\n"
+        );
+        assert!(t.to_csv().ends_with("3,97.5\n"));
+        // moving the unsettled value changes no committed byte
+        let mut u = t.clone();
+        u.rows[2][1] = Cell::Unsettled(12.0);
+        assert_eq!(committed_table_csv(&t), committed_table_csv(&u));
+    }
+
+    /// Unsettled figure points leave the committed figure; an emptied series is dropped.
+    #[test]
+    fn unsettled_points_leave_the_drawn_figure() {
+        use crate::{Figure, Series};
+        let f = Figure::new("f", "t", ("x", "1"), ("y", "1"))
+            .with(
+                Series::line("a", vec![(0.0, 1.0), (1.0, 2.0), (2.0, 50.0)])
+                    .unsettled([false, false, true]),
+            )
+            .with(Series::markers("b", vec![(0.0, 7.0)]).unsettled([true]));
+        let d = drawn_figure(&f);
+        assert_eq!(d.series.len(), 1);
+        assert_eq!(d.series[0].points, vec![(0.0, 1.0), (1.0, 2.0)]);
+        assert!(d.series[0].unsettled.is_empty());
+        // the original keeps every point (validation/stats/)
+        assert_eq!(f.series[0].points.len(), 3);
+    }
+
+    /// An unsettled comparison commits `n/p` for value and deviation, and keeps its verdict.
+    #[test]
+    fn unsettled_comparisons_commit_the_verdict_only() {
+        use crate::{Comparison, Reference, Tolerance};
+        let c = Comparison::new(
+            "xi",
+            "1",
+            Reference::computed(53.6, "paper"),
+            85.0,
+            Tolerance::numerical(1e-3),
+        )
+        .within(35.0, 135.0);
+        let v = c.verdict();
+        let u = c.clone().unsettled_if(true);
+        assert_eq!(u.committed_model(), NOT_PERIODIC);
+        assert_eq!(
+            u.committed_deviation(),
+            (NOT_PERIODIC.to_owned(), NOT_PERIODIC.to_owned())
+        );
+        assert_eq!(u.verdict(), v);
+        assert_ne!(c.committed_model(), NOT_PERIODIC);
+    }
+
     #[test]
     fn digest_is_fnv1a() {
         assert_eq!(digest(b""), "cbf29ce484222325");

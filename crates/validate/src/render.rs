@@ -635,6 +635,15 @@ pub fn render_all(results: &[StudyResult], idx: &ReadingsIndex) -> BTreeMap<Stri
         stats_digest(&render_stats(results)).into_bytes(),
     );
     files.insert("REPORT.md".to_owned(), report(results, idx).into_bytes());
+    // spans that do not settle under a solver retune (claims' evidence, flags, notes) are
+    // committed as n/p; the text files are UTF-8 by construction
+    for v in files.values_mut() {
+        if let Ok(text) = std::str::from_utf8(v) {
+            if text.contains(crate::format::UNSETTLED_OPEN) {
+                *v = crate::format::committed_text(text).into_bytes();
+            }
+        }
+    }
     files
 }
 
@@ -669,6 +678,13 @@ pub fn render_stats(results: &[StudyResult]) -> BTreeMap<String, Vec<u8>> {
                         files.insert(out_path(st, &format!("_{}.svg", f.name)), svg.into_bytes());
                     }
                 }
+            }
+        }
+    }
+    for v in files.values_mut() {
+        if let Ok(text) = std::str::from_utf8(v) {
+            if text.contains(crate::format::UNSETTLED_OPEN) {
+                *v = crate::format::full_text(text).into_bytes();
             }
         }
     }

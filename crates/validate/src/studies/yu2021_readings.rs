@@ -35,7 +35,7 @@ use super::{
 };
 use crate::{
     Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
-    Table, Tolerance, ToleranceBand, Verdict, fmt_sig, published,
+    Table, Tolerance, ToleranceBand, Verdict, fmt_sig, published, unsettled,
 };
 
 /// The studies of this file.
@@ -285,6 +285,22 @@ struct Case {
 fn list(v: &[f64]) -> String {
     v.iter()
         .map(|x| fmt_sig(*x, 3))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// [`list`] with the values whose run is flagged (not reproducible under the 100× tighter
+/// tolerance: `flagged[i]`) marked [`unsettled`].
+fn list_marked(v: &[f64], flagged: &[bool]) -> String {
+    v.iter()
+        .enumerate()
+        .map(|(i, x)| {
+            if flagged.get(i).copied().unwrap_or(false) {
+                unsettled(fmt_sig(*x, 3))
+            } else {
+                fmt_sig(*x, 3)
+            }
+        })
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -596,6 +612,9 @@ fn readings() -> Result<StudyOutput, Error> {
                 max_of(b) - min_of(b)
             })
             .collect();
+        let run_flagged: Vec<bool> = (0..D4.len())
+            .map(|j| case(r, j).runs[0].flag(false).is_some())
+            .collect();
         let yes = quasi[r].iter().all(|&a| a >= LINE_FRACTION) && pps.iter().all(|&p| p > 1e-3);
         out.claim(
             Claim::new(
@@ -606,8 +625,8 @@ fn readings() -> Result<StudyOutput, Error> {
                      mesh harmonics nω* (relative to the main line): {} (quasi-periodic when ≥ {} \
                      at every D)",
                     READINGS[r].name,
-                    list(&pps),
-                    list(&quasi[r]),
+                    list_marked(&pps, &run_flagged),
+                    list_marked(&quasi[r], &run_flagged),
                     LINE_FRACTION
                 ),
                 Verdict::from_bool(yes),
@@ -718,6 +737,12 @@ fn readings() -> Result<StudyOutput, Error> {
                 c.runs[0].response.dte_peak_to_peak() / c.runs[2].response.dte_peak_to_peak()
             })
             .collect();
+        let ratio_flagged: Vec<bool> = (0..D4.len())
+            .map(|j| {
+                let c = case(r, j);
+                c.runs[0].flag(false).is_some() || c.runs[2].flag(false).is_some()
+            })
+            .collect();
         let enlarged = ratio.iter().all(|&x| x > 1.0);
         out.claim(
             Claim::new(
@@ -726,7 +751,7 @@ fn readings() -> Result<StudyOutput, Error> {
                 format!(
                     "{}: p-p DTE dynamic / constant backlash for D = 1.2, 1.4, 1.6, 1.8: {}",
                     READINGS[r].name,
-                    list(&ratio)
+                    list_marked(&ratio, &ratio_flagged)
                 ),
                 Verdict::from_bool(enlarged),
             )
@@ -745,10 +770,17 @@ fn readings() -> Result<StudyOutput, Error> {
                     "{}: p-p ratio dynamic/constant {} and DTE spectrum lines dynamic/constant {} \
                      for D = 1.2 … 1.8; amplitude effect grows with D: {stronger}",
                     READINGS[r].name,
-                    list(&ratio),
+                    list_marked(&ratio, &ratio_flagged),
                     dte_lines[r]
                         .iter()
-                        .map(|(a, b)| format!("{a}/{b}"))
+                        .zip(&ratio_flagged)
+                        .map(|((a, b), &f)| {
+                            if f {
+                                unsettled(format!("{a}/{b}"))
+                            } else {
+                                format!("{a}/{b}")
+                            }
+                        })
                         .collect::<Vec<_>>()
                         .join(", ")
                 ),
@@ -880,6 +912,15 @@ fn readings() -> Result<StudyOutput, Error> {
         .cause("the sweeps fix their judged form before their runs; a changed selection here must change SWEEP_JUDGED_FORM"),
     );
     // --- the selection itself ---
+    // a reading's mean rests on runs that may not reproduce under the tighter tolerance
+    let rel_pp_text = |r: usize| {
+        let x = fmt_sig(rel_pp[r], 3);
+        if (0..D4.len()).any(|j| case(r, j).runs[0].flag(false).is_some()) {
+            unsettled(x)
+        } else {
+            x
+        }
+    };
     out.claim(
         Claim::new(
             "[selection of the judged reading] a_L 'related to force applied on surface'; Fig. 9's backlash 'has a quasi-periodic form due to periodicity of gear center motion'",
@@ -887,10 +928,10 @@ fn readings() -> Result<StudyOutput, Error> {
             format!(
                 "mean relative p-p of B over D: consistent/fixed {}, consistent/load {}, \
                  printed/fixed {}, printed/load {}; judged: {}",
-                fmt_sig(rel_pp[0], 3),
-                fmt_sig(rel_pp[1], 3),
-                fmt_sig(rel_pp[2], 3),
-                fmt_sig(rel_pp[3], 3),
+                rel_pp_text(0),
+                rel_pp_text(1),
+                rel_pp_text(2),
+                rel_pp_text(3),
                 READINGS[judged].name
             ),
             Verdict::Shown,
@@ -989,6 +1030,10 @@ fn fig12_rows(out: &mut StudyOutput, judged: usize) -> Result<(), Error> {
             .iter()
             .all(|&i| runs[i].motion != models::motion::Motion::NonPeriodic);
         let strictly_falls = |v: &[f64]| v.windows(2).all(|w| w[1] < w[0]);
+        let d_flagged: Vec<bool> = d_idx
+            .iter()
+            .map(|&i| runs[i].flag(false).is_some())
+            .collect();
         out.claim(
             Claim::new(
                 "gear system under all morphology undergoes periodic motion at given dimensionless frequency. But both the DTE and relative velocity shows decreasing trend with D",
@@ -997,8 +1042,8 @@ fn fig12_rows(out: &mut StudyOutput, judged: usize) -> Result<(), Error> {
                     "{}, ω* = 0.31, D = 1.2 … 1.8: periodic at every D: {periodic}; p-p DTE {}, \
                      p-p dδ*/dτ {}; both fall with D: {}",
                     reading.name,
-                    list(&pp),
-                    list(&rate),
+                    list_marked(&pp, &d_flagged),
+                    list_marked(&rate, &d_flagged),
                     strictly_falls(&pp) && strictly_falls(&rate)
                 ),
                 Verdict::from_bool(periodic && strictly_falls(&pp) && strictly_falls(&rate)),
@@ -1030,8 +1075,11 @@ fn fig12_rows(out: &mut StudyOutput, judged: usize) -> Result<(), Error> {
                         .map(|&i| runs[i].motion.label())
                         .collect::<Vec<_>>()
                         .join(", "),
-                    fmt_sig(g_dist, 3),
-                    fmt_sig(d_dist, 3)
+                    list_marked(
+                        &[g_dist],
+                        &[runs[g_lo].flag(false).is_some() || runs[g_hi].flag(false).is_some()]
+                    ),
+                    list_marked(&[d_dist], &[d_flagged[0] || d_flagged[1]])
                 ),
                 Verdict::from_bool(same_motion && g_dist < d_dist),
             )
@@ -1632,6 +1680,7 @@ fn sweeps() -> Result<StudyOutput, Error> {
             let idx = band_idx(lo, hi);
             let mut signs = Vec::new();
             let mut band_means = Vec::new();
+            let mut any_unsettled = false;
             for &m in std::iter::once(&m_yu).chain(&others) {
                 let r = ranges(m, false, 1.0);
                 let pts: Vec<(f64, f64, f64)> = idx
@@ -1641,11 +1690,16 @@ fn sweeps() -> Result<StudyOutput, Error> {
                 let (slope, se) = crate::studies::liu2021::fitted_slope(&pts);
                 let sign = trend_sign(slope, se);
                 signs.push(sign);
+                let nr = not_reproducible(0, m, &idx);
+                // numbers resting on points that move under the tighter tolerance move with
+                // every integrator retune: n/p in the committed files
+                let settle = |x: String| if nr.is_empty() { x } else { unsettled(x) };
+                any_unsettled |= !nr.is_empty();
                 trend_text.push(format!(
                     "{lo}–{hi} {}: slope {} ± {} (SE) → {}",
                     models[m].0,
-                    fmt_sig(slope, 3),
-                    fmt_sig(se, 2),
+                    settle(fmt_sig(slope, 3)),
+                    settle(fmt_sig(se, 2)),
                     match sign {
                         Some(1) => "rises",
                         Some(_) => "falls",
@@ -1657,29 +1711,35 @@ fn sweeps() -> Result<StudyOutput, Error> {
                     idx.iter().map(|&i| r[i].0).sum::<f64>() / n,
                     idx.iter().map(|&i| r[i].1).sum::<f64>() / n,
                 ));
-                let nr = not_reproducible(0, m, &idx);
                 if !nr.is_empty() {
                     flagged.push(format!(
                         "{} {lo}–{hi}: {} of {} points move by > 1e-3 at 100× tighter tol \
                          (inside the interval): ω* = {}",
                         models[m].0,
-                        nr.len(),
+                        unsettled(nr.len()),
                         idx.len(),
-                        grid_runs(&w1, &nr)
+                        unsettled(grid_runs(&w1, &nr))
                     ));
                 }
             }
             trend_verdicts.push(same_trend(&signs));
             let v = below_all(band_means[0], &band_means[1..]);
             below_verdicts.push(v);
+            let settle = |x: f64| {
+                if any_unsettled {
+                    unsettled(fmt_sig(x, 3))
+                } else {
+                    fmt_sig(x, 3)
+                }
+            };
             below_text.push(format!(
                 "{lo}–{hi}: band-mean DF {name} [{}, {}], Chen [{}, {}], Kahraman–Singh [{}, {}] → {}",
-                fmt_sig(band_means[0].0, 3),
-                fmt_sig(band_means[0].1, 3),
-                fmt_sig(band_means[1].0, 3),
-                fmt_sig(band_means[1].1, 3),
-                fmt_sig(band_means[2].0, 3),
-                fmt_sig(band_means[2].1, 3),
+                settle(band_means[0].0),
+                settle(band_means[0].1),
+                settle(band_means[1].0),
+                settle(band_means[1].1),
+                settle(band_means[2].0),
+                settle(band_means[2].1),
                 v.label()
             ));
         }
@@ -1779,11 +1839,11 @@ fn sweeps() -> Result<StudyOutput, Error> {
                 fmt_sig(ste, 3),
                 fmt_sig(ste / t_star, 3),
                 fmt_sig(1.0 + 2.0 * ste / t_star, 3),
-                fmt_sig(ks_hi, 3),
+                unsettled(fmt_sig(ks_hi, 3)),
                 fmt_sig(a_z, 3),
                 fmt_sig(z_max, 3),
                 fmt_sig(a_z * z_max / t_star, 3),
-                fmt_sig(chen_mean, 3)
+                unsettled(fmt_sig(chen_mean, 3))
             ),
             Verdict::Shown,
         )

@@ -8,7 +8,7 @@ use models::liu2021::{
 use super::{base, model, sig, strategy};
 use crate::{
     Cell, Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study,
-    StudyOutput, Table, Tolerance, ToleranceBand, Verdict, published,
+    StudyOutput, Table, Tolerance, ToleranceBand, Verdict, published, unsettled,
 };
 
 pub(super) fn study() -> Study {
@@ -275,10 +275,10 @@ fn run() -> Result<StudyOutput, Error> {
             "Table 2",
             format!(
                 "window-averaged velocity ratio {} → {}; fitted slope {} ± {} per rpm (1 SE); 'grows' read as a slope of at least 2 SE",
-                sig(model_pts.first().map_or(f64::NAN, |r| r.1)),
-                sig(model_pts.last().map_or(f64::NAN, |r| r.1)),
-                sig(slope),
-                sig(se),
+                unsettled(sig(model_pts.first().map_or(f64::NAN, |r| r.1))),
+                unsettled(sig(model_pts.last().map_or(f64::NAN, |r| r.1))),
+                unsettled(sig(slope)),
+                unsettled(sig(se)),
             ),
             grows,
         )
@@ -327,7 +327,7 @@ fn run() -> Result<StudyOutput, Error> {
             "Sect. 3.8, Fig. 18",
             format!(
                 "|ξ_exp − ξ_model| (window-averaged acceleration ratio, like with like) above 616 rpm: {}; 'agreement' read as within the experimental scatter {}",
-                list(&above_model),
+                unsettled(list(&above_model)),
                 sig(scatter)
             ),
             Verdict::from_bool(above_model.iter().all(|&(_, d)| d <= scatter)),
