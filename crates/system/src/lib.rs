@@ -17,7 +17,8 @@
 //! (`geardyn-timestep`) integrates it through its `Mechanical` adapter, which forms
 //! `q'' = M⁻¹ (f − C q' − K q − g)` and locates the events. Neither engine depends on the
 //! other, and this crate depends on neither: it holds only the trait, its error type, the
-//! event direction and two helpers ([`finite_difference_force_jacobian`], [`gap_edges`]).
+//! event direction, two helpers ([`finite_difference_force_jacobian`], [`gap_edges`]) and the
+//! workspace's one classical RK4 step ([`rk4::rk4_step`]).
 //!
 //! ## Optional hooks
 //!
@@ -64,6 +65,7 @@
 #![deny(missing_docs)]
 
 pub mod deadline;
+pub mod rk4;
 pub mod sweep;
 
 use nalgebra::DMatrix;

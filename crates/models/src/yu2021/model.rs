@@ -702,6 +702,7 @@ impl Yu2021Model {
         Ok(out)
     }
 
+    /// One step of the workspace's classical RK4 ([`::system::rk4::rk4_step`]) of [`Self::rhs`].
     fn rk4(
         &self,
         w: f64,
@@ -710,21 +711,22 @@ impl Yu2021Model {
         h: f64,
         held: Option<f64>,
     ) -> [f64; STATE_LEN] {
-        let add = |a: &[f64; STATE_LEN], k: &[f64; STATE_LEN], f: f64| {
-            let mut r = *a;
-            for i in 0..STATE_LEN {
-                r[i] += f * k[i];
-            }
-            r
+        let rhs = |t: f64, y: &[f64], d: &mut [f64]| {
+            let mut state = [0.0; STATE_LEN];
+            state.copy_from_slice(y);
+            d.copy_from_slice(&self.rhs(w, t, &state, held));
         };
         let k1 = self.rhs(w, t, s, held);
-        let k2 = self.rhs(w, t + 0.5 * h, &add(s, &k1, 0.5 * h), held);
-        let k3 = self.rhs(w, t + 0.5 * h, &add(s, &k2, 0.5 * h), held);
-        let k4 = self.rhs(w, t + h, &add(s, &k3, h), held);
-        let mut r = *s;
-        for i in 0..STATE_LEN {
-            r[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-        }
+        let (mut k2, mut k3, mut k4) = ([0.0; STATE_LEN], [0.0; STATE_LEN], [0.0; STATE_LEN]);
+        let (mut stage, mut r) = ([0.0; STATE_LEN], [0.0; STATE_LEN]);
+        let stages = ::system::rk4::Rk4Stages {
+            k1: &k1,
+            k2: &mut k2,
+            k3: &mut k3,
+            k4: &mut k4,
+            stage: &mut stage,
+        };
+        ::system::rk4::rk4_step(rhs, t, h, s, stages, &mut r);
         r
     }
 }
