@@ -68,9 +68,10 @@
 
 use std::f64::consts::TAU;
 
-use gear_geometry::{CentrodeDeviation, GaussLegendre, KarpovPair};
+use gear_geometry::{CentrodeDeviation, KarpovPair};
 use nalgebra::Complex;
 use serde::{Deserialize, Serialize};
+use system::numeric::GaussLegendre;
 
 use crate::Error;
 

@@ -18,7 +18,8 @@
 //! `q'' = M⁻¹ (f − C q' − K q − g)` and locates the events. Neither engine depends on the
 //! other, and this crate depends on neither: it holds only the trait, its error type, the
 //! event direction, two helpers ([`finite_difference_force_jacobian`], [`gap_edges`]) and the
-//! workspace's one classical RK4 step ([`rk4::rk4_step`]).
+//! workspace's one classical RK4 step ([`rk4::rk4_step`]) and small numerical tools
+//! ([`numeric`]: Gauss–Legendre quadrature, a periodic maximiser, bisection).
 //!
 //! ## Optional hooks
 //!
@@ -65,6 +66,7 @@
 #![deny(missing_docs)]
 
 pub mod deadline;
+pub mod numeric;
 pub mod rk4;
 pub mod sweep;
 
