@@ -477,12 +477,16 @@ impl Yu2021Model {
         let (alpha, alpha_rate, centre_change) = match self.options.kind {
             ModelKind::KahramanSingh | ModelKind::ChenFractal => (p.alpha0, 0.0, 0.0),
             ModelKind::Yu => {
-                // Eq. (8)–(9), (16) from the `backlash` leaf's pair geometry
+                // Eq. (8)–(9), (16): the pair's one mesh kinematics on the leaf's geometry
                 let law = self.dynamic_backlash_law();
-                let (a, da, grad_a) = law.geometry.centre_distance_with(&c, law.centre_distance);
-                let a_rate: f64 = grad_a.iter().zip(&s[6..]).map(|(g, v)| g * v).sum();
-                let (alpha, dalpha_da) = law.geometry.pressure_angle(a, law.law);
-                (alpha, dalpha_da * a_rate, da)
+                let line = crate::pair::mesh::line_of_action(
+                    &law.geometry,
+                    law.centre_distance,
+                    law.law,
+                    &c,
+                    &s[6..10],
+                );
+                (line.alpha, line.alpha_rate, line.centre_change)
             }
         };
         MeshGeometry {
@@ -505,18 +509,21 @@ impl Yu2021Model {
     ) -> (f64, f64, f64) {
         let p = &self.params;
         let w = omega;
-        let ph = w * tau + p.phase;
         let (delta, delta_rate) = if self.options.kind == ModelKind::Yu
             && self.options.form == EquationForm::Consistent
         {
-            let (dx, dy) = (s[1] - s[3], s[2] - s[4]);
-            let (dvx, dvy) = (s[6] - s[8], s[7] - s[9]);
-            let (sa, ca) = g.alpha.sin_cos();
-            let e = p.ste * ph.cos();
-            let e_rate = -p.ste * w * ph.sin();
-            (
-                dx * sa + dy * ca + s[0] - e,
-                dvx * sa + dvy * ca + g.alpha_rate * (dx * ca - dy * sa) + s[5] - e_rate,
+            // Eq. (13)–(15): the pair's one mesh kinematics (`crate::pair::mesh`)
+            let line = crate::pair::mesh::LineOfAction {
+                alpha: g.alpha,
+                alpha_rate: g.alpha_rate,
+                centre_change: g.centre_change,
+            };
+            crate::pair::mesh::transmission_error(
+                (s[0], s[5]),
+                &s[1..5],
+                &s[6..10],
+                &line,
+                crate::pair::mesh::static_error(p.ste, w, p.phase, tau),
             )
         } else {
             (s[0], s[5])
