@@ -18,8 +18,9 @@ pub struct Stability {
     pub steps: usize,
 }
 
-/// Tolerance on `|μ| − 1` below which a solution counts as stable.
-pub const STABILITY_TOLERANCE: f64 = 1e-6;
+/// Tolerance on `|μ| − 1` below which a solution counts as stable: the workspace's one
+/// threshold ([`system::STABILITY_TOLERANCE`]).
+pub use system::STABILITY_TOLERANCE;
 
 impl<S: SecondOrderSystem> HbmProblem<S> {
     /// Floquet stability of `solution` (which must belong to this problem's current parameters):
@@ -145,7 +146,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         Ok(Stability {
             multipliers,
             max_modulus,
-            stable: max_modulus <= 1.0 + STABILITY_TOLERANCE,
+            stable: system::is_stable_multiplier(max_modulus),
             steps,
         })
     }

@@ -70,6 +70,19 @@ pub mod numeric;
 pub mod rk4;
 pub mod sweep;
 
+/// The workspace's one Floquet stability threshold: a periodic solution is stable when its
+/// largest multiplier modulus is `≤ 1 + STABILITY_TOLERANCE` ([`is_stable_multiplier`]). The
+/// harmonic-balance stability (`geardyn-hbm`), the shooting multipliers (`geardyn-orbit`) and
+/// the models' stability policies all judge with it.
+pub const STABILITY_TOLERANCE: f64 = 1e-6;
+
+/// `max |μ| ≤ 1 + STABILITY_TOLERANCE`: the one stability verdict on a largest multiplier
+/// modulus (NaN: not stable).
+#[inline]
+pub fn is_stable_multiplier(max_modulus: f64) -> bool {
+    max_modulus <= 1.0 + STABILITY_TOLERANCE
+}
+
 use nalgebra::DMatrix;
 
 /// Errors a [`SecondOrderSystem`] reports through its setters.
