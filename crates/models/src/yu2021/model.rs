@@ -50,19 +50,10 @@ pub enum BacklashUpdate {
     InRhs,
 }
 
-/// Law for the operating pressure angle `α` (Eq. 16, reading R-YU-EQ16).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[non_exhaustive]
-pub enum PressureAngleLaw {
-    /// `cos α = a_0 cos α_0 / a` (base-circle involute geometry): `α = α_0` at `a = a_0`.
-    #[default]
-    Operating,
-    /// Eq. (16) as printed, `cos α = (R_p + R_g)/a`: `α = 0` at `a = a_0`, undefined for
-    /// `a < a_0` (clamped to 0 there).
-    PrintedEq16,
-    /// `α = α_0` always.
-    Constant,
-}
+/// Law for the operating pressure angle `α` (Eq. 16, reading R-YU-EQ16): the `backlash`
+/// leaf's one enum, [`backlash::PressureAngleLaw`] (`Involute`, the old `Operating`, is the
+/// model's default; study files may still spell it `Operating`).
+pub use backlash::PressureAngleLaw;
 
 /// Law for the dynamic part `b_dy` of the backlash (reading R-YU-EQ6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -79,22 +70,15 @@ pub enum DynamicBacklashLaw {
     Off,
 }
 
-/// Sign of the centre separation in the centre distance, Eq. (8)–(9) (reading R-YU-EQ8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[non_exhaustive]
-pub enum CentreDistanceForm {
-    /// `a = sqrt((a_0 − x_p + x_g)² + (y_p − y_g)²)`: the frame of Eq. (12) and (15), in which
-    /// a growing `x_p − x_g` compresses the mesh (moves the centres together), so the radial
-    /// mesh-force component separates the gears.
-    #[default]
-    Consistent,
-    /// Eq. (8) as printed, `a = sqrt((a_0 + x_p − x_g)² + (y_p − y_g)²)`: with the force signs of
-    /// Eq. (12) the separating mesh force then reads as an approach of the centres.
-    PrintedEq8,
-}
+/// Sign of the centre separation in the centre distance, Eq. (8)–(9) (reading R-YU-EQ8): the
+/// `backlash` leaf's one enum, [`backlash::CentreDistanceForm`]. The model's default is
+/// [`CentreDistanceForm::Consistent`] (the frame of Eq. 12 and 15, in which a growing
+/// `x_p − x_g` compresses the mesh), passed explicitly by [`Options::default`]; the leaf's own
+/// default is the printed form.
+pub use backlash::CentreDistanceForm;
 
 /// Model options. `Options::default()` is Yu's 6-DOF model in the consistent form.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Options {
     /// Which model.
     pub kind: ModelKind,
@@ -111,6 +95,23 @@ pub struct Options {
     /// Lock the four centre coordinates (infinitely stiff bearings): the 6-DOF model reduces
     /// to the torsional one and `B = b_s`.
     pub lock_centres: bool,
+}
+
+impl Default for Options {
+    /// Yu's 6-DOF model, consistent form: the operating pressure angle
+    /// ([`PressureAngleLaw::Involute`]) and the consistent Eq. (8) sign
+    /// ([`CentreDistanceForm::Consistent`], not the leaf's default), both given explicitly.
+    fn default() -> Self {
+        Options {
+            kind: ModelKind::default(),
+            form: EquationForm::default(),
+            update: BacklashUpdate::default(),
+            pressure_angle: PressureAngleLaw::Involute,
+            dynamic_backlash: DynamicBacklashLaw::default(),
+            centre_distance: CentreDistanceForm::Consistent,
+            lock_centres: false,
+        }
+    }
 }
 
 impl Options {
@@ -426,16 +427,9 @@ impl Yu2021Model {
                     backlash::DynamicForm::LineOfAction
                 }
             },
-            law: match self.options.pressure_angle {
-                PressureAngleLaw::Operating => backlash::PressureAngleLaw::Involute,
-                PressureAngleLaw::PrintedEq16 => backlash::PressureAngleLaw::PrintedEq16,
-                PressureAngleLaw::Constant => backlash::PressureAngleLaw::Constant,
-            },
+            law: self.options.pressure_angle,
             policy: backlash::RadicandPolicy::ClampZero,
-            centre_distance: match self.options.centre_distance {
-                CentreDistanceForm::Consistent => backlash::CentreDistanceForm::Consistent,
-                CentreDistanceForm::PrintedEq8 => backlash::CentreDistanceForm::PrintedEq8,
-            },
+            centre_distance: self.options.centre_distance,
             beta0: backlash::Beta0::LawAtRest,
         }
     }
@@ -742,6 +736,21 @@ impl Yu2021Model {
 mod tests {
     use super::*;
 
+    /// The leaf's one pressure-angle enum still reads the old spelling `Operating`, and
+    /// `Options::default()` keeps the model's defaults (`Involute`, the consistent Eq. 8 sign),
+    /// not the leaf's (`PrintedEq8`).
+    #[test]
+    fn options_default_and_old_spelling() {
+        let o = Options::default();
+        assert_eq!(o.pressure_angle, PressureAngleLaw::Involute);
+        assert_eq!(o.centre_distance, CentreDistanceForm::Consistent);
+        assert_ne!(CentreDistanceForm::default(), o.centre_distance);
+        let mut v = serde_json::to_value(o).unwrap();
+        v["pressure_angle"] = serde_json::json!("Operating");
+        let back: Options = serde_json::from_value(v).unwrap();
+        assert_eq!(back, o);
+    }
+
     fn state(x_p: f64, y_p: f64, x_g: f64, y_g: f64) -> [f64; STATE_LEN] {
         let mut s = [0.0; STATE_LEN];
         s[1..5].copy_from_slice(&[x_p, y_p, x_g, y_g]);
@@ -757,7 +766,7 @@ mod tests {
         let params = Yu2021Params::table1();
         for dynamic_backlash in [DynamicBacklashLaw::Eq10, DynamicBacklashLaw::Involute] {
             for pressure_angle in [
-                PressureAngleLaw::Operating,
+                PressureAngleLaw::Involute,
                 PressureAngleLaw::PrintedEq16,
                 PressureAngleLaw::Constant,
             ] {

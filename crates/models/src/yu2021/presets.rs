@@ -12,8 +12,7 @@ impl PairParams {
     /// (see the module docs). Errors for the forms the pair does not cover: Eq. (19) as
     /// printed, Fig. 8's previous-step update.
     pub fn yu2021(model: &super::Yu2021Model, omega: f64) -> Result<Self, Error> {
-        use super::{BacklashUpdate, EquationForm, ModelKind, PressureAngleLaw as Pal};
-        use backlash::PressureAngleLaw;
+        use super::{BacklashUpdate, EquationForm, ModelKind};
         let o = &model.options;
         if o.form != EquationForm::Consistent || o.update != BacklashUpdate::InRhs {
             return Err(Error::UnsupportedReading {
@@ -48,11 +47,7 @@ impl PairParams {
             mesh_frequency: omega,
             stiffness: Stiffness::SingleHarmonic(model.mesh_stiffness_law(omega)),
             backlash: model.backlash_law(omega),
-            pressure_angle: match o.pressure_angle {
-                Pal::Operating => PressureAngleLaw::Involute,
-                Pal::PrintedEq16 => PressureAngleLaw::PrintedEq16,
-                _ => PressureAngleLaw::Constant,
-            },
+            pressure_angle: o.pressure_angle,
             centre_distance: law.centre_distance,
         })
     }
@@ -75,7 +70,7 @@ mod tests {
         let mut s = [0.0; STATE_LEN];
         s.copy_from_slice(&[1.3, 0.02, -0.01, -0.015, 0.03, 0.2, 0.1, -0.3, 0.05, 0.02]);
         for dynamic_backlash in [Dbl::Eq10, Dbl::Involute, Dbl::Off] {
-            for pressure_angle in [Pal::Operating, Pal::Constant] {
+            for pressure_angle in [Pal::Involute, Pal::Constant] {
                 for centre_distance in [Cdf::Consistent, Cdf::PrintedEq8] {
                     let o = Options {
                         dynamic_backlash,
