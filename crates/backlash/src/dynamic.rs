@@ -190,9 +190,7 @@ impl CentreDisplacement {
 #[non_exhaustive]
 pub enum PressureAngleLaw {
     /// Involute geometry: cos α = (R_pb + R_gb)/a = a_0 cos α_0 / a (default; α = α_0 at a = a_0).
-    /// Also read as `Operating` (the name of the `models::yu2021` copy this enum replaced).
     #[default]
-    #[cfg_attr(feature = "serde", serde(alias = "Operating"))]
     Involute,
     /// Yu Eq. (16) as printed: cos α = (R_p + R_g)/a; gives α = 0 at a = a_0 and is clamped to 0
     /// for a < a_0 (reading R-YU-EQ16).
