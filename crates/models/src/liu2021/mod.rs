@@ -105,6 +105,7 @@ mod integrate;
 mod model;
 mod ode;
 mod params;
+mod presets;
 mod strategy;
 mod trig;
 mod window;

@@ -104,6 +104,7 @@ mod fractal;
 mod hbm;
 mod model;
 mod params;
+mod presets;
 mod reference;
 mod stiffness;
 
