@@ -141,6 +141,30 @@ fn dp5_fixed<S: OdeSystem>(sys: &S, y0: [f64; 2], t_end: f64, n: u64) -> [f64; 2
     y
 }
 
+/// `liu-profile <reps> <kernel|libm>`: only the adaptive runs, for a profiler.
+fn liu_profile(reps: u32, trig: &str) -> Value {
+    let mut p = liu2021::table1();
+    p.omega1 = 160.0;
+    p.readings.base_radius = BaseRadius::Mean;
+    let m = p.model().expect("Table 1 is valid");
+    let t3 = 3.0 * m.period();
+    let y0 = [m.static_position(0.0), 0.0];
+    let opts = timestep::Options::default()
+        .with_tol(1e-8, 1e-8 * 1e-3 * m.backlash.max(m.b0))
+        .with_h_max(0.5)
+        .with_output(timestep::Output::Final);
+    let trig = if trig == "libm" {
+        Trig::Libm
+    } else {
+        Trig::Kernel
+    };
+    let sys = liu2021::TimeSystem::with_trig(m, trig);
+    let t = best(reps, || {
+        timestep::integrate(&sys, 0.0, &y0, t3, &opts).expect("integrates")
+    });
+    json!({ "section": "liu-profile", "time_s": t })
+}
+
 fn liu(reps: u32) -> Value {
     let mut p = liu2021::table1();
     p.omega1 = 160.0;
@@ -291,6 +315,7 @@ fn main() {
     let out = match section {
         "karpov" => karpov(reps, args.get(3).map(String::as_str)),
         "liu" => liu(reps),
+        "liu-profile" => liu_profile(reps, args.get(3).map_or("kernel", String::as_str)),
         "hbm" => hbm(reps),
         other => {
             eprintln!("unknown section {other:?}: karpov | liu | hbm");
