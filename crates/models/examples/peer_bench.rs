@@ -241,6 +241,43 @@ impl SecondOrderSystem for Duffing {
     }
 }
 
+/// Minimum time of the FFTs of a cold Liu solve: `residuals` × (complex inverse + real
+/// forward, size `n`), `jacobians` × complex forward (size `n`), one complex inverse of size
+/// `m` (the metrics' samples), on this thread's planned transforms.
+fn fft_floor(n: usize, m: usize, residuals: u64, jacobians: u64, reps: u32) -> f64 {
+    use rustfft::num_complex::Complex;
+    let mut planner = rustfft::FftPlanner::<f64>::new();
+    let (fwd, inv, inv_m) = (
+        planner.plan_fft_forward(n),
+        planner.plan_fft_inverse(n),
+        planner.plan_fft_inverse(m),
+    );
+    let r2c = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(n);
+    let mut buf: Vec<Complex<f64>> = (0..n).map(|i| Complex::new(i as f64, 0.5)).collect();
+    let mut buf_m: Vec<Complex<f64>> = (0..m).map(|i| Complex::new(i as f64, 0.5)).collect();
+    let mut scratch = vec![Complex::default(); 4 * m];
+    let (mut rin, mut rout, mut rs) = (
+        r2c.make_input_vec(),
+        r2c.make_output_vec(),
+        r2c.make_scratch_vec(),
+    );
+    best(reps, || {
+        for _ in 0..residuals {
+            inv.process_with_scratch(&mut buf, &mut scratch);
+            for (r, b) in rin.iter_mut().zip(&buf) {
+                *r = b.re;
+            }
+            r2c.process_with_scratch(&mut rin, &mut rout, &mut rs)
+                .expect("planned lengths");
+        }
+        for _ in 0..jacobians {
+            fwd.process_with_scratch(&mut buf, &mut scratch);
+        }
+        inv_m.process_with_scratch(&mut buf_m, &mut scratch);
+        buf[0].re + buf_m[0].re
+    })
+}
+
 fn hbm(reps: u32) -> Value {
     // Liu cold solve, paper basis
     let mut p = liu2021::table1();
@@ -251,7 +288,15 @@ fn hbm(reps: u32) -> Value {
     let t_liu = best(reps * 20, || {
         liu2021::solve_hbm(&m, &o, None).expect("solves")
     });
+    // the FFT floor of that solve: per residual one complex inverse FFT (q and q' packed) and
+    // one real-to-complex forward FFT of N = 1024, per Jacobian one complex forward FFT, and
+    // the 4096-point inverse FFT of the metrics' samples
+    let (residuals, jacobians) = (sol.solution.iterations + 1, sol.solution.iterations);
+    let floor = fft_floor(1024, 4096, residuals, jacobians, reps * 20);
     let liu = json!({
+        "fft_floor_s": floor, "fft_floor_counts": {
+            "residuals": residuals, "jacobians": jacobians, "grid": 1024, "metrics_grid": 4096,
+        },
         "model": m, "harmonics": sol.solution.basis.harmonics(), "grid": 1024, "tol": o.tol,
         "coefficients": sol.solution.coefficients, "residual_norm": sol.solution.residual_norm,
         "truncation": sol.solution.truncation, "iterations": sol.solution.iterations,
