@@ -17,7 +17,9 @@
 //!
 //! `karpov` takes a third argument, `printed` or `accumulated`, to run one reading only.
 //!
-//! Times are the minimum over `reps` calls after one warm-up (wall clock, seconds).
+//! Times are the minimum over at least `reps` calls (and 0.2 s) after one warm-up (wall clock, seconds, `time_s`)
+//! and the mean on-CPU time per call of the same calls (`cpu_s`, Linux; what `compare.py`
+//! takes: on a loaded machine the run queue inflates wall times).
 
 use geardyn_models::karpov2017::{Excitation, Karpov2017};
 use geardyn_models::liu2021::{self, BaseRadius, HbmOptions, Trig};
@@ -28,16 +30,45 @@ use std::hint::black_box;
 use std::time::Instant;
 use timestep::OdeSystem;
 
-/// Minimum wall time (s) of one call over `reps` calls, after one warm-up call.
+/// Nanoseconds this thread has run on a CPU (Linux `/proc/thread-self/schedstat`; None
+/// elsewhere). Accounted at context switches and scheduler ticks: read it around a batch.
+fn on_cpu_ns() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    s.split_whitespace().next()?.parse().ok()
+}
+
+thread_local! {
+    /// On-CPU seconds per call of the last [`best`] (mean over its calls; NaN off Linux).
+    static LAST_CPU: std::cell::Cell<f64> = const { std::cell::Cell::new(f64::NAN) };
+}
+
+/// Minimum wall time (s) of one call over at least `reps` calls and 0.2 s, after one warm-up
+/// call; the mean on-CPU time per call of the same calls goes to `LAST_CPU` (a shared machine's run queue
+/// inflates wall times, not CPU times).
 fn best<T>(reps: u32, mut f: impl FnMut() -> T) -> f64 {
     black_box(f());
     let mut t_min = f64::INFINITY;
-    for _ in 0..reps.max(1) {
+    let c0 = on_cpu_ns();
+    // at least `reps` calls and 0.2 s: the on-CPU clock is accounted at scheduler ticks
+    let start = Instant::now();
+    let mut n = 0u32;
+    while n < reps.max(1) || start.elapsed().as_secs_f64() < 0.2 {
         let t = Instant::now();
         black_box(f());
         t_min = t_min.min(t.elapsed().as_secs_f64());
+        n += 1;
     }
+    let cpu = match (c0, on_cpu_ns()) {
+        (Some(a), Some(b)) => (b - a) as f64 * 1e-9 / f64::from(n),
+        _ => f64::NAN,
+    };
+    LAST_CPU.with(|c| c.set(cpu));
     t_min
+}
+
+/// The on-CPU time per call of the last [`best`].
+fn cpu() -> f64 {
+    LAST_CPU.with(std::cell::Cell::get)
 }
 
 fn karpov(reps: u32, only: Option<&str>) -> Value {
@@ -59,6 +90,7 @@ fn karpov(reps: u32, only: Option<&str>) -> Value {
             let r = m.duhamel().expect("converges");
             let reference = m.duhamel_folded(0.25).expect("runs");
             let t = best(reps, || m.duhamel().expect("converges"));
+            let t_cpu = cpu();
             cases.push(json!({
                 "reading": reading, "params": {
                     "omega": m.params().omega, "b": b, "xi": m.params().xi, "k": m.params().k,
@@ -70,7 +102,7 @@ fn karpov(reps: u32, only: Option<&str>) -> Value {
                 "x_ref": reference.x, "v_ref": reference.v,
                 "ref_error_estimate": reference.error_estimate,
                 "error": (r.x - reference.x).hypot(r.v - reference.v),
-                "time_s": t,
+                "time_s": t, "cpu_s": t_cpu,
             }));
         }
     }
@@ -190,14 +222,17 @@ fn liu(reps: u32) -> Value {
         let run = || timestep::integrate(&sys, 0.0, &y0, t3, &opts).expect("integrates");
         let s = run();
         let t = best(reps, run);
+        let t_cpu = cpu();
         let steps = s.stats.n_accepted + s.stats.n_rejected;
         // the fixed-step loop with as many steps as the adaptive run attempted
         let tf = best(reps, || dp5_fixed(&sys, y0, t3, steps));
+        let tf_cpu = cpu();
         runs.push(json!({
             "trig": name, "stats": s.stats, "y_final": s.y_final, "time_s": t,
             "error_q": (s.y_final[0] - reference.y_final[0]).abs(),
             "error_v": (s.y_final[1] - reference.y_final[1]).abs(),
-            "fixed_step_loop_s": tf, "fixed_steps": steps,
+            "fixed_step_loop_s": tf, "fixed_steps": steps, "cpu_s": t_cpu,
+            "fixed_step_loop_cpu_s": tf_cpu,
         }));
     }
     json!({
@@ -241,7 +276,7 @@ impl SecondOrderSystem for Duffing {
     }
 }
 
-/// Minimum time of the FFTs of a cold Liu solve: `residuals` × (complex inverse + real
+/// On-CPU time of the FFTs of a cold Liu solve: `residuals` × (complex inverse + real
 /// forward, size `n`), `jacobians` × complex forward (size `n`), one complex inverse of size
 /// `m` (the metrics' samples), on this thread's planned transforms.
 fn fft_floor(n: usize, m: usize, residuals: u64, jacobians: u64, reps: u32) -> f64 {
@@ -261,7 +296,8 @@ fn fft_floor(n: usize, m: usize, residuals: u64, jacobians: u64, reps: u32) -> f
         r2c.make_output_vec(),
         r2c.make_scratch_vec(),
     );
-    best(reps, || {
+    // the on-CPU time, as for the solve it is compared with
+    let _wall = best(reps, || {
         for _ in 0..residuals {
             inv.process_with_scratch(&mut buf, &mut scratch);
             for (r, b) in rin.iter_mut().zip(&buf) {
@@ -275,7 +311,8 @@ fn fft_floor(n: usize, m: usize, residuals: u64, jacobians: u64, reps: u32) -> f
         }
         inv_m.process_with_scratch(&mut buf_m, &mut scratch);
         buf[0].re + buf_m[0].re
-    })
+    });
+    cpu()
 }
 
 fn hbm(reps: u32) -> Value {
@@ -288,6 +325,7 @@ fn hbm(reps: u32) -> Value {
     let t_liu = best(reps * 20, || {
         liu2021::solve_hbm(&m, &o, None).expect("solves")
     });
+    let t_liu_cpu = cpu();
     // the FFT floor of that solve: per residual one complex inverse FFT (q and q' packed) and
     // one real-to-complex forward FFT of N = 1024, per Jacobian one complex forward FFT, and
     // the 4096-point inverse FFT of the metrics' samples
@@ -300,7 +338,7 @@ fn hbm(reps: u32) -> Value {
         "model": m, "harmonics": sol.solution.basis.harmonics(), "grid": 1024, "tol": o.tol,
         "coefficients": sol.solution.coefficients, "residual_norm": sol.solution.residual_norm,
         "truncation": sol.solution.truncation, "iterations": sol.solution.iterations,
-        "ppv": sol.rattle.ppv, "time_s": t_liu,
+        "ppv": sol.rattle.ppv, "time_s": t_liu, "cpu_s": t_liu_cpu,
     });
     // Duffing H = 400 from the embedded H = 1 solution
     let omega = 1.3;
@@ -329,6 +367,7 @@ fn hbm(reps: u32) -> Value {
         let s = ph.solve(&z0, &so).expect("solves");
         let c = ph.counters();
         let t = best(r, || ph.solve(&z0, &so).expect("solves"));
+        let t_cpu = cpu();
         let coeff = s.coefficients.clone();
         let diff = reference.as_ref().map(|rf| {
             rf.iter()
@@ -340,7 +379,8 @@ fn hbm(reps: u32) -> Value {
         runs.push(json!({
             "method": name, "iterations": s.iterations, "residual_norm": s.residual_norm,
             "residuals": c.residuals, "jacobian_products": c.jacobian_products,
-            "max_diff_to_newton_krylov": diff, "time_s": t, "grid": ph.grid_size(),
+            "max_diff_to_newton_krylov": diff, "time_s": t, "cpu_s": t_cpu,
+            "grid": ph.grid_size(),
         }));
     }
     json!({
