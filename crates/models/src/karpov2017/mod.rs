@@ -516,6 +516,52 @@ impl Karpov2017 {
 #[cfg(test)]
 mod tests {
 
+    #[test]
+    fn coarse_to_fine_bounds_equal_the_full_grid() {
+        // the bounds of |g'|, |g''| from `grid_max` are the maxima over every grid point, bit
+        // for bit, from smooth (ξ = ∞) to sharp (ξ → 1, where the grid grows to 2²⁰ points)
+        for xi in [
+            1.0005,
+            1.001,
+            1.01,
+            1.1,
+            1.25,
+            1.5,
+            2.0,
+            5.0,
+            10.0,
+            f64::INFINITY,
+        ] {
+            for b in [0.001, 0.05, 0.3] {
+                let m = model_xi(1.0, b, xi, 100.0, Excitation::PrintedPhase);
+                let ker = Kernel::new(&m);
+                let eps = ker.eps;
+                let c = ker.c;
+                let n = ((400.0 / (1.0 - eps)) as usize).clamp(4096, 1 << 20);
+                let (mut g1, mut g2) = (0.0f64, 0.0f64);
+                for i in 0..n {
+                    let (s, co) = (TAU * i as f64 / n as f64).sin_cos();
+                    let den = 1.0 + eps * co;
+                    g1 = g1.max((c * (eps + co) / (den * den)).abs());
+                    g2 = g2.max(
+                        (c * s * (2.0 * eps * eps - 1.0 + eps * co) / (den * den * den)).abs(),
+                    );
+                }
+                assert_eq!(
+                    ker.g1.to_bits(),
+                    (1.05 * g1).to_bits(),
+                    "g1 at xi = {xi}, B = {b}"
+                );
+                assert_eq!(
+                    ker.g2.to_bits(),
+                    (1.05 * g2).to_bits(),
+                    "g2 at xi = {xi}, B = {b}"
+                );
+            }
+        }
+    }
+
+
     /// Inputs that used to hang return at once with an error naming the panel budget.
     #[test]
     fn loops_end_on_extreme_inputs() {
