@@ -76,6 +76,7 @@ use crate::Error;
 
 mod fold;
 mod levin;
+pub mod registry;
 
 /// How the excitation phase of Eq. (9) is read (reading `R-KARPOV-EQ9`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

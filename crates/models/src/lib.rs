@@ -13,6 +13,7 @@
 //! as a named constructor, the dimensionless form built in one place, and adapters to both
 //! engines ([`hbm`] and [`timestep`]).
 
+pub mod contract;
 mod error;
 
 pub mod karpov2017;

@@ -47,6 +47,8 @@ use backlash::{Backlash, BacklashLaw, CentreDisplacement, CentreDistanceForm, Pr
 
 use crate::Error;
 
+pub mod registry;
+
 /// Degrees of freedom of the pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]

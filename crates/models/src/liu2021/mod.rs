@@ -105,6 +105,7 @@ mod integrate;
 mod model;
 mod ode;
 mod params;
+pub mod registry;
 mod strategy;
 mod trig;
 mod window;

@@ -105,6 +105,7 @@ mod hbm;
 mod model;
 mod params;
 mod reference;
+pub mod registry;
 mod stiffness;
 
 pub use engines::Engine;

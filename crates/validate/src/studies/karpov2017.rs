@@ -10,7 +10,7 @@
 
 use models::karpov2017::{Excitation, Karpov2017, Karpov2017Params};
 
-use super::user_models::step_cells;
+use super::step_cells;
 use crate::{
     Claim, Cost, Error, Figure, Paper, ResultExt, STEP_STATISTICS, Series, Study, StudyOutput,
     Table, Verdict, fmt_sig, fmt6, published,
