@@ -146,3 +146,15 @@ pub(crate) fn choice_info<E: serde::de::DeserializeOwned + Serialize>(
         note: note.to_owned(),
     }
 }
+
+/// The default of setting `name` in `defs` as a number (tests of the documented defaults).
+#[cfg(test)]
+pub(crate) fn default_of(defs: &[SettingDef], name: &str) -> f64 {
+    match defs.iter().find(|d| d.name == name).map(|d| d.kind) {
+        Some(Kind::Num { default, .. }) => default,
+        Some(Kind::Int {
+            default: Some(d), ..
+        }) => d as f64,
+        other => panic!("{name}: {other:?}"),
+    }
+}

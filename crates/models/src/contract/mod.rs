@@ -35,6 +35,8 @@ pub use accuracy::{
 };
 pub use describe::{ChoiceInfo, Kind, MethodInfo, ModelInfo, ParamInfo, SettingDef};
 pub(crate) use describe::{choice_info, outs, params_of};
+#[cfg(test)]
+pub(crate) use describe::default_of;
 pub use error::{PointError, WithContext};
 pub use overrides::{
     apply_overrides, apply_values, camel_to_kebab, choice, display_name, field_names,

@@ -692,16 +692,7 @@ fn shooting(ctx: &Context<'_>) -> Result<Adapter, PointError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn default_of(defs: &[SettingDef], name: &str) -> f64 {
-        match defs.iter().find(|d| d.name == name).map(|d| d.kind) {
-            Some(Kind::Num { default, .. }) => default,
-            Some(Kind::Int {
-                default: Some(d), ..
-            }) => d as f64,
-            other => panic!("{name}: {other:?}"),
-        }
-    }
+    use crate::contract::default_of;
 
     /// The documented defaults are the library's defaults (the same literals: exact).
     #[test]
