@@ -33,10 +33,10 @@ pub use accuracy::{
     CHANGE_COLUMN, STEP_STATISTICS, TIGHTER, TOLERANCE_CHECK, is_step_statistic, relative_change,
     run_stepped, step_statistics,
 };
-pub use describe::{ChoiceInfo, Kind, MethodInfo, ModelInfo, ParamInfo, SettingDef};
-pub(crate) use describe::{choice_info, outs, params_of};
 #[cfg(test)]
 pub(crate) use describe::default_of;
+pub use describe::{ChoiceInfo, Kind, MethodInfo, ModelInfo, ParamInfo, SettingDef};
+pub(crate) use describe::{choice_info, outs, params_of};
 pub use error::{PointError, WithContext};
 pub use overrides::{
     apply_overrides, apply_values, camel_to_kebab, choice, display_name, field_names,
