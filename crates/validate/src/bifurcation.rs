@@ -190,7 +190,7 @@ const CLASSES: [&str; 8] = [
 
 /// The bifurcation diagram: section values against the parameter `x`, coloured by motion type
 /// (only the classes that occur, in a fixed order and fixed colours). `records[i]` is point
-/// `i`'s record ([`row`]) or its failure (not drawn).
+/// `i`'s record ([`models::contract::bifurcation_record`]) or its failure (not drawn).
 pub fn figure(
     name: &str,
     title: &str,
