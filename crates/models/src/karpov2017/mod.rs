@@ -78,6 +78,7 @@ mod levin;
 mod quadrature;
 
 use quadrature::*;
+pub mod registry;
 
 /// How the excitation phase of Eq. (9) is read (reading `R-KARPOV-EQ9`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

@@ -106,6 +106,7 @@ mod model;
 mod ode;
 mod params;
 mod presets;
+pub mod registry;
 mod strategy;
 mod trig;
 mod window;

@@ -96,7 +96,7 @@ impl Default for SweepStrategy {
             stability: true,
             poincare_periods: 6,
             poincare_tol: 1e-4,
-            refine_factor: 100.0,
+            refine_factor: crate::contract::TIGHTER,
             ppv_rel_tol: 1e-3,
             long_window: None,
         }

@@ -52,6 +52,7 @@ use backlash::{Backlash, BacklashLaw, CentreDisplacement, CentreDistanceForm, Pr
 use crate::Error;
 
 pub mod mesh;
+pub mod registry;
 
 /// Degrees of freedom of the pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]

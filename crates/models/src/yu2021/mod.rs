@@ -106,6 +106,7 @@ mod model;
 mod params;
 mod presets;
 mod reference;
+pub mod registry;
 mod stiffness;
 
 pub use engines::Engine;
