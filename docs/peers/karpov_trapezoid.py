@@ -1,4 +1,7 @@
-"""Peer for the Karpov 2017 Duhamel integral (issue 13): numpy trapezoid rule.
+"""NAIVE peer for the Karpov 2017 Duhamel integral (issue 13): numpy trapezoid rule.
+
+A weaker algorithm than geardyn's (no period folding, O(tau_end) points): kept for reference,
+not a basis for speed claims; the same-algorithm peer is `karpov_fold_numba.py` (issue 26).
 
 X'' + X = sin Phi(tau) from rest; X(T) = sin T C - cos T S, X'(T) = cos T C + sin T S with
 C + iS = int_0^T e^{is} sin Phi(s) ds, by the composite trapezoid rule with step h plus the

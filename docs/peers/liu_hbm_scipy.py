@@ -1,4 +1,6 @@
-"""Peer for issue 13: the cold 15-unknown Liu 2021 HBM solve (paper basis, 1024-point AFT,
+"""NAIVE peer (issue 13; a weaker algorithm: Powell hybrid with a finite-difference Jacobian,
+not geardyn's Newton on the exact AFT Jacobian; the same-algorithm peer is `hbm_peers.py`,
+issue 26): the cold 15-unknown Liu 2021 HBM solve (paper basis, 1024-point AFT,
 rattle metrics at 4096 points) with scipy.optimize.root(method="hybr") and its
 finite-difference Jacobian, timed the same way as the criterion bench
 `liu2021/hbm_paper_basis_15` (tabulate the time functions, solve from the quasi-static contact

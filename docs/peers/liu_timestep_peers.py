@@ -1,4 +1,9 @@
-"""Peers of the Liu time stepping at 160 rad/s (issue 13), measured in one session.
+"""NAIVE peers of the Liu time stepping at 160 rad/s (issue 13), measured in one session.
+
+None of them is geardyn's algorithm: scipy RK45 (interpreted), a numba DP5(4) loop WITHOUT
+event location (20x less accurate at the impacts; it was called a "bare DP5 loop") and a
+fixed-step RK4. The same-algorithm peer (events, stage-time cache, both trig forms, geardyn's
+step counts bit for bit) is `liu_dp5_events_numba.py` (issue 26).
 
 Problem: Liu et al. 2021 Eq. (9), Table 1 at omega1 = 160 rad/s, constant-b reading
 (`BaseRadius::Mean`, the reading of the benches and of the paper's figures), three periods
@@ -12,7 +17,8 @@ right-hand side with
 
 * scipy `solve_ivp(method="RK45")` at the same rtol/atol/max_step (no event location);
 * a numba-jitted Dormand-Prince 5(4) with the same PI step control (Hairer's DOPRI5 constants,
-  as `timestep`), no event location: the "bare DP5 loop";
+  as `timestep`), no event location, libm trig five times per right-hand side (naive: not
+  geardyn's algorithm, see above);
 * a numba-jitted classical RK4 at a fixed step chosen for the accuracy of ours.
 
 Run (from the repository root):
@@ -225,7 +231,7 @@ def main():
 
     ld = load()
     times, res = best_of(lambda: dp5(y0, t_end, rtol, atol, h_max, 1e-3, t_rec), 5)
-    row("numba DP5, same controller", "DP5(4), rtol 1e-8, no events", times, res[2], res[3],
+    row("naive numba DP5 (no events)", "DP5(4), rtol 1e-8, no events", times, res[2], res[3],
         res[4], res[:2], ld)
     dp5_ppv = res[6] - res[5]
 

@@ -10,11 +10,9 @@
 
 use std::collections::BTreeMap;
 
-use models::{karpov2017, liu2021, yu2021};
+use models::contract::{self, PointError, REGISTRY};
 use pyo3::prelude::*;
 use rayon::prelude::*;
-use serde::Serialize;
-use serde::de::DeserializeOwned;
 use serde_json::{Value, json};
 
 /// The kind of Python exception an error maps to.
@@ -85,6 +83,22 @@ impl From<models::Error> for Failure {
     }
 }
 
+impl From<PointError> for Failure {
+    fn from(e: PointError) -> Self {
+        match e {
+            PointError::Model(e) => Failure::from(e),
+            PointError::Unrepresentable(_) => Failure {
+                kind: Kind::Solver,
+                message: e.to_string(),
+                chain: Vec::new(),
+            },
+            // a study-code error: its message without the "study file: " prefix (a Python call
+            // has no study file)
+            e => Failure::parameter(e.to_string()),
+        }
+    }
+}
+
 impl From<validate::Error> for Failure {
     fn from(e: validate::Error) -> Self {
         Failure {
@@ -101,91 +115,25 @@ fn parse_json(what: &str, text: &str) -> Res<Value> {
     serde_json::from_str(text).map_err(|e| Failure::parameter(format!("{what}: invalid JSON: {e}")))
 }
 
-/// Overlay `over` on `base`, recursively for objects; every key of `over` must exist in `base`
-/// (a typo is an error naming the known keys), except where `base` holds `null` (an optional
-/// field) or a non-object (replaced whole, e.g. an enum).
-fn merge(path: &str, base: &mut Value, over: &Value) -> Res<()> {
-    match (base, over) {
-        (Value::Object(b), Value::Object(o)) => {
-            for (k, v) in o {
-                let p = if path.is_empty() {
-                    k.clone()
-                } else {
-                    format!("{path}.{k}")
-                };
-                match b.get_mut(k) {
-                    Some(slot) if slot.is_object() && v.is_object() => merge(&p, slot, v)?,
-                    Some(slot) => *slot = v.clone(),
-                    None => {
-                        let known: Vec<&String> = b.keys().collect();
-                        return Err(Failure::parameter(format!(
-                            "unknown parameter `{p}`; known: {known:?}"
-                        )));
-                    }
-                }
-            }
-            Ok(())
-        }
-        (b, o) => {
-            *b = o.clone();
-            Ok(())
-        }
-    }
-}
-
-/// `base` with the JSON overrides `over` applied, deserialised back into `T`.
-fn with_overrides<T: Serialize + DeserializeOwned>(what: &str, base: &T, over: &Value) -> Res<T> {
-    let mut v = serde_json::to_value(base).map_err(|e| Failure::parameter(e.to_string()))?;
-    if !over.is_null() {
-        merge("", &mut v, over)?;
-    }
-    serde_json::from_value(v).map_err(|e| Failure::parameter(format!("{what}: {e}")))
-}
-
-fn to_json<T: Serialize>(x: &T) -> Res<Value> {
-    serde_json::to_value(x).map_err(|e| Failure {
-        kind: Kind::Solver,
-        message: format!("result not representable: {e}"),
-        chain: Vec::new(),
-    })
+/// Every `(set, preset)` pair of the registered models ([`contract::Model::presets`]).
+fn presets() -> Vec<contract::Preset> {
+    REGISTRY.iter().flat_map(|m| m.presets()).collect()
 }
 
 /// The named parameter sets (`preset(model, name)`).
 fn preset_value(model: &str, name: &str) -> Res<Value> {
-    let v = match (model, name) {
-        ("liu2021", "table1") => to_json(&liu2021::table1())?,
-        ("liu2021-readings", "consistent") => to_json(&liu2021::Readings::default())?,
-        ("liu2021-readings", "printed") => to_json(&liu2021::Readings::printed())?,
-        ("karpov2017", "fig3") => to_json(&karpov2017::Karpov2017::fig3().params())?,
-        ("yu2021", "table1") => to_json(&yu2021::Yu2021Params::table1())?,
-        ("yu2021", "table2") => to_json(&yu2021::Yu2021Params::table2())?,
-        ("yu2021-options", "yu") => to_json(&yu2021::Options::default())?,
-        ("yu2021-options", "chen") => to_json(&yu2021::Options::chen())?,
-        _ => {
-            return Err(Failure::parameter(format!(
-                "unknown preset `{name}` of `{model}`; known: {}",
-                PRESETS
-                    .iter()
-                    .map(|(m, n)| format!("{m}:{n}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )));
-        }
-    };
-    Ok(v)
+    let all = presets();
+    match all.iter().find(|p| p.set == model && p.name == name) {
+        Some(p) => Ok((p.value)()),
+        None => Err(Failure::parameter(format!(
+            "unknown preset `{name}` of `{model}`; known: {}",
+            all.iter()
+                .map(|p| format!("{}:{}", p.set, p.name))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))),
+    }
 }
-
-/// Every `(model, preset)` pair.
-const PRESETS: [(&str, &str); 8] = [
-    ("liu2021", "table1"),
-    ("liu2021-readings", "consistent"),
-    ("liu2021-readings", "printed"),
-    ("karpov2017", "fig3"),
-    ("yu2021", "table1"),
-    ("yu2021", "table2"),
-    ("yu2021-options", "yu"),
-    ("yu2021-options", "chen"),
-];
 
 fn settings_map(settings: &Value) -> Res<BTreeMap<String, Value>> {
     match settings {
@@ -195,354 +143,25 @@ fn settings_map(settings: &Value) -> Res<BTreeMap<String, Value>> {
     }
 }
 
-fn take_f64(s: &mut BTreeMap<String, Value>, key: &str, default: f64) -> Res<f64> {
-    match s.remove(key) {
-        None => Ok(default),
-        Some(v) => v
-            .as_f64()
-            .ok_or_else(|| Failure::parameter(format!("setting `{key}` must be a number"))),
-    }
-}
-
-fn take_bool(s: &mut BTreeMap<String, Value>, key: &str, default: bool) -> Res<bool> {
-    match s.remove(key) {
-        None => Ok(default),
-        Some(v) => v
-            .as_bool()
-            .ok_or_else(|| Failure::parameter(format!("setting `{key}` must be true or false"))),
-    }
-}
-
-fn no_leftovers(method: &str, s: BTreeMap<String, Value>) -> Res<()> {
-    match s.keys().next() {
-        None => Ok(()),
-        Some(k) => Err(Failure::parameter(format!(
-            "unknown setting `{k}` for method `{method}`"
-        ))),
-    }
-}
-
-/// A study-code error as a `ParameterError`: its message without the "study file: " prefix (a
-/// Python call has no study file).
-fn parameter_error(e: validate::Error) -> Failure {
-    match e {
-        validate::Error::StudyFile(m) => Failure::parameter(m),
-        e => Failure::parameter(e.to_string()),
-    }
-}
-
-/// Check settings through `geardyn study`'s definitions ([`validate::check_settings`]): a
-/// bad one is a `ParameterError` with the study's message (name, kind, bound).
-fn study_settings(
-    model: &str,
-    method: validate::Method,
-    given: &serde_json::Map<String, Value>,
-) -> Res<()> {
-    let mut map = BTreeMap::new();
-    for (k, v) in given {
-        let value = match v {
-            Value::Number(n) => validate::Value::Num(n.as_f64().unwrap_or(f64::NAN)),
-            Value::String(t) => validate::Value::Text(t.clone()),
-            Value::Bool(b) => validate::Value::Bool(*b),
-            _ => {
-                return Err(Failure::parameter(format!(
-                    "setting `{k}` must be a number, got {v}"
-                )));
-            }
-        };
-        map.insert(k.clone(), value);
-    }
-    validate::check_settings(model, method, &map).map_err(parameter_error)
-}
-
-/// Solve one point of a model by one method.
-/// The Yu 2021 inputs shared by both methods: parameters on top of Table 1, the model
-/// options (`settings["options"]`) and `ω*` (`settings["omega"]`, required: NaN is refused by
-/// the model).
-fn yu_inputs(
-    params: &Value,
-    s: &mut BTreeMap<String, Value>,
-) -> Res<(yu2021::Yu2021Params, yu2021::Options, f64)> {
-    // `omega` (ω*) is a parameter, as in a study file; a setting too (older scripts)
-    let mut params = params.clone();
-    let from_params = match &mut params {
-        Value::Object(o) => o.remove("omega"),
-        _ => None,
-    };
-    let p = with_overrides("yu2021", &yu2021::Yu2021Params::table1(), &params)?;
-    let o = with_overrides(
-        "yu2021 options",
-        &yu2021::Options::default(),
-        &s.remove("options").unwrap_or(Value::Null),
-    )?;
-    let from_settings = take_f64(s, "omega", f64::NAN)?;
-    let omega = match from_params {
-        Some(v) => v.as_f64().ok_or_else(|| {
-            Failure::parameter(format!("parameter `omega` takes a number, got {v}"))
-        })?,
-        None => from_settings,
-    };
-    if !(omega.is_finite() && omega > 0.0) {
-        return Err(Failure::parameter(format!(
-            "yu2021.omega must be finite and > 0, got {omega} (set it as a parameter: \
-             Yu2021().with_params(omega=0.5))"
-        )));
-    }
-    Ok((p, o, omega))
-}
-
-/// The columns of a study's `shooting` point as a result dict (a returned orbit converged).
-fn shooting_json(cols: Vec<(&'static str, f64)>) -> Value {
-    let mut o: serde_json::Map<String, Value> = cols
-        .into_iter()
-        .map(|(k, v)| (k.to_owned(), json!(v)))
-        .collect();
-    o.insert("converged".to_owned(), json!(true));
-    Value::Object(o)
-}
-
-/// Python settings (numbers, names) as study-file values, for the study code's checks.
-fn study_values(s: BTreeMap<String, Value>) -> Res<BTreeMap<String, validate::Value>> {
-    let mut map = BTreeMap::new();
-    for (k, v) in s {
-        let value = match &v {
-            Value::Number(n) => validate::Value::Num(n.as_f64().unwrap_or(f64::NAN)),
-            Value::String(t) => validate::Value::Text(t.clone()),
-            _ => {
-                return Err(Failure::parameter(format!(
-                    "setting `{k}` must be a number, got {v}"
-                )));
-            }
-        };
-        map.insert(k, value);
-    }
-    Ok(map)
-}
-
+/// Solve one point of a model by one method: the model's full-result solve
+/// ([`contract::Model::solve_full`]).
 fn solve_value(model: &str, params: &Value, method: &str, settings: &Value) -> Res<Value> {
-    let mut s = settings_map(settings)?;
-    match (model, method) {
-        ("liu2021", "time-stepping") => {
-            let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
-            let mut opts_over = s.remove("options").unwrap_or(Value::Null);
-            // The study-file names work here too, at the top level as in `geardyn study`
-            // (`transient_periods=…`), or inside `options={…}`; not both for one name.
-            for k in [
-                "transient_periods",
-                "record_periods",
-                "sample_step",
-                "max_step",
-                "rtol",
-            ] {
-                if let Some(v) = s.remove(k) {
-                    if opts_over.is_null() {
-                        opts_over = Value::Object(serde_json::Map::new());
-                    }
-                    let Value::Object(o) = &mut opts_over else {
-                        return Err(Failure::parameter(format!(
-                            "setting `options` must be a mapping, got {opts_over}"
-                        )));
-                    };
-                    if o.contains_key(k) {
-                        return Err(Failure::parameter(format!(
-                            "setting `{k}` given twice (top level and in `options`)"
-                        )));
-                    }
-                    o.insert(k.to_owned(), v);
-                }
-            }
-            // long-window rattle statistics (issue 22): windows of n periods, 0 = off
-            let lw_periods = take_f64(&mut s, "long_window_periods", 0.0)?;
-            if !((0.0..=1e4).contains(&lw_periods) && lw_periods.fract() == 0.0) {
-                return Err(Failure::parameter(format!(
-                    "setting `long_window_periods` must be an integer in [0, 10000], got {lw_periods}"
-                )));
-            }
-            no_leftovers(method, s)?;
-            // the integration options share their names, bounds and messages with the study
-            // setting of `geardyn study` (all but `initial`, a state)
-            if let Value::Object(o) = &opts_over {
-                let shared: serde_json::Map<String, Value> = o
-                    .iter()
-                    .filter(|(k, _)| k.as_str() != "initial")
-                    .map(|(k, v)| (k.clone(), v.clone()))
-                    .collect();
-                study_settings("liu2021", validate::Method::TimeStepping, &shared)?;
-            }
-            let opts = with_overrides(
-                "liu2021 integration options",
-                &liu2021::IntegrationOptions::default(),
-                &opts_over,
-            )?;
-            let model = p.model()?;
-            let r = liu2021::integrate(&model, &opts)?;
-            let window = if lw_periods >= 1.0 {
-                let o = liu2021::LongWindowOptions {
-                    periods: lw_periods as usize,
-                    rtol: opts.rtol,
-                    max_step: opts.max_step,
-                    sample_step: opts.sample_step,
-                    ..liu2021::LongWindowOptions::default()
-                };
-                let lw = liu2021::long_window(&model, &o)?;
-                // the columns of `geardyn study` (one definition: Robust::COLUMNS)
-                let mut m: serde_json::Map<String, Value> = models::response::Robust::COLUMNS
-                    .iter()
-                    .zip(lw.values())
-                    .map(|((name, _), v)| ((*name).to_owned(), json!(v)))
-                    .collect();
-                m.insert("spread".to_owned(), json!(lw.describe()));
-                Value::Object(m)
-            } else {
-                Value::Null
-            };
-            Ok(json!({
-                "tau": r.tau, "q": r.q, "v": r.v,
-                "rsv": r.rattle.state.rsv(), "ppv": r.rattle.ppv,
-                "converged": true, "contact_events": r.contact_events,
-                "window": window,
-            }))
-        }
-        ("liu2021", "hbm") => {
-            let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
-            let warm = take_bool(&mut s, "warm_start", false)?;
-            let output_samples = take_f64(&mut s, "output_samples", 512.0)?;
-            if !((8.0..=65_536.0).contains(&output_samples) && output_samples.fract() == 0.0) {
-                return Err(Failure::parameter(format!(
-                    "setting `output_samples` must be an integer in [8, 65536], got {output_samples}"
-                )));
-            }
-            // tol, max_iter, samples, full_r: the settings of `geardyn study` (same names,
-            // bounds and messages; checked by the same code)
-            let shared: serde_json::Map<String, Value> =
-                std::mem::take(&mut s).into_iter().collect();
-            study_settings("liu2021", validate::Method::Hbm, &shared)?;
-            let num = |k: &str| shared.get(k).and_then(Value::as_f64);
-            let tol = num("tol").unwrap_or(1e-9);
-            let max_iter = num("max_iter").unwrap_or(60.0);
-            let full_r = num("full_r").unwrap_or(0.0);
-            let aft_samples = num("samples").map(|x| x as usize);
-            let m = p.model()?;
-            let mut opts = if full_r > 0.0 {
-                liu2021::HbmOptions::full(&m, full_r as usize)
-            } else {
-                liu2021::HbmOptions::default()
-            };
-            opts.tol = tol;
-            opts.max_iter = max_iter as u64;
-            opts.samples = aft_samples;
-            let r = if warm {
-                let ti = liu2021::integrate(&m, &liu2021::IntegrationOptions::default())?;
-                liu2021::solve_hbm_from_time_response(&m, &opts, &ti)?
-            } else {
-                liu2021::solve_hbm(&m, &opts, None)?
-            };
-            let n = output_samples as usize;
-            let period = m.period();
-            let tau: Vec<f64> = (0..n).map(|i| period * i as f64 / n as f64).collect();
-            let q: Vec<f64> = tau.iter().map(|&t| r.eval(t)).collect();
-            Ok(json!({
-                "tau": tau, "q": q,
-                "rsv": r.rattle.state.rsv(), "ppv": r.rattle.ppv,
-                "converged": r.converged(),
-                "coefficients": r.solution.coefficients,
-            }))
-        }
-        ("liu2021", "shooting") => {
-            // the study's method "shooting": settings (transient_periods, rtol, tol, max_iter,
-            // segments) checked and computed by the study code; `initial` = [q, q'] where the
-            // guess's integration starts
-            let p: liu2021::Parameters = with_overrides("liu2021", &liu2021::table1(), params)?;
-            let initial = match s.remove("initial") {
-                None | Some(Value::Null) => None,
-                Some(Value::Array(a)) if a.len() == 2 => match (a[0].as_f64(), a[1].as_f64()) {
-                    (Some(q), Some(v)) => Some((q, v)),
-                    _ => {
-                        return Err(Failure::parameter(
-                            "setting `initial` must be [q, q'] (two numbers)".to_owned(),
-                        ));
-                    }
-                },
-                Some(v) => {
-                    return Err(Failure::parameter(format!(
-                        "setting `initial` must be [q, q'] (two numbers), got {v}"
-                    )));
-                }
-            };
-            let map = study_values(std::mem::take(&mut s))?;
-            let m = p.model()?;
-            let cols = validate::liu_shooting_point(m, &map, initial).map_err(parameter_error)?;
-            Ok(shooting_json(cols))
-        }
-        ("yu2021", "shooting") => {
-            // the study's method "shooting" (Yu's 6-DOF model with free centres): settings
-            // (transient_periods, rtol, tol, max_iter, segments) checked and computed by the
-            // study code
-            let (p, o, omega) = yu_inputs(params, &mut s)?;
-            let map = study_values(std::mem::take(&mut s))?;
-            let m = yu2021::Yu2021Model::new(&p, o)?;
-            let cols = validate::yu_shooting_point(m, omega, &map).map_err(parameter_error)?;
-            Ok(shooting_json(cols))
-        }
-        ("karpov2017", "duhamel") | ("karpov2017", "time-stepping") => {
-            let base = karpov2017::Karpov2017::fig3().params();
-            let p: karpov2017::Karpov2017Params = with_overrides("karpov2017", &base, params)?;
-            no_leftovers(method, s)?;
-            let m = karpov2017::Karpov2017::new(p)?;
-            let r = m.duhamel()?;
-            let mut v = to_json(&r)?;
-            if let Value::Object(o) = &mut v {
-                o.insert("converged".into(), Value::Bool(true));
-            }
-            Ok(v)
-        }
-        ("yu2021", "time-stepping") | ("yu2021", "rk4") => {
-            let (p, o, omega) = yu_inputs(params, &mut s)?;
-            let mut run = yu2021::RunSettings::new(omega);
-            // the run sizes of `geardyn study` (same names, bounds, messages)
-            let mut shared = serde_json::Map::new();
-            for k in ["transient_periods", "record_periods"] {
-                if let Some(v) = s.remove(k) {
-                    shared.insert(k.to_owned(), v);
-                }
-            }
-            no_leftovers(method, s)?;
-            study_settings("yu2021", validate::Method::TimeStepping, &shared)?;
-            let num = |k: &str, d: f64| shared.get(k).and_then(Value::as_f64).unwrap_or(d);
-            run.transient_periods = num("transient_periods", 200.0) as usize;
-            run.record_periods = num("record_periods", 20.0) as usize;
-            let engine = if method == "rk4" {
-                yu2021::Engine::Rk4Fixed
-            } else {
-                yu2021::Engine::timestep()
-            };
-            let m = yu2021::Yu2021Model::new(&p, o)?;
-            let r = m.simulate_with(&run, &engine, None)?;
-            let df = r.dynamic_factor();
-            let mut v = to_json(&r)?;
-            if let Value::Object(obj) = &mut v {
-                obj.insert("dynamic_factor".into(), json!(df));
-                obj.insert("converged".into(), Value::Bool(true));
-            }
-            Ok(v)
-        }
-        ("yu2021", "hbm") => {
-            let (p, o, omega) = yu_inputs(params, &mut s)?;
-            let hs = with_overrides(
-                "yu2021 hbm settings",
-                &yu2021::HbmSettings::default(),
-                &s.remove("hbm").unwrap_or(Value::Null),
-            )?;
-            no_leftovers(method, s)?;
-            let m = yu2021::Yu2021Model::new(&p, o)?;
-            let r = m.harmonic_balance(omega, &hs, None)?;
-            to_json(&r)
-        }
-        _ => Err(Failure::parameter(format!(
-            "unknown model/method `{model}`/`{method}`; known: liu2021 (hbm, time-stepping, shooting), \
-             karpov2017 (duhamel), yu2021 (time-stepping, rk4, hbm, shooting)"
-        ))),
-    }
+    let s = settings_map(settings)?;
+    let Some(m) = REGISTRY
+        .iter()
+        .find(|m| m.name() == model && m.full_methods().contains(&method))
+    else {
+        let known: Vec<String> = REGISTRY
+            .iter()
+            .filter(|m| !m.full_methods().is_empty())
+            .map(|m| format!("{} ({})", m.name(), m.full_methods().join(", ")))
+            .collect();
+        return Err(Failure::parameter(format!(
+            "unknown model/method `{model}`/`{method}`; known: {}",
+            known.join(", ")
+        )));
+    };
+    Ok(m.solve_full(params, method, s)?)
 }
 
 fn envelope(r: Res<Value>) -> String {
@@ -560,14 +179,10 @@ fn envelope(r: Res<Value>) -> String {
 fn describe(model: &str) -> String {
     envelope((|| {
         if model.is_empty() {
-            return Ok(validate::describe_all());
+            return Ok(contract::describe_all());
         }
-        let m = validate::model_spec(model).map_err(parameter_error)?;
-        Ok(json!({
-            "name": m.name,
-            "description": m.description,
-            "info": (m.describe)(),
-        }))
+        let m = contract::find(model)?;
+        Ok(contract::describe_json(m))
     })())
 }
 
@@ -587,7 +202,7 @@ fn parse_limits(text: &str) -> Res<validate::Limits> {
     } else {
         serde_json::from_value(v).map_err(|e| Failure::parameter(format!("limits: {e}")))?
     };
-    limits.check().map_err(parameter_error)?;
+    limits.check()?;
     Ok(limits)
 }
 
@@ -650,7 +265,7 @@ fn solve(
 fn check_points(n: usize, limits: &str) -> String {
     envelope((|| {
         let l = parse_limits(limits)?;
-        l.check_points(n, 1).map_err(parameter_error)?;
+        l.check_points(n, 1)?;
         Ok(Value::Null)
     })())
 }
@@ -676,7 +291,7 @@ fn sweep(
     py.detach(|| {
         envelope((|| {
             let l = parse_limits(limits)?;
-            l.check_points(values.len(), 1).map_err(parameter_error)?;
+            l.check_points(values.len(), 1)?;
             let p = parse_json("params", params)?;
             let s = parse_json("settings", settings)?;
             let points: Vec<Value> = values
@@ -797,9 +412,9 @@ fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add(
         "PRESETS",
-        PRESETS
+        presets()
             .iter()
-            .map(|(a, b)| (a.to_string(), b.to_string()))
+            .map(|p| (p.set.to_owned(), p.name.to_owned()))
             .collect::<Vec<_>>(),
     )?;
     m.add_function(wrap_pyfunction!(describe, m)?)?;
@@ -819,15 +434,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn merge_rejects_unknown_keys_and_keeps_nested_ones() {
-        let mut base = json!({"a": 1.0, "r": {"x": "derived", "y": "mean"}});
-        merge("", &mut base, &json!({"r": {"x": "printed_eq20"}})).unwrap();
-        assert_eq!(
-            base,
-            json!({"a": 1.0, "r": {"x": "printed_eq20", "y": "mean"}})
-        );
-        let e = merge("", &mut base, &json!({"b": 2.0})).unwrap_err();
+    fn every_preset_and_full_method_is_reachable() {
+        assert!(!presets().is_empty());
+        for p in presets() {
+            assert!(preset_value(p.set, p.name).is_ok(), "{}:{}", p.set, p.name);
+        }
+        let e = solve_value("nope", &Value::Null, "hbm", &Value::Null).unwrap_err();
         assert_eq!(e.kind, Kind::Parameter);
-        assert!(e.message.contains("`b`"));
+        assert!(e.message.contains("liu2021 ("), "{}", e.message);
     }
 }

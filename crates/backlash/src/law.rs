@@ -224,6 +224,14 @@ impl RadiusModulatedBacklash {
     pub fn radius_ratio(&self, t: f64) -> f64 {
         1.0 + self.beta * (self.omega * t).cos()
     }
+
+    /// `b̄ = b/(1 + β c)` from `c = cos(ω t)`: the half gap of
+    /// [`half_gap`](BacklashLaw::half_gap) for a caller that has the cosine already (from an
+    /// addition theorem or a table). No check of `c`: NaN in, NaN out.
+    #[inline]
+    pub fn half_gap_at_phase(&self, c: f64) -> f64 {
+        self.b / (1.0 + self.beta * c)
+    }
 }
 
 impl BacklashLaw for RadiusModulatedBacklash {
@@ -232,7 +240,7 @@ impl BacklashLaw for RadiusModulatedBacklash {
         let t = finite_time(t)?;
         let (s, c) = (self.omega * t).sin_cos();
         let r = 1.0 + self.beta * c;
-        let b = self.b / r;
+        let b = self.half_gap_at_phase(c);
         Ok(GapEval {
             b,
             db_dt: b / r * self.beta * self.omega * s,

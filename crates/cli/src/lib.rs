@@ -279,8 +279,8 @@ pub fn models_markdown() -> String {
     use std::fmt::Write;
     let mut s = String::new();
     for m in validate::REGISTRY.iter() {
-        let info = (m.describe)();
-        let _ = writeln!(s, "### `{}`\n\n{}\n", m.name, cell(m.description));
+        let info = m.describe();
+        let _ = writeln!(s, "### `{}`\n\n{}\n", m.name(), cell(m.description()));
         let methods: Vec<String> = info
             .methods
             .iter()
@@ -404,14 +404,14 @@ pub fn validate_diff(root: &Path, rev: Option<&str>) -> Result<(), Failure> {
 /// The text of `geardyn models [NAME]`.
 pub fn models_text(name: Option<&str>) -> Result<String, Failure> {
     use std::fmt::Write;
-    let specs: Vec<&validate::ModelSpec> = match name {
+    let specs: Vec<&dyn validate::Model> = match name {
         Some(n) => vec![validate::model_spec(n)?],
-        None => validate::REGISTRY.iter().collect(),
+        None => validate::REGISTRY.to_vec(),
     };
     let mut s = String::new();
     for m in specs {
-        let info = (m.describe)();
-        let _ = writeln!(s, "{} — {}", m.name, m.description);
+        let info = m.describe();
+        let _ = writeln!(s, "{} — {}", m.name(), m.description());
         let _ = writeln!(
             s,
             "  parameters ([overrides] or a sweep; name [unit] = default):"
@@ -464,7 +464,7 @@ mod tests {
     #[test]
     fn models_lists_every_model_with_units_and_outputs() {
         let t = models_text(None).unwrap();
-        for m in validate::MODELS {
+        for m in validate::model_names() {
             assert!(t.contains(m), "{m} missing");
         }
         assert!(t.contains("omega1 [rad/s]"), "{t}");

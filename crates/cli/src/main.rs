@@ -146,10 +146,5 @@ fn main() -> ExitCode {
 }
 
 fn validate_json(name: &str) -> Result<serde_json::Value, geardyn_cli::Failure> {
-    let m = validate::model_spec(name)?;
-    Ok(serde_json::json!({
-        "name": m.name,
-        "description": m.description,
-        "info": (m.describe)(),
-    }))
+    Ok(validate::describe_json(validate::model_spec(name)?))
 }

@@ -28,6 +28,16 @@ pub enum Error {
     },
 }
 
+impl From<system::numeric::NoConvergence> for Error {
+    fn from(e: system::numeric::NoConvergence) -> Self {
+        Error::NoConvergence {
+            what: e.what,
+            iterations: e.iterations,
+            residual: e.residual,
+        }
+    }
+}
+
 impl Error {
     /// Shorthand for [`Error::InvalidParameter`].
     pub fn invalid(name: &'static str, bound: &'static str, value: f64) -> Self {

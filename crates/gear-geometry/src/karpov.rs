@@ -4,7 +4,7 @@ use std::f64::consts::TAU;
 
 use crate::Error;
 use crate::error::{finite, positive};
-use crate::numeric::{Quadrature, bisect, integrate, maximize_periodic};
+use system::numeric::{Quadrature, bisect, integrate, maximize_periodic};
 
 /// The relative centrode deviation of Karpov Eq. (1),
 /// `g(θ) = B·√(ξ²−1)·sin θ / (ξ + cos θ)` with `θ = j·φ1`, so that `r1 = r·(1 + g)`.
@@ -588,7 +588,7 @@ impl KarpovPair {
                 if delta(cap) <= delta_max {
                     return Ok(cap);
                 }
-                bisect(|b| delta(b) - delta_max, 0.0, cap, 1e-15)
+                bisect(|b| delta(b) - delta_max, 0.0, cap, 1e-15).map_err(Error::from)
             }
         }
     }

@@ -109,7 +109,6 @@
 mod error;
 mod karpov;
 mod liu;
-mod numeric;
 mod yu;
 
 pub use error::Error;
@@ -118,9 +117,6 @@ pub use karpov::{
     KarpovPairParams, SpeedFluctuationForm,
 };
 pub use liu::{LIU2021_TABLE2_THEORETICAL, LiuRig, NfgPair, NfgPairParams, RigidAccelerationForm};
-pub use numeric::{
-    GAUSS_LEGENDRE_NODES, GaussLegendre, Quadrature, bisect, integrate, maximize_periodic,
-};
 pub use yu::{PressureAngleForm, SpurPair, SpurPairParams, involute_arc_length, roll_angle};
 
 #[cfg(test)]

@@ -203,7 +203,7 @@ mod tests {
     #[test]
     fn involute_arc_length_matches_quadrature() {
         let rb = 0.07;
-        let q = crate::numeric::integrate(|b| rb * b, 0.2, 0.5, 1e-15);
+        let q = system::numeric::integrate(|b| rb * b, 0.2, 0.5, 1e-15);
         assert!((q.value - involute_arc_length(rb, 0.2, 0.5)).abs() < 1e-16);
         assert!((roll_angle(20f64.to_radians()) - 0.363_970_234_266_202_4).abs() < 1e-15);
     }

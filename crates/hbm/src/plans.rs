@@ -5,6 +5,7 @@
 //! A plan depends only on the size and the CPU, so the cache changes no result.
 
 use num_complex::Complex;
+use realfft::{RealFftPlanner, RealToComplex};
 use rustfft::{Fft, FftPlanner};
 use std::cell::RefCell;
 use std::sync::Arc;
@@ -14,6 +15,7 @@ type Buffer = Vec<Complex<f64>>;
 
 thread_local! {
     static PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
+    static REAL_PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
     /// signal and scratch buffers of [`with_buffers`], kept between calls
     static BUFFERS: RefCell<(Buffer, Buffer)> =
         const { RefCell::new((Vec::new(), Vec::new())) };
@@ -47,4 +49,10 @@ pub(crate) fn plans(n: usize) -> (Arc<dyn Fft<f64>>, Arc<dyn Fft<f64>>) {
         let mut p = p.borrow_mut();
         (p.plan_fft_forward(n), p.plan_fft_inverse(n))
     })
+}
+
+/// Real-to-complex forward plan of size `n` (cached on this thread): the `n/2 + 1` bins
+/// `0..=n/2` of the DFT of a real signal, at about half the cost of a complex FFT of size `n`.
+pub(crate) fn real_forward(n: usize) -> Arc<dyn RealToComplex<f64>> {
+    REAL_PLANNER.with(|p| p.borrow_mut().plan_fft_forward(n))
 }

@@ -4,6 +4,7 @@ use crate::error::check_positive;
 use crate::{Basis, CoefficientKind, HbmError, SecondOrderSystem};
 use nalgebra::DMatrix;
 use num_complex::Complex;
+use realfft::RealToComplex;
 use rustfft::Fft;
 use std::mem::take;
 use std::sync::Arc;
@@ -53,6 +54,12 @@ struct Workspace {
     inv: Arc<dyn Fft<f64>>,
     scratch: Vec<Complex<f64>>,
     buf: Vec<Complex<f64>>,
+    /// real-to-complex forward plan (the analysis of real samples), its input (`N` reals,
+    /// overwritten), its output (bins `0..=N/2`) and scratch
+    r2c: Arc<dyn RealToComplex<f64>>,
+    rin: Vec<f64>,
+    rout: Vec<Complex<f64>>,
+    rscratch: Vec<Complex<f64>>,
     /// time samples, time-major: q[m*n + i]
     q: Vec<f64>,
     qd: Vec<f64>,
@@ -99,12 +106,17 @@ impl Workspace {
         let len = fwd
             .get_inplace_scratch_len()
             .max(inv.get_inplace_scratch_len());
+        let r2c = crate::plans::real_forward(n_grid);
         Self {
             n_grid,
             fwd,
             inv,
             scratch: vec![Complex::default(); len],
             buf: vec![Complex::default(); n_grid],
+            rin: r2c.make_input_vec(),
+            rout: r2c.make_output_vec(),
+            rscratch: r2c.make_scratch_vec(),
+            r2c,
             q: vec![0.0; n_grid * n],
             qd: vec![0.0; n_grid * n],
             h: vec![0.0; n_grid * n],
@@ -404,25 +416,30 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         let nn = self.ws.n_grid;
         let scale = 1.0 / nn as f64;
         let (mut kept, mut tail) = (0.0, 0.0);
+        let ws = &mut self.ws;
         for i in 0..n {
             for m in 0..nn {
-                self.ws.buf[m] = Complex::new(h[m * n + i], 0.0);
+                ws.rin[m] = h[m * n + i];
             }
-            self.ws
-                .fwd
-                .process_with_scratch(&mut self.ws.buf, &mut self.ws.scratch);
+            // real-to-complex: bins 0..=N/2 (the upper half of a real signal's DFT mirrors
+            // them); the lengths are the plan's own, so this cannot fail
+            let done = ws
+                .r2c
+                .process_with_scratch(&mut ws.rin, &mut ws.rout, &mut ws.rscratch);
+            debug_assert!(done.is_ok());
             // truncation indicator: bins 0 ≤ k < N/2 (the upper half mirrors them)
             for k in 0..nn.div_ceil(2) {
-                let p = self.ws.buf[k].norm_sqr();
-                if self.ws.in_basis[k] {
+                let p = ws.rout[k].norm_sqr();
+                if ws.in_basis[k] {
                     kept += p;
                 } else {
                     tail += p;
                 }
             }
-            hc[i] = self.ws.buf[0].re * scale;
+            hc[i] = ws.rout[0].re * scale;
             for (j, &k) in self.basis.harmonics().iter().enumerate() {
-                let hk = self.ws.buf[k % nn];
+                // k ≤ (N − 1)/2 (the grid holds at least 2 k_max + 1 points)
+                let hk = ws.rout[k % nn];
                 hc[(2 * j + 1) * n + i] = 2.0 * hk.re * scale;
                 hc[(2 * j + 2) * n + i] = -2.0 * hk.im * scale;
             }

@@ -18,14 +18,15 @@ pub struct Stability {
     pub steps: usize,
 }
 
-/// Tolerance on `|μ| − 1` below which a solution counts as stable.
-pub const STABILITY_TOLERANCE: f64 = 1e-6;
+/// Tolerance on `|μ| − 1` below which a solution counts as stable: the workspace's one
+/// threshold ([`system::STABILITY_TOLERANCE`]).
+pub use system::STABILITY_TOLERANCE;
 
 impl<S: SecondOrderSystem> HbmProblem<S> {
     /// Floquet stability of `solution` (which must belong to this problem's current parameters):
     /// the monodromy matrix of the variational equation
-    /// `M δ'' + (C + ∂g/∂q') δ' + (K + ∂g/∂q) δ = 0` is integrated over one period with classical
-    /// RK4 (`steps` per period; `None` = `max(400, 32 k_max)`), and its eigenvalues are the
+    /// `M δ'' + (C + ∂g/∂q') δ' + (K + ∂g/∂q) δ = 0` is integrated over one period with the
+    /// workspace's classical RK4 (`geardyn_system::rk4`) (`steps` per period; `None` = `max(400, 32 k_max)`), and its eigenvalues are the
     /// multipliers.
     ///
     /// Chosen over Hill's method because it works for any (sparse) basis and needs no sorting of
@@ -90,18 +91,54 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             }
             Ok(a)
         };
+        // Φ' = A(t) Φ, one RK4 step of the workspace (`geardyn_system::rk4`) per `h` on Φ's
+        // column-major entries. A(t) is evaluated once per distinct time: the stages at
+        // `t + h/2` share it, and the end of one step is the start of the next.
         let mut phi = DMatrix::<f64>::identity(nn, nn);
         let mut a0 = a_at(0.0)?;
+        let mut failure = None;
+        let mut cached: Option<(u64, DMatrix<f64>)> = None;
+        let (mut k2, mut k3, mut k4, mut stage) = (
+            vec![0.0; nn * nn],
+            vec![0.0; nn * nn],
+            vec![0.0; nn * nn],
+            vec![0.0; nn * nn],
+        );
+        let mut next = vec![0.0; nn * nn];
         for s in 0..steps {
             let t = s as f64 * h;
-            let am = a_at(t + 0.5 * h)?;
-            let a1 = a_at(t + h)?;
             let k1 = &a0 * &phi;
-            let k2 = &am * (&phi + &k1 * (0.5 * h));
-            let k3 = &am * (&phi + &k2 * (0.5 * h));
-            let k4 = &a1 * (&phi + &k3 * h);
-            phi += (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
-            a0 = a1;
+            let rhs = |t: f64, y: &[f64], d: &mut [f64]| {
+                if cached.as_ref().is_none_or(|(bits, _)| *bits != t.to_bits()) {
+                    match a_at(t) {
+                        Ok(a) => cached = Some((t.to_bits(), a)),
+                        Err(e) => {
+                            failure.get_or_insert(e);
+                            d.fill(f64::NAN);
+                            return;
+                        }
+                    }
+                }
+                if let Some((_, a)) = &cached {
+                    let product = a * DMatrix::from_column_slice(nn, nn, y);
+                    d.copy_from_slice(product.as_slice());
+                }
+            };
+            let stages = system::rk4::Rk4Stages {
+                k1: k1.as_slice(),
+                k2: &mut k2,
+                k3: &mut k3,
+                k4: &mut k4,
+                stage: &mut stage,
+            };
+            system::rk4::rk4_step(rhs, t, h, phi.as_slice(), stages, &mut next);
+            if let Some(e) = failure.take() {
+                return Err(e);
+            }
+            phi.as_mut_slice().copy_from_slice(&next);
+            if let Some((_, a1)) = cached.take() {
+                a0 = a1;
+            }
         }
         let mu = phi.complex_eigenvalues();
         let multipliers: Vec<[f64; 2]> = mu.iter().map(|z| [z.re, z.im]).collect();
@@ -109,7 +146,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         Ok(Stability {
             multipliers,
             max_modulus,
-            stable: max_modulus <= 1.0 + STABILITY_TOLERANCE,
+            stable: system::is_stable_multiplier(max_modulus),
             steps,
         })
     }

@@ -341,9 +341,23 @@ impl SingleHarmonicStiffness {
     #[inline]
     pub fn eval_with_derivative(&self, t: f64) -> (f64, f64) {
         let (s, c) = (self.omega_e * t + self.phi_m).sin_cos();
+        let rate = match self.waveform {
+            Waveform::Sine => self.k_r * self.omega_e * c,
+            Waveform::Cosine => -self.k_r * self.omega_e * s,
+        };
+        (self.eval_at_phase(s, c), rate)
+    }
+
+    /// `k_m` from the sine `s` and cosine `c` of the phase `ψ = ω_e t + φ_m`:
+    /// `k0 + k_r s` ([`Waveform::Sine`]) or `k0 + k_r c` ([`Waveform::Cosine`]); the one the
+    /// waveform does not read may be anything. For a caller that has the phase's sine and
+    /// cosine already (from an addition theorem or a table); [`eval`](Self::eval) is this
+    /// with `(s, c) = sin_cos(ψ)`.
+    #[inline]
+    pub fn eval_at_phase(&self, s: f64, c: f64) -> f64 {
         match self.waveform {
-            Waveform::Sine => (self.k0 + self.k_r * s, self.k_r * self.omega_e * c),
-            Waveform::Cosine => (self.k0 + self.k_r * c, -self.k_r * self.omega_e * s),
+            Waveform::Sine => self.k0 + self.k_r * s,
+            Waveform::Cosine => self.k0 + self.k_r * c,
         }
     }
 

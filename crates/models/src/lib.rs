@@ -9,10 +9,16 @@
 //! * [`pair`] — a generic spur pair composed from a geometry, a stiffness law, a backlash law
 //!   and the degrees of freedom; the papers' models are presets of it where the physics allows.
 //!
+//! * [`contract`] — what every model offers its front ends: the [`contract::Model`] trait
+//!   (self-description, solve a point by a method into a [`contract::Record`]), the one
+//!   tolerance check and the [`contract::REGISTRY`] (one line per model; each model's
+//!   implementation is the `registry` module of its folder).
+//!
 //! Each model: a dimensional parameter struct (SI, serde, validated), the paper's parameter set
 //! as a named constructor, the dimensionless form built in one place, and adapters to both
 //! engines ([`hbm`] and [`timestep`]).
 
+pub mod contract;
 mod error;
 
 pub mod karpov2017;

@@ -357,7 +357,9 @@ fn continuation_finds_the_jump_fold_of_the_unilateral_branch() {
     let m = p
         .model()
         .unwrap()
-        .with_omega_c(thinned.points[i].omega1 * p.model().unwrap().omega_c / p.omega1)
+        // the library's order of operations (`ω₁ · (ω̄_c/ω₁,params)`): the multiplier of this
+        // unstable orbit moves by ~1e-3 under a one-ulp change of ω̄_c
+        .with_omega_c(thinned.points[i].omega1 * (p.model().unwrap().omega_c / p.omega1))
         .unwrap();
     let r = liu2021::HbmResponse {
         solution: thinned.points[i].solution.clone(),

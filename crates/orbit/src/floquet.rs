@@ -99,8 +99,9 @@ pub fn classify_crossing(before: &[[f64; 2]], after: &[[f64; 2]], tol: f64) -> V
     out
 }
 
-/// Stability tolerance on `|μ| − 1`.
-pub const STABILITY_TOLERANCE: f64 = 1e-6;
+/// Stability tolerance on `|μ| − 1`: the workspace's one threshold
+/// ([`system::STABILITY_TOLERANCE`]).
+pub use system::STABILITY_TOLERANCE;
 
 /// Floquet multipliers of `monodromy` with their condition numbers and the test functions.
 ///
@@ -140,7 +141,7 @@ pub fn floquet(monodromy: &DMatrix<f64>) -> Result<Floquet> {
         multipliers: mu.iter().map(|z| [z.re, z.im]).collect(),
         condition,
         max_modulus,
-        stable: max_modulus <= 1.0 + STABILITY_TOLERANCE,
+        stable: system::is_stable_multiplier(max_modulus),
         test_period_doubling,
         test_fold,
         test_neimark_sacker: ns.re,

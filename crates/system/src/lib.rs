@@ -17,7 +17,9 @@
 //! (`geardyn-timestep`) integrates it through its `Mechanical` adapter, which forms
 //! `q'' = M⁻¹ (f − C q' − K q − g)` and locates the events. Neither engine depends on the
 //! other, and this crate depends on neither: it holds only the trait, its error type, the
-//! event direction and two helpers ([`finite_difference_force_jacobian`], [`gap_edges`]).
+//! event direction, two helpers ([`finite_difference_force_jacobian`], [`gap_edges`]) and the
+//! workspace's one classical RK4 step ([`rk4::rk4_step`]) and small numerical tools
+//! ([`numeric`]: Gauss–Legendre quadrature, a periodic maximiser, bisection).
 //!
 //! ## Optional hooks
 //!
@@ -64,7 +66,22 @@
 #![deny(missing_docs)]
 
 pub mod deadline;
+pub mod numeric;
+pub mod rk4;
 pub mod sweep;
+
+/// The workspace's one Floquet stability threshold: a periodic solution is stable when its
+/// largest multiplier modulus is `≤ 1 + STABILITY_TOLERANCE` ([`is_stable_multiplier`]). The
+/// harmonic-balance stability (`geardyn-hbm`), the shooting multipliers (`geardyn-orbit`) and
+/// the models' stability policies all judge with it.
+pub const STABILITY_TOLERANCE: f64 = 1e-6;
+
+/// `max |μ| ≤ 1 + STABILITY_TOLERANCE`: the one stability verdict on a largest multiplier
+/// modulus (NaN: not stable).
+#[inline]
+pub fn is_stable_multiplier(max_modulus: f64) -> bool {
+    max_modulus <= 1.0 + STABILITY_TOLERANCE
+}
 
 use nalgebra::DMatrix;
 

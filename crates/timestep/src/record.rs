@@ -136,6 +136,10 @@ pub(crate) struct EventMonitor {
     crossings: Vec<(usize, f64, Direction)>,
     recorded: Vec<bool>,
     just_fired: Vec<bool>,
+    /// Whether `recorded` or `just_fired` holds a `true` (set by [`EventMonitor::commit`]):
+    /// the flags are cleared only then, not at every step (clearing and re-reading them
+    /// at every step stalled on the store).
+    flags_set: bool,
 }
 
 impl EventMonitor {
@@ -149,6 +153,7 @@ impl EventMonitor {
             crossings: Vec::with_capacity(ne),
             recorded: vec![false; ne],
             just_fired: vec![false; ne],
+            flags_set: false,
         }
     }
 
@@ -291,8 +296,11 @@ impl EventMonitor {
         first_new: &mut usize,
     ) {
         *first_new = events.len();
-        self.recorded.iter_mut().for_each(|r| *r = false);
-        self.just_fired.iter_mut().for_each(|r| *r = false);
+        if self.flags_set {
+            self.recorded.iter_mut().for_each(|r| *r = false);
+            self.just_fired.iter_mut().for_each(|r| *r = false);
+            self.flags_set = false;
+        }
         if let Some(th) = theta_star {
             for &(i, theta, dir) in &self.crossings {
                 if (theta - th) * h_orig.abs() <= tol {
@@ -304,6 +312,7 @@ impl EventMonitor {
                     self.side[i] = if dir == Direction::Rising { 1.0 } else { -1.0 };
                     self.recorded[i] = true;
                     self.just_fired[i] = true;
+                    self.flags_set = true;
                 }
             }
         }

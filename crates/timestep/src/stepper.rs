@@ -1,5 +1,6 @@
 //! This crate's own one-step schemes: embedded Dormand–Prince 5(4) with dense output and
-//! classical RK4 with cubic Hermite dense output. Work buffers are allocated once per
+//! classical RK4 (the workspace's one step, `geardyn_system::rk4`) with cubic Hermite dense
+//! output. Work buffers are allocated once per
 //! integration, never per step.
 //!
 //! The work buffers are generic over [`Buf`]: a `Vec<f64>` for any dimension, or a fixed-size
@@ -282,25 +283,16 @@ impl Stepper for ClassicRk4 {
         _rtol: f64,
         _atol: f64,
     ) -> f64 {
-        let n = y.len();
         let [k1, k2, k3, k4, k5] = &mut self.st.k;
-        let yt = &mut self.st.ytmp;
-        for i in 0..n {
-            yt[i] = y[i] + 0.5 * h * k1[i];
-        }
-        sys.rhs(t + 0.5 * h, yt, k2);
-        for i in 0..n {
-            yt[i] = y[i] + 0.5 * h * k2[i];
-        }
-        sys.rhs(t + 0.5 * h, yt, k3);
-        for i in 0..n {
-            yt[i] = y[i] + h * k3[i];
-        }
-        sys.rhs(t + h, yt, k4);
+        let stages = ::system::rk4::Rk4Stages {
+            k1,
+            k2,
+            k3,
+            k4,
+            stage: &mut self.st.ytmp,
+        };
         let yn = &mut self.st.ynew;
-        for i in 0..n {
-            yn[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-        }
+        ::system::rk4::rk4_step(|t, y, d| sys.rhs(t, y, d), t, h, y, stages, yn);
         sys.rhs(t + h, yn, k5);
         self.st.n_rhs += 4;
         if yn.iter().all(|v| v.is_finite()) {

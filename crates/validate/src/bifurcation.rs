@@ -151,36 +151,8 @@ impl BifurcationSpec {
     }
 }
 
-/// The output columns of a bifurcation study: `motion`, `period`, `lambda` (unit `lambda_unit`),
-/// then `<coordinate>_1 … <coordinate>_N` (unit of the coordinate).
-pub fn outputs(
-    coordinate: (&str, &str),
-    lambda_unit: &str,
-    points: usize,
-) -> Vec<(String, String)> {
-    let mut v = vec![
-        ("motion".to_owned(), String::new()),
-        ("period".to_owned(), "1".to_owned()),
-        ("lambda".to_owned(), lambda_unit.to_owned()),
-    ];
-    v.extend((1..=points).map(|k| (format!("{}_{k}", coordinate.0), coordinate.1.to_owned())));
-    v
-}
-
-/// Number of leading non-section columns of [`outputs`].
+/// Number of leading non-section columns of [`models::contract::bifurcation_outputs`].
 pub const LEADING: usize = 3;
-
-/// The record of one point in the order of [`outputs`] (the motion as its
-/// [`timestep::Motion::code`]).
-pub fn row(p: &timestep::BifurcationPoint) -> Vec<f64> {
-    let mut v = vec![
-        p.motion.code(),
-        f64::from(p.motion.period_multiple()),
-        p.lyapunov.unwrap_or(f64::NAN),
-    ];
-    v.extend_from_slice(&p.section);
-    v
-}
 
 /// A CSV cell of output column `j` of a successful point (the motion as its label).
 pub fn cell(j: usize, value: f64) -> Cell {
@@ -218,7 +190,7 @@ const CLASSES: [&str; 8] = [
 
 /// The bifurcation diagram: section values against the parameter `x`, coloured by motion type
 /// (only the classes that occur, in a fixed order and fixed colours). `records[i]` is point
-/// `i`'s record ([`row`]) or its failure (not drawn).
+/// `i`'s record ([`models::contract::bifurcation_record`]) or its failure (not drawn).
 pub fn figure(
     name: &str,
     title: &str,

@@ -120,3 +120,17 @@ pub(crate) fn check_name(name: &str) -> Result<(), Error> {
         })
     }
 }
+
+/// A model-contract error as the harness reports it: a bad input is a study-file error, a
+/// point that cannot be computed a study failure, an engine failure keeps its context.
+impl From<models::contract::PointError> for Error {
+    fn from(e: models::contract::PointError) -> Self {
+        use models::contract::PointError as P;
+        match e {
+            P::Input(m) => Error::StudyFile(m),
+            P::Compute(m) => Error::Study(m),
+            P::Upstream { context, source } => Error::Upstream { context, source },
+            e => Error::Study(e.to_string()),
+        }
+    }
+}

@@ -143,6 +143,11 @@ pub use bifurcation::{BifurcationSpec, MAX_BIFURCATION_PERIODS, MAX_BIFURCATION_
 pub use error::{Error, ResultExt};
 pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
 pub use format::{SIGNIFICANT_DIGITS, committed_text, fmt_sig, fmt6, full_text, unsettled};
+pub use models::contract::{
+    Adapter, ChoiceInfo, Context, Job, Kind, MethodInfo, Model, ModelInfo, ParamInfo, Preparer,
+    REGISTRY, Record, STEP_STATISTICS, SettingDef, check_settings, describe_all, describe_json,
+    is_step_statistic, step_statistics,
+};
 pub use output::{STATS_DIR, ValidationSummary, diff_against, run_validation, study_selected};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
@@ -150,11 +155,6 @@ pub use render::{
     insta_snap, render_all, render_stats, report, run_studies, snapshot_body, stats_digest,
 };
 pub use studies::all_studies;
-pub use studies::user_models::{
-    Adapter, BIFURCATION, BifurcationModel, ChoiceInfo, Context, Job, Kind, MethodInfo, ModelInfo,
-    ModelSpec, ParamInfo, Preparer, REGISTRY, STEP_STATISTICS, SettingDef, check_settings,
-    describe_all, is_step_statistic, liu_shooting_point, step_statistics, yu_shooting_point,
-};
 pub use study::{
     ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance,
     ToleranceBand, ToleranceBasis, Verdict,
@@ -162,11 +162,11 @@ pub use study::{
 pub use table::{Cell, Column, Table};
 pub use user::{
     FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_SECONDS_BOUND, MAX_STEPS_BOUND,
-    MAX_SWEEP_VALUES, MODELS, Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver,
-    StudyPlan, Sweep, TIME_LIMIT, UserStudy, UserStudyOutput, Value, Written, apply_overrides,
-    apply_values, camel_to_kebab, check_study_name, choice, compute, compute_records,
-    default_out_dir, display_name, field_names, kebab_to_camel, lock_output_dir, merge_from_str,
-    merge_study_files, model_spec, new_run_id, prepare, run_shard_from_str, run_study_file,
+    MAX_SWEEP_VALUES, Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, StudyPlan,
+    Sweep, TIME_LIMIT, UserStudy, UserStudyOutput, Value, Written, apply_overrides, apply_values,
+    camel_to_kebab, check_study_name, choice, compute, compute_records, default_out_dir,
+    display_name, field_names, kebab_to_camel, lock_output_dir, merge_from_str, merge_study_files,
+    model_names, model_spec, new_run_id, prepare, run_shard_from_str, run_study_file,
     run_study_from_str, run_study_shard_file, run_user_study, run_with_time_limit, shard_path,
     variant_names, write_outputs,
 };

@@ -59,8 +59,8 @@ use crate::error::{Error, check_name};
 use crate::figure::{Figure, Series};
 use crate::heatmap::{HeatScale, Heatmap};
 use crate::shard::{self, Journal, JournalHeader, PointRecord, ShardSpec};
-use crate::studies::user_models::{self, Job, ModelSpec};
 use crate::table::{Cell, Table};
+use models::contract::{self as registry, Job, Model, is_step_statistic};
 
 // The study-file vocabulary lives in `spec` (shared with the model registrations); its public
 // items keep their `user::` paths.
@@ -76,7 +76,7 @@ pub struct UserStudy {
     /// Free description copied into the summary.
     #[serde(default)]
     pub description: String,
-    /// Model: see [`MODELS`] / `geardyn models`.
+    /// Model: see [`model_names`] / `geardyn models`.
     pub model: String,
     /// Parameter overrides and choices `name = value` on top of the model's base set. A name
     /// is a field of the parameter struct, or a dotted path into its nested structs
@@ -161,29 +161,16 @@ pub fn check_study_name(name: &str) -> Result<(), Error> {
     Ok(())
 }
 
-/// The registered model of that name.
-pub fn model_spec(name: &str) -> Result<&'static ModelSpec, Error> {
-    user_models::REGISTRY
-        .iter()
-        .find(|m| m.name == name)
-        .ok_or_else(|| {
-            Error::StudyFile(format!(
-                "unknown model `{name}`; known: {}",
-                MODELS.join(", ")
-            ))
-        })
+/// The registered model of that name ([`models::contract::REGISTRY`]).
+pub fn model_spec(name: &str) -> Result<&'static dyn Model, Error> {
+    Ok(registry::find(name)?)
 }
 
-/// Names of the models known to `geardyn study` (one registration each in the registry).
-pub const MODELS: [&str; user_models::REGISTRY.len()] = {
-    let mut names = [""; user_models::REGISTRY.len()];
-    let mut i = 0;
-    while i < names.len() {
-        names[i] = user_models::REGISTRY[i].name;
-        i += 1;
-    }
-    names
-};
+/// Names of the models known to `geardyn study` (one line each in
+/// [`models::contract::REGISTRY`]).
+pub fn model_names() -> Vec<&'static str> {
+    registry::names()
+}
 
 /// A study checked and ready to compute: every point prepared (or failed with its message).
 pub struct Prepared {
@@ -234,31 +221,29 @@ impl Prepared {
 /// point whose values the model rejects is kept as a failed point.
 pub fn prepare(study: &UserStudy) -> Result<Prepared, Error> {
     let spec = model_spec(&study.model)?;
-    let ctx = user_models::Context {
+    let ctx = registry::Context {
         solver: &study.solver,
         initial: study.initial.as_deref(),
         limits: study.limits,
     };
     let adapter = match &study.bifurcation {
-        None => (spec.build)(&ctx)?,
+        None => spec.build(&ctx)?,
         Some(b) => {
-            let bm = user_models::BIFURCATION
-                .iter()
-                .find(|m| m.name == spec.name)
-                .ok_or_else(|| {
-                    Error::StudyFile(format!(
-                        "model `{}` has no [bifurcation] study; models with one: {}",
-                        spec.name,
-                        user_models::BIFURCATION
-                            .iter()
-                            .map(|m| m.name)
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ))
-                })?;
+            let coordinates = spec.bifurcation_coordinates().ok_or_else(|| {
+                Error::StudyFile(format!(
+                    "model `{}` has no [bifurcation] study; models with one: {}",
+                    spec.name(),
+                    registry::REGISTRY
+                        .iter()
+                        .filter(|m| m.bifurcation_coordinates().is_some())
+                        .map(|m| m.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })?;
             let mut bo = b.options()?;
-            bo.coordinate = b.coordinate_index(spec.name, bm.coordinates)?;
-            (bm.build)(&ctx, &bo)?
+            bo.coordinate = b.coordinate_index(spec.name(), coordinates)?;
+            spec.build_bifurcation(&ctx, &bo)?
         }
     };
     let xs = match &study.sweep {
@@ -279,8 +264,10 @@ pub fn prepare(study: &UserStudy) -> Result<Prepared, Error> {
             if let Some(s) = &study.sweep2 {
                 p.insert(s.parameter.clone(), y.clone());
             }
-            let job = catch_unwind(AssertUnwindSafe(|| (adapter.prepare)(&p)))
-                .unwrap_or_else(|e| Err(Error::Study(panic_message(e.as_ref()))));
+            let job = catch_unwind(AssertUnwindSafe(|| {
+                (adapter.prepare)(&p).map_err(Error::from)
+            }))
+            .unwrap_or_else(|e| Err(Error::Study(panic_message(e.as_ref()))));
             match job {
                 // A study-file error is the user's configuration, not a failed point.
                 Err(Error::StudyFile(m)) => return Err(Error::StudyFile(m)),
@@ -538,7 +525,6 @@ pub fn compute_records(
         .enumerate()
         .filter(|(k, _)| shard.owns(*k) && !have.contains_key(k))
         .collect();
-    let n_out = outputs.len();
     let seconds = study.limits.max_seconds_per_point;
     let journal_error = std::sync::Mutex::new(None::<String>);
     let new: Vec<PointRecord> = timestep::sweep_owned(
@@ -548,17 +534,19 @@ pub fn compute_records(
                 Ok(job) => match run_with_time_limit(seconds, move || {
                     catch_unwind(AssertUnwindSafe(job))
                         .map_err(|p| panic_message(p.as_ref()))?
-                        .map_err(|e| e.to_string())
+                        .map_err(|e| Error::from(e).to_string())
                 }) {
-                    Ok(v) if v.len() == n_out => match v.iter().position(|x| !x.is_finite()) {
-                        // A success never carries a non-finite number.
-                        Some(j) => Err(format!("non-finite output `{}` = {}", outputs[j].0, v[j])),
-                        None => Ok(v),
+                    // The record's columns (name and unit) must be the declared ones.
+                    Ok(rec) => match rec.values_for(&outputs) {
+                        Ok(v) => match v.iter().position(|x| !x.is_finite()) {
+                            // A success never carries a non-finite number.
+                            Some(j) => {
+                                Err(format!("non-finite output `{}` = {}", outputs[j].0, v[j]))
+                            }
+                            None => Ok(v),
+                        },
+                        Err(e) => Err(e),
                     },
-                    Ok(v) => Err(format!(
-                        "internal error: {} outputs for {n_out} columns",
-                        v.len()
-                    )),
                     Err(e) => Err(e),
                 },
                 Err(e) => Err(e.to_string()),
@@ -638,7 +626,7 @@ fn plan_of(prepared: Prepared) -> StudyPlan {
 
 fn axis_unit(study: &UserStudy, parameter: &str) -> String {
     model_spec(&study.model)
-        .map(|m| (m.unit_of)(parameter).to_owned())
+        .map(|m| m.unit_of(parameter).to_owned())
         .unwrap_or_default()
 }
 
@@ -680,7 +668,7 @@ fn assemble(
                     row.extend(v.iter().enumerate().map(|(j, &z)| bifurcation::cell(j, z)))
                 }
                 Ok(v) => row.extend(v.iter().zip(outputs).map(|(&z, (name, _))| {
-                    if user_models::is_step_statistic(name) {
+                    if is_step_statistic(name) {
                         Cell::count(z)
                     } else {
                         Cell::Num(z)
@@ -722,7 +710,7 @@ fn assemble(
             serde_json::json!({"unit": unit, "min": json_num(lo), "max": json_num(hi)}),
         );
         // the step statistics describe the computation: CSV and ranges, no figure
-        if user_models::is_step_statistic(name) {
+        if is_step_statistic(name) {
             continue;
         }
         if let (Some(s), false) = (&study.sweep, bif) {
@@ -820,7 +808,7 @@ fn heat_maps(
     );
     let mut maps = Vec::new();
     for (j, (name, unit)) in outputs.iter().enumerate() {
-        if user_models::is_step_statistic(name) {
+        if is_step_statistic(name) {
             continue;
         }
         let z: Vec<f64> = results

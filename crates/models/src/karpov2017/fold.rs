@@ -44,6 +44,10 @@ pub(super) struct Fold {
     pub period: f64,
     /// Number of periods `N` (≥ 2), as `f64`.
     pub n: f64,
+    /// `(sin(Nδ/2)/sin(δ/2), (N − 1)δ/2)` of `D_N(T a±)` for `σ = +1, −1` when `a±` does not
+    /// depend on `u` (the accumulated reading): computed once per fold by [`integrate`]
+    /// instead of at every node (the same operations, so the same bits).
+    pub fixed: Option<[(f64, f64); 2]>,
 }
 
 impl Fold {
@@ -59,7 +63,28 @@ impl Fold {
             return None;
         }
         let s0 = (t_w - n * period).max(0.0);
-        Some(Self { s0, period, n })
+        Some(Self {
+            s0,
+            period,
+            n,
+            fixed: None,
+        })
+    }
+}
+
+/// `(sin(Nδ/2)/sin(δ/2), (N − 1)δ/2)` with `δ = x − 2π round(x/2π)`, `x = T(1 + σA)`: the
+/// modulus-and-phase form of `D_N(x)` (`(N, 0)` at `δ = 0`).
+#[inline]
+fn dirichlet(f: &Fold, big_a: f64, sigma: f64) -> (f64, f64) {
+    let x = f.period * (1.0 + sigma * big_a);
+    let d = x - TAU * (x / TAU).round();
+    if d == 0.0 {
+        (f.n, 0.0)
+    } else {
+        (
+            (0.5 * f.n * d).sin() / (0.5 * d).sin(),
+            0.5 * (f.n - 1.0) * d,
+        )
     }
 }
 
@@ -82,17 +107,11 @@ impl Kernel {
             self.w
         };
         let mut out = Complex::new(0.0, 0.0);
-        for sigma in [1.0, -1.0] {
+        for (i, sigma) in [1.0, -1.0].into_iter().enumerate() {
             let b = u + sigma * phi;
-            let x = f.period * (1.0 + sigma * big_a);
-            let d = x - TAU * (x / TAU).round();
-            let (ratio, half) = if d == 0.0 {
-                (f.n, 0.0)
-            } else {
-                (
-                    (0.5 * f.n * d).sin() / (0.5 * d).sin(),
-                    0.5 * (f.n - 1.0) * d,
-                )
+            let (ratio, half) = match f.fixed {
+                Some(d) => d[i],
+                None => dirichlet(f, big_a, sigma),
             };
             let (s, c) = (b + half).sin_cos();
             out += Complex::new(c, s) * (sigma * ratio);
@@ -157,6 +176,11 @@ pub(super) fn panel_estimate(ker: &Kernel, f: &Fold, theta: f64, b: f64) -> f64 
 /// Ends: each pair advances `u` by a positive length (checked; typed error otherwise) and is
 /// counted against `MAX_PANELS`.
 pub(super) fn integrate(ker: &Kernel, f: &Fold, theta: f64, acc: &mut Acc) -> Result<(), Error> {
+    // accumulated reading: `a± = 1 ± ω` at every node, so `D_N(T a±)` is one pair of numbers
+    let f = &Fold {
+        fixed: (!ker.printed).then(|| [dirichlet(f, ker.w, 1.0), dirichlet(f, ker.w, -1.0)]),
+        ..*f
+    };
     let end = f.s0 + f.period;
     let m2 = ker.folded_m2(f);
     let mut u = f.s0;

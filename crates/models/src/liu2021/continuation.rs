@@ -225,7 +225,7 @@ pub fn continue_in_speed(
             Ok(SpeedBranchPoint {
                 omega1: p.parameter * to_omega1,
                 rattle,
-                stable: max_multiplier.map(|mu| mu <= 1.0 + hbm::STABILITY_TOLERANCE),
+                stable: max_multiplier.map(system::is_stable_multiplier),
                 max_multiplier,
                 solution: p.solution.clone(),
             })

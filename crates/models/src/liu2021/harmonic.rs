@@ -9,7 +9,6 @@ use serde::{Deserialize, Serialize};
 
 use super::model::{Model, Rattle};
 use crate::Error;
-use backlash::dead_zone_dx;
 
 /// Harmonic basis of the periodic response `q(τ)` (multiples of `ω̄_c`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -130,7 +129,7 @@ impl system::SecondOrderSystem for Model {
         f[0] = self.forcing(t);
     }
     fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], dq: &mut [f64], dv: &mut [f64]) {
-        dq[0] = self.stiffness(t) * dead_zone_dx(q[0], self.backlash_at(t));
+        dq[0] = Model::restoring_slope_of(self.stiffness(t), self.backlash_at(t), q[0]);
         dv[0] = 0.0;
     }
     fn n_events(&self) -> usize {
@@ -169,7 +168,7 @@ impl system::SecondOrderSystem for Model {
         _qd: &[f64],
         g: &mut [f64],
     ) {
-        g[0] = row[0] * backlash::dead_zone(q[0], row[1]);
+        g[0] = Model::restoring_of(row[0], row[1], q[0]);
     }
     fn force_jacobian_tabulated(
         &self,
@@ -180,7 +179,7 @@ impl system::SecondOrderSystem for Model {
         dq: &mut [f64],
         dv: &mut [f64],
     ) {
-        dq[0] = row[0] * dead_zone_dx(q[0], row[1]);
+        dq[0] = Model::restoring_slope_of(row[0], row[1], q[0]);
         dv[0] = 0.0;
     }
     fn set_base_frequency(&mut self, omega: f64) -> Result<(), system::SystemError> {

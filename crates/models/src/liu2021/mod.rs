@@ -105,6 +105,8 @@ mod integrate;
 mod model;
 mod ode;
 mod params;
+mod presets;
+pub mod registry;
 mod strategy;
 mod trig;
 mod window;

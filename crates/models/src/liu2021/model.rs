@@ -163,7 +163,15 @@ impl Model {
     #[inline]
     pub fn stiffness(&self, tau: f64) -> f64 {
         let km = self.mesh_stiffness_law().stiffness(tau);
-        let r = self.radius_ratio(tau);
+        self.parametric(km, (self.omega_c * tau).cos())
+    }
+
+    /// `F = (k_m/k₀)(r_b2/L)²/(1 + β²/2)` from `k_m/k₀` and `cos(ω̄_c τ)` (`r_b2/L = 1 + β cos`,
+    /// Eq. 8): the one place of this formula, for [`stiffness`](Self::stiffness) and the time
+    /// functions of the time stepping and the harmonic-balance grid.
+    #[inline]
+    fn parametric(&self, km: f64, cos_c: f64) -> f64 {
+        let r = 1.0 + self.beta * cos_c;
         km * r * r / (1.0 + 0.5 * self.beta * self.beta)
     }
 
@@ -310,12 +318,14 @@ impl Model {
     /// through `cos x`, as [`backlash_at`](Self::backlash_at).
     #[inline]
     fn time_functions_of(&self, t: &TimeTrig) -> [f64; 3] {
-        // F(τ): the leaf's law (k₀ = 1, k_r = a_k, sine) times the radius term
-        let r = 1.0 + self.beta * t.cx;
-        let stiffness =
-            (1.0 + self.ak * t.sin_stiffness) * r * r / (1.0 + 0.5 * self.beta * self.beta);
+        // F(τ): the leaf's law (k₀ = 1, k_r = a_k, sine: the cosine of its phase is not
+        // read) times the radius term
+        let km = self
+            .mesh_stiffness_law()
+            .eval_at_phase(t.sin_stiffness, f64::NAN);
+        let stiffness = self.parametric(km, t.cx);
         // b̄(τ): the backlash leaf's law (β = 0 for the mean reading)
-        let backlash = self.backlash / (1.0 + self.backlash_law().beta * t.cx);
+        let backlash = self.backlash_law().half_gap_at_phase(t.cx);
         let forcing = -self.b0 - self.rigid_acceleration_trig(t.sx, t.cx, t.s2x)
             + self.error_acceleration_trig(t.sph, t.cph, t.sx, t.cx);
         [stiffness, backlash, forcing]
@@ -369,13 +379,44 @@ impl Model {
     /// Restoring term `F(τ) f(q; b̄(τ))` of Eq. (9).
     #[inline]
     pub fn restoring(&self, tau: f64, q: f64) -> f64 {
-        self.stiffness(tau) * dead_zone(q, self.backlash_at(tau))
+        Self::restoring_of(self.stiffness(tau), self.backlash_at(tau), q)
+    }
+
+    /// `g = F f(q; b̄)` from the time functions `F`, `b̄` at one `τ`: the one place of the
+    /// restoring force, for [`restoring`](Self::restoring), the tabulated evaluation of the
+    /// harmonic balance and the time stepping ([`super::TimeSystem`]).
+    #[inline]
+    pub fn restoring_of(stiffness: f64, backlash: f64, q: f64) -> f64 {
+        stiffness * dead_zone(q, backlash)
+    }
+
+    /// `∂g/∂q = F f'(q; b̄)`, the slope of [`restoring_of`](Self::restoring_of) (the force
+    /// Jacobian of the harmonic balance, pointwise and tabulated).
+    #[inline]
+    pub fn restoring_slope_of(stiffness: f64, backlash: f64, q: f64) -> f64 {
+        stiffness * backlash::dead_zone_dx(q, backlash)
     }
 
     /// Acceleration `q'' = f_r − 2ζ q' − F f(q)`: the plain right-hand side of Eq. (9).
     #[inline]
     pub fn acceleration(&self, tau: f64, q: f64, v: f64) -> f64 {
-        self.forcing(tau) - 2.0 * self.zeta * v - self.restoring(tau, q)
+        self.acceleration_of(self.time_functions(tau), q, v)
+    }
+
+    /// The right-hand side of Eq. (9), `q'' = f_r − 2ζ q' − F f(q; b̄)`, from the time
+    /// functions `[F, b̄, f_r]` at one `τ` ([`time_functions`](Self::time_functions), or the
+    /// kernel evaluation of [`super::Trig::Kernel`]): the one right-hand side of the time
+    /// stepping, in the order of the generic adapter `timestep::Mechanical`
+    /// (`a = f − C v − g`, a zero damping skipped as it skips a zero matrix).
+    #[inline]
+    pub fn acceleration_of(&self, time_functions: [f64; 3], q: f64, v: f64) -> f64 {
+        let [stiffness, backlash, forcing] = time_functions;
+        let mut a = forcing;
+        let damping = 2.0 * self.zeta;
+        if damping != 0.0 {
+            a -= damping * v;
+        }
+        a - Self::restoring_of(stiffness, backlash, q)
     }
 
     /// Quasi-static contact position `q = −b̄ − B₀/F` at `τ` (start value for the solvers).

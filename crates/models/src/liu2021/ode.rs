@@ -46,8 +46,6 @@ pub enum Trig {
 pub struct TimeSystem {
     model: Model,
     trig: Trig,
-    /// The damping `C = 2ζ` (skipped when zero, as `Mechanical` skips a zero matrix).
-    damping: f64,
     /// `[sin φ_m, cos φ_m, sin φ_e, cos φ_e]` of the phases ([`Trig::Kernel`]).
     phases: [f64; 4],
     /// `[τ, F(τ), b̄(τ), f_r(τ)]` of the last evaluation (`τ` = NaN: empty).
@@ -65,7 +63,6 @@ impl TimeSystem {
         let (spm, cpm) = model.phase_stiffness.sin_cos();
         let (spe, cpe) = model.phase_error.sin_cos();
         Self {
-            damping: 2.0 * model.zeta,
             model,
             trig,
             phases: [spm, cpm, spe, cpe],
@@ -106,16 +103,9 @@ impl timestep::OdeSystem for TimeSystem {
 
     #[inline]
     fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]) {
-        let [stiffness, backlash, forcing] = self.time_functions(t);
         let (q, v) = (y[0], y[1]);
-        // the order of `Mechanical`: a = f − C v − g
-        let mut a = forcing;
-        if self.damping != 0.0 {
-            a -= self.damping * v;
-        }
-        a -= stiffness * backlash::dead_zone(q, backlash);
         dydt[0] = v;
-        dydt[1] = a;
+        dydt[1] = self.model.acceleration_of(self.time_functions(t), q, v);
     }
 
     fn n_events(&self) -> usize {

@@ -96,7 +96,7 @@ impl Default for SweepStrategy {
             stability: true,
             poincare_periods: 6,
             poincare_tol: 1e-4,
-            refine_factor: 100.0,
+            refine_factor: crate::contract::TIGHTER,
             ppv_rel_tol: 1e-3,
             long_window: None,
         }
@@ -201,10 +201,9 @@ impl HbmPoint {
     }
 }
 
-/// The stability threshold: a multiplier modulus `≤ 1 + hbm::STABILITY_TOLERANCE` is stable.
-pub fn is_stable_multiplier(max_modulus: f64) -> bool {
-    max_modulus <= 1.0 + hbm::STABILITY_TOLERANCE
-}
+/// The stability threshold: a multiplier modulus `≤ 1 + STABILITY_TOLERANCE` is stable (the
+/// workspace's one verdict, [`system::is_stable_multiplier`]).
+pub use system::is_stable_multiplier;
 
 /// Largest period-map multiplier modulus at a converged HBM state.
 pub fn max_multiplier(model: &Model, response: &HbmResponse) -> Result<f64, Error> {

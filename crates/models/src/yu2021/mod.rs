@@ -104,7 +104,9 @@ mod fractal;
 mod hbm;
 mod model;
 mod params;
+mod presets;
 mod reference;
+pub mod registry;
 mod stiffness;
 
 pub use engines::Engine;

@@ -50,19 +50,10 @@ pub enum BacklashUpdate {
     InRhs,
 }
 
-/// Law for the operating pressure angle `α` (Eq. 16, reading R-YU-EQ16).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[non_exhaustive]
-pub enum PressureAngleLaw {
-    /// `cos α = a_0 cos α_0 / a` (base-circle involute geometry): `α = α_0` at `a = a_0`.
-    #[default]
-    Operating,
-    /// Eq. (16) as printed, `cos α = (R_p + R_g)/a`: `α = 0` at `a = a_0`, undefined for
-    /// `a < a_0` (clamped to 0 there).
-    PrintedEq16,
-    /// `α = α_0` always.
-    Constant,
-}
+/// Law for the operating pressure angle `α` (Eq. 16, reading R-YU-EQ16): the `backlash`
+/// leaf's one enum, [`backlash::PressureAngleLaw`] (`Involute`, formerly the model's own
+/// `Operating`, is the model's default).
+pub use backlash::PressureAngleLaw;
 
 /// Law for the dynamic part `b_dy` of the backlash (reading R-YU-EQ6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -79,22 +70,15 @@ pub enum DynamicBacklashLaw {
     Off,
 }
 
-/// Sign of the centre separation in the centre distance, Eq. (8)–(9) (reading R-YU-EQ8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[non_exhaustive]
-pub enum CentreDistanceForm {
-    /// `a = sqrt((a_0 − x_p + x_g)² + (y_p − y_g)²)`: the frame of Eq. (12) and (15), in which
-    /// a growing `x_p − x_g` compresses the mesh (moves the centres together), so the radial
-    /// mesh-force component separates the gears.
-    #[default]
-    Consistent,
-    /// Eq. (8) as printed, `a = sqrt((a_0 + x_p − x_g)² + (y_p − y_g)²)`: with the force signs of
-    /// Eq. (12) the separating mesh force then reads as an approach of the centres.
-    PrintedEq8,
-}
+/// Sign of the centre separation in the centre distance, Eq. (8)–(9) (reading R-YU-EQ8): the
+/// `backlash` leaf's one enum, [`backlash::CentreDistanceForm`]. The model's default is
+/// [`CentreDistanceForm::Consistent`] (the frame of Eq. 12 and 15, in which a growing
+/// `x_p − x_g` compresses the mesh), passed explicitly by [`Options::default`]; the leaf's own
+/// default is the printed form.
+pub use backlash::CentreDistanceForm;
 
 /// Model options. `Options::default()` is Yu's 6-DOF model in the consistent form.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Options {
     /// Which model.
     pub kind: ModelKind,
@@ -111,6 +95,23 @@ pub struct Options {
     /// Lock the four centre coordinates (infinitely stiff bearings): the 6-DOF model reduces
     /// to the torsional one and `B = b_s`.
     pub lock_centres: bool,
+}
+
+impl Default for Options {
+    /// Yu's 6-DOF model, consistent form: the operating pressure angle
+    /// ([`PressureAngleLaw::Involute`]) and the consistent Eq. (8) sign
+    /// ([`CentreDistanceForm::Consistent`], not the leaf's default), both given explicitly.
+    fn default() -> Self {
+        Options {
+            kind: ModelKind::default(),
+            form: EquationForm::default(),
+            update: BacklashUpdate::default(),
+            pressure_angle: PressureAngleLaw::Involute,
+            dynamic_backlash: DynamicBacklashLaw::default(),
+            centre_distance: CentreDistanceForm::Consistent,
+            lock_centres: false,
+        }
+    }
 }
 
 impl Options {
@@ -426,16 +427,9 @@ impl Yu2021Model {
                     backlash::DynamicForm::LineOfAction
                 }
             },
-            law: match self.options.pressure_angle {
-                PressureAngleLaw::Operating => backlash::PressureAngleLaw::Involute,
-                PressureAngleLaw::PrintedEq16 => backlash::PressureAngleLaw::PrintedEq16,
-                PressureAngleLaw::Constant => backlash::PressureAngleLaw::Constant,
-            },
+            law: self.options.pressure_angle,
             policy: backlash::RadicandPolicy::ClampZero,
-            centre_distance: match self.options.centre_distance {
-                CentreDistanceForm::Consistent => backlash::CentreDistanceForm::Consistent,
-                CentreDistanceForm::PrintedEq8 => backlash::CentreDistanceForm::PrintedEq8,
-            },
+            centre_distance: self.options.centre_distance,
             beta0: backlash::Beta0::LawAtRest,
         }
     }
@@ -477,12 +471,16 @@ impl Yu2021Model {
         let (alpha, alpha_rate, centre_change) = match self.options.kind {
             ModelKind::KahramanSingh | ModelKind::ChenFractal => (p.alpha0, 0.0, 0.0),
             ModelKind::Yu => {
-                // Eq. (8)–(9), (16) from the `backlash` leaf's pair geometry
+                // Eq. (8)–(9), (16): the pair's one mesh kinematics on the leaf's geometry
                 let law = self.dynamic_backlash_law();
-                let (a, da, grad_a) = law.geometry.centre_distance_with(&c, law.centre_distance);
-                let a_rate: f64 = grad_a.iter().zip(&s[6..]).map(|(g, v)| g * v).sum();
-                let (alpha, dalpha_da) = law.geometry.pressure_angle(a, law.law);
-                (alpha, dalpha_da * a_rate, da)
+                let line = crate::pair::mesh::line_of_action(
+                    &law.geometry,
+                    law.centre_distance,
+                    law.law,
+                    &c,
+                    &s[6..10],
+                );
+                (line.alpha, line.alpha_rate, line.centre_change)
             }
         };
         MeshGeometry {
@@ -505,18 +503,21 @@ impl Yu2021Model {
     ) -> (f64, f64, f64) {
         let p = &self.params;
         let w = omega;
-        let ph = w * tau + p.phase;
         let (delta, delta_rate) = if self.options.kind == ModelKind::Yu
             && self.options.form == EquationForm::Consistent
         {
-            let (dx, dy) = (s[1] - s[3], s[2] - s[4]);
-            let (dvx, dvy) = (s[6] - s[8], s[7] - s[9]);
-            let (sa, ca) = g.alpha.sin_cos();
-            let e = p.ste * ph.cos();
-            let e_rate = -p.ste * w * ph.sin();
-            (
-                dx * sa + dy * ca + s[0] - e,
-                dvx * sa + dvy * ca + g.alpha_rate * (dx * ca - dy * sa) + s[5] - e_rate,
+            // Eq. (13)–(15): the pair's one mesh kinematics (`crate::pair::mesh`)
+            let line = crate::pair::mesh::LineOfAction {
+                alpha: g.alpha,
+                alpha_rate: g.alpha_rate,
+                centre_change: g.centre_change,
+            };
+            crate::pair::mesh::transmission_error(
+                (s[0], s[5]),
+                &s[1..5],
+                &s[6..10],
+                &line,
+                crate::pair::mesh::static_error(p.ste, w, p.phase, tau),
             )
         } else {
             (s[0], s[5])
@@ -702,6 +703,7 @@ impl Yu2021Model {
         Ok(out)
     }
 
+    /// One step of the workspace's classical RK4 ([`::system::rk4::rk4_step`]) of [`Self::rhs`].
     fn rk4(
         &self,
         w: f64,
@@ -710,21 +712,22 @@ impl Yu2021Model {
         h: f64,
         held: Option<f64>,
     ) -> [f64; STATE_LEN] {
-        let add = |a: &[f64; STATE_LEN], k: &[f64; STATE_LEN], f: f64| {
-            let mut r = *a;
-            for i in 0..STATE_LEN {
-                r[i] += f * k[i];
-            }
-            r
+        let rhs = |t: f64, y: &[f64], d: &mut [f64]| {
+            let mut state = [0.0; STATE_LEN];
+            state.copy_from_slice(y);
+            d.copy_from_slice(&self.rhs(w, t, &state, held));
         };
         let k1 = self.rhs(w, t, s, held);
-        let k2 = self.rhs(w, t + 0.5 * h, &add(s, &k1, 0.5 * h), held);
-        let k3 = self.rhs(w, t + 0.5 * h, &add(s, &k2, 0.5 * h), held);
-        let k4 = self.rhs(w, t + h, &add(s, &k3, h), held);
-        let mut r = *s;
-        for i in 0..STATE_LEN {
-            r[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-        }
+        let (mut k2, mut k3, mut k4) = ([0.0; STATE_LEN], [0.0; STATE_LEN], [0.0; STATE_LEN]);
+        let (mut stage, mut r) = ([0.0; STATE_LEN], [0.0; STATE_LEN]);
+        let stages = ::system::rk4::Rk4Stages {
+            k1: &k1,
+            k2: &mut k2,
+            k3: &mut k3,
+            k4: &mut k4,
+            stage: &mut stage,
+        };
+        ::system::rk4::rk4_step(rhs, t, h, s, stages, &mut r);
         r
     }
 }
@@ -732,6 +735,18 @@ impl Yu2021Model {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `Options::default()` keeps the model's defaults (`Involute`, the consistent Eq. 8
+    /// sign), not the leaf's (`PrintedEq8`), and round-trips through serde.
+    #[test]
+    fn options_default_is_the_models() {
+        let o = Options::default();
+        assert_eq!(o.pressure_angle, PressureAngleLaw::Involute);
+        assert_eq!(o.centre_distance, CentreDistanceForm::Consistent);
+        assert_ne!(CentreDistanceForm::default(), o.centre_distance);
+        let back: Options = serde_json::from_value(serde_json::to_value(o).unwrap()).unwrap();
+        assert_eq!(back, o);
+    }
 
     fn state(x_p: f64, y_p: f64, x_g: f64, y_g: f64) -> [f64; STATE_LEN] {
         let mut s = [0.0; STATE_LEN];
@@ -748,7 +763,7 @@ mod tests {
         let params = Yu2021Params::table1();
         for dynamic_backlash in [DynamicBacklashLaw::Eq10, DynamicBacklashLaw::Involute] {
             for pressure_angle in [
-                PressureAngleLaw::Operating,
+                PressureAngleLaw::Involute,
                 PressureAngleLaw::PrintedEq16,
                 PressureAngleLaw::Constant,
             ] {

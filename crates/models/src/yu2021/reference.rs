@@ -51,7 +51,7 @@ impl Default for ReferenceCheck {
     /// `ppv_rel_tol`; `n = 4` of R-YU-EQ21).
     fn default() -> Self {
         ReferenceCheck {
-            refine_factor: 100.0,
+            refine_factor: crate::contract::TIGHTER,
             refine_periods: 20,
             periodicity_tol: 1e-4,
             metric_rel_tol: 1e-3,

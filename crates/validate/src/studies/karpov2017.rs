@@ -10,7 +10,7 @@
 
 use models::karpov2017::{Excitation, Karpov2017, Karpov2017Params};
 
-use super::user_models::step_cells;
+use super::step_cells;
 use crate::{
     Claim, Cost, Error, Figure, Paper, ResultExt, STEP_STATISTICS, Series, Study, StudyOutput,
     Table, Verdict, fmt_sig, fmt6, published,
@@ -289,7 +289,7 @@ fn fig3() -> Result<StudyOutput, Error> {
                 Ok((env, sol.stats))
             };
             let (env, steps) = run(FIG3_TOL)?;
-            let (env_tight, _) = run(FIG3_TOL / 100.0)?;
+            let (env_tight, _) = run(FIG3_TOL / models::contract::TIGHTER)?;
             let r = m.duhamel().context("Fig. 3 Duhamel quadrature")?;
             let halved = m
                 .duhamel_folded(0.5 * r.phase_budget)

@@ -6,7 +6,6 @@ mod geometry;
 mod karpov2017;
 mod karpov2017_kinematics;
 mod liu2021;
-pub(crate) mod user_models;
 mod yu2021;
 mod yu2021_backlash;
 mod yu2021_scaling;
@@ -24,4 +23,10 @@ pub fn all_studies() -> Vec<Study> {
     v.extend(yu2021_topography::studies());
     v.sort_by_key(|s| s.paper);
     v
+}
+
+/// The step statistics of a run ([`models::contract::STEP_STATISTICS`]) as table cells
+/// (written in full), for the validation studies.
+pub(crate) fn step_cells(s: &timestep::Stats) -> [crate::Cell; 4] {
+    [s.n_accepted, s.n_rejected, s.n_rhs, s.n_events].map(crate::Cell::Count)
 }

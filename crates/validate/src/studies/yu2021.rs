@@ -19,7 +19,7 @@ use models::yu2021::{
     Yu2021Params,
 };
 
-use super::user_models::step_cells;
+use super::step_cells;
 use crate::{
     Cell, Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, STEP_STATISTICS,
     Series, Study, StudyOutput, Table, Tolerance, ToleranceBand, Verdict, fmt_sig, published,

@@ -17,7 +17,7 @@ use models::liu2021::{
 };
 use models::response::Robust;
 
-use super::user_models::step_cells;
+use super::step_cells;
 use crate::{
     Cell, Error, Figure, ResultExt, STEP_STATISTICS, Series, Study, StudyOutput, Table, Tolerance,
     fmt_sig,

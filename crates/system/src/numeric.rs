@@ -1,13 +1,24 @@
 //! Small allocation-free numerical tools: Gauss–Legendre quadrature (fixed and adaptive), a
 //! periodic maximiser and a bracketing root finder.
 //!
-//! They exist so that the exact kinematic quantities (output angle by quadrature of the exact
-//! ratio, exact speed fluctuation, exact maximum acceleration) can be computed independently of
-//! the closed forms they are tested against.
+//! They serve the exact kinematic quantities of `geardyn-gear-geometry` (output angle by
+//! quadrature of the exact ratio, exact speed fluctuation, exact maximum acceleration, computed
+//! independently of the closed forms they are tested against) and the quadrature engines of the
+//! models (Karpov's Duhamel integral).
 
 use std::sync::OnceLock;
 
-use crate::Error;
+/// A [`bisect`] that did not find its root: not bracketed, or not converged in its halvings.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("{what} did not converge after {iterations} iterations (residual {residual:e})")]
+pub struct NoConvergence {
+    /// What was being solved.
+    pub what: &'static str,
+    /// Iterations spent.
+    pub iterations: usize,
+    /// Last residual.
+    pub residual: f64,
+}
 
 /// Number of nodes of the Gauss–Legendre rule used by [`integrate`].
 pub const GAUSS_LEGENDRE_NODES: usize = 20;
@@ -234,7 +245,7 @@ pub fn bisect(
     mut lo: f64,
     mut hi: f64,
     xtol: f64,
-) -> Result<f64, Error> {
+) -> Result<f64, NoConvergence> {
     let mut flo = f(lo);
     let fhi = f(hi);
     if flo == 0.0 {
@@ -244,7 +255,7 @@ pub fn bisect(
         return Ok(hi);
     }
     if !(flo.is_finite() && fhi.is_finite()) || flo.signum() == fhi.signum() {
-        return Err(Error::NoConvergence {
+        return Err(NoConvergence {
             what: "bisection (root not bracketed)",
             iterations: 0,
             residual: flo.abs().min(fhi.abs()),
@@ -269,7 +280,7 @@ pub fn bisect(
             hi = mid;
         }
     }
-    Err(Error::NoConvergence {
+    Err(NoConvergence {
         what: "bisection",
         iterations: 200,
         residual: flo.abs(),

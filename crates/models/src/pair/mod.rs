@@ -23,6 +23,10 @@
 //!
 //! # Presets: where the papers' models are this pair, and where not
 //!
+//! The pair stands under the papers and imports none of them: each preset is written in its
+//! paper's folder (`yu2021/presets.rs`, `liu2021/presets.rs`), and the 6-DOF mesh kinematics
+//! that Yu's model shares with the pair is [`mesh`].
+//!
 //! * **Yu 2021, 6-DOF, consistent form** ([`PairParams::yu2021`]): the same right-hand side
 //!   in Yu's dimensionless units (`m_e = 1`, `m_i = 1/μ_i`, `k_ij = κ_ij m_i`,
 //!   `c_ij = ζ_ij m_i`, `F_s = T*`), stiffness Eq. (17), backlash the model's leaf law (every
@@ -46,6 +50,9 @@ use serde::{Deserialize, Serialize};
 use backlash::{Backlash, BacklashLaw, CentreDisplacement, CentreDistanceForm, PressureAngleLaw};
 
 use crate::Error;
+
+pub mod mesh;
+pub mod registry;
 
 /// Degrees of freedom of the pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -300,29 +307,26 @@ impl<S: StiffnessLaw, B: BacklashLaw> GearPair<S, B> {
     /// The mesh at `(t, q, q')`: `(δ, δ', F, b, α)`. A law error (non-finite state) gives NaN.
     pub fn mesh(&self, t: f64, q: &[f64], qd: &[f64]) -> MeshState {
         let (er, phi) = self.ste;
-        let ph = self.omega * t + phi;
-        let (s_ph, c_ph) = ph.sin_cos();
-        let (e, e_rate) = (er * c_ph, -er * self.omega * s_ph);
+        let (e, e_rate) = mesh::static_error(er, self.omega, phi, t);
         let c = self.centres(q);
-        let (alpha, alpha_rate, geo) = match self.dofs {
-            Dofs::Torsional => (self.geometry.alpha0, 0.0, (0.0, 0.0)),
+        let (alpha, delta, delta_rate) = match self.dofs {
+            Dofs::Torsional => (self.geometry.alpha0, q[0] - e, qd[0] - e_rate),
             Dofs::TransverseTorsional => {
-                let (a, _, grad) = self.geometry.centre_distance_with(&c, self.centre_distance);
-                let a_rate: f64 = grad.iter().zip(&qd[1..5]).map(|(g, v)| g * v).sum();
-                let (alpha, da) = self.geometry.pressure_angle(a, self.pressure_angle);
-                (alpha, da * a_rate, (q[1] - q[3], q[2] - q[4]))
-            }
-        };
-        let (sa, ca) = alpha.sin_cos();
-        let (delta, delta_rate) = match self.dofs {
-            Dofs::Torsional => (q[0] - e, qd[0] - e_rate),
-            Dofs::TransverseTorsional => {
-                let (dx, dy) = geo;
-                let (dvx, dvy) = (qd[1] - qd[3], qd[2] - qd[4]);
-                (
-                    dx * sa + dy * ca + q[0] - e,
-                    dvx * sa + dvy * ca + alpha_rate * (dx * ca - dy * sa) + qd[0] - e_rate,
-                )
+                let line = mesh::line_of_action(
+                    &self.geometry,
+                    self.centre_distance,
+                    self.pressure_angle,
+                    &c,
+                    &qd[1..5],
+                );
+                let (delta, delta_rate) = mesh::transmission_error(
+                    (q[0], qd[0]),
+                    &q[1..5],
+                    &qd[1..5],
+                    &line,
+                    (e, e_rate),
+                );
+                (line.alpha, delta, delta_rate)
             }
         };
         let gap = self.backlash.half_gap(t, &c).map_or(f64::NAN, |g| g.b);
@@ -678,97 +682,6 @@ impl PairParams {
             centre_distance: CentreDistanceForm::Consistent,
         }
     }
-
-    /// The Yu 2021 model (consistent form) as this pair, in its dimensionless units at `ω*`
-    /// (see the module docs). Errors for the forms the pair does not cover: Eq. (19) as
-    /// printed, Fig. 8's previous-step update.
-    pub fn yu2021(model: &crate::yu2021::Yu2021Model, omega: f64) -> Result<Self, Error> {
-        use crate::yu2021::{BacklashUpdate, EquationForm, ModelKind, PressureAngleLaw as Pal};
-        let o = &model.options;
-        if o.form != EquationForm::Consistent || o.update != BacklashUpdate::InRhs {
-            return Err(Error::UnsupportedReading {
-                field: "pair.yu2021",
-                reading: format!("{:?}/{:?}", o.form, o.update),
-            });
-        }
-        let p = &model.params;
-        let law = model.dynamic_backlash_law();
-        let six = o.kind == ModelKind::Yu && !o.lock_centres;
-        let m = [1.0 / p.mass_ratio[0], 1.0 / p.mass_ratio[1]];
-        let mi = [m[0], m[0], m[1], m[1]];
-        Ok(Self {
-            geometry: gear_geometry::SpurPairParams {
-                rp: law.geometry.r_p,
-                rg: law.geometry.r_g,
-                pressure_angle: law.geometry.alpha0,
-            },
-            dofs: if six {
-                Dofs::TransverseTorsional
-            } else {
-                Dofs::Torsional
-            },
-            equivalent_mass: 1.0,
-            masses: m,
-            bearing_stiffness: std::array::from_fn(|i| p.kappa[i] * mi[i]),
-            bearing_damping: std::array::from_fn(|i| p.zeta_bearing[i] * mi[i]),
-            mesh_damping: p.zeta,
-            static_force: p.load,
-            ste_amplitude: p.ste,
-            ste_phase: p.phase,
-            mesh_frequency: omega,
-            stiffness: Stiffness::SingleHarmonic(model.mesh_stiffness_law(omega)),
-            backlash: model.backlash_law(omega),
-            pressure_angle: match o.pressure_angle {
-                Pal::Operating => PressureAngleLaw::Involute,
-                Pal::PrintedEq16 => PressureAngleLaw::PrintedEq16,
-                _ => PressureAngleLaw::Constant,
-            },
-            centre_distance: law.centre_distance,
-        })
-    }
-
-    /// The Liu 2021 model in its circular limit (`ε = 0`, see the module docs) as the 1-DOF
-    /// pair, in Liu's dimensionless units. Errors for `ε ≠ 0` and for the readings that are
-    /// no spur-pair physics (printed Eq. 21 error term).
-    pub fn liu2021(model: &crate::liu2021::Model) -> Result<Self, Error> {
-        use crate::liu2021::ErrorTerm;
-        if model.beta != 0.0 || model.eccentricity != 0.0 {
-            return Err(Error::invalid(
-                "pair.liu2021 eccentricity (NFG: no spur-pair preset)",
-                "= 0",
-                model.eccentricity,
-            ));
-        }
-        if model.readings.error_term != ErrorTerm::Derived {
-            return Err(Error::UnsupportedReading {
-                field: "pair.liu2021.readings.error_term",
-                reading: format!("{:?}", model.readings.error_term),
-            });
-        }
-        Ok(Self {
-            // geometry enters only through α_0 (1-DOF); unit radii in units of L
-            geometry: gear_geometry::SpurPairParams {
-                rp: 1.0,
-                rg: 1.0,
-                pressure_angle: 20f64.to_radians(),
-            },
-            dofs: Dofs::Torsional,
-            equivalent_mass: 1.0,
-            masses: [1.0, 1.0],
-            bearing_stiffness: [0.0; 4],
-            bearing_damping: [0.0; 4],
-            mesh_damping: 2.0 * model.zeta,
-            static_force: -model.b0,
-            // e = −ē = −(e_r/L) sin(ω̄_e τ + φ_e) = (e_r/L) cos(ω̄_e τ + φ_e + π/2)
-            ste_amplitude: model.error,
-            ste_phase: model.phase_error + std::f64::consts::FRAC_PI_2,
-            mesh_frequency: model.omega_e,
-            stiffness: Stiffness::SingleHarmonic(model.mesh_stiffness_law()),
-            backlash: Backlash::RadiusModulated(model.backlash_law()),
-            pressure_angle: PressureAngleLaw::Constant,
-            centre_distance: CentreDistanceForm::Consistent,
-        })
-    }
 }
 
 fn hbm_error(source: hbm::HbmError) -> Error {
@@ -795,13 +708,13 @@ fn unreachable_curve() -> mesh_stiffness::ToothPairStiffness {
     }
 }
 
+/// Helpers of the tests that hold the papers' models against their pair presets.
 #[cfg(test)]
-mod tests {
-    use super::*;
+pub(crate) mod test_support {
     use system::SecondOrderSystem;
 
     /// `q'' = M⁻¹(f − C q' − K q − g)` of a diagonal-mass system.
-    fn accel<T: SecondOrderSystem>(sys: &T, t: f64, q: &[f64], qd: &[f64]) -> Vec<f64> {
+    pub(crate) fn accel<T: SecondOrderSystem>(sys: &T, t: f64, q: &[f64], qd: &[f64]) -> Vec<f64> {
         let n = sys.n_dof();
         let (m, c, k) = (sys.mass(), sys.damping(), sys.stiffness());
         let (mut g, mut f) = (vec![0.0; n], vec![0.0; n]);
@@ -815,101 +728,14 @@ mod tests {
             .collect()
     }
 
-    fn close(a: f64, b: f64, scale: f64) -> bool {
+    pub(crate) fn close(a: f64, b: f64, scale: f64) -> bool {
         (a - b).abs() <= 1e-12 * (scale + a.abs().max(b.abs()))
     }
+}
 
-    /// The Yu 6-DOF model (every dynamic-backlash, pressure-angle and Eq. 8 option) is the pair
-    /// preset: the same accelerations at a state (the pair divides by `m_i = 1/μ_i` where Yu
-    /// multiplies by `μ_i`: rounding only).
-    #[test]
-    fn yu_six_dof_rhs_is_the_pair_preset() {
-        use crate::yu2021::{
-            CentreDistanceForm as Cdf, DynamicBacklashLaw as Dbl, Options, PressureAngleLaw as Pal,
-            STATE_LEN, Yu2021Model, Yu2021Params,
-        };
-        let mut s = [0.0; STATE_LEN];
-        s.copy_from_slice(&[1.3, 0.02, -0.01, -0.015, 0.03, 0.2, 0.1, -0.3, 0.05, 0.02]);
-        for dynamic_backlash in [Dbl::Eq10, Dbl::Involute, Dbl::Off] {
-            for pressure_angle in [Pal::Operating, Pal::Constant] {
-                for centre_distance in [Cdf::Consistent, Cdf::PrintedEq8] {
-                    let o = Options {
-                        dynamic_backlash,
-                        pressure_angle,
-                        centre_distance,
-                        ..Options::default()
-                    };
-                    let m = Yu2021Model::new(&Yu2021Params::table1(), o).unwrap();
-                    let (w, tau) = (0.9, 0.37);
-                    let pair = GearPair::from_params(&PairParams::yu2021(&m, w).unwrap()).unwrap();
-                    assert_eq!(pair.dofs(), Dofs::TransverseTorsional);
-                    let want = m.rhs(w, tau, &s, None);
-                    let got = accel(&pair, tau, &s[..5], &s[5..]);
-                    for i in 0..5 {
-                        assert!(
-                            close(got[i], want[5 + i], 1.0),
-                            "{o:?} {i}: {} vs {}",
-                            got[i],
-                            want[5 + i]
-                        );
-                    }
-                }
-            }
-        }
-        // the printed Eq. (19) and Fig. 8's update are not this pair
-        let m = Yu2021Model::new(&Yu2021Params::table1(), Options::yu_as_printed()).unwrap();
-        assert!(PairParams::yu2021(&m, 1.0).is_err());
-    }
-
-    /// Kahraman–Singh and Chen (1-DOF, consistent forcing) are the torsional pair with
-    /// `u = δ* + e`: `δ*'' = u'' + ω*² ē cos(ω*τ + φ_0)`.
-    #[test]
-    fn yu_torsional_models_are_the_torsional_pair() {
-        use crate::yu2021::{Options, STATE_LEN, Yu2021Model, Yu2021Params};
-        for o in [Options::kahraman_singh(), Options::chen()] {
-            let m = Yu2021Model::new(&Yu2021Params::table1(), o).unwrap();
-            let p = m.params;
-            let pair = GearPair::from_params(&PairParams::yu2021(&m, 0.8).unwrap()).unwrap();
-            assert_eq!(pair.dofs(), Dofs::Torsional);
-            for (tau, d, v) in [(0.3, 1.4, 0.2), (2.1, 0.4, -0.1), (5.0, -1.3, 0.05)] {
-                let ph = 0.8 * tau + p.phase;
-                let e = p.ste * ph.cos();
-                let e_rate = -p.ste * 0.8 * ph.sin();
-                let mut s = [0.0; STATE_LEN];
-                s[0] = d;
-                s[5] = v;
-                let want = m.rhs(0.8, tau, &s, None)[5];
-                let u_dd = accel(&pair, tau, &[d + e], &[v + e_rate])[0];
-                let got = u_dd + 0.8 * 0.8 * e;
-                assert!(close(got, want, 1.0), "{o:?} {tau}: {got} vs {want}");
-            }
-        }
-    }
-
-    /// Liu's model in its circular limit (ε = 0) is the torsional pair with `δ = q`.
-    #[test]
-    fn liu_circular_limit_is_the_torsional_pair() {
-        let mut p = crate::liu2021::table1();
-        p.eccentricity = 0.0;
-        let m = p.model().unwrap();
-        let pre = PairParams::liu2021(&m).unwrap();
-        let pair = GearPair::from_params(&pre).unwrap();
-        let (er, phi, w) = (pre.ste_amplitude, pre.ste_phase, pre.mesh_frequency);
-        for (tau, q, v) in [
-            (0.3, -0.002, 0.01),
-            (7.7, 0.0001, -0.02),
-            (40.0, 0.003, 0.0),
-        ] {
-            let e = er * (w * tau + phi).cos();
-            let e_rate = -er * w * (w * tau + phi).sin();
-            let u_dd = accel(&pair, tau, &[q + e], &[v + e_rate])[0];
-            let got = u_dd + w * w * e;
-            let want = m.acceleration(tau, q, v);
-            assert!(close(got, want, m.b0), "{tau}: {got} vs {want}");
-        }
-        let m = crate::liu2021::table1().model().unwrap();
-        assert!(PairParams::liu2021(&m).is_err());
-    }
+#[cfg(test)]
+mod tests {
+    use super::*;
 
     fn linear_pair(dofs: Dofs, gap: f64) -> PairParams {
         PairParams {

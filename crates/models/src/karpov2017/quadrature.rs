@@ -1,0 +1,709 @@
+//! The quadrature engine of Karpov's Duhamel integral (the module docs of `karpov2017`,
+//! "Methods"): one run over phase-bounded Gauss–Legendre pairs with the bulk by pairs, Levin
+//! panels (`super::levin`) or period folding (`super::fold`); the last cycle sampled with its
+//! extrema refined; the kernel of the integrand `e^{i(s ± Φ(s))}` with its rotors, the
+//! accumulators with their error estimate, and the panel-count estimate. The model (`super`)
+//! holds the parameters, the phase and the public entry points (`duhamel*`).
+
+use std::cell::OnceCell;
+use std::f64::consts::TAU;
+
+use nalgebra::Complex;
+use system::numeric::GaussLegendre;
+
+use super::{
+    AmplitudeMeasure, Excitation, Karpov2017, KarpovResponse, LAST_CYCLE_PHASE, LEVELS,
+    LEVELS_PER_OCTAVE, MAX_PANELS, SAMPLE, fold, levin,
+};
+use crate::Error;
+
+impl Karpov2017 {
+    pub(super) fn panel_estimate_with(&self, ker: &Kernel, theta: f64) -> f64 {
+        let a_min = 1.0 + self.p.omega * (1.0 - self.p.b);
+        let m2_min = ker.m2(0.0);
+        let l_max = 4.0 * theta / (a_min + (a_min * a_min + 4.0 * m2_min * theta).sqrt());
+        (2.0 * self.p.tau_end / l_max).max(self.p.tau_end * a_min / (2.0 * theta))
+    }
+
+    /// One quadrature run: Gauss–Legendre panels of phase budget `theta` everywhere, or, with
+    /// `levin = Some(settings)`, Levin panels in the bulk `[0, τ_end − T]` where their residual
+    /// passes and Gauss–Legendre panels elsewhere (see [`Karpov2017::duhamel_tol`]).
+    pub(super) fn run(&self, theta: f64, bulk: Bulk) -> Result<KarpovResponse, Error> {
+        if !(theta.is_finite() && (1e-3..=8.0).contains(&theta)) {
+            return Err(Error::invalid(
+                "karpov2017.phase_budget",
+                "in [1e-3, 8]",
+                theta,
+            ));
+        }
+        // Each pair of panels spans a phase of at most 2θ and the phase advances at least at
+        // 1 + ω(1 − B) (the smallest |Φ'| + 1), so at least this many panels are needed: refuse
+        // at once what the budget cannot hold instead of running into it.
+        let estimate = self.p.tau_end * (1.0 + self.p.omega * (1.0 - self.p.b)) / (2.0 * theta);
+        if estimate.is_nan() || estimate > MAX_PANELS as f64 {
+            return Err(Error::Quadrature {
+                reason: format!(
+                    "Duhamel integral: about {estimate:.3e} panels needed for tau_end = {} and \
+                     omega = {}, over the budget of {MAX_PANELS} panels",
+                    self.p.tau_end, self.p.omega
+                ),
+                at: 0.0,
+            });
+        }
+        let ker = Kernel::new(self);
+        let estimate = self.panel_estimate_with(&ker, theta);
+        if estimate.is_nan() || estimate > MAX_PANELS as f64 {
+            return Err(Error::Quadrature {
+                reason: format!(
+                    "Duhamel integral: about {estimate:.3e} panels needed (the chirp of k = {} \
+                     included), over the budget of {MAX_PANELS} panels",
+                    self.p.k
+                ),
+                at: 0.0,
+            });
+        }
+        // node rotations of the quantised panel lengths, each level computed when first used
+        let table: Vec<OnceCell<Rot>> = (0..LEVELS).map(|_| OnceCell::new()).collect();
+        let tau_end = self.p.tau_end;
+        let t_w = (tau_end - self.last_cycle()).max(0.0);
+        let mut acc = Acc::default();
+        let mut t = 0.0;
+        // Bulk: [0, t_w].
+        let mut stats = LevinStats::default();
+        let mut folded_periods = 0;
+        match bulk {
+            Bulk::Levin(set) => {
+                stats = self.bulk_levin(&ker, &table, theta, t_w, set, &mut acc)?;
+                t = t_w;
+            }
+            Bulk::Fold => {
+                if let Some(f) = fold::Fold::ending_at(TAU / ker.kw, t_w) {
+                    let est = fold::panel_estimate(&ker, &f, theta, self.p.b);
+                    if est.is_nan() || est > MAX_PANELS as f64 {
+                        return Err(Error::Quadrature {
+                            reason: format!(
+                                "Duhamel integral (folded): about {est:.3e} panels needed, over \
+                                 the budget of {MAX_PANELS} panels"
+                            ),
+                            at: 0.0,
+                        });
+                    }
+                    // head [0, s₀) directly, then N periods folded onto [s₀, s₀ + T]
+                    while t < f.s0 {
+                        let h = ker.pair_length(self, t, theta) * 0.5;
+                        let (h, done) = acc.pair(&ker, &table, theta, t, h, f.s0, None)?;
+                        t = if done { f.s0 } else { t + 2.0 * h };
+                    }
+                    fold::integrate(&ker, &f, theta, &mut acc)?;
+                    folded_periods = f.n as u64;
+                    t = t_w;
+                }
+            }
+            Bulk::GaussLegendre => {}
+        }
+        while t < t_w {
+            let h = ker.pair_length(self, t, theta) * 0.5;
+            let (h, done) = acc.pair(&ker, &table, theta, t, h, t_w, None)?;
+            t = if done { t_w } else { t + 2.0 * h };
+        }
+        // Last cycle: sampled, extrema refined.
+        let x_at = |t: f64, c: f64, s: f64| {
+            let (st, ct) = t.sin_cos();
+            (st * c - ct * s, ct * c + st * s)
+        };
+        let (mut c0, mut s0) = (acc.c.value(), acc.s.value());
+        let (mut x0, mut v0) = x_at(t, c0, s0);
+        let mut max_abs = x0.abs();
+        let mut est = acc.dc.hypot(acc.ds);
+        while t < tau_end {
+            // at most `LAST_CYCLE_PHASE` rad of phase per sample interval: `X' = 0` can then
+            // hold at most one root between samples, however fast the forcing
+            let h = (ker.pair_length(self, t, theta.min(LAST_CYCLE_PHASE)) * 0.5).min(SAMPLE);
+            let mut mid = None;
+            let (h, done) = acc.pair(&ker, &table, theta, t, h, tau_end, Some(&mut mid))?;
+            let t_next = if done { tau_end } else { t + 2.0 * h };
+            let (cm, sm) = mid.unwrap_or((c0, s0));
+            let ends = [(t + h, cm, sm), (t_next, acc.c.value(), acc.s.value())];
+            let (mut ta, mut ca, mut sa) = (t, c0, s0);
+            for (tb, cb, sb) in ends {
+                let (xb, vb) = x_at(tb, cb, sb);
+                max_abs = max_abs.max(xb.abs());
+                if ((v0 > 0.0 && vb < 0.0) || (v0 < 0.0 && vb > 0.0))
+                    && extremum_bound(tb - ta, (x0, v0), (xb, vb)) > max_abs
+                {
+                    max_abs = max_abs.max(ker.extremum(ta, ca, sa, tb));
+                }
+                (ta, ca, sa, x0, v0) = (tb, cb, sb, xb, vb);
+            }
+            (c0, s0) = (acc.c.value(), acc.s.value());
+            est = est.max(acc.dc.hypot(acc.ds));
+            t = t_next;
+        }
+        let (x, v) = x_at(tau_end, acc.c.value(), acc.s.value());
+        let envelope = x.hypot(v);
+        let amplitude = match self.p.measure {
+            AmplitudeMeasure::LastCycleMax => max_abs,
+            AmplitudeMeasure::Envelope => envelope,
+        };
+        Ok(KarpovResponse {
+            x,
+            v,
+            envelope,
+            last_cycle_max: max_abs,
+            amplitude,
+            error_estimate: est + stats.truncation + stats.rounding,
+            phase_budget: theta,
+            panels: acc.panels,
+            levin_panels: stats.panels,
+            folded_periods,
+        })
+    }
+}
+
+/// `rtol` of the error-controlled rules: in `[1e-13, 1)`.
+pub(super) fn check_rtol(rtol: f64) -> Result<(), Error> {
+    if rtol.is_finite() && (1e-13..1.0).contains(&rtol) {
+        Ok(())
+    } else {
+        Err(Error::invalid("karpov2017.rtol", "in [1e-13, 1)", rtol))
+    }
+}
+
+/// How one run integrates the bulk `[0, τ_end − T_last]`.
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Bulk {
+    /// Phase-bounded Gauss–Legendre pairs throughout.
+    GaussLegendre,
+    /// Levin panels where their residual passes, Gauss–Legendre pairs elsewhere.
+    Levin(LevinSettings),
+    /// Whole periods of `g` folded onto one (module `fold`), a direct head before them.
+    Fold,
+}
+
+/// Settings of the Levin bulk of one run.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct LevinSettings {
+    /// Tolerance on `(C, S)` over the bulk relative to the running envelope `|C + iS|` (at
+    /// least 1): a panel of length `L` is accepted when its truncation estimate is
+    /// `≤ eps·max(1, |C + iS|)·L/t_w`.
+    pub(super) eps: f64,
+    /// Longest panel, as a multiple of `π/(2kω)` (a quarter period of `g`).
+    pub(super) span: f64,
+}
+
+/// What the Levin bulk did.
+#[derive(Debug, Default, Clone, Copy)]
+pub(super) struct LevinStats {
+    pub(super) panels: u64,
+    /// Sum of the accepted panels' truncation estimates (`∫|r|`, halved for `sin Φ`).
+    pub(super) truncation: f64,
+    /// Bound of the rounding of the end formulas (`ε|p|·|ψ|` per end).
+    pub(super) rounding: f64,
+}
+
+/// Levin panels shorter than this many Gauss–Legendre pairs are not tried (a Levin attempt,
+/// both chirps, costs about as much as 4 pairs).
+pub(super) const LEVIN_MIN_PAIRS: f64 = 4.0;
+/// Cap of the Levin attempts of one run (a typed error beyond it; never reached in practice:
+/// each attempt either advances `τ` by `≥ LEVIN_MIN_PAIRS` pairs or shrinks the trial length).
+pub(super) const MAX_LEVIN_ATTEMPTS: u64 = 20_000_000;
+/// Longest stretch of Gauss–Legendre pairs between two Levin attempts.
+pub(super) const MAX_GL_STRETCH: f64 = 4096.0;
+
+impl Karpov2017 {
+    /// The bulk `[0, t_w]` of the Duhamel integral: `C + iS = (I₊ − I₋)/(2i)`,
+    /// `I± = ∫ e^{i(s ± Φ(s))} ds`, by Levin panels (`levin::Levin`) whose length `L` is
+    /// controlled like a step size from the ratio `ρ` of the truncation estimate to the
+    /// panel's tolerance (`L·0.9ρ^{−1/8}`, clamped to `[1, 2]` after an accepted panel, up to
+    /// `span·π/(2kω)`, and to `[¼, 0.7]` after a rejected one). Where `L` falls below
+    /// `LEVIN_MIN_PAIRS` Gauss–Legendre pairs (around the stationary points `Φ' = ∓1`, and at
+    /// small `τ` where the phase is slow) a stretch of phase-bounded Gauss–Legendre pairs
+    /// follows, doubled each time no Levin panel passed since the previous stretch.
+    ///
+    /// Termination: every iteration advances `τ` by an accepted panel or a stretch of pairs
+    /// (each pair counted against `MAX_PANELS`), or shrinks `L` by at least 0.7, which can
+    /// happen only `log(L/(LEVIN_MIN_PAIRS·pair))/log(1/0.7)` times before a stretch; the
+    /// attempts are capped at `MAX_LEVIN_ATTEMPTS` (typed error).
+    pub(super) fn bulk_levin(
+        &self,
+        ker: &Kernel,
+        table: &[OnceCell<Rot>],
+        theta: f64,
+        t_w: f64,
+        set: LevinSettings,
+        acc: &mut Acc,
+    ) -> Result<LevinStats, Error> {
+        let mut st = LevinStats::default();
+        if t_w <= 0.0 {
+            return Ok(st);
+        }
+        let lv = levin::Levin::new();
+        let l_max = (set.span * 0.5 * std::f64::consts::PI / ker.kw).min(t_w);
+        let mut l = 0.25 * l_max;
+        let min_pairs = LEVIN_MIN_PAIRS;
+        let mut stretch = min_pairs;
+        let mut after_gl = false;
+        let mut attempts = 0u64;
+        let mut t = 0.0;
+        let (mut phi_a, mut s_a) = ker.rotors(t);
+        let mut dpsi = [0.0; levin::N];
+        let mut dpsi_y = [0.0; levin::N - 1];
+        while t < t_w {
+            let lg = ker.pair_length(self, t, theta);
+            let len = l.min(t_w - t);
+            if len < min_pairs * lg || t + len <= t {
+                let end = (t + stretch * lg).min(t_w);
+                while t < end {
+                    let h = ker.pair_length(self, t, theta) * 0.5;
+                    let (h, done) = acc.pair(ker, table, theta, t, h, end, None)?;
+                    t = if done { end } else { t + 2.0 * h };
+                }
+                (phi_a, s_a) = ker.rotors(t);
+                l = l.max(2.0 * min_pairs * ker.pair_length(self, t, theta));
+                if after_gl {
+                    // no Levin panel passed since the last stretch: make the next one longer
+                    stretch = (2.0 * stretch).min(MAX_GL_STRETCH);
+                }
+                after_gl = true;
+                continue;
+            }
+            attempts += 1;
+            if attempts > MAX_LEVIN_ATTEMPTS {
+                return Err(Error::Quadrature {
+                    reason: format!(
+                        "Duhamel integral: more than {MAX_LEVIN_ATTEMPTS} Levin panels tried"
+                    ),
+                    at: t,
+                });
+            }
+            let b = t + len;
+            let mid = t + 0.5 * len;
+            for (d, x) in dpsi.iter_mut().zip(lv.x) {
+                *d = ker.phi_rate(mid + 0.5 * len * x);
+            }
+            for (d, y) in dpsi_y.iter_mut().zip(lv.y) {
+                *d = ker.phi_rate(mid + 0.5 * len * y);
+            }
+            let (phi_b, s_b) = ker.rotors(b);
+            let plus = {
+                let dp = dpsi.map(|d| 1.0 + d);
+                let dy = dpsi_y.map(|d| 1.0 + d);
+                lv.chirp(len, &dp, &dy, s_a * phi_a, s_b * phi_b)
+            };
+            let minus = {
+                let dp = dpsi.map(|d| 1.0 - d);
+                let dy = dpsi_y.map(|d| 1.0 - d);
+                lv.chirp(len, &dp, &dy, s_a * phi_a.conj(), s_b * phi_b.conj())
+            };
+            // the tolerance scales with the running envelope |C + iS| (≥ 1)
+            let tol = set.eps * acc.c.value().hypot(acc.s.value()).max(1.0) * len / t_w;
+            let (ok, ratio) = match (&plus, &minus) {
+                (Some(p), Some(m)) => {
+                    let tr = 0.5 * (p.truncation + m.truncation);
+                    ((tr <= tol).then_some(tr), tr / tol)
+                }
+                _ => (None, f64::INFINITY),
+            };
+            // next trial length from the estimate, as a step-size controller would (the
+            // estimate falls roughly like L^8 or faster); NaN-safe clamps
+            let factor = 0.9 * ratio.powf(-0.125);
+            let factor = if factor.is_nan() { 0.25 } else { factor };
+            if let (Some(tr), Some(p), Some(m)) = (ok, plus, minus) {
+                // (I₊ − I₋)/(2i)
+                let v = (p.value - m.value) * Complex::new(0.0, -0.5);
+                acc.c.add(v.re);
+                acc.s.add(v.im);
+                st.panels += 1;
+                st.truncation += tr;
+                let psi = 1.0 + b.abs() + self.phase(b).abs();
+                st.rounding += 2.0 * f64::EPSILON * (p.scale + m.scale) * psi;
+                t = b;
+                (phi_a, s_a) = (phi_b, s_b);
+                l = (len * factor.clamp(1.0, 2.0)).max(l).min(l_max);
+                stretch = min_pairs;
+                after_gl = false;
+            } else {
+                l = len * factor.clamp(0.25, 0.7);
+            }
+        }
+        Ok(st)
+    }
+}
+
+/// An upper bound of `|X|` on a sample interval of length `h` from its ends `(X, X')`:
+/// with `|X''| = |sin Φ − X| ≤ 1 + m`, `m = sup|X|`, Taylor from either end gives
+/// `m ≤ |X| + |X'| h + (1 + m) h²/2`, i.e. `m ≤ (|X| + |X'| h + h²/2)/(1 − h²/2)` (`h < √2`;
+/// the last cycle's samples are `≤ SAMPLE = 0.5` apart). An extremum search between the
+/// samples is skipped when this bound cannot exceed the running maximum, which leaves `A`
+/// unchanged and avoids a Newton search at every root of the forcing's ripple in `X'`
+/// (the fuzzer's `ω = 9.2·10¹⁸`, `τ_end = 10⁻¹²`: ~10⁶ searches, 18 s).
+pub(super) fn extremum_bound(h: f64, (xa, va): (f64, f64), (xb, vb): (f64, f64)) -> f64 {
+    let q = 0.5 * h * h;
+    if q.is_nan() || q >= 1.0 {
+        return f64::INFINITY;
+    }
+    let from = |x: f64, v: f64| (x.abs() + v.abs() * h + q) / (1.0 - q);
+    from(xa, va).min(from(xb, vb))
+}
+
+/// Composite Simpson weight (without `h/3`) of point `i` of `0..=n` (`n` even); tests only.
+#[cfg(test)]
+pub(super) fn simpson_weight(i: usize, n: usize) -> f64 {
+    if i == 0 || i == n {
+        1.0
+    } else if i % 2 == 1 {
+        4.0
+    } else {
+        2.0
+    }
+}
+
+/// Length of the fine panels of level `j`: `2θ·2^(−j/LEVELS_PER_OCTAVE)`.
+pub(super) fn level_length(theta: f64, j: usize) -> f64 {
+    2.0 * theta * (-(j as f64) / f64::from(LEVELS_PER_OCTAVE)).exp2()
+}
+
+/// The 10 Gauss–Legendre node offsets `d = h/2·x_i` of one panel length as rotations.
+#[derive(Clone, Copy)]
+pub(super) struct Rot {
+    /// Panel length.
+    pub(super) h: f64,
+    /// `(sin d, cos d)`.
+    pub(super) s: [(f64, f64); 10],
+    /// `(sin kωd, cos kωd)`.
+    pub(super) th: [(f64, f64); 10],
+}
+
+/// The integrand of the Duhamel integral with the constants of `g` unpacked.
+pub(super) struct Kernel {
+    pub(super) w: f64,
+    pub(super) k: f64,
+    pub(super) kw: f64,
+    /// `B√(1 − 1/ξ²)`.
+    pub(super) c: f64,
+    /// `1/ξ` (0 in the sinusoidal limit).
+    pub(super) eps: f64,
+    pub(super) printed: bool,
+    pub(super) gl: GaussLegendre<10>,
+    /// Bounds of `|g'|` and `|g''|` (+5 %).
+    pub(super) g1: f64,
+    pub(super) g2: f64,
+}
+
+impl Kernel {
+    pub(super) fn new(m: &Karpov2017) -> Self {
+        let (b, xi) = (m.dev.b(), m.dev.xi());
+        let eps = if xi.is_infinite() { 0.0 } else { 1.0 / xi };
+        let c = b * ((1.0 - eps) * (1.0 + eps)).sqrt();
+        // g' = c(ε + cos θ)/(1 + ε cos θ)², g'' = c sin θ (2ε² − 1 + ε cos θ)/(1 + ε cos θ)³;
+        // both peak within ~(1 − ε) of θ = π, so the grid resolves that width 400 times.
+        let n = ((400.0 / (1.0 - eps)) as usize).clamp(4096, 1 << 20);
+        let [g1, g2] = grid_max(n, |i| {
+            let (s, co) = (TAU * i as f64 / n as f64).sin_cos();
+            let den = 1.0 + eps * co;
+            [
+                (c * (eps + co) / (den * den)).abs(),
+                (c * s * (2.0 * eps * eps - 1.0 + eps * co) / (den * den * den)).abs(),
+            ]
+        });
+        Self {
+            w: m.p.omega,
+            k: m.p.k,
+            kw: m.p.k * m.p.omega,
+            c,
+            eps,
+            printed: m.p.excitation == Excitation::PrintedPhase,
+            gl: GaussLegendre::<10>::new(),
+            g1: 1.05 * g1,
+            g2: 1.05 * g2,
+        }
+    }
+
+    /// Node rotations of panel length `h`.
+    pub(super) fn rot(&self, h: f64) -> Rot {
+        let mut r = Rot {
+            h,
+            s: [(0.0, 1.0); 10],
+            th: [(0.0, 1.0); 10],
+        };
+        for i in 0..10 {
+            let d = 0.5 * h * self.gl.nodes[i];
+            r.s[i] = d.sin_cos();
+            r.th[i] = (self.kw * d).sin_cos();
+        }
+        r
+    }
+
+    /// `Φ(s)` given `sin θ`, `cos θ` of `θ = kωs`.
+    #[inline]
+    pub(super) fn phi(&self, s: f64, st: f64, ct: f64) -> f64 {
+        if self.printed {
+            let g = self.c * st / (1.0 + self.eps * ct);
+            self.w * (1.0 + g) * s
+        } else {
+            let big_g = if self.eps == 0.0 {
+                self.c * (1.0 - ct)
+            } else {
+                -(self.c / self.eps) * ((ct - 1.0) * self.eps / (1.0 + self.eps)).ln_1p()
+            };
+            self.w * s + big_g / self.k
+        }
+    }
+
+    /// `sin Φ(s)` given `sin θ`, `cos θ` of `θ = kωs`.
+    #[inline]
+    pub(super) fn sin_phi(&self, s: f64, st: f64, ct: f64) -> f64 {
+        self.phi(s, st, ct).sin()
+    }
+
+    /// `Φ'(s)`: `ω(1 + g)` (accumulated) or `ω(1 + g) + s ω kω g'` (printed), with
+    /// `g' = c(ε + cos θ)/(1 + ε cos θ)²`.
+    #[inline]
+    pub(super) fn phi_rate(&self, s: f64) -> f64 {
+        let (st, ct) = (self.kw * s).sin_cos();
+        let den = 1.0 + self.eps * ct;
+        let g = self.c * st / den;
+        let base = self.w * (1.0 + g);
+        if self.printed {
+            base + s * self.w * self.kw * self.c * (self.eps + ct) / (den * den)
+        } else {
+            base
+        }
+    }
+
+    /// `(e^{iΦ(s)}, e^{is})`.
+    pub(super) fn rotors(&self, s: f64) -> (Complex<f64>, Complex<f64>) {
+        let (st, ct) = (self.kw * s).sin_cos();
+        let (sp, cp) = self.phi(s, st, ct).sin_cos();
+        let (ss, cs) = s.sin_cos();
+        (Complex::new(cp, sp), Complex::new(cs, ss))
+    }
+
+    /// `(∫ cos s sin Φ, ∫ sin s sin Φ)` over `[t, t + r.h]` by 10-point Gauss–Legendre.
+    #[inline]
+    pub(super) fn panel(&self, t: f64, r: &Rot) -> (f64, f64) {
+        let half = 0.5 * r.h;
+        let mid = t + half;
+        let (sm, cm) = mid.sin_cos();
+        let (stm, ctm) = (self.kw * mid).sin_cos();
+        let (mut pc, mut ps) = (0.0, 0.0);
+        for i in 0..10 {
+            let (sd, cd) = r.s[i];
+            let (sdt, cdt) = r.th[i];
+            let ss = sm * cd + cm * sd;
+            let cs = cm * cd - sm * sd;
+            let st = stm * cdt + ctm * sdt;
+            let ct = ctm * cdt - stm * sdt;
+            let f = self.gl.weights[i] * self.sin_phi(mid + half * self.gl.nodes[i], st, ct);
+            pc += f * cs;
+            ps += f * ss;
+        }
+        (pc * half, ps * half)
+    }
+
+    /// Bound of `|Φ''|` on `[0, tau]`.
+    pub(super) fn m2(&self, tau: f64) -> f64 {
+        let (w, k) = (self.w, self.k);
+        if self.printed {
+            2.0 * w * w * k * self.g1 + w * w * w * k * k * tau * self.g2
+        } else {
+            w * w * k * self.g1
+        }
+    }
+
+    /// Length `L` of a pair starting at `t` whose integrand phase changes by `≤ 2θ`:
+    /// `a L + M₂ L²/2 = 2θ`.
+    pub(super) fn pair_length(&self, m: &Karpov2017, t: f64, theta: f64) -> f64 {
+        let a = 1.0 + m.phase_rate(t).abs();
+        let m2 = self.m2(t + 2.0 * theta);
+        4.0 * theta / (a + (a * a + 4.0 * m2 * theta).sqrt())
+    }
+
+    /// `|X|` at the extremum in `(t0, t1)` where `X'` changes sign, given `C`, `S` at `t0`:
+    /// safeguarded Newton on `X'(τ) = cos τ C(τ) + sin τ S(τ)` with `X'' = sin Φ − X`
+    /// (at most 60 steps; the bracket always holds a sign change).
+    pub(super) fn extremum(&self, t0: f64, c0: f64, s0: f64, t1: f64) -> f64 {
+        let eval = |tau: f64| {
+            let (dc, ds) = self.panel(t0, &self.rot(tau - t0));
+            let (c, s) = (c0 + dc, s0 + ds);
+            let (st, ct) = tau.sin_cos();
+            let (sth, cth) = (self.kw * tau).sin_cos();
+            (
+                st * c - ct * s,
+                ct * c + st * s,
+                self.sin_phi(tau, sth, cth),
+            )
+        };
+        let (mut lo, mut hi) = (t0, t1);
+        let (_, v_lo, _) = eval(lo);
+        let mut tau = 0.5 * (lo + hi);
+        let mut best = 0.0f64;
+        for _ in 0..60 {
+            let (x, v, f) = eval(tau);
+            best = best.max(x.abs());
+            if (v > 0.0) == (v_lo > 0.0) {
+                lo = tau;
+            } else {
+                hi = tau;
+            }
+            let d2 = f - x;
+            let newton = tau - v / d2;
+            let next = if d2 != 0.0 && newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            if (next - tau).abs() <= 1e-15 * (1.0 + tau.abs()) || hi - lo <= 1e-14 * (1.0 + tau) {
+                break;
+            }
+            tau = next;
+        }
+        best
+    }
+}
+
+/// Stride of the coarse pass of [`grid_max`].
+const GRID_STRIDE: usize = 8;
+
+/// The maxima over `i ∈ [0, n)` of the two components of the periodic `f(i)` (period `n`),
+/// evaluated at every [`GRID_STRIDE`]-th point and then at every point within two strides of
+/// each local maximum of that coarse pass (wrapping around). For a function whose peaks span
+/// several strides (the bounds of `|g'|`, `|g''|` above: each peak ≥ 60 points wide) this is
+/// the maximum over all `n` points, bit for bit (the same values at the same points), at
+/// about a sixth of the evaluations.
+fn grid_max(n: usize, f: impl Fn(usize) -> [f64; 2]) -> [f64; 2] {
+    let coarse: Vec<[f64; 2]> = (0..n).step_by(GRID_STRIDE).map(&f).collect();
+    let m = coarse.len();
+    let mut best = [0.0f64; 2];
+    for v in &coarse {
+        best = [best[0].max(v[0]), best[1].max(v[1])];
+    }
+    for comp in 0..2 {
+        for j in 0..m {
+            let (prev, next) = (coarse[(j + m - 1) % m][comp], coarse[(j + 1) % m][comp]);
+            let here = coarse[j][comp];
+            if here > prev && here >= next {
+                let centre = (j * GRID_STRIDE) as isize;
+                let reach = 2 * GRID_STRIDE as isize;
+                for i in centre - reach..=centre + reach {
+                    let i = i.rem_euclid(n as isize) as usize;
+                    best[comp] = best[comp].max(f(i)[comp]);
+                }
+            }
+        }
+    }
+    best
+}
+
+/// Running sums of one quadrature.
+#[derive(Default)]
+pub(super) struct Acc {
+    pub(super) c: Sum,
+    pub(super) s: Sum,
+    /// Signed sums of `coarse − fine` (error estimate).
+    pub(super) dc: f64,
+    pub(super) ds: f64,
+    pub(super) panels: u64,
+}
+
+impl Acc {
+    /// One pair of panels of length `≤ h` from `t` (the last one shortened to end at `end`):
+    /// adds the fine result and the coarse difference; returns the panel length used. The
+    /// first half's `(C, S)` goes to `mid` when asked.
+    pub(super) fn pair(
+        &mut self,
+        ker: &Kernel,
+        table: &[OnceCell<Rot>],
+        theta: f64,
+        t: f64,
+        h: f64,
+        end: f64,
+        mid: Option<&mut Option<(f64, f64)>>,
+    ) -> Result<(f64, bool), Error> {
+        if self.panels >= MAX_PANELS {
+            return Err(Error::Quadrature {
+                reason: format!("Duhamel integral: panel budget {MAX_PANELS} exhausted"),
+                at: t,
+            });
+        }
+        let (fine, coarse);
+        let done = t + 2.0 * h >= end;
+        if done {
+            let h = 0.5 * (end - t);
+            (fine, coarse) = (ker.rot(h), ker.rot(2.0 * h));
+        } else {
+            let j = (f64::from(LEVELS_PER_OCTAVE) * (2.0 * theta / h).log2()).ceil();
+            let j = if j.is_finite() {
+                j.max(f64::from(LEVELS_PER_OCTAVE))
+            } else {
+                f64::MAX
+            };
+            if j < LEVELS as f64 {
+                let j = j as usize;
+                let jc = j - LEVELS_PER_OCTAVE as usize;
+                fine = *table[j].get_or_init(|| ker.rot(level_length(theta, j)));
+                coarse = *table[jc].get_or_init(|| ker.rot(level_length(theta, jc)));
+            } else {
+                (fine, coarse) = (ker.rot(h), ker.rot(2.0 * h));
+            }
+        }
+        let h = fine.h;
+        // `h` must be positive (not NaN) and large enough to move `t` at all
+        if h.is_nan() || h <= 0.0 || t + h <= t {
+            return Err(Error::Quadrature {
+                reason: format!("Duhamel integral: panel length {h:e} does not advance τ"),
+                at: t,
+            });
+        }
+        let first = ker.panel(t, &fine);
+        self.add(first);
+        if let Some(m) = mid {
+            *m = Some((self.c.value(), self.s.value()));
+        }
+        let second = ker.panel(t + h, &fine);
+        self.add(second);
+        self.check(first, second, ker.panel(t, &coarse));
+        Ok((h, done))
+    }
+
+    /// Adds one fine panel's `(ΔC, ΔS)` to the result.
+    pub(super) fn add(&mut self, (c, s): (f64, f64)) {
+        self.c.add(c);
+        self.s.add(s);
+    }
+
+    /// Accounts a pair: the coarse panel over both fine ones minus their sum goes into the
+    /// error estimate; three panels of work.
+    pub(super) fn check(
+        &mut self,
+        (c1, s1): (f64, f64),
+        (c2, s2): (f64, f64),
+        (cc, sc): (f64, f64),
+    ) {
+        self.dc += cc - (c1 + c2);
+        self.ds += sc - (s1 + s2);
+        self.panels += 3;
+    }
+}
+
+/// Neumaier-compensated sum.
+#[derive(Default, Clone, Copy)]
+pub(super) struct Sum {
+    pub(super) s: f64,
+    pub(super) c: f64,
+}
+
+impl Sum {
+    pub(super) fn add(&mut self, x: f64) {
+        let t = self.s + x;
+        if self.s.abs() >= x.abs() {
+            self.c += (self.s - t) + x;
+        } else {
+            self.c += (x - t) + self.s;
+        }
+        self.s = t;
+    }
+    pub(super) fn value(&self) -> f64 {
+        self.s + self.c
+    }
+}

@@ -1,0 +1,138 @@
+//! The one mesh kinematics of a spur pair whose centres move (Yu 2021 Eq. 8–9, 13–16): the
+//! operating pressure angle from the centre displacements, and the dynamic transmission error
+//! along the line of action. [`super::GearPair`] and `yu2021::Yu2021Model` both evaluate
+//! their mesh through these functions.
+//!
+//! ```text
+//! a = √((a₀ ± (x_p − x_g))² + (y_p − y_g)²),   α = α(a)       (Eq. 8–9, 16; the leaf's laws)
+//! δ  = u + (x_p − x_g) sin α + (y_p − y_g) cos α − e(t)
+//! δ' = u' + (x_p' − x_g') sin α + (y_p' − y_g') cos α + α' ((x_p − x_g) cos α − (y_p − y_g) sin α) − e'(t)
+//! e(t) = e_r cos(ω t + φ)                                      (static transmission error)
+//! ```
+
+use backlash::{CentreDisplacement, CentreDistanceForm, PairGeometry, PressureAngleLaw};
+
+/// The line of action of a pair with displaced centres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LineOfAction {
+    /// Operating pressure angle `α` \[rad\].
+    pub alpha: f64,
+    /// Its rate `α' = (dα/da) a'`.
+    pub alpha_rate: f64,
+    /// Change of the centre distance `Δa = a − a₀`.
+    pub centre_change: f64,
+}
+
+/// The line of action for centre displacements `c` and their velocities
+/// `centre_velocity = [x_p', y_p', x_g', y_g']`: the centre distance by the `form` of Eq. (8)
+/// and the pressure angle by `law` (both the `backlash` leaf's, [`PairGeometry`]).
+#[inline]
+pub fn line_of_action(
+    geometry: &PairGeometry,
+    form: CentreDistanceForm,
+    law: PressureAngleLaw,
+    c: &CentreDisplacement,
+    centre_velocity: &[f64],
+) -> LineOfAction {
+    let (a, centre_change, grad) = geometry.centre_distance_with(c, form);
+    let a_rate: f64 = grad.iter().zip(centre_velocity).map(|(g, v)| g * v).sum();
+    let (alpha, dalpha_da) = geometry.pressure_angle(a, law);
+    LineOfAction {
+        alpha,
+        alpha_rate: dalpha_da * a_rate,
+        centre_change,
+    }
+}
+
+/// The static transmission error `(e, e') = (e_r cos ψ, −e_r ω sin ψ)`, `ψ = ω t + φ`.
+#[inline]
+pub fn static_error(amplitude: f64, omega: f64, phase: f64, t: f64) -> (f64, f64) {
+    let (s, c) = (omega * t + phase).sin_cos();
+    (amplitude * c, -amplitude * omega * s)
+}
+
+/// The dynamic transmission error `(δ, δ')` along the line of action (module docs) from the
+/// torsional coordinate `(u, u')`, the centre displacements `centres = [x_p, y_p, x_g, y_g]`,
+/// their velocities, the line of action and the static error `(e, e')`.
+#[inline]
+pub fn transmission_error(
+    (u, u_rate): (f64, f64),
+    centres: &[f64],
+    velocities: &[f64],
+    line: &LineOfAction,
+    (e, e_rate): (f64, f64),
+) -> (f64, f64) {
+    let (dx, dy) = (centres[0] - centres[2], centres[1] - centres[3]);
+    let (dvx, dvy) = (velocities[0] - velocities[2], velocities[1] - velocities[3]);
+    let (sa, ca) = line.alpha.sin_cos();
+    (
+        dx * sa + dy * ca + u - e,
+        dvx * sa + dvy * ca + line.alpha_rate * (dx * ca - dy * sa) + u_rate - e_rate,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// With the centres at rest the line of action is the nominal one and `δ = u − e`; a pure
+    /// translation of both centres together changes neither `a` nor `δ`.
+    #[test]
+    fn rest_and_common_translation() {
+        let g = PairGeometry::new(0.05, 0.07, 20f64.to_radians()).unwrap();
+        let rest = line_of_action(
+            &g,
+            CentreDistanceForm::Consistent,
+            PressureAngleLaw::Involute,
+            &CentreDisplacement::default(),
+            &[0.0; 4],
+        );
+        assert!((rest.alpha - 20f64.to_radians()).abs() < 1e-15);
+        assert_eq!(rest.centre_change.to_bits(), 0f64.to_bits());
+        let e = static_error(1e-6, 100.0, 0.3, 0.01);
+        let (d, dr) = transmission_error((2e-6, 0.1), &[0.0; 4], &[0.0; 4], &rest, e);
+        assert_eq!(d.to_bits(), (2e-6 - e.0).to_bits());
+        assert_eq!(dr.to_bits(), (0.1 - e.1).to_bits());
+        let shift = [3e-5, -2e-5, 3e-5, -2e-5];
+        let c = CentreDisplacement::from_array(shift);
+        let moved = line_of_action(
+            &g,
+            CentreDistanceForm::Consistent,
+            PressureAngleLaw::Involute,
+            &c,
+            &[1.0, 1.0, 1.0, 1.0],
+        );
+        assert!(moved.centre_change.abs() < 1e-18 && moved.alpha_rate.abs() < 1e-12);
+        let (d2, _) = transmission_error((2e-6, 0.1), &shift, &[0.0; 4], &moved, e);
+        assert!((d2 - d).abs() < 1e-18);
+    }
+
+    /// `δ'` is the time derivative of `δ` along a moving state (central difference).
+    #[test]
+    fn rate_is_the_derivative() {
+        let g = PairGeometry::new(0.05, 0.07, 20f64.to_radians()).unwrap();
+        let path = |t: f64| {
+            let c = [1e-4 * t, -2e-4 * t * t, -5e-5 * t, 3e-5 * t];
+            let v = [1e-4, -4e-4 * t, -5e-5, 3e-5];
+            (c, v, (1e-3 * t * t, 2e-3 * t))
+        };
+        let eval = |t: f64| {
+            let (c, v, u) = path(t);
+            let line = line_of_action(
+                &g,
+                CentreDistanceForm::Consistent,
+                PressureAngleLaw::Involute,
+                &CentreDisplacement::from_array(c),
+                &v,
+            );
+            transmission_error(u, &c, &v, &line, static_error(1e-5, 50.0, 0.2, t))
+        };
+        let (t, h) = (0.4, 1e-5);
+        let fd = (eval(t + h).0 - eval(t - h).0) / (2.0 * h);
+        let rate = eval(t).1;
+        assert!(
+            (fd - rate).abs() < 1e-7 * rate.abs().max(1e-6),
+            "{fd} vs {rate}"
+        );
+    }
+}

@@ -1,0 +1,323 @@
+//! The generic spur pair of the [`REGISTRY`](crate::contract::REGISTRY) (`generic-pair`):
+//! [`PairParams::example_spur`](crate::pair::PairParams::example_spur) in SI units, by time
+//! stepping, harmonic balance or shooting.
+
+use std::sync::Arc;
+
+use crate::contract::shoot::{SHOOT_OUT, shoot_any, shoot_settings, shoot_transient};
+use crate::contract::{
+    self, Adapter, ChoiceInfo, Context, Job, Kind, Method, MethodInfo, ModelInfo, ParamInfo, Point,
+    PointError, Record, SettingDef, Settings, TOLERANCE_CHECK, Value, WithContext, apply_values,
+    no_initial, outs, outs_stepped, params_of, run_stepped, take_choice, wrong_method,
+};
+use crate::pair;
+use crate::yu2021::registry::{
+    AFT_SAMPLES, RECORD_PERIODS, TRANSIENT_PERIODS, time_stepping_and_hbm,
+};
+
+/// The generic spur pair from the leaves (tooth-pair stiffness, constant backlash; 1-DOF or
+/// 6-DOF).
+#[derive(Debug, Clone, Copy)]
+pub struct Pair;
+
+fn pair_unit(k: &str) -> &'static str {
+    match k {
+        "equivalent_mass" | "masses" => "kg",
+        "rp" | "rg" | "ste_amplitude" | "b" => "m",
+        "pressure_angle" | "ste_phase" => "rad",
+        "bearing_stiffness" => "N/m",
+        "bearing_damping" | "mesh_damping" => "N·s/m",
+        "static_force" => "N",
+        "mesh_frequency" => "rad/s",
+        _ => "1",
+    }
+}
+
+const PAIR_TS: &[SettingDef] = &[
+    TRANSIENT_PERIODS,
+    RECORD_PERIODS,
+    SettingDef {
+        name: "samples_per_period",
+        kind: Kind::Int {
+            lo: 4,
+            hi: 100_000,
+            default: Some(64),
+        },
+        doc: "samples per recorded mesh period",
+    },
+    SettingDef {
+        name: "rtol",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e-2,
+            default: 1e-9,
+        },
+        doc: "relative tolerance (Dormand–Prince 5(4), gap edges as events)",
+    },
+    SettingDef {
+        name: "atol",
+        kind: Kind::Num {
+            lo: 1e-20,
+            hi: 1e-2,
+            default: 1e-12,
+        },
+        doc: "absolute tolerance (units of the coordinates)",
+    },
+    TOLERANCE_CHECK,
+];
+
+const PAIR_HBM: &[SettingDef] = &[
+    SettingDef {
+        name: "harmonics",
+        kind: Kind::Int {
+            lo: 1,
+            hi: 64,
+            default: Some(16),
+        },
+        doc: "harmonics H of the mesh frequency",
+    },
+    AFT_SAMPLES,
+    SettingDef {
+        name: "tolerance",
+        kind: Kind::Num {
+            lo: 1e-14,
+            hi: 1e3,
+            default: 1e-6,
+        },
+        doc: "residual-norm tolerance (N)",
+    },
+];
+
+const PAIR_TS_OUT: &[(&str, &str)] = &[("df", "1"), ("mean_dte", "m"), ("dte_peak_to_peak", "m")];
+const PAIR_HBM_OUT: &[(&str, &str)] = &[
+    ("mean_u", "m"),
+    ("first_harmonic_amplitude", "m"),
+    ("converged", "1"),
+    ("residual_norm", "N"),
+    ("truncation", "1"),
+];
+
+const PAIR_SHOOT_TRANSIENT: &str = "mesh periods of the model's time integration from \
+     `initial` (or its static contact) whose end state is the shooting guess";
+
+fn pair_shoot_settings() -> Vec<SettingDef> {
+    shoot_settings(shoot_transient(200, PAIR_SHOOT_TRANSIENT))
+}
+
+/// A point of the generic pair: `dofs` (a choice) and the numbers of `PairParams`.
+fn pair_model(p: &Point) -> Result<(pair::GearPair, f64), PointError> {
+    let mut fields = p.clone();
+    let dofs = match take_choice(&mut fields, "dofs", None)? {
+        None => pair::Dofs::Torsional,
+        Some(Value::Text(s)) if s == "torsional" => pair::Dofs::Torsional,
+        Some(Value::Text(s)) if s == "transverse-torsional" => pair::Dofs::TransverseTorsional,
+        Some(v) => {
+            return Err(PointError::Input(format!(
+                "`dofs` = {} is not an option; options: \"torsional\", \"transverse-torsional\"",
+                v.label()
+            )));
+        }
+    };
+    let mut params = apply_values(&pair::PairParams::example_spur(), &fields)?;
+    params.dofs = dofs;
+    let model = pair::GearPair::from_params(&params).context("generic-pair parameters")?;
+    Ok((model, params.static_force))
+}
+
+impl contract::Model for Pair {
+    fn name(&self) -> &'static str {
+        "generic-pair"
+    }
+
+    fn description(&self) -> &'static str {
+        "Generic spur pair from the leaves (tooth-pair stiffness, constant backlash; 1-DOF or 6-DOF)"
+    }
+
+    fn unit_of(&self, parameter: &str) -> &'static str {
+        pair_unit(parameter)
+    }
+
+    fn describe(&self) -> ModelInfo {
+        ModelInfo {
+            parameters: {
+                // the top-level numbers, the geometry and the constant half gap `b`
+                let p = pair::PairParams::example_spur();
+                let mut v = params_of(&p, pair_unit);
+                v.extend(params_of(&p.geometry, pair_unit));
+                v.push(ParamInfo {
+                    name: "b".into(),
+                    unit: "m".into(),
+                    default: "5e-5 (half gap of the constant backlash law)".into(),
+                });
+                v
+            },
+            choices: vec![ChoiceInfo {
+                name: "dofs".into(),
+                options: vec!["torsional".into(), "transverse-torsional".into()],
+                default: "torsional".into(),
+                note: "1-DOF torsional or 6-DOF transverse-torsional".into(),
+            }],
+            methods: {
+                let mut m = time_stepping_and_hbm(
+                    (PAIR_TS, PAIR_TS_OUT),
+                    "[q, q'] (2 × number of DOFs)",
+                    (PAIR_HBM, PAIR_HBM_OUT),
+                );
+                m.push(MethodInfo {
+                    method: Method::Shooting,
+                    settings: pair_shoot_settings(),
+                    outputs: outs(SHOOT_OUT),
+                    initial: Some("[q, q'] where the guess's integration starts"),
+                });
+                m
+            },
+        }
+    }
+
+    fn build(&self, ctx: &Context<'_>) -> Result<Adapter, PointError> {
+        match ctx.solver.method {
+            Method::TimeStepping => time_stepping(ctx),
+            Method::Hbm => harmonic_balance(ctx),
+            Method::Shooting => shooting(ctx),
+            m => Err(wrong_method(
+                "generic-pair",
+                m,
+                &[Method::TimeStepping, Method::Hbm, Method::Shooting],
+            )),
+        }
+    }
+}
+
+fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
+    let limits = ctx.limits;
+    let s = Settings::read(
+        "generic-pair",
+        Method::TimeStepping,
+        PAIR_TS,
+        &ctx.solver.settings,
+        &[],
+    )?;
+    let settings = pair::TimeSettings {
+        transient_periods: s.u("transient_periods").unwrap_or(200) as usize,
+        record_periods: s.u("record_periods").unwrap_or(20) as usize,
+        samples_per_period: s.u("samples_per_period").unwrap_or(64) as usize,
+        rtol: s.f("rtol"),
+        atol: s.f("atol"),
+    };
+    let initial = ctx.initial.map(<[f64]>::to_vec);
+    let check = s.name("tolerance_check") == "on";
+    Ok(Adapter {
+        outputs: outs_stepped(PAIR_TS_OUT, check),
+        prepare: Box::new(move |p: &Point| {
+            let (model, f_s) = pair_model(p)?;
+            // adaptive steps: at least 8 per mesh period (h_max = T/8)
+            let periods = settings.transient_periods + settings.record_periods;
+            limits.need_steps("generic-pair", 8.0 * periods as f64)?;
+            let initial = initial.clone();
+            Ok(Box::new(move || {
+                run_stepped(check, |factor| {
+                    let st = pair::TimeSettings {
+                        rtol: settings.rtol / factor,
+                        atol: settings.atol / factor,
+                        ..settings
+                    };
+                    let r = model
+                        .time_response(&st, initial.as_deref())
+                        .context("generic-pair time integration")?;
+                    let n = r.delta.len().max(1) as f64;
+                    let max = r.delta.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                    let min = r.delta.iter().copied().fold(f64::INFINITY, f64::min);
+                    let mut rec = Record::new();
+                    rec.push("df", "1", r.dynamic_factor(f_s))
+                        .push("mean_dte", "m", r.delta.iter().sum::<f64>() / n)
+                        .push("dte_peak_to_peak", "m", max - min);
+                    Ok((rec, r.stats))
+                })
+            }) as Job)
+        }),
+    })
+}
+
+fn harmonic_balance(ctx: &Context<'_>) -> Result<Adapter, PointError> {
+    no_initial("generic-pair", ctx)?;
+    let s = Settings::read(
+        "generic-pair",
+        Method::Hbm,
+        PAIR_HBM,
+        &ctx.solver.settings,
+        &[],
+    )?;
+    let h = s.u("harmonics").unwrap_or(16) as usize;
+    let samples = s.u("samples").unwrap_or(256) as usize;
+    if samples < 4 * h + 2 {
+        return Err(PointError::Input(format!(
+            "generic-pair hbm: samples = {samples} must be >= 4·harmonics + 2 = {}",
+            4 * h + 2
+        )));
+    }
+    let options = hbm::SolverOptions {
+        tolerance: s.f("tolerance"),
+        ..hbm::SolverOptions::default()
+    };
+    Ok(Adapter {
+        outputs: outs(PAIR_HBM_OUT),
+        prepare: Box::new(move |p: &Point| {
+            let (model, _) = pair_model(p)?;
+            Ok(Box::new(move || {
+                let n = model.dofs().n();
+                let mut z0 = vec![0.0; n * (2 * h + 1)];
+                z0[..n].copy_from_slice(&model.static_state());
+                let mut problem = model
+                    .hbm_problem(h, samples)
+                    .context("generic-pair harmonic balance")?;
+                let sol = problem
+                    .solve(&z0, &options)
+                    .map_err(crate::Error::from)
+                    .context("generic-pair harmonic balance")?;
+                let c = &sol.coefficients;
+                let mut rec = Record::new();
+                rec.push("mean_u", "m", c[0])
+                    .push("first_harmonic_amplitude", "m", c[n].hypot(c[2 * n]))
+                    .push("converged", "1", if sol.converged { 1.0 } else { 0.0 })
+                    .push("residual_norm", "N", sol.residual_norm)
+                    .push("truncation", "1", sol.truncation);
+                Ok(rec)
+            }) as Job)
+        }),
+    })
+}
+
+fn shooting(ctx: &Context<'_>) -> Result<Adapter, PointError> {
+    let limits = ctx.limits;
+    let s = Settings::read(
+        "generic-pair",
+        Method::Shooting,
+        &pair_shoot_settings(),
+        &ctx.solver.settings,
+        &[],
+    )?;
+    let initial = ctx.initial.map(<[f64]>::to_vec);
+    let settings = pair::TimeSettings {
+        transient_periods: s.u("transient_periods").unwrap_or(200) as usize,
+        record_periods: 1,
+        samples_per_period: 4,
+        ..pair::TimeSettings::default()
+    };
+    let s = Arc::new(s);
+    Ok(Adapter {
+        outputs: outs(SHOOT_OUT),
+        prepare: Box::new(move |p: &Point| {
+            let (model, _) = pair_model(p)?;
+            let periods = settings.transient_periods + settings.record_periods;
+            limits.need_steps("generic-pair shooting", 8.0 * periods as f64)?;
+            let (s, initial) = (Arc::clone(&s), initial.clone());
+            Ok(Box::new(move || {
+                let r = model
+                    .time_response(&settings, initial.as_deref())
+                    .context("generic-pair shooting guess")?;
+                let period = std::f64::consts::TAU / model.mesh_frequency();
+                shoot_any("generic-pair", model, period, &r.final_state, &s)
+            }) as Job)
+        }),
+    })
+}

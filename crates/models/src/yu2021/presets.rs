@@ -1,0 +1,127 @@
+//! Yu 2021 as the generic spur pair ([`crate::pair`]): the preset [`PairParams::yu2021`]. The
+//! pair stands under the papers and knows none of them; each paper's preset lives in its own
+//! folder.
+
+use mesh_stiffness::Stiffness;
+
+use crate::Error;
+use crate::pair::{Dofs, PairParams};
+
+impl PairParams {
+    /// The Yu 2021 model (consistent form) as this pair, in its dimensionless units at `ω*`
+    /// (see the module docs). Errors for the forms the pair does not cover: Eq. (19) as
+    /// printed, Fig. 8's previous-step update.
+    pub fn yu2021(model: &super::Yu2021Model, omega: f64) -> Result<Self, Error> {
+        use super::{BacklashUpdate, EquationForm, ModelKind};
+        let o = &model.options;
+        if o.form != EquationForm::Consistent || o.update != BacklashUpdate::InRhs {
+            return Err(Error::UnsupportedReading {
+                field: "pair.yu2021",
+                reading: format!("{:?}/{:?}", o.form, o.update),
+            });
+        }
+        let p = &model.params;
+        let law = model.dynamic_backlash_law();
+        let six = o.kind == ModelKind::Yu && !o.lock_centres;
+        let m = [1.0 / p.mass_ratio[0], 1.0 / p.mass_ratio[1]];
+        let mi = [m[0], m[0], m[1], m[1]];
+        Ok(Self {
+            geometry: gear_geometry::SpurPairParams {
+                rp: law.geometry.r_p,
+                rg: law.geometry.r_g,
+                pressure_angle: law.geometry.alpha0,
+            },
+            dofs: if six {
+                Dofs::TransverseTorsional
+            } else {
+                Dofs::Torsional
+            },
+            equivalent_mass: 1.0,
+            masses: m,
+            bearing_stiffness: std::array::from_fn(|i| p.kappa[i] * mi[i]),
+            bearing_damping: std::array::from_fn(|i| p.zeta_bearing[i] * mi[i]),
+            mesh_damping: p.zeta,
+            static_force: p.load,
+            ste_amplitude: p.ste,
+            ste_phase: p.phase,
+            mesh_frequency: omega,
+            stiffness: Stiffness::SingleHarmonic(model.mesh_stiffness_law(omega)),
+            backlash: model.backlash_law(omega),
+            pressure_angle: o.pressure_angle,
+            centre_distance: law.centre_distance,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::pair::test_support::{accel, close};
+    use crate::pair::{Dofs, GearPair, PairParams};
+
+    /// The Yu 6-DOF model (every dynamic-backlash, pressure-angle and Eq. 8 option) is the pair
+    /// preset: the same accelerations at a state (the pair divides by `m_i = 1/μ_i` where Yu
+    /// multiplies by `μ_i`: rounding only).
+    #[test]
+    fn yu_six_dof_rhs_is_the_pair_preset() {
+        use crate::yu2021::{
+            CentreDistanceForm as Cdf, DynamicBacklashLaw as Dbl, Options, PressureAngleLaw as Pal,
+            STATE_LEN, Yu2021Model, Yu2021Params,
+        };
+        let mut s = [0.0; STATE_LEN];
+        s.copy_from_slice(&[1.3, 0.02, -0.01, -0.015, 0.03, 0.2, 0.1, -0.3, 0.05, 0.02]);
+        for dynamic_backlash in [Dbl::Eq10, Dbl::Involute, Dbl::Off] {
+            for pressure_angle in [Pal::Involute, Pal::Constant] {
+                for centre_distance in [Cdf::Consistent, Cdf::PrintedEq8] {
+                    let o = Options {
+                        dynamic_backlash,
+                        pressure_angle,
+                        centre_distance,
+                        ..Options::default()
+                    };
+                    let m = Yu2021Model::new(&Yu2021Params::table1(), o).unwrap();
+                    let (w, tau) = (0.9, 0.37);
+                    let pair = GearPair::from_params(&PairParams::yu2021(&m, w).unwrap()).unwrap();
+                    assert_eq!(pair.dofs(), Dofs::TransverseTorsional);
+                    let want = m.rhs(w, tau, &s, None);
+                    let got = accel(&pair, tau, &s[..5], &s[5..]);
+                    for i in 0..5 {
+                        assert!(
+                            close(got[i], want[5 + i], 1.0),
+                            "{o:?} {i}: {} vs {}",
+                            got[i],
+                            want[5 + i]
+                        );
+                    }
+                }
+            }
+        }
+        // the printed Eq. (19) and Fig. 8's update are not this pair
+        let m = Yu2021Model::new(&Yu2021Params::table1(), Options::yu_as_printed()).unwrap();
+        assert!(PairParams::yu2021(&m, 1.0).is_err());
+    }
+
+    /// Kahraman–Singh and Chen (1-DOF, consistent forcing) are the torsional pair with
+    /// `u = δ* + e`: `δ*'' = u'' + ω*² ē cos(ω*τ + φ_0)`.
+    #[test]
+    fn yu_torsional_models_are_the_torsional_pair() {
+        use crate::yu2021::{Options, STATE_LEN, Yu2021Model, Yu2021Params};
+        for o in [Options::kahraman_singh(), Options::chen()] {
+            let m = Yu2021Model::new(&Yu2021Params::table1(), o).unwrap();
+            let p = m.params;
+            let pair = GearPair::from_params(&PairParams::yu2021(&m, 0.8).unwrap()).unwrap();
+            assert_eq!(pair.dofs(), Dofs::Torsional);
+            for (tau, d, v) in [(0.3, 1.4, 0.2), (2.1, 0.4, -0.1), (5.0, -1.3, 0.05)] {
+                let ph = 0.8 * tau + p.phase;
+                let e = p.ste * ph.cos();
+                let e_rate = -p.ste * 0.8 * ph.sin();
+                let mut s = [0.0; STATE_LEN];
+                s[0] = d;
+                s[5] = v;
+                let want = m.rhs(0.8, tau, &s, None)[5];
+                let u_dd = accel(&pair, tau, &[d + e], &[v + e_rate])[0];
+                let got = u_dd + 0.8 * 0.8 * e;
+                assert!(close(got, want, 1.0), "{o:?} {tau}: {got} vs {want}");
+            }
+        }
+    }
+}
