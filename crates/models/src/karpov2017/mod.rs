@@ -562,7 +562,6 @@ mod tests {
         }
     }
 
-
     /// Inputs that used to hang return at once with an error naming the panel budget.
     #[test]
     fn loops_end_on_extreme_inputs() {
