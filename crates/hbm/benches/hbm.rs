@@ -8,6 +8,7 @@ use geardyn_hbm::{
 };
 use nalgebra::DMatrix;
 use std::hint::black_box;
+use system::problems::BenchDuffing as Duffing;
 
 /// Liu-type 1-DOF rattle model: `q'' + 2ζq' + F(t) f(q) = F_m + F_e cos(Z2 ω t)` with
 /// `F(t) = 1 + ε_c cos ωt + ε_e cos Z2ωt` and a dead zone `f`.
@@ -45,40 +46,6 @@ impl SecondOrderSystem for Rattle {
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
         f[0] = 0.5 + 0.1 * (self.z2 * self.omega * t).cos();
-    }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
-        self.omega = omega;
-        Ok(())
-    }
-}
-
-#[derive(Clone)]
-struct Duffing {
-    omega: f64,
-}
-
-impl SecondOrderSystem for Duffing {
-    fn n_dof(&self) -> usize {
-        1
-    }
-    fn mass(&self) -> DMatrix<f64> {
-        DMatrix::identity(1, 1)
-    }
-    fn damping(&self) -> DMatrix<f64> {
-        DMatrix::from_element(1, 1, 0.1)
-    }
-    fn stiffness(&self) -> DMatrix<f64> {
-        DMatrix::identity(1, 1)
-    }
-    fn nonlinear_force(&self, _t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
-        g[0] = q[0].powi(3);
-    }
-    fn force_jacobian(&self, _t: f64, q: &[f64], _qd: &[f64], a: &mut [f64], b: &mut [f64]) {
-        a[0] = 3.0 * q[0] * q[0];
-        b[0] = 0.0;
-    }
-    fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = 0.3 * (self.omega * t).cos();
     }
     fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
         self.omega = omega;

@@ -23,11 +23,11 @@
 
 use geardyn_models::karpov2017::{Excitation, Karpov2017};
 use geardyn_models::liu2021::{self, BaseRadius, HbmOptions, Trig};
-use hbm::{Basis, HbmProblem, Method, SecondOrderSystem, SolverOptions, SystemError};
-use nalgebra::DMatrix;
+use hbm::{Basis, HbmProblem, Method, SolverOptions};
 use serde_json::{Value, json};
 use std::hint::black_box;
 use std::time::Instant;
+use system::problems::BenchDuffing as Duffing;
 use timestep::OdeSystem;
 
 /// Nanoseconds this thread has run on a CPU (Linux `/proc/thread-self/schedstat`; None
@@ -239,41 +239,6 @@ fn liu(reps: u32) -> Value {
         "section": "liu", "model": m, "y0": y0, "tau_end": t3, "rtol": 1e-8, "atol": atol,
         "h_max": 0.5, "reference": reference.y_final, "runs": runs,
     })
-}
-
-/// The Duffing oscillator of the `hbm` bench: `q'' + 0.1 q' + q + q³ = 0.3 cos ωt`.
-#[derive(Clone)]
-struct Duffing {
-    omega: f64,
-}
-
-impl SecondOrderSystem for Duffing {
-    fn n_dof(&self) -> usize {
-        1
-    }
-    fn mass(&self) -> DMatrix<f64> {
-        DMatrix::identity(1, 1)
-    }
-    fn damping(&self) -> DMatrix<f64> {
-        DMatrix::from_element(1, 1, 0.1)
-    }
-    fn stiffness(&self) -> DMatrix<f64> {
-        DMatrix::identity(1, 1)
-    }
-    fn nonlinear_force(&self, _t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
-        g[0] = q[0].powi(3);
-    }
-    fn force_jacobian(&self, _t: f64, q: &[f64], _qd: &[f64], a: &mut [f64], b: &mut [f64]) {
-        a[0] = 3.0 * q[0] * q[0];
-        b[0] = 0.0;
-    }
-    fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = 0.3 * (self.omega * t).cos();
-    }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
-        self.omega = omega;
-        Ok(())
-    }
 }
 
 /// On-CPU time of the FFTs of a cold Liu solve: `residuals` × (complex inverse + real

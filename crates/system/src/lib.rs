@@ -67,6 +67,7 @@
 
 pub mod deadline;
 pub mod numeric;
+pub mod problems;
 pub mod rk4;
 pub mod sweep;
 
