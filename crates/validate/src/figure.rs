@@ -176,6 +176,9 @@ pub struct Figure {
     /// Why the record is not committed, when it is not a non-periodic orbit
     /// ([`Figure::unsettled_record`]).
     pub record_reason: Option<String>,
+    /// The ordinates are reproducible to this many significant digits only (the study's own
+    /// accuracy check): committed at no more ([`Figure::reproducible_digits`]).
+    pub digits: Option<i32>,
 }
 
 impl Figure {
@@ -191,6 +194,7 @@ impl Figure {
             y_range: None,
             non_periodic: false,
             record_reason: None,
+            digits: None,
         }
     }
 
@@ -272,6 +276,14 @@ impl Figure {
         self
     }
 
+    /// Commit the ordinates at no more than `digits` significant digits (at least 1; the
+    /// default is [`crate::precision::FIGURE_DIGITS`]): the study's own accuracy check
+    /// reproduces them only to that precision. The stats copy keeps every digit.
+    pub fn reproducible_digits(mut self, digits: i32) -> Self {
+        self.digits = Some(digits.max(1));
+        self
+    }
+
     /// Fix the axis ranges.
     pub fn ranges(mut self, x: Option<(f64, f64)>, y: Option<(f64, f64)>) -> Self {
         self.x_range = x;
@@ -301,7 +313,7 @@ impl Figure {
         t
     }
 
-    fn data_range(&self, pick: impl Fn(&(f64, f64)) -> f64) -> (f64, f64) {
+    pub(crate) fn data_range(&self, pick: impl Fn(&(f64, f64)) -> f64) -> (f64, f64) {
         let mut lo = f64::INFINITY;
         let mut hi = f64::NEG_INFINITY;
         for p in self.series.iter().flat_map(|s| s.points.iter()) {

@@ -157,11 +157,47 @@ pub fn one_period_samples(table: &Table, row: &[Cell]) -> Vec<usize> {
         .collect()
 }
 
+/// Significant digits of a committed table number ([`committed_table_csv`]).
+pub const TABLE_DIGITS: i32 = 4;
+
+/// A committed table number is never written finer than `10^-TABLE_FLOOR_DECADES` of its
+/// column's largest magnitude (values near zero carry no noise digits).
+pub const TABLE_FLOOR_DECADES: i32 = 6;
+
+/// The exponent of the step a table number `x` is committed at: `digits` significant digits
+/// of `x` itself ([`TABLE_DIGITS`] unless the table says fewer), floored at `floor` (the column's floor exponent, see
+/// [`table_floor_exponent`]). Depends on `x` and on the decade of the column's largest
+/// magnitude only — not on which other values are settled — so that a value that becomes
+/// unsettled (or settled) under a retune does not re-round its column.
+pub fn table_value_exponent(x: f64, floor: Option<i32>, digits: i32) -> Option<i32> {
+    let own = step_exponent(x, 1.0).map(|e| e - (digits - 1));
+    match (own, floor) {
+        (Some(e), Some(f)) => Some(e.max(f)),
+        (Some(e), None) => Some(e),
+        (None, f) => f,
+    }
+}
+
+/// The floor exponent of a table column: [`TABLE_FLOOR_DECADES`] decades below the decade of
+/// the largest magnitude over *every* number of the column, settled or not (the rows of a
+/// table are a fixed grid, so the set does not change with the classification of its points).
+pub fn table_floor_exponent<'a>(cells: impl Iterator<Item = &'a Cell>) -> Option<i32> {
+    let mag = cells
+        .filter_map(|c| match c {
+            Cell::Num(x) | Cell::Unsettled(x) if x.is_finite() => Some(x.abs()),
+            _ => None,
+        })
+        .fold(0.0_f64, f64::max);
+    step_exponent(mag, 1.0).map(|e| e - TABLE_FLOOR_DECADES)
+}
+
 /// The committed form of a data table: solver statistics dropped, one-period samples of
-/// non-periodic rows and [`Cell::Unsettled`] cells written as [`NOT_PERIODIC`], every other
-/// number at drawing precision of its column (1/[`DRAWING_STEPS`] of the range of the column's
-/// committed numbers, or of their largest magnitude when they are all equal: a value left out
-/// does not set the precision of the others). Returns the CSV text.
+/// non-periodic rows and [`Cell::Unsettled`] cells written as [`NOT_PERIODIC`]. The first
+/// column (the swept or tabulated input) is written at drawing precision of its range
+/// (1/[`DRAWING_STEPS`]); every other number at [`TABLE_DIGITS`] significant digits of its own
+/// ([`table_value_exponent`]), so that a value's committed form depends on that value alone
+/// (and on the decade of its column's largest magnitude, for values near zero). Returns the
+/// CSV text.
 pub fn committed_table_csv(table: &Table) -> String {
     let keep: Vec<usize> = (0..table.columns.len())
         .filter(|&i| !is_solver_statistic(&table.columns[i].name))
@@ -171,18 +207,13 @@ pub fn committed_table_csv(table: &Table) -> String {
         .iter()
         .map(|row| one_period_samples(table, row))
         .collect();
-    let exps: Vec<Option<i32>> = (0..table.columns.len())
-        .map(|i| {
-            column_exponent(
-                table
-                    .rows
-                    .iter()
-                    .zip(&blanks)
-                    .filter(|(_, b)| !b.contains(&i))
-                    .filter_map(|(r, _)| r.get(i)),
-            )
-        })
+    let first = column_exponent(table.rows.iter().filter_map(|r| r.first()));
+    let floors: Vec<Option<i32>> = (0..table.columns.len())
+        .map(|i| table_floor_exponent(table.rows.iter().filter_map(|r| r.get(i))))
         .collect();
+    let digits = table
+        .digits
+        .map_or(TABLE_DIGITS, |d| d.clamp(1, TABLE_DIGITS));
     let mut t = Table::new(&table.name, &[]);
     t.columns = keep.iter().map(|&i| table.columns[i].clone()).collect();
     for (row, blank) in table.rows.iter().zip(&blanks) {
@@ -191,10 +222,17 @@ pub fn committed_table_csv(table: &Table) -> String {
             .map(|&i| match row.get(i) {
                 Some(_) if blank.contains(&i) => Cell::Text(NOT_PERIODIC.to_owned()),
                 Some(Cell::Unsettled(_)) => Cell::Text(NOT_PERIODIC.to_owned()),
-                Some(Cell::Num(x)) => match exps[i] {
-                    Some(e) => Cell::Text(fmt_data(*x, e)),
-                    None => Cell::Num(*x),
-                },
+                Some(Cell::Num(x)) => {
+                    let e = if i == 0 {
+                        first
+                    } else {
+                        table_value_exponent(*x, floors[i], digits)
+                    };
+                    match e {
+                        Some(e) => Cell::Text(fmt_data(*x, e)),
+                        None => Cell::Num(*x),
+                    }
+                }
                 Some(c) => c.clone(),
                 None => Cell::Text(String::new()),
             })
@@ -275,10 +313,18 @@ impl crate::Comparison {
         )
     }
 
+    /// True when the value is committed as [`NOT_PERIODIC`]: marked unsettled by its study, or
+    /// flagged (it rests on a point that is non-converged, unstable or not reproducible, so the
+    /// value moves under a solver retune; the verdict is inconclusive and the flags say why).
+    pub fn committed_blank(&self) -> bool {
+        self.unsettled || !self.flags.is_empty()
+    }
+
     /// The model value as committed (snapshot, REPORT.md, study CSV, `verdicts.csv`): rounded to
-    /// [`committed_exponent`](Self::committed_exponent), with the interval (`165.0 [163.1, 166.9]`).
+    /// [`committed_exponent`](Self::committed_exponent), with the interval (`165.0 [163.1, 166.9]`);
+    /// [`NOT_PERIODIC`] when [`committed_blank`](Self::committed_blank).
     pub fn committed_model(&self) -> String {
-        if self.unsettled {
+        if self.committed_blank() {
             return NOT_PERIODIC.to_owned();
         }
         let e = self.committed_exponent();
@@ -296,7 +342,7 @@ impl crate::Comparison {
     /// The deviation as committed: `(model − paper, relative in %)`, from the rounded model
     /// value, so that it moves only when the committed model value moves.
     pub fn committed_deviation(&self) -> (String, String) {
-        if self.unsettled {
+        if self.committed_blank() {
             return (NOT_PERIODIC.to_owned(), NOT_PERIODIC.to_owned());
         }
         let e = self.committed_exponent();
@@ -314,12 +360,38 @@ impl crate::Comparison {
     }
 }
 
+/// Significant digits of a committed figure ordinate: a y value is never written finer than
+/// this many digits of its own ([`drawn_figure`]).
+pub const FIGURE_DIGITS: i32 = 3;
+
 /// A figure at drawing precision: the points that do not settle under a solver retune
-/// ([`crate::Series::unsettled`]) left out (a series left without points is dropped), every x
-/// rounded to 1/[`DRAWING_STEPS`] of the x axis range (the fixed range, else the range of the
-/// points kept), every y likewise. Its CSV and SVG are what is committed.
+/// ([`crate::Series::unsettled`]) left out (a series left without points is dropped); every x
+/// rounded to 1/[`DRAWING_STEPS`] of the x axis range; every y to the coarser of 1/
+/// [`DRAWING_STEPS`] of the y axis range and [`FIGURE_DIGITS`] significant digits of its own.
+/// The axis ranges are the fixed ones ([`crate::Figure::ranges`]), else the ranges of *all*
+/// points, settled or not, so that a point that becomes unsettled under a retune does not
+/// re-round the others. Its CSV and SVG are what is committed.
 pub fn drawn_figure(f: &crate::Figure) -> crate::Figure {
+    let axis = |fixed: Option<(f64, f64)>, pick: &dyn Fn(&(f64, f64)) -> f64| match fixed {
+        Some((a, b)) => step_exponent((b - a).abs(), DRAWING_STEPS),
+        None => {
+            let cells: Vec<Cell> = f
+                .series
+                .iter()
+                .flat_map(|s| s.points.iter())
+                .map(|p| Cell::Num(pick(p)))
+                .collect();
+            column_exponent(cells.iter())
+        }
+    };
+    let ex = axis(f.x_range, &|p| p.0);
+    let ey = axis(f.y_range, &|p| p.1);
     let mut g = f.clone();
+    // the drawn x axis spans every point, settled or not (x is mostly the swept input): leaving
+    // out an end point does not re-scale the drawing
+    if g.x_range.is_none() && f.series.iter().any(|s| s.unsettled.iter().any(|&u| u)) {
+        g.x_range = Some(f.data_range(|p| p.0));
+    }
     for s in &mut g.series {
         if s.unsettled.iter().any(|&u| u) {
             let flags = std::mem::take(&mut s.unsettled);
@@ -335,26 +407,17 @@ pub fn drawn_figure(f: &crate::Figure) -> crate::Figure {
         s.unsettled.clear();
     }
     g.series.retain(|s| !s.points.is_empty());
-    let axis = |fixed: Option<(f64, f64)>, pick: &dyn Fn(&(f64, f64)) -> f64| {
-        let scale = match fixed {
-            Some((a, b)) => (b - a).abs(),
-            None => {
-                let cells: Vec<Cell> = g
-                    .series
-                    .iter()
-                    .flat_map(|s| s.points.iter())
-                    .map(|p| Cell::Num(pick(p)))
-                    .collect();
-                return column_exponent(cells.iter());
-            }
-        };
-        step_exponent(scale, DRAWING_STEPS)
-    };
-    let ex = axis(f.x_range, &|p| p.0);
-    let ey = axis(f.y_range, &|p| p.1);
+    let digits = f
+        .digits
+        .map_or(FIGURE_DIGITS, |d| d.clamp(1, FIGURE_DIGITS));
     for s in &mut g.series {
         for p in &mut s.points {
-            *p = (round_step(p.0, ex), round_step(p.1, ey));
+            let own = step_exponent(p.1, 1.0).map(|e| e - (digits - 1));
+            let e = match (ey, own) {
+                (Some(a), Some(b)) => Some(a.max(b)),
+                (a, b) => a.or(b),
+            };
+            *p = (round_step(p.0, ex), round_step(p.1, e));
         }
     }
     g
@@ -449,24 +512,67 @@ mod tests {
         );
     }
 
-    /// An unsettled cell is `n/p` and does not set its column's precision; the stats copy
-    /// (`to_csv`) has it in full.
+    /// An unsettled cell is `n/p`; the stats copy (`to_csv`) has it in full. A committed number
+    /// has 4 significant digits of its own, so moving (or un-settling) another value of the
+    /// column changes no committed byte of it.
     #[test]
-    fn unsettled_cells_are_left_out_and_do_not_set_the_precision() {
+    fn unsettled_cells_are_left_out_and_do_not_re_round_the_column() {
         let mut t = Table::new("sweep", &[("x", "1"), ("ppv", "1")]);
         t.push(vec![1.0.into(), 0.123_456.into()]).unwrap();
         t.push(vec![2.0.into(), 0.124_001.into()]).unwrap();
         t.push(vec![3.0.into(), Cell::Unsettled(97.5)]).unwrap();
-        // settled range 0.000545 → step 1e-7, not the 1e-1 a range up to 97.5 would give
         assert_eq!(
             committed_table_csv(&t),
-            "x [1],ppv [1]\n1,0.123456\n2,0.124001\n3,n/p\n"
+            "x [1],ppv [1]\n1,0.1235\n2,0.124\n3,n/p\n"
         );
         assert!(t.to_csv().ends_with("3,97.5\n"));
         // moving the unsettled value changes no committed byte
         let mut u = t.clone();
         u.rows[2][1] = Cell::Unsettled(12.0);
         assert_eq!(committed_table_csv(&t), committed_table_csv(&u));
+        // nor does settling it (the others keep their digits)
+        let mut v = t.clone();
+        v.rows[2][1] = Cell::Num(12.0);
+        assert_eq!(
+            committed_table_csv(&v),
+            "x [1],ppv [1]\n1,0.1235\n2,0.124\n3,12\n"
+        );
+    }
+
+    /// Values near zero are written to the column floor (6 decades below its largest
+    /// magnitude), not to 4 digits of their own noise; fewer digits when the study says so.
+    #[test]
+    fn table_numbers_have_their_own_digits_above_the_column_floor() {
+        assert_eq!(table_value_exponent(0.123_456, Some(-7), 4), Some(-4));
+        assert_eq!(table_value_exponent(3.1e-12, Some(-7), 4), Some(-7));
+        assert_eq!(table_value_exponent(0.0, Some(-7), 4), Some(-7));
+        assert_eq!(table_value_exponent(0.123_456, None, 2), Some(-2));
+        let mut t = Table::new("s", &[("k", "1"), ("a", "1")]).reproducible_digits(2);
+        t.push_nums(&[1.0, 0.1409]).unwrap();
+        t.push_nums(&[2.0, 1.0]).unwrap();
+        t.push_nums(&[3.0, 2.0e-9]).unwrap();
+        assert_eq!(committed_table_csv(&t), "k [1],a [1]\n1,0.14\n2,1\n3,0\n");
+    }
+
+    /// A figure's committed ordinates: the coarser of the axis step and 3 significant digits
+    /// of their own; the axis range includes the unsettled points, so leaving one out does not
+    /// re-round the others.
+    #[test]
+    fn figure_ordinates_do_not_follow_the_unsettled_points() {
+        use crate::{Figure, Series};
+        let pts = vec![(0.0, 1.234_56e-4), (1.0, 2.345_67e-3), (2.0, 1.5e-3)];
+        let f = |u: [bool; 3]| {
+            Figure::new("f", "t", ("x", "1"), ("y", "1"))
+                .with(Series::line("a", pts.clone()).unsettled(u))
+        };
+        let a = drawn_figure(&f([false, false, false]));
+        let b = drawn_figure(&f([false, true, false]));
+        assert_eq!(a.series[0].points[0], (0.0, 1.23e-4));
+        assert_eq!(a.series[0].points[1], (1.0, 2.35e-3));
+        assert_eq!(
+            b.series[0].points,
+            vec![a.series[0].points[0], a.series[0].points[2]]
+        );
     }
 
     /// Unsettled figure points leave the committed figure; an emptied series is dropped.

@@ -114,6 +114,9 @@ pub struct Table {
     /// Why the record is not committed, when it is not a non-periodic orbit
     /// ([`Table::unsettled_record`]).
     pub record_reason: Option<String>,
+    /// The values are reproducible to this many significant digits only (the study's own
+    /// accuracy check): committed at no more ([`Table::reproducible_digits`]).
+    pub digits: Option<i32>,
 }
 
 impl Table {
@@ -131,7 +134,16 @@ impl Table {
             rows: Vec::new(),
             non_periodic: false,
             record_reason: None,
+            digits: None,
         }
+    }
+
+    /// Commit the numbers (after the first column) at no more than `digits` significant digits
+    /// (at least 1; the default is [`crate::precision::TABLE_DIGITS`]): the study's own accuracy
+    /// check reproduces them only to that precision. The stats copy keeps every digit.
+    pub fn reproducible_digits(mut self, digits: i32) -> Self {
+        self.digits = Some(digits.max(1));
+        self
     }
 
     /// Mark the table (when `non_periodic`) as a record of a non-periodic orbit (time series at a chaotic point):

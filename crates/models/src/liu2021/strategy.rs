@@ -130,17 +130,11 @@ impl TimeReference {
             Motion::Periodic(n) if n > 1 => Some(format!(
                 "time integration: period-{n} motion, one-period metrics do not describe it"
             )),
-            // the size of the ppv change as an order of magnitude only: the change itself moves
-            // with every retune of the integrator, and flags are committed
-            Motion::Periodic(_) if !self.reproducible => Some(format!(
-                "time integration: metrics change under a tightened tolerance (rsv {} → {}, ppv by order {} relative)",
-                self.rattle.state.rsv(),
-                self.refined.state.rsv(),
-                crate::response::order_of_magnitude(
-                    (self.refined.ppv - self.rattle.ppv).abs()
-                        / self.rattle.ppv.abs().max(f64::MIN_POSITIVE)
-                )
-            )),
+            // no sizes or states: they move with every retune of the integrator, and flags
+            // are committed (the refined metrics carry them)
+            Motion::Periodic(_) if !self.reproducible => {
+                Some("time integration: metrics change under a tightened tolerance".to_owned())
+            }
             Motion::Periodic(_) => None,
             other => Some(format!("time integration: {} motion", other.label())),
         }

@@ -636,6 +636,39 @@ impl Robust {
         ]
     }
 
+    /// Per column of [`Robust::COLUMNS`]: the value settles, i.e. every variant agrees on the
+    /// rattle state and the column's own statistic agrees over the nominal record and every
+    /// variant within `rel` ([`Robust::settled`]; the state columns need only the agreement on
+    /// the state). A column that does not settle is a sample of the point's statistic, not a
+    /// reproducible value (issue 28: it is committed as `n/p`).
+    pub fn settled_columns(&self, rel: f64) -> [bool; 19] {
+        let robust = self.state().is_some();
+        let s = |f: &dyn Fn(&WindowStats) -> f64| robust && self.settled(f, rel);
+        let bilateral = s(&WindowStats::bilateral_fraction);
+        let ppv = s(&|w| w.ppv);
+        [
+            robust,
+            robust,
+            s(&|w| w.fraction[0]),
+            s(&|w| w.fraction[1]),
+            s(&|w| w.fraction[2]),
+            bilateral,
+            bilateral,
+            ppv,
+            ppv,
+            ppv,
+            s(&|w| w.back.rate),
+            s(&|w| w.back.mean_speed),
+            s(&|w| w.back.max_speed),
+            s(&|w| w.drive.rate),
+            s(&|w| w.drive.mean_speed),
+            s(&|w| w.drive.max_speed),
+            s(&|w| w.line_incoherent[0]),
+            s(&|w| w.line_incoherent[1]),
+            s(&|w| w.chaos_k),
+        ]
+    }
+
     /// A one-line description of the spread: `rsv 2 (all), P_bi 0.41–0.47, ppv 1.62–1.70`.
     pub fn describe(&self) -> String {
         let (rl, rh) = self.rsv_interval();

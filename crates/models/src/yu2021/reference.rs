@@ -141,12 +141,12 @@ impl ReferenceRun {
     /// (`periodic_needed`: harmonics, spectra, phase portraits) — a non-periodic motion.
     pub fn flag(&self, periodic_needed: bool) -> Option<String> {
         if !self.reproducible {
-            // the order of magnitude only: the change itself moves with every retune of the
-            // integrator, and this text is committed (validation/verdicts.csv)
-            let order = crate::response::order_of_magnitude(self.max_change);
-            return Some(format!(
-                "time integration: metrics change by order {order} (relative) under a 100× tighter tolerance"
-            ));
+            // no size: the change itself moves with every retune of the integrator, and this
+            // text is committed (validation/verdicts.csv); `max_change` carries it
+            return Some(
+                "time integration: metrics not reproducible under a 100× tighter tolerance"
+                    .to_owned(),
+            );
         }
         if periodic_needed && self.motion == Motion::NonPeriodic {
             return Some("time integration: non-periodic motion".to_owned());

@@ -701,10 +701,14 @@ fn largest_jump(xs: &[f64], ys: &[f64]) -> (f64, f64) {
     best
 }
 
+/// The committed curves of Figs. 13–14 on fixed axes (the ω* grid, and `y_axis` covering every
+/// computed value of the figure, settled or not), so that leaving out a run that is not
+/// reproducible does not re-scale the drawing.
 fn curves(
     name: &str,
     title: &str,
     ylabel: (&str, &str),
+    y_axis: (f64, f64),
     omegas: &[f64],
     values: &[[f64; 3]],
     runs: &[[ReferenceRun; 3]],
@@ -723,7 +727,13 @@ fn curves(
         ],
     );
     // the figure's data CSV must not overwrite the table's: `<name>_curves`
-    let mut fig = Figure::new(&format!("{name}_curves"), title, ("ω*", "1"), ylabel);
+    let (x0, x1) = (
+        omegas.first().copied().unwrap_or(0.0),
+        omegas.last().copied().unwrap_or(1.0),
+    );
+    let pad = 0.03 * (x1 - x0);
+    let mut fig = Figure::new(&format!("{name}_curves"), title, ("ω*", "1"), ylabel)
+        .ranges(Some((x0 - pad, x1 + pad)), Some(y_axis));
     for (i, (w, v)) in omegas.iter().zip(values).enumerate() {
         let mut row = vec![Cell::Num(*w)];
         row.extend((0..3).map(|m| Cell::settled_if(v[m], unsettled(i, m))));
@@ -768,6 +778,8 @@ fn fig13() -> Result<StudyOutput, Error> {
         "df",
         "Yu Fig. 13: DF vs ω*, Table 1 rig",
         ("DF", "1"),
+        // every computed DF of the sweep (largest 37.5, Chen at the primary resonance)
+        (0.0, 40.0),
         &omegas,
         &df,
         &runs,
@@ -850,6 +862,8 @@ fn fig14() -> Result<StudyOutput, Error> {
         "rms",
         "Yu Fig. 14: RMS of DTE harmonics (n = 4) vs ω*, Table 2 rig",
         ("RMS", "um"),
+        // every computed RMS of the sweep (largest 22.9)
+        (0.0, 25.0),
         &omegas,
         &rms,
         &runs,

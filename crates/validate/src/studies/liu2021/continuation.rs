@@ -7,8 +7,8 @@ use models::liu2021::{
 
 use super::{base, model, sig, speed_tolerance};
 use crate::{
-    Claim, Comparison, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table,
-    Verdict, published,
+    Cell, Claim, Comparison, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput,
+    Table, Verdict, published,
 };
 
 pub(super) fn study() -> Study {
@@ -80,7 +80,7 @@ fn run() -> Result<StudyOutput, Error> {
         })
         .collect::<Result<_, Error>>()?;
     let xs: Vec<f64> = (0..=30).map(|i| 100.0 + 5.0 * f64::from(i)).collect();
-    let ti: Vec<(f64, u8, f64, Option<String>)> = timestep::sweep(
+    let ti: Vec<(f64, u8, f64, Option<String>, bool)> = timestep::sweep(
         &xs,
         |&x| {
             let mut p = base();
@@ -97,9 +97,10 @@ fn run() -> Result<StudyOutput, Error> {
                     format!(
                         "at {}: long-window rattle state not robust ({})",
                         super::at(x),
-                        r.describe()
+                        crate::unsettled(r.describe())
                     )
                 }),
+                r.state().is_none() || !r.settled(|w| w.ppv, super::SETTLED),
             ))
         },
         None,
@@ -135,35 +136,47 @@ fn run() -> Result<StudyOutput, Error> {
         ("omega1", "rad/s"),
         ("ppv", "1"),
     );
-    for (j, ((label, ..), b)) in runs.iter().zip(&branches).enumerate() {
+    for (j, ((label, .., full), b)) in runs.iter().zip(&branches).enumerate() {
+        let unsettled = branch_unsettled(*full);
+        let cell = |x: f64| Cell::settled_if(x, unsettled);
         let mut pts = Vec::new();
         for p in &b.points {
+            let marginal = p.max_multiplier.is_some_and(marginal_multiplier);
             t.push(vec![
                 (*label).into(),
-                p.omega1.into(),
-                f64::from(p.rattle.state.rsv()).into(),
-                p.rattle.ppv.into(),
-                p.stable
-                    .map_or(f64::NAN, |s| if s { 1.0 } else { 0.0 })
-                    .into(),
-                p.max_multiplier
-                    .map_or(f64::NAN, resolved_multiplier)
-                    .into(),
+                cell(p.omega1),
+                cell(f64::from(p.rattle.state.rsv())),
+                cell(p.rattle.ppv),
+                Cell::settled_if(
+                    p.stable.map_or(f64::NAN, |s| if s { 1.0 } else { 0.0 }),
+                    unsettled || marginal,
+                ),
+                // the multiplier itself is resolved to a few per cent only (MULTIPLIER_FLOOR):
+                // the committed judgement is the stability column
+                Cell::Unsettled(p.max_multiplier.map_or(f64::NAN, resolved_multiplier)),
                 p.solution.residual_norm.into(),
                 p.solution.truncation.into(),
             ])?;
-            pts.push((p.omega1, p.rattle.ppv, p.stable));
+            // a marginal multiplier draws as "not known stable" (dashed) whichever side it falls
+            pts.push((
+                p.omega1,
+                p.rattle.ppv,
+                if marginal { None } else { p.stable },
+            ));
         }
+        let text = |s: String| if unsettled { crate::unsettled(s) } else { s };
         runs_t.push(vec![
             (*label).into(),
-            (b.points.len() as f64).into(),
-            b.folds
-                .iter()
-                .map(|f| sig(f.omega1))
-                .collect::<Vec<_>>()
-                .join(" ")
-                .into(),
-            end_label(&b.end).into(),
+            cell(b.points.len() as f64),
+            text(
+                b.folds
+                    .iter()
+                    .map(|f| sig(f.omega1))
+                    .collect::<Vec<_>>()
+                    .join(" "),
+            )
+            .into(),
+            text(end_label(&b.end)).into(),
         ])?;
         // a fold lies between two points: mark it at the fitted ω₁ and their mean ppv
         let folds = b
@@ -177,19 +190,27 @@ fn run() -> Result<StudyOutput, Error> {
                 Some((f.omega1, 0.5 * (a.rattle.ppv + c.rattle.ppv)))
             })
             .collect();
+        let before = fig.series.len();
         fig = fig.branch(label, j, &pts, folds);
+        if unsettled {
+            for s in &mut fig.series[before..] {
+                s.unsettled = vec![true; s.points.len()];
+            }
+        }
     }
     fig = fig.with(
         Series::markers(
             "time integration from rest",
-            ti.iter().map(|&(x, _, p, _)| (x, p)).collect(),
+            ti.iter().map(|&(x, _, p, ..)| (x, p)).collect(),
         )
+        .unsettled(ti.iter().map(|p| p.4))
         .colour(6), // black: the branches take 0..3
     );
     let ti_onset = ti.iter().find(|p| p.1 == 2).map_or(f64::NAN, |p| p.0);
     let mut evidence = Vec::new();
     let mut ok = false;
-    for ((label, ..), b) in runs.iter().zip(&branches) {
+    for ((label, .., full), b) in runs.iter().zip(&branches) {
+        let unsettled = branch_unsettled(*full);
         // the jump-up point: the highest fold on the unilateral/no-rattle part of the branch
         let fold_max = b
             .folds
@@ -207,8 +228,8 @@ fn run() -> Result<StudyOutput, Error> {
             .filter(|p| p.rattle.state == RattleState::Bilateral)
             .map(|p| p.omega1)
             .fold(f64::NAN, f64::min);
-        evidence.push(format!(
-            "{label}: folds at [{}] rad/s (jump-up fold of the rattle-free/unilateral part {}), bilateral points down to {} rad/s, end {:?}",
+        let text = format!(
+            "folds at [{}] rad/s (jump-up fold of the rattle-free/unilateral part {}), bilateral points down to {} rad/s, end {:?}",
             b.folds
                 .iter()
                 .map(|f| sig(f.omega1))
@@ -217,6 +238,14 @@ fn run() -> Result<StudyOutput, Error> {
             sig(fold_max),
             sig(bi_min),
             end_label(&b.end)
+        );
+        evidence.push(format!(
+            "{label}: {}",
+            if unsettled {
+                crate::unsettled(text)
+            } else {
+                text
+            }
         ));
         if fold_max.is_finite() {
             out.compare(
@@ -226,6 +255,7 @@ fn run() -> Result<StudyOutput, Error> {
                     ))
                     .reading("R-LIU-HBM")
                     .shown_only()
+                    .unsettled_if(unsettled)
                     .note(&format!(
                         "{label}: fold (jump point) of the unilateral branch, pseudo-arclength"
                     )),
@@ -262,6 +292,24 @@ fn run() -> Result<StudyOutput, Error> {
     out.table(runs_t);
     out.figure(fig);
     Ok(out)
+}
+
+/// A full-basis (K = 65) branch is not reproducible under a solver retune: its initial Newton
+/// solve from the one-period time response at the start speed is borderline (measured: under
+/// the step-size controller retune of docs/examples/validate-diff.md the branch from 250 rad/s
+/// failed its initial solve, residual 1.8e-5). Its rows, figure and notes are written in full
+/// to validation/stats/ and committed as `n/p`; the claim is judged on the paper basis only.
+fn branch_unsettled(full: bool) -> bool {
+    full
+}
+
+/// Multipliers within this distance of the unit circle are not resolved by the
+/// finite-difference period map (strongly unstable ones move by ~3 %): their stability is not
+/// committed and their segment draws as not known stable.
+const MARGINAL: f64 = 0.1;
+
+fn marginal_multiplier(mu: f64) -> bool {
+    !mu.is_finite() || (mu - 1.0).abs() < MARGINAL
 }
 
 /// Resolution of the finite-difference period map (perturbation `1e-7 b̄` against the

@@ -129,8 +129,19 @@ fn columns<'a>(own: &[(&'a str, &'a str)], more: &[(&'a str, &'a str)]) -> Vec<(
 }
 
 /// Relative spread over the long-window variants below which a window statistic is committed:
-/// the drawing precision of the committed data ([`crate::precision::DRAWING_STEPS`]).
-const SETTLED: f64 = 1.0 / crate::precision::DRAWING_STEPS;
+/// a tenth of the finest committed step of a table number (4 significant digits, so a step of
+/// at least 1e-4 of the value: [`crate::precision::TABLE_DIGITS`]), so that a value that
+/// settles to this spread moves its committed digits under a solver retune with a probability
+/// of about 1/10 at most. A periodic orbit settles to the integrator's tolerance (~1e-8).
+pub(super) const SETTLED: f64 = 1e-5;
+
+/// The ppv axis of the committed sweep figures: fixed, so that leaving out a point that does not
+/// settle does not re-scale the drawing. It covers every computed ppv of the sweeps (largest
+/// 2.9e-3, Fig. 12–14 a_k = 1.60).
+const PPV_AXIS: (f64, f64) = (0.0, 3.0e-3);
+
+/// The rsv axis (states 0, 1, 2) of the committed sweep figures, with a 3 % margin.
+const RSV_AXIS: (f64, f64) = (-0.06, 2.06);
 
 impl Point {
     /// The one-period time reference is a sample of a non-periodic orbit.
@@ -140,15 +151,27 @@ impl Point {
     /// The long-window statistics move over the variants by more than [`SETTLED`] (without long
     /// windows: the one-period reference is unsettled).
     fn window_unsettled(&self) -> bool {
-        self.window
-            .as_ref()
-            .map_or(self.time_unsettled(), |w| !w.settled(|s| s.ppv, SETTLED))
+        self.window.as_ref().map_or(self.time_unsettled(), |w| {
+            w.state().is_none() || !w.settled(|s| s.ppv, SETTLED)
+        })
+    }
+    /// The point's motion is not confirmed periodic: the one-period reference is non-periodic,
+    /// or (with long windows) a window column does not settle over the variants. The
+    /// one-period classification columns (motion period, reproducibility, flag) and the warm
+    /// starts seeded from the time response are committed only for a confirmed point: near a
+    /// bifurcation the classification of the one-period sample flips under a solver retune.
+    fn motion_unsettled(&self) -> bool {
+        self.time_unsettled()
+            || self
+                .window
+                .as_ref()
+                .is_some_and(|w| w.settled_columns(SETTLED).iter().any(|s| !s))
     }
     /// An HBM column's values do not settle: the solver did not converge, or a warm start was
-    /// seeded from the harmonics of a non-periodic time response (which of the coexisting
-    /// solutions it reaches depends on that sample).
+    /// seeded from the harmonics of a time response whose motion is not confirmed periodic
+    /// (which of the coexisting solutions it reaches depends on that sample).
     fn hbm_unsettled(&self, h: &HbmPoint, warm: bool) -> bool {
-        !h.converged || (warm && self.time_unsettled())
+        !h.converged || (warm && self.motion_unsettled())
     }
     /// The judged rattle state: over the long window (all periods), else the one-period one.
     fn rsv(&self) -> u8 {
@@ -196,9 +219,12 @@ impl Point {
         let w = self.window.as_ref()?;
         (w.ppv_spread() > margin).then(|| {
             format!(
-                "at {}: long-window ppv moves by order {} over the variants, more than the claim's margin {}",
+                "at {}: long-window ppv moves by {} over the variants, more than the claim's margin {}",
                 at(self.x),
-                models::response::order_of_magnitude(w.ppv_spread()),
+                crate::unsettled(format!(
+                    "order {}",
+                    models::response::order_of_magnitude(w.ppv_spread())
+                )),
                 sig(margin)
             )
         })
@@ -442,10 +468,18 @@ fn refine(
 }
 
 /// First x where the HBM column of `kind` is usable (converged, stable) and meets `cond`.
-fn first_hbm(pts: &[Point], kind: HbKind, cond: impl Fn(&HbmPoint) -> bool) -> f64 {
-    pts.iter()
-        .find(|p| kind(p).flag().is_none() && cond(&kind(p)))
-        .map_or(f64::NAN, |p| p.x)
+/// The first swept value whose usable HBM solution of column `i` of [`HBM_KINDS`] meets
+/// `cond` (NaN: none), and whether it is unsettled: a point up to it does not settle
+/// ([`Point::hbm_unsettled`]), so which point comes first can change under a solver retune.
+fn first_hbm(pts: &[Point], i: usize, cond: impl Fn(&HbmPoint) -> bool) -> (f64, bool) {
+    let kind = HBM_KINDS[i].1;
+    let warm = i > 0;
+    let found = pts
+        .iter()
+        .position(|p| kind(p).flag().is_none() && cond(&kind(p)));
+    let upto = found.map_or(pts.len(), |j| j + 1);
+    let unsettled = pts[..upto].iter().any(|p| p.hbm_unsettled(&kind(p), warm));
+    (found.map_or(f64::NAN, |j| pts[j].x), unsettled)
 }
 
 /// "n/N converged (m via a neighbour), u unstable".
@@ -517,13 +551,20 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
             p.hbm_unsettled(&p.full, true),
         );
         let cell = Cell::settled_if;
+        let mu = p.motion_unsettled();
+        let flag = p.time.flag().unwrap_or_default();
         let mut row: Vec<Cell> = vec![
             p.x.into(),
             cell(f64::from(p.rsv()), p.window.is_none() && tu),
             cell(p.ppv(), p.window_unsettled()),
-            f64::from(p.time.motion.period_multiple()).into(),
-            flag01(p.time.reproducible).into(),
-            p.time.flag().unwrap_or_default().into(),
+            cell(f64::from(p.time.motion.period_multiple()), mu),
+            cell(flag01(p.time.reproducible), mu),
+            if mu && !flag.is_empty() {
+                crate::unsettled(flag)
+            } else {
+                flag
+            }
+            .into(),
             cell(f64::from(p.cold.rattle.state.rsv()), cu),
             cell(p.cold.rattle.ppv, cu),
             flag01(p.cold.converged).into(),
@@ -540,15 +581,20 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
             .window
             .as_ref()
             .map_or([f64::NAN; Robust::COLUMNS.len()], Robust::values);
-        let wun = p.window_unsettled();
-        let robust = p.window.as_ref().is_some_and(|w| w.state().is_some());
-        // the state columns (rsv_window, window_state_robust) stay when every variant agrees
-        // on the state; the real-valued statistics only when they settle
-        row.extend(window.iter().enumerate().map(|(i, &x)| match i {
-            0 => cell(x, !robust),
-            1 => Cell::Num(x),
-            _ => cell(x, wun),
-        }));
+        // each window column only when it settles over the variants (the state columns when
+        // every variant agrees on the state)
+        let settled = p
+            .window
+            .as_ref()
+            .map_or([false; Robust::COLUMNS.len()], |w| {
+                w.settled_columns(SETTLED)
+            });
+        row.extend(
+            window
+                .iter()
+                .zip(settled)
+                .map(|(&x, s)| cell(x, !s && x.is_finite())),
+        );
         row.extend(run_cells(&p.stats, p.accuracy[0]));
         row.extend(
             p.accuracy[1..]
@@ -565,16 +611,29 @@ fn sweep_figures(out: &mut StudyOutput, name: &str, x: (&str, &str), pts: &[Poin
     let s = |f: &dyn Fn(&Point) -> f64| pts.iter().map(|p| (p.x, f(p))).collect::<Vec<_>>();
     let u = |f: &dyn Fn(&Point) -> bool| pts.iter().map(f).collect::<Vec<_>>();
     let robust = |p: &Point| p.window.as_ref().map(|w| w.state().is_some());
-    let mut rsv = Figure::new(&format!("{name}_rsv"), "Rattle state", x, ("rsv", "1")).with(
-        Series::step("time integration", s(&|p| f64::from(p.rsv())))
-            .unsettled(u(&|p| robust(p).map_or(p.time_unsettled(), |r| !r))),
-    );
+    // fixed axes: the swept range (inputs) and the fixed rsv/ppv axes, so that the committed
+    // drawing does not re-scale when a point leaves it
+    let (x0, x1) = pts
+        .iter()
+        .map(|p| p.x)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    let pad = 0.03 * (x1 - x0);
+    let xr = (x0 < x1).then_some((x0 - pad, x1 + pad));
+    let mut rsv = Figure::new(&format!("{name}_rsv"), "Rattle state", x, ("rsv", "1"))
+        .ranges(xr, Some(RSV_AXIS))
+        .with(
+            Series::step("time integration", s(&|p| f64::from(p.rsv())))
+                .unsettled(u(&|p| robust(p).map_or(p.time_unsettled(), |r| !r))),
+        );
     let mut ppv = Figure::new(
         &format!("{name}_ppv"),
         "Peak-to-peak value of q",
         x,
         ("ppv", "1"),
     )
+    .ranges(xr, Some(PPV_AXIS))
     .with(Series::line("time integration", s(&|p| p.ppv())).unsettled(u(&Point::window_unsettled)));
     for (i, (label, kind)) in HBM_KINDS.into_iter().enumerate() {
         let warm = i > 0;

@@ -59,17 +59,19 @@ fn run() -> Result<StudyOutput, Error> {
                 bi.note
             )),
     );
-    for (label, kind) in HBM_KINDS {
+    for (i, (label, kind)) in HBM_KINDS.into_iter().enumerate() {
         let n_conv = converged_note(&pts, kind);
         out.compare(
-            Comparison::published(uni_p, first_hbm(&pts, kind, |h| h.rattle.state.rsv() >= 1))?
+            Comparison::published(uni_p, first_hbm(&pts, i, |h| h.rattle.state.rsv() >= 1).0)?
+                .unsettled_if(first_hbm(&pts, i, |h| h.rattle.state.rsv() >= 1).1)
                 .with_tolerance(speed_tolerance(&uni_p.printed))
                 .reading("R-LIU-HBM")
                 .shown_only()
                 .note(&format!("first usable ω1 with rsv ≥ 1, {label} ({n_conv})")),
         );
         out.compare(
-            Comparison::published(bi_p, first_hbm(&pts, kind, |h| h.rattle.state.rsv() == 2))?
+            Comparison::published(bi_p, first_hbm(&pts, i, |h| h.rattle.state.rsv() == 2).0)?
+                .unsettled_if(first_hbm(&pts, i, |h| h.rattle.state.rsv() == 2).1)
                 .with_tolerance(speed_tolerance(&bi_p.printed))
                 .reading("R-LIU-HBM")
                 .shown_only()
