@@ -640,10 +640,14 @@ impl Robust {
     /// rattle state and the column's own statistic agrees over the nominal record and every
     /// variant within `rel` ([`Robust::settled`]; the state columns need only the agreement on
     /// the state). A column that does not settle is a sample of the point's statistic, not a
-    /// reproducible value (issue 28: it is committed as `n/p`).
+    /// reproducible value (issue 28: it is committed as `n/p`). A statistic that is NaN in every
+    /// variant (no impacts on a flank) settles.
     pub fn settled_columns(&self, rel: f64) -> [bool; 19] {
         let robust = self.state().is_some();
-        let s = |f: &dyn Fn(&WindowStats) -> f64| robust && self.settled(f, rel);
+        // a statistic that does not exist in any variant (NaN: no impacts on a flank) settles
+        let s = |f: &dyn Fn(&WindowStats) -> f64| {
+            robust && (self.all().all(|w| f(w).is_nan()) || self.settled(f, rel))
+        };
         let bilateral = s(&WindowStats::bilateral_fraction);
         let ppv = s(&|w| w.ppv);
         [
@@ -724,6 +728,12 @@ mod tests {
         let (lo, hi) = same.prediction_interval(amp);
         assert!((hi - lo).abs() < 1e-12 && (lo - 1.0).abs() < 1e-6);
         assert!(same.settled(amp, 1e-3));
+        // per column: identical variants settle everywhere; amplitudes 1..4 move the ppv and
+        // line columns (7–9, 16) but no state or fraction column (0–6)
+        assert!(same.settled_columns(1e-5).iter().all(|&s| s));
+        let cols = r.settled_columns(1e-5);
+        assert!(cols[..7].iter().all(|&s| s), "{cols:?}");
+        assert!(!cols[7] && !cols[8] && !cols[9] && !cols[16], "{cols:?}");
         assert!(student_t_975(0).is_infinite());
         assert_eq!(student_t_975(3).to_bits(), 3.182f64.to_bits());
         assert_eq!(student_t_975(500).to_bits(), 2.042f64.to_bits());
