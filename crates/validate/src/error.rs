@@ -22,36 +22,10 @@ pub enum Error {
         /// The id looked up.
         id: String,
     },
-    /// A printed number could not be read (it must look like `12`, `-0.0125` or `1.5e-3`).
-    #[error("printed number `{printed}` is not a decimal number")]
-    PrintedNumber {
-        /// The text as transcribed.
-        printed: String,
-    },
-    /// A table row had the wrong number of cells.
-    #[error("table `{table}`: row has {got} cells, the header has {expected}")]
-    RowLength {
-        /// The table's name.
-        table: String,
-        /// Number of columns in the header.
-        expected: usize,
-        /// Number of cells in the row.
-        got: usize,
-    },
-    /// An output name is not usable as a file-name part (allowed: `a-z`, `0-9`, `-`, `_`, `.`).
-    #[error("name `{name}` must be non-empty and use only a-z, 0-9, '-', '_', '.'")]
-    InvalidName {
-        /// The offending name.
-        name: String,
-    },
-    /// Rendering a figure failed.
-    #[error("figure `{figure}`: {reason}")]
-    Plot {
-        /// The figure's name.
-        figure: String,
-        /// What plotters reported.
-        reason: String,
-    },
+    /// A table, figure or heat map could not be built or rendered, or a printed number or an
+    /// output name is invalid (see [`plot::Error`]).
+    #[error(transparent)]
+    Plot(#[from] plot::Error),
     /// A model, solver or geometry computation failed inside a study.
     #[error("{context}: {source}")]
     Upstream {
@@ -80,6 +54,8 @@ pub enum Error {
     },
 }
 
+pub(crate) use plot::check_name;
+
 /// Attach context to any error from another crate, turning it into [`Error::Upstream`].
 ///
 /// ```
@@ -102,21 +78,6 @@ where
         self.map_err(|e| Error::Upstream {
             context: what.to_owned(),
             source: Box::new(e),
-        })
-    }
-}
-
-/// Check that `name` is usable in a file name.
-pub(crate) fn check_name(name: &str) -> Result<(), Error> {
-    let ok = !name.is_empty()
-        && name
-            .chars()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || matches!(c, '-' | '_' | '.'));
-    if ok {
-        Ok(())
-    } else {
-        Err(Error::InvalidName {
-            name: name.to_owned(),
         })
     }
 }

@@ -123,9 +123,6 @@
 mod audit;
 pub mod bifurcation;
 mod error;
-mod figure;
-mod format;
-pub mod heatmap;
 mod output;
 pub mod precision;
 mod published;
@@ -134,21 +131,25 @@ pub mod shard;
 mod spec;
 mod studies;
 mod study;
-mod table;
 mod user;
 pub mod verdicts;
 
 pub use audit::{Problem, audit, audit_output, output_files};
 pub use bifurcation::{BifurcationSpec, MAX_BIFURCATION_PERIODS, MAX_BIFURCATION_POINTS};
 pub use error::{Error, ResultExt};
-pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
-pub use format::{SIGNIFICANT_DIGITS, committed_text, fmt_sig, fmt6, full_text, unsettled};
+// the output layer (tables, figures, heat maps, number formats) is the `plot` crate; its
+// modules are in scope under their old names so that `crate::table::…` paths keep working
 pub use models::contract::{
     Adapter, ChoiceInfo, Context, Job, Kind, MethodInfo, Model, ModelInfo, ParamInfo, Preparer,
     REGISTRY, Record, STEP_STATISTICS, SettingDef, check_settings, describe_all, describe_json,
     is_step_statistic, step_statistics,
 };
 pub use output::{STATS_DIR, ValidationSummary, diff_against, run_validation, study_selected};
+pub use plot::{
+    Cell, Column, Figure, OKABE_ITO, SIGNIFICANT_DIGITS, Series, Style, Table, committed_text,
+    fmt_sig, fmt6, full_text, heatmap, step_path, unsettled,
+};
+pub(crate) use plot::{figure, format, table};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
     ReadingsIndex, STATS_DIGEST_FILE, StudyResult, comparisons_csv, comparisons_csv_full,
@@ -159,7 +160,6 @@ pub use study::{
     ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance,
     ToleranceBand, ToleranceBasis, Verdict,
 };
-pub use table::{Cell, Column, Table};
 pub use user::{
     FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_SECONDS_BOUND, MAX_STEPS_BOUND,
     MAX_SWEEP_VALUES, Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, StudyPlan,
