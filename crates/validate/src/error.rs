@@ -37,13 +37,9 @@ pub enum Error {
     /// A study-specific failure described in words (e.g. a solver that did not converge).
     #[error("{0}")]
     Study(String),
-    /// A user study file (see `docs/studies.md`) is invalid.
+    /// An input a validation study reads is invalid.
     #[error("study file: {0}")]
     StudyFile(String),
-    /// A shard specification, partial result or journal is invalid, or partial results do not
-    /// merge (see the `shard` module).
-    #[error("shard: {0}")]
-    Shard(String),
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {
@@ -79,19 +75,5 @@ where
             context: what.to_owned(),
             source: Box::new(e),
         })
-    }
-}
-
-/// A model-contract error as the harness reports it: a bad input is a study-file error, a
-/// point that cannot be computed a study failure, an engine failure keeps its context.
-impl From<models::contract::PointError> for Error {
-    fn from(e: models::contract::PointError) -> Self {
-        use models::contract::PointError as P;
-        match e {
-            P::Input(m) => Error::StudyFile(m),
-            P::Compute(m) => Error::Study(m),
-            P::Upstream { context, source } => Error::Upstream { context, source },
-            e => Error::Study(e.to_string()),
-        }
     }
 }
