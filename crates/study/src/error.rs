@@ -38,13 +38,17 @@ pub enum Error {
 
 pub(crate) use plot::check_name;
 
-/// A model-contract error as the study engine reports it: a bad input is a study-file error, a
+/// A model-contract error as the study engine reports it: a bad input (an unknown or ambiguous
+/// parameter included) is a study-file error, a
 /// point that cannot be computed a study failure, an engine failure keeps its context.
 impl From<models::contract::PointError> for Error {
     fn from(e: models::contract::PointError) -> Self {
         use models::contract::PointError as P;
         match e {
             P::Input(m) => Error::StudyFile(m),
+            e @ (P::UnknownParameter { .. } | P::AmbiguousParameter { .. }) => {
+                Error::StudyFile(e.to_string())
+            }
             P::Compute(m) => Error::Study(m),
             P::Upstream { context, source } => Error::Upstream { context, source },
             e => Error::Study(e.to_string()),

@@ -796,3 +796,47 @@ fn yu_and_pair_shooting_give_the_orbit_crates_multipliers() {
     );
     assert!(e.contains("segments"), "{e}");
 }
+
+/// Dotted paths are the canonical address of a parameter (also two structs deep); a bare name
+/// works only when exactly one nested struct holds it; an ambiguous bare name and an unknown
+/// path are study-file errors naming the dotted paths.
+#[test]
+fn overrides_address_parameters_by_dotted_path() {
+    let run = |overrides: &str| {
+        let toml = format!(
+            "name = \"paths\"\nmodel = \"generic-pair\"\n\n[overrides]\n{overrides}\n\n[solver]\nmethod = \"hbm\"\n"
+        );
+        geardyn_study::run_study_from_str(&toml, &Default::default()).map(|o| o.table.to_csv())
+    };
+    let default = run("").unwrap();
+    let dotted = run("backlash.b = 6e-5").unwrap();
+    assert_eq!(
+        run("b = 6e-5").unwrap(),
+        dotted,
+        "`b`: only the backlash holds it"
+    );
+    assert_eq!(run("[overrides.backlash]\nb = 6e-5").unwrap(), dotted);
+    assert_ne!(dotted, default, "the half gap changes the result");
+    let deep = run("stiffness.curve.k_single = 2.5e8").unwrap();
+    assert_eq!(run("k_single = 2.5e8").unwrap(), deep);
+    assert_ne!(deep, default, "the stiffness changes the result");
+
+    let e = run("kind = \"constant\"").unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "study file: parameter `kind` is ambiguous: write one of backlash.kind, stiffness.kind"
+    );
+    let e = run("backlash.nonesuch = 1.0").unwrap_err().to_string();
+    assert!(
+        e.starts_with("study file: unknown parameter `backlash.nonesuch`; parameters: "),
+        "{e}"
+    );
+    for path in [
+        "backlash.b",
+        "stiffness.curve.k_single",
+        "geometry.rp",
+        "mesh_damping",
+    ] {
+        assert!(e.contains(path), "{path} missing from: {e}");
+    }
+}
