@@ -11,7 +11,7 @@ fn the_model_reference_in_the_docs_is_current() {
     }
     let text = std::fs::read_to_string(root.join(geardyn_cli::MODELS_DOC)).unwrap();
     // every registered model has its section, generated from the same source as `geardyn models`
-    for m in validate::REGISTRY.iter() {
+    for m in study::REGISTRY.iter() {
         assert!(
             text.contains(&format!("### `{}`", m.name())),
             "{}",

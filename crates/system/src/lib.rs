@@ -66,6 +66,7 @@
 #![deny(missing_docs)]
 
 pub mod deadline;
+pub mod format;
 pub mod numeric;
 pub mod problems;
 pub mod rk4;

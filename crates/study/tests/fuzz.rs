@@ -11,7 +11,7 @@
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use geardyn_validate::{RunOptions, UserStudy, run_study_from_str};
+use geardyn_study::{RunOptions, UserStudy, run_study_from_str};
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use proptest::test_runner::{Config, TestRng, TestRunner};
@@ -210,7 +210,7 @@ fn check_study(text: String, tally: &mut [u32; 4]) {
                     continue;
                 }
                 for c in row {
-                    if let geardyn_validate::Cell::Num(x) = c {
+                    if let geardyn_study::Cell::Num(x) = c {
                         assert!(x.is_finite(), "non-finite success in row {i}\n{text}");
                     }
                 }

@@ -56,11 +56,11 @@ fn dotted_overrides<'de, D: serde::Deserializer<'de>>(
     Ok(out)
 }
 use crate::error::{Error, check_name};
-use crate::figure::{Figure, Series};
-use crate::heatmap::{HeatScale, Heatmap};
 use crate::shard::{self, Journal, JournalHeader, PointRecord, ShardSpec};
-use crate::table::{Cell, Table};
 use models::contract::{self as registry, Job, Model, is_step_statistic};
+use plot::{Cell, Table};
+use plot::{Figure, Series};
+use plot::{HeatScale, Heatmap};
 
 // The study-file vocabulary lives in `spec` (shared with the model registrations); its public
 // items keep their `user::` paths.
@@ -769,7 +769,7 @@ fn assemble(
         "points": points,
         "failed_points": failed,
         "outputs": ranges,
-        "significant_digits": crate::SIGNIFICANT_DIGITS,
+        "significant_digits": plot::SIGNIFICANT_DIGITS,
     });
     UserStudyOutput {
         name: study.name.clone(),
@@ -851,7 +851,7 @@ fn heat_maps(
 /// A number at 6 significant digits as a JSON number (`null` if not finite).
 fn json_num(x: f64) -> serde_json::Value {
     if x.is_finite() {
-        let r: f64 = crate::fmt6(x).parse().unwrap_or(x);
+        let r: f64 = plot::fmt6(x).parse().unwrap_or(x);
         serde_json::json!(r)
     } else {
         serde_json::Value::Null

@@ -5,8 +5,8 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use geardyn_validate::shard::{self, Journal, PointRecord, ShardSpec};
-use geardyn_validate::{
+use geardyn_study::shard::{self, Journal, PointRecord, ShardSpec};
+use geardyn_study::{
     Progress, UserStudy, compute_records, merge_from_str, merge_study_files, prepare,
     run_shard_from_str, run_study_file, run_study_shard_file,
 };
@@ -489,8 +489,8 @@ fn a_time_limit_fails_the_point_and_the_study_goes_on() {
     }
     // a generous limit changes nothing
     let toml = format!("{MAP}\n[limits]\nmax_seconds_per_point = 600\n");
-    let limited = geardyn_validate::run_study_from_str(&toml, &Default::default()).unwrap();
-    let free = geardyn_validate::run_study_from_str(MAP, &Default::default()).unwrap();
+    let limited = geardyn_study::run_study_from_str(&toml, &Default::default()).unwrap();
+    let free = geardyn_study::run_study_from_str(MAP, &Default::default()).unwrap();
     assert_eq!(limited.table.to_csv(), free.table.to_csv());
     // out of bounds: named with the bound
     for bad in ["0", "-1", "1e9", "nan"] {

@@ -22,8 +22,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::Error;
-use crate::figure::{Figure, Series};
-use crate::table::Cell;
+use plot::Cell;
+use plot::{Figure, Series};
 
 /// Most section points per parameter value (CSV columns) in a study file.
 pub const MAX_BIFURCATION_POINTS: i64 = 1000;

@@ -20,7 +20,7 @@ pub enum Cell {
     /// judges: a sample of a non-periodic orbit, a long-window statistic whose variants
     /// disagree, an iterate of a solver that did not converge, or a solution seeded from one of
     /// those (a warm start from a chaotic time response). Written at 6 significant digits to
-    /// the uncommitted `validation/stats/`, as [`crate::precision::NOT_PERIODIC`] in the
+    /// the uncommitted `validation/stats/`, as [`crate::NOT_PERIODIC`] in the
     /// committed table (issue 28).
     Unsettled(f64),
 }
@@ -95,7 +95,7 @@ pub struct Column {
 /// A data table; written to `validation/<paper>/<study-id>_<name>.csv`, header `name [unit]`.
 ///
 /// ```
-/// use geardyn_validate::Table;
+/// use geardyn_plot::Table;
 /// let mut t = Table::new("sweep", &[("omega1", "rad/s"), ("rsv", "1")]);
 /// t.push_nums(&[150.0, 0.25]).unwrap();
 /// assert_eq!(t.to_csv(), "omega1 [rad/s],rsv [1]\n150,0.25\n");

@@ -72,7 +72,7 @@ pub const MAX_SHARDS: usize = 10_000_000;
 /// One shard `index/count` of a study, `1 ≤ index ≤ count ≤` [`MAX_SHARDS`].
 ///
 /// ```
-/// use geardyn_validate::shard::ShardSpec;
+/// use geardyn_study::shard::ShardSpec;
 /// let s: ShardSpec = "2/3".parse().unwrap();
 /// assert!(s.owns(1) && s.owns(4) && !s.owns(0));
 /// assert!("0/3".parse::<ShardSpec>().is_err());

@@ -4,20 +4,24 @@
 pub const SIGNIFICANT_DIGITS: usize = 6;
 
 /// Format `x` to `digits` significant digits, deterministically: the one formatter of the
-/// workspace lives with the model contract (`models::contract::fmt_sig`), re-exported here.
+/// workspace lives in the base crate (`system::format::fmt_sig`), re-exported here.
 ///
 /// ```
-/// use geardyn_validate::fmt_sig;
+/// use geardyn_plot::fmt_sig;
 /// assert_eq!(fmt_sig(3.14159265, 6), "3.14159");
 /// assert_eq!(fmt_sig(-0.0, 6), "0");
 /// ```
-pub use models::contract::fmt_sig;
+pub use system::format::fmt_sig;
 
-/// [`fmt_sig`] at [`SIGNIFICANT_DIGITS`] (re-exported from `models::contract`).
-pub use models::contract::fmt6;
+/// [`fmt_sig`] at [`SIGNIFICANT_DIGITS`] (re-exported from `system::format`).
+pub use system::format::fmt6;
+
+/// What a committed file writes for a value that is not settled: a statistic of a non-periodic
+/// orbit, a cell marked [`crate::Cell::Unsettled`], a span marked [`unsettled`].
+pub const NOT_PERIODIC: &str = "n/p";
 
 /// Quote a CSV field when it contains a comma, quote or newline (RFC 4180).
-pub(crate) fn csv_field(s: &str) -> String {
+pub fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {
@@ -26,12 +30,12 @@ pub(crate) fn csv_field(s: &str) -> String {
 }
 
 /// Escape a Markdown table cell.
-pub(crate) fn md_cell(s: &str) -> String {
+pub fn md_cell(s: &str) -> String {
     s.replace('|', "\\|").replace('\n', " ")
 }
 
 /// Half a unit in the last digit of a printed decimal number.
-pub(crate) fn half_last_digit(printed: &str) -> Result<f64, crate::error::Error> {
+pub fn half_last_digit(printed: &str) -> Result<f64, crate::error::Error> {
     let bad = || crate::error::Error::PrintedNumber {
         printed: printed.to_owned(),
     };
@@ -62,7 +66,7 @@ pub const UNSETTLED_CLOSE: char = '⟧';
 /// uncommitted `validation/stats/` has it in full ([`full_text`]).
 ///
 /// ```
-/// use geardyn_validate::{committed_text, full_text, unsettled};
+/// use geardyn_plot::{committed_text, full_text, unsettled};
 /// let s = format!("slope {} ± {}", unsettled(11.5), unsettled(1.3));
 /// assert_eq!(committed_text(&s), "slope n/p ± n/p");
 /// assert_eq!(full_text(&s), "slope 11.5 ± 1.3");
@@ -79,7 +83,7 @@ pub fn committed_text(s: &str) -> String {
         match c {
             UNSETTLED_OPEN if !inside => {
                 inside = true;
-                out.push_str(crate::precision::NOT_PERIODIC);
+                out.push_str(NOT_PERIODIC);
             }
             UNSETTLED_CLOSE if inside => inside = false,
             _ if inside => {}

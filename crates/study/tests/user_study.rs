@@ -4,9 +4,7 @@
 
 #![allow(clippy::float_cmp)]
 
-use geardyn_validate::{
-    RunOptions, UserStudy, UserStudyOutput, run_study_from_str, run_user_study,
-};
+use geardyn_study::{RunOptions, UserStudy, UserStudyOutput, run_study_from_str, run_user_study};
 
 fn run(text: &str) -> UserStudyOutput {
     run_study_from_str(text, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}\n{text}"))
@@ -313,7 +311,7 @@ fn every_shipped_example_parses() {
             let s = UserStudy::parse(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             // and every point prepares (settings, names, sizes) without computing
             let p =
-                geardyn_validate::prepare(&s).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                geardyn_study::prepare(&s).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             assert!(p.failed_early().is_empty(), "{}", path.display());
             n += 1;
         }
@@ -372,13 +370,13 @@ fn outputs_are_written_atomically_and_locked() {
     );
     let dir = base.join("k");
     {
-        let lock = geardyn_validate::lock_output_dir(&dir).unwrap();
+        let lock = geardyn_study::lock_output_dir(&dir).unwrap();
         // a second run on the same directory is refused while the first holds it
-        assert!(geardyn_validate::lock_output_dir(&dir).is_err());
+        assert!(geardyn_study::lock_output_dir(&dir).is_err());
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("stale.svg"), "old").unwrap();
         std::fs::write(dir.join(".geardyn-study"), "old").unwrap();
-        let w = geardyn_validate::write_outputs(&out, &lock).unwrap();
+        let w = geardyn_study::write_outputs(&out, &lock).unwrap();
         assert!(w.files.last().unwrap().ends_with("k.json"));
         let json: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(dir.join("k.json")).unwrap()).unwrap();
@@ -389,7 +387,7 @@ fn outputs_are_written_atomically_and_locked() {
     let other = base.join("other");
     std::fs::create_dir_all(&other).unwrap();
     std::fs::write(other.join("mine.txt"), "keep").unwrap();
-    assert!(geardyn_validate::lock_output_dir(&other).is_err());
+    assert!(geardyn_study::lock_output_dir(&other).is_err());
     assert!(other.join("mine.txt").exists());
     let _ = std::fs::remove_dir_all(&base);
 }
@@ -475,8 +473,8 @@ lyapunov_intervals = 2
 method = "time-stepping"
 "#;
     let err = |text: &str| {
-        let s = geardyn_validate::UserStudy::parse(text)
-            .and_then(|s| geardyn_validate::prepare(&s).map(|_| ()));
+        let s = geardyn_study::UserStudy::parse(text)
+            .and_then(|s| geardyn_study::prepare(&s).map(|_| ()));
         s.unwrap_err().to_string()
     };
     assert!(err(&base.replace("points = 4", "points = 4\ntypo = 1")).contains("typo"));
@@ -501,8 +499,8 @@ method = "time-stepping"
         .contains("sweep2")
     );
     // a valid one parses and prepares
-    let s = geardyn_validate::UserStudy::parse(base).unwrap();
-    assert_eq!(geardyn_validate::prepare(&s).unwrap().len(), 2);
+    let s = geardyn_study::UserStudy::parse(base).unwrap();
+    assert_eq!(geardyn_study::prepare(&s).unwrap().len(), 2);
 }
 
 /// `tolerance_check = "on"`: the extra column is the largest relative change of the outputs
@@ -610,7 +608,7 @@ fn assert_stats(out: &UserStudyOutput, row: usize, s: &timestep::Stats, what: &s
     assert!(
         out.figures
             .iter()
-            .all(|f| !geardyn_validate::is_step_statistic(&f.y.0)),
+            .all(|f| !geardyn_study::is_step_statistic(&f.y.0)),
         "{what}"
     );
 }
@@ -660,7 +658,7 @@ fn every_result_states_its_statistics_and_accuracy() {
         300.0,
         &timestep::Options::default()
             .with_tol(1e-9, 1e-9)
-            .with_max_steps(geardyn_validate::Limits::default().max_steps as u64)
+            .with_max_steps(geardyn_study::Limits::default().max_steps as u64)
             .with_output(timestep::Output::Final),
     )
     .unwrap();
@@ -673,7 +671,7 @@ fn overrides_take_dotted_paths_as_keys_or_sub_tables() {
         let toml = format!(
             "name = \"dotted\"\nmodel = \"liu2021\"\n\n[overrides]\n{overrides}\n\n[solver]\nmethod = \"hbm\"\n"
         );
-        geardyn_validate::run_study_from_str(&toml, &Default::default()).map(|o| o.table.to_csv())
+        geardyn_study::run_study_from_str(&toml, &Default::default()).map(|o| o.table.to_csv())
     };
     let bare = run("rigid_acceleration = \"printed-eq20\"").unwrap();
     let dotted = run("readings.rigid_acceleration = \"printed-eq20\"").unwrap();
@@ -797,4 +795,48 @@ fn yu_and_pair_shooting_give_the_orbit_crates_multipliers() {
          [solver]\nmethod = \"shooting\"\n[solver.settings]\nsegments = 0\n",
     );
     assert!(e.contains("segments"), "{e}");
+}
+
+/// Dotted paths are the canonical address of a parameter (also two structs deep); a bare name
+/// works only when exactly one nested struct holds it; an ambiguous bare name and an unknown
+/// path are study-file errors naming the dotted paths.
+#[test]
+fn overrides_address_parameters_by_dotted_path() {
+    let run = |overrides: &str| {
+        let toml = format!(
+            "name = \"paths\"\nmodel = \"generic-pair\"\n\n[overrides]\n{overrides}\n\n[solver]\nmethod = \"hbm\"\n"
+        );
+        geardyn_study::run_study_from_str(&toml, &Default::default()).map(|o| o.table.to_csv())
+    };
+    let default = run("").unwrap();
+    let dotted = run("backlash.b = 6e-5").unwrap();
+    assert_eq!(
+        run("b = 6e-5").unwrap(),
+        dotted,
+        "`b`: only the backlash holds it"
+    );
+    assert_eq!(run("[overrides.backlash]\nb = 6e-5").unwrap(), dotted);
+    assert_ne!(dotted, default, "the half gap changes the result");
+    let deep = run("stiffness.curve.k_single = 2.5e8").unwrap();
+    assert_eq!(run("k_single = 2.5e8").unwrap(), deep);
+    assert_ne!(deep, default, "the stiffness changes the result");
+
+    let e = run("kind = \"constant\"").unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "study file: parameter `kind` is ambiguous: write one of backlash.kind, stiffness.kind"
+    );
+    let e = run("backlash.nonesuch = 1.0").unwrap_err().to_string();
+    assert!(
+        e.starts_with("study file: unknown parameter `backlash.nonesuch`; parameters: "),
+        "{e}"
+    );
+    for path in [
+        "backlash.b",
+        "stiffness.curve.k_single",
+        "geometry.rp",
+        "mesh_damping",
+    ] {
+        assert!(e.contains(path), "{path} missing from: {e}");
+    }
 }

@@ -147,7 +147,7 @@ pub fn step_path(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
 /// (long format: `series, x, y`).
 ///
 /// ```
-/// use geardyn_validate::{Figure, Series};
+/// use geardyn_plot::{Figure, Series};
 /// let f = Figure::new("a-vs-omega", "Amplitude vs frequency", ("ω", "1"), ("A", "1"))
 ///     .with(Series::line("B = 0", vec![(0.0, 1.0), (1.0, 2.0)]));
 /// let svg = f.to_svg().unwrap();
