@@ -139,7 +139,7 @@ impl Table {
     }
 
     /// Commit the numbers (after the first column) at no more than `digits` significant digits
-    /// (at least 1; the default is [`crate::precision::TABLE_DIGITS`]): the study's own accuracy
+    /// (at least 1; the default is 4, `TABLE_DIGITS` of the validation harness): the study's own accuracy
     /// check reproduces them only to that precision. The stats copy keeps every digit.
     pub fn reproducible_digits(mut self, digits: i32) -> Self {
         self.digits = Some(digits.max(1));
