@@ -1,4 +1,5 @@
-//! Spur pair geometry of Yu, Sun, Li, Wu 2021 (Section 2.2, Eq. 7–9, 16; Tables 1–2).
+//! Spur pair geometry of Yu, Sun, Li, Wu 2021 (Section 2.2, Eq. 7–9, 16). The paper's pairs
+//! (Tables 1–2) live with the model, `geardyn_models::yu2021`.
 
 use crate::Error;
 use crate::error::positive;
@@ -83,22 +84,6 @@ impl SpurPair {
         })
     }
 
-    /// Yu et al. 2021, Table 1 (DF rig of its ref. 10): `R_p = R_g = 0.094 m`, 25/25 teeth,
-    /// `α0 = 20°` (stated in Section 3).
-    pub fn yu2021_table1() -> Self {
-        Self::new(SpurPairParams {
-            rp: 0.094,
-            rg: 0.094,
-            pressure_angle: 20f64.to_radians(),
-        })
-        .expect("Table 1 values are valid")
-    }
-
-    /// Yu et al. 2021, Table 2 (RMS rig of its ref. 28): module 3 mm, 50/50 teeth, `α0 = 20°`.
-    pub fn yu2021_table2() -> Self {
-        Self::from_module(3e-3, 50, 50, 20f64.to_radians()).expect("Table 2 values are valid")
-    }
-
     /// The parameters.
     pub fn params(&self) -> SpurPairParams {
         self.p
@@ -174,7 +159,8 @@ mod tests {
 
     #[test]
     fn nominal_distance_gives_twenty_degrees_only_in_consistent_form() {
-        let s = SpurPair::yu2021_table2();
+        // module 3 mm, 50/50 teeth, α0 = 20° (the pair of Yu 2021 Table 2)
+        let s = SpurPair::from_module(3e-3, 50, 50, 20f64.to_radians()).unwrap();
         let a0 = s.nominal_centre_distance();
         assert!((a0 - 0.15).abs() < 1e-15);
         let c = s

@@ -125,6 +125,7 @@ pub use ode::{TimeSystem, Trig};
 pub use params::{
     BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries, table1,
 };
+pub use presets::{Rig, TABLE2_THEORETICAL};
 pub use strategy::{
     HbmOrigin, HbmPoint, Motion, SweepPoint, SweepStrategy, TimeReference, classify_section,
     is_stable_multiplier, max_multiplier, solve_point, solve_sweep, time_reference,
