@@ -29,15 +29,6 @@ impl PairGeometry {
         Ok(Self { r_p, r_g, alpha0 })
     }
 
-    /// Yu Table 1 pair (Kahraman's rig): R_p = R_g = 0.094 m, α_0 = 20°.
-    pub fn yu2021_table1() -> Self {
-        Self {
-            r_p: 0.094,
-            r_g: 0.094,
-            alpha0: 20f64.to_radians(),
-        }
-    }
-
     /// Nominal centre distance a_0 = R_p + R_g (m).
     #[inline]
     pub fn a0(&self) -> f64 {
@@ -465,9 +456,14 @@ impl DynamicBacklash {
 mod tests {
     use super::*;
 
+    /// R_p = R_g = 0.094 m, α_0 = 20° (the values of Yu 2021 Table 1, as literal inputs).
+    fn geometry() -> PairGeometry {
+        PairGeometry::new(0.094, 0.094, 20f64.to_radians()).unwrap()
+    }
+
     #[test]
     fn rest_gives_zero_change() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         for form in [DynamicForm::Involute, DynamicForm::YuEq10] {
             let d = DynamicBacklash::new(
                 g,
@@ -486,7 +482,7 @@ mod tests {
 
     #[test]
     fn printed_eq16_is_negative_at_rest() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         let d = DynamicBacklash::new(
             g,
             5e-5,
@@ -510,7 +506,7 @@ mod tests {
 
     #[test]
     fn involute_matches_textbook_linearisation() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         let d = DynamicBacklash::involute(g, 0.0).unwrap();
         let da = 1e-6;
         let e = d.eval(&CentreDisplacement::new(da, 0.0, 0.0, 0.0)).unwrap();
@@ -528,7 +524,7 @@ mod tests {
 
     #[test]
     fn far_inside_base_circles_stays_finite() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         for form in [DynamicForm::Involute, DynamicForm::YuEq10] {
             for law in [PressureAngleLaw::Involute, PressureAngleLaw::PrintedEq16] {
                 for policy in [RadicandPolicy::ClampZero, RadicandPolicy::SignedRoot] {
@@ -544,7 +540,7 @@ mod tests {
 
     #[test]
     fn gradients_match_finite_differences_for_every_option() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         let c0 = [3e-6, -2e-6, -1e-6, 4e-6];
         for form in [
             DynamicForm::Involute,
@@ -581,7 +577,7 @@ mod tests {
 
     #[test]
     fn consistent_sign_mirrors_the_printed_one() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         let d = DynamicBacklash::involute(g, 0.0).unwrap();
         let c = CentreDisplacement::new(2e-6, 1e-6, -1e-6, 0.0);
         let mirrored = CentreDisplacement::new(-2e-6, 1e-6, 1e-6, 0.0);
