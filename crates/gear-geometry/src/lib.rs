@@ -47,7 +47,9 @@
 //! Reference radii, base radii `R cos α0`, nominal centre distance `a0 = Rp + Rg`, actual centre
 //! distance (Eq. 8), roll angle `β = tan α`, involute arc length (Eq. 7), and the operating
 //! pressure angle at centre distance `a`: Eq. (16) as printed, `arccos((Rp+Rg)/a)` (0° at
-//! `a0`), or the consistent `arccos(a0 cos α0/a)` (default; reading `R-YU-EQ16`).
+//! `a0`), or the involute `arccos(a0 cos α0/a)` (default; reading `R-YU-EQ16`). The law
+//! ([`PressureAngleLaw`]) and the centre-distance form ([`CentreDistanceForm`]) are the
+//! workspace's one definition in `geardyn-system`, shared with the backlash leaf.
 //!
 //! ## Paper parameter sets
 //!
@@ -83,7 +85,7 @@
 //!
 //! ```
 //! use geardyn_gear_geometry::{
-//!     CentreDistance, KarpovPair, KarpovPairParams, NfgPair, NfgPairParams, PressureAngleForm,
+//!     CentreDistance, KarpovPair, KarpovPairParams, NfgPair, NfgPairParams, PressureAngleLaw,
 //!     SpurPair,
 //! };
 //! use std::f64::consts::{PI, TAU};
@@ -115,7 +117,7 @@
 //! // a spur pair, module 3 mm, 50/50 teeth: 20° at the nominal centre distance
 //! let spur = SpurPair::from_module(3e-3, 50, 50, 20f64.to_radians())?;
 //! let a0 = spur.nominal_centre_distance();
-//! let alpha = spur.operating_pressure_angle(a0, PressureAngleForm::Consistent)?;
+//! let alpha = spur.operating_pressure_angle(a0, PressureAngleLaw::Involute)?;
 //! assert!((alpha.to_degrees() - 20.0).abs() < 1e-12);
 //! # Ok::<(), geardyn_gear_geometry::Error>(())
 //! ```
@@ -132,7 +134,8 @@ pub use karpov::{
     KarpovPairParams, SpeedFluctuationForm,
 };
 pub use liu::{NfgPair, NfgPairParams, RigidAccelerationForm};
-pub use yu::{PressureAngleForm, SpurPair, SpurPairParams, involute_arc_length, roll_angle};
+pub use system::{CentreDistanceForm, PressureAngleLaw};
+pub use yu::{SpurPair, SpurPairParams, involute_arc_length, roll_angle};
 
 #[cfg(test)]
 mod tests {

@@ -4,7 +4,7 @@
 use std::f64::consts::TAU;
 
 use geardyn_gear_geometry::{
-    NfgPair, NfgPairParams, PressureAngleForm, RigidAccelerationForm, SpurPair, SpurPairParams,
+    NfgPair, NfgPairParams, PressureAngleLaw, RigidAccelerationForm, SpurPair, SpurPairParams,
 };
 use proptest::prelude::*;
 
@@ -142,7 +142,7 @@ proptest! {
         let s = spur(0.075, 0.075);
         let a0 = s.nominal_centre_distance();
         let a = a0 + da;
-        let al = s.operating_pressure_angle(a, PressureAngleForm::Consistent).unwrap();
+        let al = s.operating_pressure_angle(a, PressureAngleLaw::Involute).unwrap();
         prop_assert!((a * al.cos() - a0 * 20f64.to_radians().cos()).abs() < 1e-15);
         let (rbp, rbg) = s.base_radii();
         prop_assert!((rbp + rbg - a * al.cos()).abs() < 1e-15);
@@ -159,10 +159,10 @@ fn yu_table_geometry() {
     // Eq. 16 as printed at 0.1 mm over the nominal distance: 2.09°, consistent: 20.10°.
     let a = 0.1501;
     let p = t2
-        .operating_pressure_angle(a, PressureAngleForm::PrintedEq16)
+        .operating_pressure_angle(a, PressureAngleLaw::PrintedEq16)
         .unwrap();
     let c = t2
-        .operating_pressure_angle(a, PressureAngleForm::Consistent)
+        .operating_pressure_angle(a, PressureAngleLaw::Involute)
         .unwrap();
     assert!((p.to_degrees() - 2.092).abs() < 1e-3, "{}", p.to_degrees());
     assert!(

@@ -19,7 +19,9 @@
 //! other, and this crate depends on neither: it holds only the trait, its error type, the
 //! event direction, two helpers ([`finite_difference_force_jacobian`], [`gap_edges`]) and the
 //! workspace's one classical RK4 step ([`rk4::rk4_step`]) and small numerical tools
-//! ([`numeric`]: Gauss–Legendre quadrature, a periodic maximiser, bisection).
+//! ([`numeric`]: Gauss–Legendre quadrature, a periodic maximiser, bisection), and the one
+//! spur-pair pressure-angle law and centre-distance form ([`involute`]) that the geometry and
+//! backlash leaves share.
 //!
 //! ## Optional hooks
 //!
@@ -66,10 +68,13 @@
 #![deny(missing_docs)]
 
 pub mod deadline;
+pub mod involute;
 pub mod numeric;
 pub mod problems;
 pub mod rk4;
 pub mod sweep;
+
+pub use involute::{CentreDistanceForm, PressureAngleLaw};
 
 /// The workspace's one Floquet stability threshold: a periodic solution is stable when its
 /// largest multiplier modulus is `≤ 1 + STABILITY_TOLERANCE` ([`is_stable_multiplier`]). The

@@ -79,7 +79,7 @@ mod tests {
     #[test]
     fn table_spur_pairs() {
         use crate::yu2021::Yu2021Params;
-        use gear_geometry::{PressureAngleForm, SpurPair};
+        use gear_geometry::{PressureAngleLaw, SpurPair};
         let t1 = Yu2021Params::table1().spur_pair().unwrap();
         assert!((t1.nominal_centre_distance() - 0.188).abs() < 1e-15);
         let t2 = Yu2021Params::table2().spur_pair().unwrap();
@@ -89,10 +89,10 @@ mod tests {
         );
         let a = 0.1501;
         let p = t2
-            .operating_pressure_angle(a, PressureAngleForm::PrintedEq16)
+            .operating_pressure_angle(a, PressureAngleLaw::PrintedEq16)
             .unwrap();
         let c = t2
-            .operating_pressure_angle(a, PressureAngleForm::Consistent)
+            .operating_pressure_angle(a, PressureAngleLaw::Involute)
             .unwrap();
         assert!((p.to_degrees() - 2.092).abs() < 1e-3, "{}", p.to_degrees());
         assert!(

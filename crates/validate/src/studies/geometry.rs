@@ -1,7 +1,7 @@
 //! Geometry studies: Karpov Eq. (4), Eq. (6) and Table 1; Liu Table 2 frequency columns; Yu
 //! Eq. (16). All closed forms or small quadratures: [`Cost::Fast`].
 
-use gear_geometry::{KarpovPair, KarpovPairParams, PressureAngleForm};
+use gear_geometry::{KarpovPair, KarpovPairParams, PressureAngleLaw};
 use models::karpov2017::{pair_params_table1, pair_table1};
 use models::liu2021::Rig;
 use models::yu2021::Yu2021Params;
@@ -655,11 +655,11 @@ fn yu_eq16() -> Result<StudyOutput, Error> {
         .context("Yu Table 2 spur pair")?;
     let a0 = pair.nominal_centre_distance();
     let printed = geo(
-        pair.operating_pressure_angle(a0, PressureAngleForm::PrintedEq16),
+        pair.operating_pressure_angle(a0, PressureAngleLaw::PrintedEq16),
         "Eq. (16) at a0",
     )?;
     let consistent = geo(
-        pair.operating_pressure_angle(a0, PressureAngleForm::Consistent),
+        pair.operating_pressure_angle(a0, PressureAngleLaw::Involute),
         "consistent form at a0",
     )?;
     for id in ["sect23.alpha0", "table2.pressure-angle"] {
@@ -688,12 +688,12 @@ fn yu_eq16() -> Result<StudyOutput, Error> {
     for i in 0..=50 {
         let da = 1e-6 * f64::from(i); // 0 … 50 µm
         let ap = geo(
-            pair.operating_pressure_angle(a0 + da, PressureAngleForm::PrintedEq16),
+            pair.operating_pressure_angle(a0 + da, PressureAngleLaw::PrintedEq16),
             "Eq. (16)",
         )?
         .to_degrees();
         let ac = geo(
-            pair.operating_pressure_angle(a0 + da, PressureAngleForm::Consistent),
+            pair.operating_pressure_angle(a0 + da, PressureAngleLaw::Involute),
             "consistent form",
         )?
         .to_degrees();
@@ -723,14 +723,14 @@ fn yu_eq16() -> Result<StudyOutput, Error> {
                 fmt6(consistent.to_degrees()),
                 fmt6(
                     geo(
-                        pair.operating_pressure_angle(a0 + 1e-5, PressureAngleForm::PrintedEq16),
+                        pair.operating_pressure_angle(a0 + 1e-5, PressureAngleLaw::PrintedEq16),
                         "Eq. (16)"
                     )?
                     .to_degrees()
                 ),
                 fmt6(
                     geo(
-                        pair.operating_pressure_angle(a0 + 1e-5, PressureAngleForm::Consistent),
+                        pair.operating_pressure_angle(a0 + 1e-5, PressureAngleLaw::Involute),
                         "consistent"
                     )?
                     .to_degrees()
