@@ -113,7 +113,7 @@ mod window;
 
 pub use continuation::{
     BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedFold,
-    add_branch_stability, continue_in_speed, shooting_multipliers,
+    add_branch_stability, continue_in_speed, shooting_multipliers, shooting_stability,
 };
 pub use harmonic::{
     Basis, HbmOptions, HbmResponse, HbmStart, coefficients_from_time_response, solve_hbm,
