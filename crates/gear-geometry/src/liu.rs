@@ -277,17 +277,16 @@ impl NfgPair {
 mod tests {
     use super::*;
 
-    /// An NFG pair with literal inputs (the values of Liu 2021 Table 1: `m = 2.5 mm`, `Z1 = 18`,
-    /// `i_j = 3.5`, `ε = 0.2`, `α = 20°`).
+    /// An NFG pair with literal inputs (`m = 3 mm`, `Z1 = 20`, `i_j = 3`, `ε = 0.3`, `α = 25°`).
     fn nfg() -> NfgPair {
-        NfgPair::new(NfgPairParams {
-            module: 2.5e-3,
-            z1: 18,
-            ratio: 3.5,
-            eccentricity: 0.2,
-            pressure_angle: 20f64.to_radians(),
-        })
-        .unwrap()
+        let p = NfgPairParams {
+            module: 3e-3,
+            z1: 20,
+            ratio: 3.0,
+            eccentricity: 0.3,
+            pressure_angle: 25f64.to_radians(),
+        };
+        NfgPair::new(p).unwrap()
     }
 
     #[test]
