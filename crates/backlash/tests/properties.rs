@@ -8,6 +8,11 @@ use geardyn_backlash::{
 };
 use proptest::prelude::*;
 
+/// R_p = R_g = 0.094 m, α_0 = 20° (the values of Yu 2021 Table 1, as literal inputs).
+fn geometry() -> PairGeometry {
+    PairGeometry::new(0.094, 0.094, 20f64.to_radians()).unwrap()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
@@ -60,7 +65,7 @@ proptest! {
         let form = [DynamicForm::Involute, DynamicForm::YuEq10][form_i];
         let law = [PressureAngleLaw::Involute, PressureAngleLaw::PrintedEq16][law_i];
         let policy = [RadicandPolicy::ClampZero, RadicandPolicy::SignedRoot][pol_i];
-        let d = DynamicBacklash::new(PairGeometry::yu2021_table1(), 3e-5, form, law, policy)
+        let d = DynamicBacklash::new(geometry(), 3e-5, form, law, policy)
             .unwrap();
         let c = CentreDisplacement::from_array(q);
         let e = d.eval(&c).unwrap();
@@ -91,7 +96,7 @@ proptest! {
         let form = [DynamicForm::Involute, DynamicForm::YuEq10][form_i];
         let law = [PressureAngleLaw::Involute, PressureAngleLaw::PrintedEq16][law_i];
         let policy = [RadicandPolicy::ClampZero, RadicandPolicy::SignedRoot][pol_i];
-        let d = DynamicBacklash::new(PairGeometry::yu2021_table1(), 3e-5, form, law, policy)
+        let d = DynamicBacklash::new(geometry(), 3e-5, form, law, policy)
             .unwrap();
         let e = d.eval(&CentreDisplacement::from_array(q)).unwrap();
         prop_assert!(e.b.is_finite() && e.grad.iter().all(|g| g.is_finite()));
@@ -103,7 +108,7 @@ proptest! {
     fn common_translation_keeps_backlash(tx in -1e-3..1e-3f64, ty in -1e-3..1e-3f64, form_i in 0usize..2) {
         let form = [DynamicForm::Involute, DynamicForm::YuEq10][form_i];
         let d = DynamicBacklash::new(
-            PairGeometry::yu2021_table1(), 3e-5, form,
+            geometry(), 3e-5, form,
             PressureAngleLaw::Involute, RadicandPolicy::Reject,
         ).unwrap();
         let e = d.eval(&CentreDisplacement::new(tx, ty, tx, ty)).unwrap();
@@ -116,7 +121,7 @@ proptest! {
 /// b_dy ≈ sin α0 Δa (half the textbook normal-backlash change 2 sin α0 Δa) — and second order.
 #[test]
 fn involute_second_order() {
-    let g = PairGeometry::yu2021_table1();
+    let g = geometry();
     let d = DynamicBacklash::involute(g, 0.0).unwrap();
     let mut prev_err = f64::INFINITY;
     for k in 0..4 {
@@ -133,7 +138,7 @@ fn involute_second_order() {
 /// κ = R_pb (a + a0)/(2 c²) → R_p/(a0 cos α0) = 0.532 for equal gears at 20°.
 #[test]
 fn yu_eq10_first_order() {
-    let g = PairGeometry::yu2021_table1();
+    let g = geometry();
     let d = DynamicBacklash::new(
         g,
         0.0,

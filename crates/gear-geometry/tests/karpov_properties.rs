@@ -18,6 +18,9 @@ fn pair(b: f64, xi: f64, u: f64, j: u32, c: CentreDistance) -> KarpovPair {
     .unwrap()
 }
 
+// `pair(0.01, 2.0, 2.0, 4, CentreDistance::Closing)` has the values of Karpov 2017 Table 1 as
+// literal inputs; the paper's set itself is `geardyn_models::karpov2017::pair_table1()`.
+
 /// Observed order `log2(e(h)/e(h/2))` of an error function of `B`, averaged over a few halvings.
 fn order(mut err: impl FnMut(f64) -> f64, b0: f64) -> f64 {
     let mut orders = Vec::new();
@@ -88,13 +91,13 @@ fn printed_centre_distance_misses_closure_by_order_b_squared() {
     assert!((ord - 2.0).abs() < 0.01, "order {ord}");
     assert!((err(1e-3) / lead(1e-3) - 1.0).abs() < 1e-5);
     // Table 1: 1.09e-4 rad per input revolution
-    let t1 = KarpovPair::karpov2017_table1()
+    let t1 = pair(0.01, 2.0, 2.0, 4, CentreDistance::Closing)
         .with_centre_distance(CentreDistance::AsPrinted)
         .unwrap();
     let miss = t1.output_angle(TAU) - TAU / 2.0;
     assert!((miss - 1.0929e-4).abs() < 1e-7, "{miss}");
     // the closing centre distance moves a by O(B²): 3.5 µm for Table 1
-    let da = KarpovPair::karpov2017_table1().centre_distance() - 0.150;
+    let da = pair(0.01, 2.0, 2.0, 4, CentreDistance::Closing).centre_distance() - 0.150;
     assert!((da - 3.48e-6).abs() < 0.05e-6, "{da}");
 }
 
@@ -155,7 +158,7 @@ fn max_acceleration_eq6_is_accurate_to_order_b_squared() {
         let o = order(rel, 0.04);
         assert!((o - 2.0).abs() < 0.1, "xi={xi}: order {o}");
     }
-    let t1 = KarpovPair::karpov2017_table1();
+    let t1 = pair(0.01, 2.0, 2.0, 4, CentreDistance::Closing);
     let r = t1.max_acceleration(1.0) / t1.max_acceleration_eq6(1.0);
     assert!((r - 1.0).abs() < 1e-4, "{r}");
 }
@@ -184,7 +187,7 @@ fn design_check_root_find_matches_closed_form() {
         assert!(b < bl && bl < b4);
     }
     // Table 1 (exact δ = 0.030, Eq. 4 as printed 0.015): admissible for δ_max = 0.04, not 0.02.
-    let t1 = KarpovPair::karpov2017_table1();
+    let t1 = pair(0.01, 2.0, 2.0, 4, CentreDistance::Closing);
     assert!(t1.design_check(0.04).unwrap().admissible);
     assert!(!t1.design_check(0.02).unwrap().admissible);
     let c = t1.design_check(0.01).unwrap();
@@ -210,7 +213,7 @@ fn sinusoidal_limit_is_the_large_xi_limit() {
 #[test]
 fn table1_values() {
     // Karpov 2017 Table 1, p. 8: u = 2, r = 50 mm, B = 0.01, ξ = 2, j = 4, z1 = 32.
-    let p = KarpovPair::karpov2017_table1();
+    let p = pair(0.01, 2.0, 2.0, 4, CentreDistance::Closing);
     assert!((p.k() - 0.125).abs() < 1e-16);
     // exact δ = u[(1+B)/(A−B) − (1−B)/(A+B)] = 0.0299994 (A = 2.0000696); 2Bu(1+u)/(u²−B²)
     // = 0.0300008 for A = u; Eq. (4) as printed gives 0.015.

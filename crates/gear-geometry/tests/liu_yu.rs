@@ -1,50 +1,39 @@
-//! Liu 2021 NFG kinematics (Eq. 8, 18, 20, 22; Table 2) and Yu 2021 spur geometry (Eq. 16).
+//! Liu 2021 NFG kinematics (Eq. 8, 18, 20, 22) and Yu 2021 spur geometry (Eq. 16). The Table 2
+//! rig tests live with the model (`geardyn-models`, `liu2021::Rig`).
 
 use std::f64::consts::TAU;
 
 use geardyn_gear_geometry::{
-    LIU2021_TABLE2_THEORETICAL, LiuRig, NfgPair, PressureAngleForm, RigidAccelerationForm, SpurPair,
+    NfgPair, NfgPairParams, PressureAngleLaw, RigidAccelerationForm, SpurPair, SpurPairParams,
 };
 use proptest::prelude::*;
 
-/// Format to one decimal the way the paper prints it.
-fn one_decimal(x: f64) -> String {
-    format!("{x:.1}")
+/// An NFG pair with literal inputs: the values of Liu 2021 Table 1 (`m = 2.5 mm`, `Z1 = 18`,
+/// `i_j = 3.5`, `ε = 0.2`, `α = 20°`). The paper's sets live with the model (`geardyn-models`).
+fn nfg() -> NfgPair {
+    NfgPair::new(NfgPairParams {
+        module: 2.5e-3,
+        z1: 18,
+        ratio: 3.5,
+        eccentricity: 0.2,
+        pressure_angle: 20f64.to_radians(),
+    })
+    .unwrap()
 }
 
-#[test]
-fn table2_theoretical_frequencies_to_every_printed_digit() {
-    // Liu et al. 2021, Table 2 (p. 371), columns n, f_c/Hz and f_e/Hz of "Theoretical results".
-    let rig = LiuRig::liu2021_table2();
-    for (n, fc, fe) in LIU2021_TABLE2_THEORETICAL {
-        let (c, e) = (rig.centre_frequency(n), rig.mesh_frequency(n));
-        assert_eq!(one_decimal(c), one_decimal(fc), "f_c at {n} rpm: {c}");
-        assert_eq!(one_decimal(e), one_decimal(fe), "f_e at {n} rpm: {e}");
-        // and the values are exact decimals: f_e = 8n/35, f_c = n/280
-        assert!((e - 8.0 * n / 35.0).abs() < 1e-12 && (c - n / 280.0).abs() < 1e-13);
-    }
-}
-
-#[test]
-fn table2_is_not_reproduced_by_the_rounded_text_constants() {
-    // Belt ratio 1.3 and Z2 = i_j·Z1 = 63 (Section 3.8, Table 1) miss the f_e column.
-    let rig = LiuRig::as_printed();
-    let misses = LIU2021_TABLE2_THEORETICAL
-        .iter()
-        .filter(|(n, _, fe)| one_decimal(rig.mesh_frequency(*n)) != one_decimal(*fe))
-        .count();
-    assert_eq!(misses, 9);
-    // Z2 = 63 with the exact belt ratio gets f_e right but f_c only when truncating:
-    // at 952 rpm f_c = 217.6/63 = 3.454 → "3.5" rounded, Table 2 prints 3.4.
-    let r63 = LiuRig::new(21.0 / 16.0, 18, 63, 1).unwrap();
-    assert_eq!(one_decimal(r63.centre_frequency(952.0)), "3.5");
-    // Fig. 17's "864 rpm" gives 197.5 Hz, not the 192 Hz it quotes (which is the 840 rpm row).
-    assert!((LiuRig::liu2021_table2().mesh_frequency(864.0) - 197.485_714).abs() < 1e-5);
+/// A spur pair from its reference radii and `α0 = 20°`.
+fn spur(rp: f64, rg: f64) -> SpurPair {
+    SpurPair::new(SpurPairParams {
+        rp,
+        rg,
+        pressure_angle: 20f64.to_radians(),
+    })
+    .unwrap()
 }
 
 #[test]
 fn eq8_is_exact_in_time_and_first_harmonic_in_nfg_angle() {
-    let p = NfgPair::liu2021_table1();
+    let p = nfg();
     for k in 0..50 {
         let t = k as f64 * 0.13;
         assert!((p.base_radius(t) - p.base_radius_eq8(t)).abs() < 1e-16);
@@ -84,7 +73,7 @@ fn eq8_is_exact_in_time_and_first_harmonic_in_nfg_angle() {
 #[test]
 fn rigid_acceleration_is_the_second_derivative_of_the_rigid_angle() {
     // θ2(τ) = (ω̄1/i_j)·∫ i_j/i12 dτ = nfg_angle(ω̄c τ); check d²/dτ² by finite differences.
-    let p = NfgPair::liu2021_table1();
+    let p = nfg();
     let wc = 0.5;
     let th = |tau: f64| p.nfg_angle(wc * tau);
     let h = 1e-3;
@@ -99,7 +88,7 @@ fn rigid_acceleration_is_the_second_derivative_of_the_rigid_angle() {
 
 #[test]
 fn fourier_coefficients_closed_form_vs_quadrature() {
-    let p = NfgPair::liu2021_table1();
+    let p = nfg();
     let wc = 0.003_697;
     for form in [
         RigidAccelerationForm::Derived,
@@ -127,7 +116,7 @@ fn fourier_coefficients_closed_form_vs_quadrature() {
 #[test]
 fn frequencies_for_a_pinion_speed() {
     // Section 2.2: f1 = ω1/(2π i_j), f2 = ω1 Z1/(2π); at Table 1's ω1 = 160 rad/s.
-    let p = NfgPair::liu2021_table1();
+    let p = nfg();
     assert!((p.centre_frequency(160.0) - 160.0 / (TAU * 3.5)).abs() < 1e-13);
     assert!((p.mesh_frequency(160.0) - 160.0 * 18.0 / TAU).abs() < 1e-12);
     assert!((p.mesh_angular_frequency(1.0) / p.centre_angular_frequency(1.0) - 63.0).abs() < 1e-12);
@@ -140,9 +129,9 @@ proptest! {
     /// circular face gear.
     #[test]
     fn nfg_closes(e in 0.0..0.9f64, t in -10.0..10.0f64) {
-        let p = NfgPair::liu2021_table1().with_eccentricity(e).unwrap();
+        let p = nfg().with_eccentricity(e).unwrap();
         prop_assert!((p.nfg_angle(t + TAU) - p.nfg_angle(t) - TAU).abs() < 1e-12);
-        let c = NfgPair::liu2021_table1().with_eccentricity(0.0).unwrap();
+        let c = nfg().with_eccentricity(0.0).unwrap();
         prop_assert!((c.ratio(t) - 3.5).abs() < 1e-15);
         prop_assert!(c.rigid_acceleration(RigidAccelerationForm::Derived, 0.1, t).abs() < 1e-18);
     }
@@ -150,10 +139,10 @@ proptest! {
     /// Yu: the consistent operating pressure angle keeps the base radii (a cos α = a0 cos α0).
     #[test]
     fn pressure_angle_keeps_base_circles(da in -0.005..0.01f64) {
-        let s = SpurPair::yu2021_table2();
+        let s = spur(0.075, 0.075);
         let a0 = s.nominal_centre_distance();
         let a = a0 + da;
-        let al = s.operating_pressure_angle(a, PressureAngleForm::Consistent).unwrap();
+        let al = s.operating_pressure_angle(a, PressureAngleLaw::Involute).unwrap();
         prop_assert!((a * al.cos() - a0 * 20f64.to_radians().cos()).abs() < 1e-15);
         let (rbp, rbg) = s.base_radii();
         prop_assert!((rbp + rbg - a * al.cos()).abs() < 1e-15);
@@ -162,18 +151,18 @@ proptest! {
 
 #[test]
 fn yu_table_geometry() {
-    let t1 = SpurPair::yu2021_table1();
+    let t1 = spur(0.094, 0.094);
     assert!((t1.nominal_centre_distance() - 0.188).abs() < 1e-15);
-    let t2 = SpurPair::yu2021_table2();
+    let t2 = spur(0.075, 0.075);
     assert_eq!(t2.reference_radii(), (0.075, 0.075));
     assert!((t2.centre_distance(1e-4, 0.0, 0.0, 0.0) - 0.1501).abs() < 1e-15);
     // Eq. 16 as printed at 0.1 mm over the nominal distance: 2.09°, consistent: 20.10°.
     let a = 0.1501;
     let p = t2
-        .operating_pressure_angle(a, PressureAngleForm::PrintedEq16)
+        .operating_pressure_angle(a, PressureAngleLaw::PrintedEq16)
         .unwrap();
     let c = t2
-        .operating_pressure_angle(a, PressureAngleForm::Consistent)
+        .operating_pressure_angle(a, PressureAngleLaw::Involute)
         .unwrap();
     assert!((p.to_degrees() - 2.092).abs() < 1e-3, "{}", p.to_degrees());
     assert!(

@@ -1,11 +1,28 @@
 //! The spur-pair geometry is held by two leaves that do not depend on each other:
 //! `gear_geometry::SpurPair` (geometry studies, the generic pair) and `backlash::PairGeometry`
-//! (the dynamic backlash the Yu model uses). This pins them to the same numbers: the centre
-//! distance of Yu Eq. (8) as printed and the operating pressure angle under the involute
-//! (consistent) law and the printed Eq. (16), over a grid of centre displacements.
+//! (the dynamic backlash the Yu model uses). The pressure-angle law and the centre-distance form
+//! are one definition (`system::PressureAngleLaw`, `system::CentreDistanceForm`) that both
+//! re-export; this checks that the two leaves feed it the same pair (nominal distance, base
+//! radii) and apply it alike (the geometry leaf rejects `a` below the law's domain, the
+//! backlash leaf clamps), over a grid of centre displacements.
 
 use backlash::{CentreDisplacement, PairGeometry, PressureAngleLaw};
-use gear_geometry::{PressureAngleForm, SpurPair, SpurPairParams};
+use gear_geometry::{SpurPair, SpurPairParams};
+
+/// Both leaves name the one law of `system` (a second enum would not compile here).
+#[test]
+fn one_law_for_both_leaves() {
+    let same = |l: gear_geometry::PressureAngleLaw| -> backlash::PressureAngleLaw { l };
+    assert_eq!(
+        same(system::PressureAngleLaw::default()),
+        PressureAngleLaw::Involute
+    );
+    let form = |f: gear_geometry::CentreDistanceForm| -> backlash::CentreDistanceForm { f };
+    assert_eq!(
+        form(system::CentreDistanceForm::default()),
+        backlash::CentreDistanceForm::PrintedEq8
+    );
+}
 
 #[test]
 fn spur_pair_geometry_agrees_between_the_leaves() {
@@ -35,7 +52,7 @@ fn spur_pair_geometry_agrees_between_the_leaves() {
             let (a_bl, _, _) = b.centre_distance(&CentreDisplacement::new(xp, yp, xg, yg));
             assert!((a_geo - a_bl).abs() <= 1e-15 * a_geo, "{a_geo} vs {a_bl}");
             let consistent = s
-                .operating_pressure_angle(a_geo, PressureAngleForm::Consistent)
+                .operating_pressure_angle(a_geo, PressureAngleLaw::Involute)
                 .unwrap();
             let (involute, _) = b.pressure_angle(a_bl, PressureAngleLaw::Involute);
             assert!(
@@ -44,7 +61,7 @@ fn spur_pair_geometry_agrees_between_the_leaves() {
             );
             if a_geo > s.nominal_centre_distance() {
                 let printed = s
-                    .operating_pressure_angle(a_geo, PressureAngleForm::PrintedEq16)
+                    .operating_pressure_angle(a_geo, PressureAngleLaw::PrintedEq16)
                     .unwrap();
                 let (printed_bl, _) = b.pressure_angle(a_bl, PressureAngleLaw::PrintedEq16);
                 assert!(

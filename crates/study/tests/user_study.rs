@@ -50,7 +50,7 @@ fn karpov_kinematics_columns_match_library() {
                    [solver]\nmethod = \"kinematics\"\n",
     );
     for (i, b) in [0.01, 0.03].into_iter().enumerate() {
-        let mut p = gear_geometry::KarpovPair::karpov2017_table1().params();
+        let mut p = models::karpov2017::pair_params_table1();
         p.b = b;
         p.j = 2;
         let pair = gear_geometry::KarpovPair::new(p).unwrap();
