@@ -28,7 +28,7 @@ fn fast_studies_match_their_snapshots() {
             }
         }
         insta::with_settings!({
-            snapshot_path => "../../../validation/snapshots",
+            snapshot_path => "../../../../validation/snapshots",
             prepend_module_to_snapshot => false,
             omit_expression => true,
         }, {

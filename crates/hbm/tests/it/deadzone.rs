@@ -1,8 +1,7 @@
 //! Piecewise-linear (dead-zone) oscillator — the backlash case — against long time integration,
 //! with the error vs H reported.
-mod common;
 
-use common::{DeadZone, steady_ptp};
+use crate::common::{DeadZone, steady_ptp};
 use geardyn_hbm::{Basis, HbmProblem, SolverOptions};
 
 fn system(omega: f64) -> DeadZone {

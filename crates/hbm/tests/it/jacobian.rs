@@ -1,7 +1,6 @@
 //! The analytic (AFT) Jacobian against finite differences of the residual.
-mod common;
 
-use common::TwoDof;
+use crate::common::TwoDof;
 use geardyn_hbm::{Basis, HbmProblem};
 use nalgebra::DMatrix;
 use proptest::prelude::*;

@@ -2,8 +2,7 @@
 //! exponentials, S = I at kinks, and the monodromy against finite differences of the
 //! event-located flow.
 
-mod common;
-use common::{Bilinear, Rattle, exp_oscillator};
+use crate::common::{Bilinear, Rattle, exp_oscillator};
 use nalgebra::DMatrix;
 use orbit::{OrbitProblem, ShootingOptions};
 use std::f64::consts::PI;

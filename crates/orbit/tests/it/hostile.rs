@@ -1,7 +1,6 @@
 //! Hostile inputs end in typed errors, never in a panic or a hang.
 
-mod common;
-use common::{Bilinear, ImpactOscillator, Rattle};
+use crate::common::{Bilinear, ImpactOscillator, Rattle};
 use nalgebra::DMatrix;
 use orbit::{
     ContinuationOptions, FlowOptions, OrbitError, OrbitProblem, Parameter, Restitution,

@@ -1,8 +1,7 @@
 //! Linear and smooth checks: exact periodic orbit and monodromy of a forced linear oscillator,
 //! Liouville's formula, finite-difference monodromy.
 
-mod common;
-use common::{Bilinear, exp_oscillator};
+use crate::common::{Bilinear, exp_oscillator};
 use orbit::{OrbitProblem, ShootingOptions};
 
 /// Far below the kink the bilinear oscillator is linear: `q'' + 2ζq' + q = F cos ωt`, periodic

@@ -1,8 +1,7 @@
 //! Duffing oscillator `q'' + 2ζq' + q + γq³ = F cos ωt`: one-harmonic closed form, backbone,
 //! folds, stability and time stepping.
-mod common;
 
-use common::{Duffing, rk4};
+use crate::common::{Duffing, rk4};
 use geardyn_hbm::{
     Basis, ContinuationOptions, ContinuationParameter, HbmProblem, SecondOrderSystem, SolverOptions,
 };

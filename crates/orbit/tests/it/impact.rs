@@ -9,8 +9,7 @@
 //! `S = [[−r, 0], [(a⁺ + r a⁻)/V, −r]]`, `a^∓` the accelerations before and after impact
 //! (Nordmark 1991; Leine & Nijmeijer 2004, Sec. 7.2); `det Φ = r² e^{−2ζT}`.
 
-mod common;
-use common::{ImpactOscillator, exp_oscillator};
+use crate::common::{ImpactOscillator, exp_oscillator};
 use nalgebra::DMatrix;
 use orbit::{
     ContinuationOptions, OrbitProblem, Parameter, Restitution, ShootingOptions, SpecialKind,

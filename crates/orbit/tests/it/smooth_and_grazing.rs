@@ -2,8 +2,7 @@
 //! resonance curve, and the grazing that starts rattle located by continuation, by bisection on
 //! time integration and in closed form.
 
-mod common;
-use common::{Duffing, Rattle};
+use crate::common::{Duffing, Rattle};
 use orbit::{ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingOptions, SpecialKind};
 use std::f64::consts::PI;
 

@@ -1,7 +1,6 @@
 //! Newton and Broyden agree; sweeps are deterministic for any thread count.
-mod common;
 
-use common::TwoDof;
+use crate::common::TwoDof;
 use geardyn_hbm::{Basis, HbmProblem, Method, SolverOptions, parallel_sweep};
 
 #[test]

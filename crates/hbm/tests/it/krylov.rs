@@ -1,8 +1,7 @@
 //! The Jacobian-free Newton–Krylov path agrees with dense Newton, bounds its work and reports
 //! a failed linear solve as a typed error.
-mod common;
 
-use common::{DeadZone, Duffing};
+use crate::common::{DeadZone, Duffing};
 use geardyn_hbm::{
     Basis, HbmError, HbmProblem, KrylovOptions, Method, Preconditioner, SolverOptions,
 };

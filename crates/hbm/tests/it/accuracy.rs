@@ -1,8 +1,7 @@
 //! Every solution states its accuracy: the residual norm and the truncation indicator `ε`
 //! (relative size of the force harmonics the basis discards), checked where `ε` is known.
-mod common;
 
-use common::{Duffing, Linear};
+use crate::common::{Duffing, Linear};
 use geardyn_hbm::nalgebra::DMatrix;
 use geardyn_hbm::{Basis, HbmProblem, SecondOrderSystem, SolverOptions};
 

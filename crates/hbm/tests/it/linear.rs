@@ -1,7 +1,6 @@
 //! Linear forced oscillators: HBM is exact.
-mod common;
 
-use common::Linear;
+use crate::common::Linear;
 use geardyn_hbm::{Basis, HbmProblem, Method, SolverOptions};
 use num_complex::Complex;
 

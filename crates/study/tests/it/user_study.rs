@@ -24,7 +24,7 @@ fn col(out: &UserStudyOutput, name: &str) -> Vec<f64> {
 
 #[test]
 fn karpov_kinematics_example_runs() {
-    let text = include_str!("../../../validation/examples/karpov-delta-vs-b.toml");
+    let text = include_str!("../../../../validation/examples/karpov-delta-vs-b.toml");
     let out = run(text);
     assert_eq!(out.table.rows.len(), 50 * 4);
     assert!(out.failed.is_empty());
@@ -397,7 +397,7 @@ fn outputs_are_written_atomically_and_locked() {
 #[test]
 fn generic_pair_example_runs_and_columns_match_library() {
     use models::pair::{Dofs, GearPair, PairParams, TimeSettings};
-    let text = include_str!("../../../validation/examples/generic-pair-df-vs-frequency.toml")
+    let text = include_str!("../../../../validation/examples/generic-pair-df-vs-frequency.toml")
         .replace("steps = 8", "steps = 2")
         .replace("transient_periods = 200", "transient_periods = 40");
     let out = run(&text);
@@ -758,7 +758,7 @@ fn liu_shooting_columns_match_the_orbit_crate() {
 }
 
 /// `method = "shooting"` for Yu's 6-DOF model and the generic pair: the values the `orbit`
-/// crate's own tests establish against independent engines (crates/orbit/tests/models.rs) —
+/// crate's own tests establish against independent engines (crates/orbit/tests/it/models.rs) —
 /// Yu at ω* = 0.5: stable, no contact event, max |μ| = 0.9505 (the `hbm` period map agrees to
 /// 1e-4); the pair at 1 N·m, 7000 rad/s, 20 µm STE: an unstable rattling orbit, |μ| ≈ 1.307.
 #[test]
