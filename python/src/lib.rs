@@ -99,8 +99,8 @@ impl From<PointError> for Failure {
     }
 }
 
-impl From<validate::Error> for Failure {
-    fn from(e: validate::Error) -> Self {
+impl From<study::Error> for Failure {
+    fn from(e: study::Error) -> Self {
         Failure {
             kind: Kind::Study,
             message: e.to_string(),
@@ -193,12 +193,12 @@ fn preset(model: &str, name: &str) -> String {
 }
 
 /// The limits of a Python call (`limits_json`: `null` or `{"max_points", "max_steps",
-/// "max_seconds_per_point"}`), checked by the study code ([`validate::Limits::check`]); a bad
+/// "max_seconds_per_point"}`), checked by the study code ([`study::Limits::check`]); a bad
 /// one is a `ParameterError` naming the entry and the bound.
-fn parse_limits(text: &str) -> Res<validate::Limits> {
+fn parse_limits(text: &str) -> Res<study::Limits> {
     let v = parse_json("limits", text)?;
-    let limits: validate::Limits = if v.is_null() {
-        validate::Limits::default()
+    let limits: study::Limits = if v.is_null() {
+        study::Limits::default()
     } else {
         serde_json::from_value(v).map_err(|e| Failure::parameter(format!("limits: {e}")))?
     };
@@ -207,14 +207,14 @@ fn parse_limits(text: &str) -> Res<validate::Limits> {
 }
 
 /// Solve one point under the wall-clock limit of `limits` (see
-/// [`validate::run_with_time_limit`]): over it, a `SolverError` whose message starts with
+/// [`study::run_with_time_limit`]): over it, a `SolverError` whose message starts with
 /// "time limit".
 fn solve_limited(
     model: &str,
     params: &Value,
     method: &str,
     settings: &Value,
-    limits: &validate::Limits,
+    limits: &study::Limits,
 ) -> Res<Value> {
     let Some(seconds) = limits.max_seconds_per_point else {
         return solve_value(model, params, method, settings);
@@ -225,7 +225,7 @@ fn solve_limited(
         method.to_owned(),
         settings.clone(),
     );
-    let r = validate::run_with_time_limit(Some(seconds), move || {
+    let r = study::run_with_time_limit(Some(seconds), move || {
         Ok(solve_value(&model, &params, &method, &settings))
     });
     match r {
@@ -260,7 +260,7 @@ fn solve(
 
 /// `check_points(n, limits_json)`: `None`, or a `ParameterError` when a sweep of `n` points
 /// exceeds `limits.max_points` — the check and message of a study file
-/// ([`validate::Limits::check_points`]); called before the values are converted.
+/// ([`study::Limits::check_points`]); called before the values are converted.
 #[pyfunction]
 fn check_points(n: usize, limits: &str) -> String {
     envelope((|| {
@@ -331,8 +331,8 @@ fn sweep(
 fn run_study(py: Python<'_>, text: &str) -> String {
     py.detach(|| {
         envelope((|| {
-            let study = validate::UserStudy::parse(text)?;
-            let out = validate::run_user_study(&study, || {})?;
+            let study = study::UserStudy::parse(text)?;
+            let out = study::run_user_study(&study, || {})?;
             let rows: Vec<Vec<Value>> = out
                 .table
                 .rows
@@ -340,9 +340,9 @@ fn run_study(py: Python<'_>, text: &str) -> String {
                 .map(|r| {
                     r.iter()
                         .map(|c| match c {
-                            validate::Cell::Num(x) | validate::Cell::Unsettled(x) => json!(x),
-                            validate::Cell::Text(t) => json!(t),
-                            validate::Cell::Count(n) => json!(n),
+                            study::Cell::Num(x) | study::Cell::Unsettled(x) => json!(x),
+                            study::Cell::Text(t) => json!(t),
+                            study::Cell::Count(n) => json!(n),
                             _ => Value::Null,
                         })
                         .collect()
@@ -360,9 +360,9 @@ fn run_study(py: Python<'_>, text: &str) -> String {
 
 /// Write a computed study's outputs into `out_dir` (checked and locked first): the files of
 /// `geardyn study`. Returns the JSON summary with the run id.
-fn write_into(out: &validate::UserStudyOutput, out_dir: &str) -> Res<Value> {
-    let lock = validate::lock_output_dir(std::path::Path::new(out_dir))?;
-    let written = validate::write_outputs(out, &lock)?;
+fn write_into(out: &study::UserStudyOutput, out_dir: &str) -> Res<Value> {
+    let lock = study::lock_output_dir(std::path::Path::new(out_dir))?;
+    let written = study::write_outputs(out, &lock)?;
     let mut summary = out.summary.clone();
     if let Some(o) = summary.as_object_mut() {
         o.insert("run_id".to_owned(), json!(written.run_id));
@@ -376,7 +376,7 @@ fn write_into(out: &validate::UserStudyOutput, out_dir: &str) -> Res<Value> {
 fn write_study(py: Python<'_>, text: &str, out_dir: &str) -> String {
     py.detach(|| {
         envelope((|| {
-            let out = validate::run_study_from_str(text, &validate::RunOptions::default())?;
+            let out = study::run_study_from_str(text, &study::RunOptions::default())?;
             write_into(&out, out_dir)
         })())
     })
@@ -388,8 +388,8 @@ fn write_study(py: Python<'_>, text: &str, out_dir: &str) -> String {
 fn run_study_shard(py: Python<'_>, text: &str, index: usize, count: usize) -> String {
     py.detach(|| {
         envelope((|| {
-            let shard = validate::shard::ShardSpec::new(index, count)?;
-            Ok(json!(validate::run_shard_from_str(text, shard)?))
+            let shard = study::shard::ShardSpec::new(index, count)?;
+            Ok(json!(study::run_shard_from_str(text, shard)?))
         })())
     })
 }
@@ -400,7 +400,7 @@ fn run_study_shard(py: Python<'_>, text: &str, index: usize, count: usize) -> St
 fn merge_study(py: Python<'_>, text: &str, parts: Vec<String>, out_dir: &str) -> String {
     py.detach(|| {
         envelope((|| {
-            let out = validate::merge_from_str(text, &parts)?;
+            let out = study::merge_from_str(text, &parts)?;
             write_into(&out, out_dir)
         })())
     })

@@ -49,7 +49,7 @@ fn bench_dead_zone(c: &mut Criterion) {
 }
 
 fn bench_dynamic(c: &mut Criterion) {
-    let g = PairGeometry::yu2021_table1();
+    let g = PairGeometry::new(0.094, 0.094, 20f64.to_radians()).expect("valid geometry");
     let disp: Vec<CentreDisplacement> = (0..1024)
         .map(|i| {
             let t = f64::from(i) * 0.01;

@@ -1,6 +1,7 @@
 //! Dynamic backlash from gear-centre motion, Yu Eq. (6)–(11).
 
 use crate::error::{Error, finite, positive};
+pub use system::{CentreDistanceForm, PressureAngleLaw};
 
 /// Nominal geometry of a spur pair needed by the dynamic backlash.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -27,15 +28,6 @@ impl PairGeometry {
             });
         }
         Ok(Self { r_p, r_g, alpha0 })
-    }
-
-    /// Yu Table 1 pair (Kahraman's rig): R_p = R_g = 0.094 m, α_0 = 20°.
-    pub fn yu2021_table1() -> Self {
-        Self {
-            r_p: 0.094,
-            r_g: 0.094,
-            alpha0: 20f64.to_radians(),
-        }
     }
 
     /// Nominal centre distance a_0 = R_p + R_g (m).
@@ -72,18 +64,7 @@ impl PairGeometry {
         c: &CentreDisplacement,
         form: CentreDistanceForm,
     ) -> (f64, f64, [f64; 4]) {
-        let a0 = self.a0();
-        let dx = form.sign() * (c.x_p - c.x_g);
-        let y = c.y_p - c.y_g;
-        let x = a0 + dx;
-        let a = x.hypot(y);
-        let delta_a = (dx * (2.0 * a0 + dx) + y * y) / (a + a0);
-        let (ux, uy) = if a > 0.0 {
-            (form.sign() * x / a, y / a)
-        } else {
-            (0.0, 0.0)
-        };
-        (a, delta_a, [ux, uy, -ux, -uy])
+        form.centre_distance(self.a0(), c.x_p - c.x_g, c.y_p - c.y_g)
     }
 
     /// Operating pressure angle α at centre distance `a` (rad) and dα/da, for the given law.
@@ -92,24 +73,12 @@ impl PairGeometry {
     /// [`PressureAngleLaw::Constant`] gives `(α_0, 0)`.
     #[inline]
     pub fn pressure_angle(&self, a: f64, law: PressureAngleLaw) -> (f64, f64) {
-        if law == PressureAngleLaw::Constant {
-            return (self.alpha0, 0.0);
-        }
-        let c = self.law_constant(law);
-        if a > c {
-            let alpha = (c / a).acos();
-            (alpha, c / (a * (a * a - c * c).sqrt()))
-        } else {
-            (0.0, 0.0)
-        }
+        law.angle(a, self.a0(), self.alpha0)
     }
 
     #[inline]
     fn law_constant(&self, law: PressureAngleLaw) -> f64 {
-        match law {
-            PressureAngleLaw::Involute | PressureAngleLaw::Constant => self.base_sum(),
-            PressureAngleLaw::PrintedEq16 => self.a0(),
-        }
+        law.cosine_numerator(self.a0(), self.alpha0)
     }
 
     /// Δp of Yu Eq. (7): (R_pb/2)(β_c² − β_0²), β = tan α, β_0 = tan α_0, β_c from the law at
@@ -181,45 +150,6 @@ impl CentreDisplacement {
     /// From an array [x_p, y_p, x_g, y_g].
     pub fn from_array(v: [f64; 4]) -> Self {
         Self::new(v[0], v[1], v[2], v[3])
-    }
-}
-
-/// Law for the operating pressure angle α(a).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[non_exhaustive]
-pub enum PressureAngleLaw {
-    /// Involute geometry: cos α = (R_pb + R_gb)/a = a_0 cos α_0 / a (default; α = α_0 at a = a_0).
-    #[default]
-    Involute,
-    /// Yu Eq. (16) as printed: cos α = (R_p + R_g)/a; gives α = 0 at a = a_0 and is clamped to 0
-    /// for a < a_0 (reading R-YU-EQ16).
-    PrintedEq16,
-    /// α = α_0 whatever the centre distance.
-    Constant,
-}
-
-/// Sign of the centre separation in the centre distance, Yu Eq. (8)–(9) (reading R-YU-EQ8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub enum CentreDistanceForm {
-    /// Eq. (8) as printed, `a = √((a_0 + x_p − x_g)² + (y_p − y_g)²)` (default of the leaf:
-    /// `x_p > 0` or `x_g < 0` moves the centres apart).
-    #[default]
-    PrintedEq8,
-    /// `a = √((a_0 − x_p + x_g)² + (y_p − y_g)²)`: the frame of Yu Eq. (12) and (15), in which a
-    /// growing `x_p − x_g` moves the centres together (the `models::yu2021` default).
-    Consistent,
-}
-
-impl CentreDistanceForm {
-    /// `+1` (printed) or `−1` (consistent): the factor of `x_p − x_g` in `a`.
-    #[inline]
-    pub fn sign(self) -> f64 {
-        match self {
-            CentreDistanceForm::PrintedEq8 => 1.0,
-            CentreDistanceForm::Consistent => -1.0,
-        }
     }
 }
 
@@ -465,9 +395,14 @@ impl DynamicBacklash {
 mod tests {
     use super::*;
 
+    /// R_p = R_g = 0.094 m, α_0 = 20° (the values of Yu 2021 Table 1, as literal inputs).
+    fn geometry() -> PairGeometry {
+        PairGeometry::new(0.094, 0.094, 20f64.to_radians()).unwrap()
+    }
+
     #[test]
     fn rest_gives_zero_change() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         for form in [DynamicForm::Involute, DynamicForm::YuEq10] {
             let d = DynamicBacklash::new(
                 g,
@@ -486,7 +421,7 @@ mod tests {
 
     #[test]
     fn printed_eq16_is_negative_at_rest() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         let d = DynamicBacklash::new(
             g,
             5e-5,
@@ -510,7 +445,7 @@ mod tests {
 
     #[test]
     fn involute_matches_textbook_linearisation() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         let d = DynamicBacklash::involute(g, 0.0).unwrap();
         let da = 1e-6;
         let e = d.eval(&CentreDisplacement::new(da, 0.0, 0.0, 0.0)).unwrap();
@@ -528,7 +463,7 @@ mod tests {
 
     #[test]
     fn far_inside_base_circles_stays_finite() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         for form in [DynamicForm::Involute, DynamicForm::YuEq10] {
             for law in [PressureAngleLaw::Involute, PressureAngleLaw::PrintedEq16] {
                 for policy in [RadicandPolicy::ClampZero, RadicandPolicy::SignedRoot] {
@@ -544,7 +479,7 @@ mod tests {
 
     #[test]
     fn gradients_match_finite_differences_for_every_option() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         let c0 = [3e-6, -2e-6, -1e-6, 4e-6];
         for form in [
             DynamicForm::Involute,
@@ -581,7 +516,7 @@ mod tests {
 
     #[test]
     fn consistent_sign_mirrors_the_printed_one() {
-        let g = PairGeometry::yu2021_table1();
+        let g = geometry();
         let d = DynamicBacklash::involute(g, 0.0).unwrap();
         let c = CentreDisplacement::new(2e-6, 1e-6, -1e-6, 0.0);
         let mirrored = CentreDisplacement::new(-2e-6, 1e-6, 1e-6, 0.0);

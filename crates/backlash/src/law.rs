@@ -393,7 +393,7 @@ mod tests {
     use crate::{PairGeometry, dead_zone};
 
     fn laws() -> Vec<Backlash> {
-        let g = PairGeometry::yu2021_table1();
+        let g = PairGeometry::new(0.094, 0.094, 20f64.to_radians()).unwrap();
         vec![
             Backlash::Constant { b: 1e-4 },
             Backlash::Fractal(ConstantPart {

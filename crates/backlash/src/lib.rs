@@ -103,7 +103,8 @@
 //! assert!(cp.b_s > 0.0 && cp.b_s < p.b0);
 //!
 //! // complete backlash for a centre displacement (Yu Eq. 11), involute form
-//! let dynb = DynamicBacklash::involute(PairGeometry::yu2021_table1(), cp.b_s)?;
+//! let geometry = PairGeometry::new(0.094, 0.094, 20f64.to_radians())?; // R_p, R_g, α_0
+//! let dynb = DynamicBacklash::involute(geometry, cp.b_s)?;
 //! let e = dynb.eval(&CentreDisplacement::new(0.0, 0.0, 2e-6, 0.0))?;
 //! assert!(e.b < cp.b_s); // x_g > 0: centres closer, less backlash
 //!

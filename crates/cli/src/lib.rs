@@ -87,10 +87,10 @@ impl StderrProgress {
     }
 }
 
-/// [`validate::Progress`] for study files.
+/// [`study::Progress`] for study files.
 struct StudyProgress(Mutex<StderrProgress>);
 
-impl validate::Progress for StudyProgress {
+impl study::Progress for StudyProgress {
     fn start(&self, total: usize) {
         if let Ok(mut p) = self.0.lock() {
             p.begin(total);
@@ -126,11 +126,20 @@ impl From<validate::Error> for Failure {
     }
 }
 
+impl From<study::Error> for Failure {
+    fn from(e: study::Error) -> Self {
+        Failure {
+            message: e.to_string(),
+            code: 1,
+        }
+    }
+}
+
 /// `geardyn study FILE [--out DIR]`: run, write, report. Returns an error with
 /// [`EXIT_ALL_FAILED`] when every point failed (the files are written all the same).
 pub fn study(file: &Path, out: Option<&Path>) -> Result<(), Failure> {
     let progress = StudyProgress(Mutex::new(StderrProgress::new("points")));
-    let (output, written) = validate::run_study_file(file, out, &progress)?;
+    let (output, written) = study::run_study_file(file, out, &progress)?;
     for f in &written.files {
         println!("wrote {}", f.display());
     }
@@ -166,9 +175,9 @@ pub fn study(file: &Path, out: Option<&Path>) -> Result<(), Failure> {
 /// `geardyn study FILE --shard i/n`: compute one shard and write its partial result (under
 /// `<out>-shards/`); resumable; merge the shards with [`merge`].
 pub fn study_shard(file: &Path, out: Option<&Path>, shard: &str) -> Result<(), Failure> {
-    let shard: validate::shard::ShardSpec = shard.parse()?;
+    let shard: study::shard::ShardSpec = shard.parse()?;
     let progress = StudyProgress(Mutex::new(StderrProgress::new("points")));
-    let path = validate::run_study_shard_file(file, out, shard, &progress)?;
+    let path = study::run_study_shard_file(file, out, shard, &progress)?;
     println!("wrote {}", path.display());
     Ok(())
 }
@@ -178,20 +187,17 @@ pub fn study_shard(file: &Path, out: Option<&Path>, shard: &str) -> Result<(), F
 pub fn study_sbatch(
     file: &Path,
     out: Option<&Path>,
-    options: &validate::shard::SlurmOptions,
+    options: &study::shard::SlurmOptions,
 ) -> Result<(), Failure> {
     let text = std::fs::read_to_string(file).map_err(|e| Failure {
         message: format!("{}: {e}", file.display()),
         code: 2,
     })?;
-    let study = validate::UserStudy::parse(&text)?;
-    let dir = out.map_or_else(
-        || validate::default_out_dir(file, &study),
-        Path::to_path_buf,
-    );
+    let study = study::UserStudy::parse(&text)?;
+    let dir = out.map_or_else(|| study::default_out_dir(file, &study), Path::to_path_buf);
     print!(
         "{}",
-        validate::shard::sbatch_script(file, &dir, &study.name, options)?
+        study::shard::sbatch_script(file, &dir, &study.name, options)?
     );
     Ok(())
 }
@@ -199,7 +205,7 @@ pub fn study_sbatch(
 /// `geardyn merge FILE --out DIR PART...`: merge shards' partial results into the outputs of
 /// the whole study, identical to an unsharded run.
 pub fn merge(file: &Path, out: Option<&Path>, parts: &[std::path::PathBuf]) -> Result<(), Failure> {
-    let (output, written) = validate::merge_study_files(file, out, parts)?;
+    let (output, written) = study::merge_study_files(file, out, parts)?;
     for f in &written.files {
         println!("wrote {}", f.display());
     }
@@ -251,16 +257,16 @@ stale. Do not edit by hand. -->";
 const MODELS_END: &str = "<!-- END generated: model reference -->";
 
 /// A setting's kind, range and default in words (`quote` around names: "`" in Markdown).
-fn setting_bound(kind: &validate::Kind, quote: &str) -> String {
+fn setting_bound(kind: &study::Kind, quote: &str) -> String {
     match *kind {
-        validate::Kind::Num { lo, hi, default } => {
+        study::Kind::Num { lo, hi, default } => {
             format!("number in [{lo:e}, {hi:e}], default {default:e}")
         }
-        validate::Kind::Int { lo, hi, default } => format!(
+        study::Kind::Int { lo, hi, default } => format!(
             "integer in [{lo}, {hi}], default {}",
             default.map_or("the model's".to_owned(), |d| d.to_string())
         ),
-        validate::Kind::Name { options, default } => format!(
+        study::Kind::Name { options, default } => format!(
             "{quote}\"{}\"{quote}, default {quote}\"{default}\"{quote}",
             options.join("\" | \"")
         ),
@@ -278,7 +284,7 @@ fn cell(s: &str) -> String {
 pub fn models_markdown() -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    for m in validate::REGISTRY.iter() {
+    for m in study::REGISTRY.iter() {
         let info = m.describe();
         let _ = writeln!(s, "### `{}`\n\n{}\n", m.name(), cell(m.description()));
         let methods: Vec<String> = info
@@ -404,9 +410,9 @@ pub fn validate_diff(root: &Path, rev: Option<&str>) -> Result<(), Failure> {
 /// The text of `geardyn models [NAME]`.
 pub fn models_text(name: Option<&str>) -> Result<String, Failure> {
     use std::fmt::Write;
-    let specs: Vec<&dyn validate::Model> = match name {
-        Some(n) => vec![validate::model_spec(n)?],
-        None => validate::REGISTRY.to_vec(),
+    let specs: Vec<&dyn study::Model> = match name {
+        Some(n) => vec![study::model_spec(n)?],
+        None => study::REGISTRY.to_vec(),
     };
     let mut s = String::new();
     for m in specs {
@@ -464,7 +470,7 @@ mod tests {
     #[test]
     fn models_lists_every_model_with_units_and_outputs() {
         let t = models_text(None).unwrap();
-        for m in validate::model_names() {
+        for m in study::model_names() {
             assert!(t.contains(m), "{m} missing");
         }
         assert!(t.contains("omega1 [rad/s]"), "{t}");

@@ -101,13 +101,13 @@ fn main() -> ExitCode {
             (None, Some(n)) => geardyn_cli::study_sbatch(
                 &file,
                 out.as_deref(),
-                &validate::shard::SlurmOptions {
+                &study::shard::SlurmOptions {
                     shards: n,
                     time: sbatch_time,
                     memory: sbatch_mem,
                     cpus: sbatch_cpus,
                     partition: sbatch_partition,
-                    ..validate::shard::SlurmOptions::default()
+                    ..study::shard::SlurmOptions::default()
                 },
             ),
             (None, None) => geardyn_cli::study(&file, out.as_deref()),
@@ -117,7 +117,7 @@ fn main() -> ExitCode {
             if json {
                 let v = match name {
                     Some(n) => validate_json(&n),
-                    None => Ok(validate::describe_all()),
+                    None => Ok(study::describe_all()),
                 };
                 v.map(|v| println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default()))
             } else {
@@ -146,5 +146,5 @@ fn main() -> ExitCode {
 }
 
 fn validate_json(name: &str) -> Result<serde_json::Value, geardyn_cli::Failure> {
-    Ok(validate::describe_json(validate::model_spec(name)?))
+    Ok(study::describe_json(study::model_spec(name)?))
 }

@@ -4,12 +4,31 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use geardyn_gear_geometry::{KarpovPair, NfgPair, RigidAccelerationForm};
+use geardyn_gear_geometry::{
+    CentreDistance, KarpovPair, KarpovPairParams, NfgPair, NfgPairParams, RigidAccelerationForm,
+};
 
 fn bench(c: &mut Criterion) {
-    let k = KarpovPair::karpov2017_table1();
+    // the values of Karpov 2017 Table 1 and Liu 2021 Table 1, as literal inputs
+    let k = KarpovPair::new(KarpovPairParams {
+        r: 0.050,
+        u: 2.0,
+        b: 0.01,
+        xi: 2.0,
+        j: 4,
+        z1: 32,
+        centre_distance: CentreDistance::Closing,
+    })
+    .expect("valid pair");
     let dev = k.deviation();
-    let nfg = NfgPair::liu2021_table1();
+    let nfg = NfgPair::new(NfgPairParams {
+        module: 2.5e-3,
+        z1: 18,
+        ratio: 3.5,
+        eccentricity: 0.2,
+        pressure_angle: 20f64.to_radians(),
+    })
+    .expect("valid pair");
     let mut g = c.benchmark_group("per_step");
     g.bench_function("karpov_ratio", |b| b.iter(|| k.ratio(black_box(1.234))));
     g.bench_function("karpov_mesh_frequency", |b| {

@@ -1,4 +1,5 @@
-//! Slightly non-circular gear pair of Karpov et al. 2017 (Eq. 1–7, Section 4, Table 1).
+//! Slightly non-circular gear pair of Karpov et al. 2017 (Eq. 1–7, Section 4). The paper's
+//! Table 1 pair lives with the model, `geardyn_models::karpov2017::pair_table1`.
 
 use std::f64::consts::TAU;
 
@@ -291,23 +292,6 @@ impl KarpovPair {
             centre_distance: p.centre_distance,
             a,
         })
-    }
-
-    /// Karpov et al. 2017, Table 1 (p. 8): `u = 2`, `r = 50 mm`, `B = 0.01`, `ξ = 2`, `j = 4`,
-    /// `z1 = 32` (`z2 = 64`), centre distance 150 mm; [`CentreDistance::Closing`].
-    /// Normal module 3 mm, helix angle 16.0911°, face width 46 mm are not used by the kinematics
-    /// (see reading `R-KARPOV-TABLE1` for their consistency).
-    pub fn karpov2017_table1() -> Self {
-        Self::new(KarpovPairParams {
-            r: 0.050,
-            u: 2.0,
-            b: 0.01,
-            xi: 2.0,
-            j: 4,
-            z1: 32,
-            centre_distance: CentreDistance::Closing,
-        })
-        .expect("Table 1 parameters are valid")
     }
 
     /// The parameters this pair was built from.
@@ -681,7 +665,7 @@ mod tests {
     #[test]
     fn validation_names_fields() {
         let bad = |p: KarpovPairParams| KarpovPair::new(p).unwrap_err().to_string();
-        let ok = KarpovPair::karpov2017_table1().params();
+        let ok = pair(0.01, 2.0, 4, CentreDistance::Closing).params();
         assert!(bad(KarpovPairParams { r: -1.0, ..ok }).starts_with("r must be"));
         assert!(bad(KarpovPairParams { u: f64::NAN, ..ok }).starts_with("u must be"));
         assert!(bad(KarpovPairParams { b: 1.0, ..ok }).starts_with("b must be"));
@@ -728,7 +712,7 @@ mod tests {
 
     #[test]
     fn mesh_phase_is_integral_of_mesh_frequency() {
-        let p = KarpovPair::karpov2017_table1();
+        let p = pair(0.01, 2.0, 4, CentreDistance::Closing);
         let q = integrate(|t| p.mesh_frequency(t, 1.0), 0.0, 2.1, 1e-13);
         assert!((q.value - p.mesh_phase(2.1)).abs() < 1e-11);
         assert!((p.mesh_phase(TAU) - TAU * 32.0).abs() < 1e-11);

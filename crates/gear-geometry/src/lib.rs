@@ -32,7 +32,7 @@
 //! [`CentreDistance::Closing`] moves the centre distance by `O(B²)` (3.5 µm for Table 1) so that
 //! the centrodes close. [`CentreDistance::AsPrinted`] keeps Eq. (1) literally.
 //!
-//! ## Liu et al. 2021 — noncircular face gear pair ([`NfgPair`], [`LiuRig`])
+//! ## Liu et al. 2021 — noncircular face gear pair ([`NfgPair`])
 //!
 //! Ratio (Eq. 1, 18) `i12 = ω1/ω2 = r2/r1 = i_j (1 + 2ε cos ωc t + ε²)/(1 − ε²)`, `ωc = ω1/i_j`,
 //! pinion pitch radius `r1 = m Z1/2`, NFG pitch radius `r2 = r1 i12`, equivalent base radius
@@ -40,15 +40,23 @@
 //! `β = 2ε/(1+ε²)` — exact in time. Rigid acceleration `d²θ2/dτ²` derived from Eq. (18) or Eq.
 //! (20) as printed ([`RigidAccelerationForm`], reading `R-LIU-EQ20`), with Fourier coefficients
 //! `B1, B2` of Eq. (22) in closed form and by quadrature. Excitation frequencies
-//! `f_c = ω1/(2π i_j)`, `f_e = Z1 ω1/(2π)`; the Section 3.8 rig reproduces Table 2
-//! (reading `R-LIU-TABLE2`).
+//! `f_c = ω1/(2π i_j)`, `f_e = Z1 ω1/(2π)`.
 //!
 //! ## Yu et al. 2021 — spur pair ([`SpurPair`])
 //!
 //! Reference radii, base radii `R cos α0`, nominal centre distance `a0 = Rp + Rg`, actual centre
 //! distance (Eq. 8), roll angle `β = tan α`, involute arc length (Eq. 7), and the operating
 //! pressure angle at centre distance `a`: Eq. (16) as printed, `arccos((Rp+Rg)/a)` (0° at
-//! `a0`), or the consistent `arccos(a0 cos α0/a)` (default; reading `R-YU-EQ16`).
+//! `a0`), or the involute `arccos(a0 cos α0/a)` (default; reading `R-YU-EQ16`). The law
+//! ([`PressureAngleLaw`]) and the centre-distance form ([`CentreDistanceForm`]) are the
+//! workspace's one definition in `geardyn-system`, shared with the backlash leaf.
+//!
+//! ## Paper parameter sets
+//!
+//! This crate holds the general types and their constructors only. The papers' parameter sets
+//! and rigs live with their model in `geardyn-models`: `karpov2017::pair_table1()`,
+//! `liu2021::table1().pair()` and the Section 3.8 test rig `liu2021::Rig` (Table 2, reading
+//! `R-LIU-TABLE2`), `yu2021::Yu2021Params::table1().spur_pair()` / `table2()`.
 //!
 //! ## Which function when
 //!
@@ -76,10 +84,17 @@
 //! ## Example
 //!
 //! ```
-//! use geardyn_gear_geometry::{KarpovPair, NfgPair, LiuRig, SpurPair, PressureAngleForm};
+//! use geardyn_gear_geometry::{
+//!     CentreDistance, KarpovPair, KarpovPairParams, NfgPair, NfgPairParams, PressureAngleLaw,
+//!     SpurPair,
+//! };
 //! use std::f64::consts::{PI, TAU};
 //!
-//! let pair = KarpovPair::karpov2017_table1();
+//! // a slightly non-circular pair: u = 2, r = 50 mm, B = 0.01, ξ = 2, j = 4, z1 = 32
+//! let pair = KarpovPair::new(KarpovPairParams {
+//!     r: 0.050, u: 2.0, b: 0.01, xi: 2.0, j: 4, z1: 32,
+//!     centre_distance: CentreDistance::Closing,
+//! })?;
 //! // one input revolution turns the output by exactly 2π/u
 //! assert!((pair.output_angle(TAU) - PI).abs() < 1e-13);
 //! // speed fluctuation: exact, linearised, and Eq. (4) as printed (a factor u = 2 smaller)
@@ -90,17 +105,19 @@
 //! let check = pair.design_check(0.02)?;
 //! assert!(!check.admissible && check.b_max_exact < 0.01);
 //!
-//! // Liu's NFG and rig: Table 2 at 840 rpm
-//! let rig = LiuRig::liu2021_table2();
-//! assert!((rig.mesh_frequency(840.0) - 192.0).abs() < 1e-12);
-//! assert!((rig.centre_frequency(840.0) - 3.0).abs() < 1e-12);
-//! let nfg = NfgPair::liu2021_table1();
+//! // an NFG pair: m = 2.5 mm, Z1 = 18, i_j = 3.5, ε = 0.2, α = 20°
+//! let nfg = NfgPair::new(NfgPairParams {
+//!     module: 2.5e-3, z1: 18, ratio: 3.5, eccentricity: 0.2,
+//!     pressure_angle: 20f64.to_radians(),
+//! })?;
 //! assert!((nfg.base_radius(0.3) - nfg.base_radius_eq8(0.3)).abs() < 1e-15);
+//! // f_e = Z1 ω1/(2π): 18 mesh periods per pinion revolution
+//! assert!((nfg.mesh_frequency(TAU) - 18.0).abs() < 1e-12);
 //!
-//! // Yu's spur pair: 20° at the nominal centre distance
-//! let spur = SpurPair::yu2021_table2();
+//! // a spur pair, module 3 mm, 50/50 teeth: 20° at the nominal centre distance
+//! let spur = SpurPair::from_module(3e-3, 50, 50, 20f64.to_radians())?;
 //! let a0 = spur.nominal_centre_distance();
-//! let alpha = spur.operating_pressure_angle(a0, PressureAngleForm::Consistent)?;
+//! let alpha = spur.operating_pressure_angle(a0, PressureAngleLaw::Involute)?;
 //! assert!((alpha.to_degrees() - 20.0).abs() < 1e-12);
 //! # Ok::<(), geardyn_gear_geometry::Error>(())
 //! ```
@@ -116,8 +133,9 @@ pub use karpov::{
     CentreDistance, CentrodeDeviation, CentrodeDeviationParams, DesignCheck, KarpovPair,
     KarpovPairParams, SpeedFluctuationForm,
 };
-pub use liu::{LIU2021_TABLE2_THEORETICAL, LiuRig, NfgPair, NfgPairParams, RigidAccelerationForm};
-pub use yu::{PressureAngleForm, SpurPair, SpurPairParams, involute_arc_length, roll_angle};
+pub use liu::{NfgPair, NfgPairParams, RigidAccelerationForm};
+pub use system::{CentreDistanceForm, PressureAngleLaw};
+pub use yu::{SpurPair, SpurPairParams, involute_arc_length, roll_angle};
 
 #[cfg(test)]
 mod tests {
@@ -128,7 +146,6 @@ mod tests {
         check::<super::KarpovPair>();
         check::<super::CentrodeDeviation>();
         check::<super::NfgPair>();
-        check::<super::LiuRig>();
         check::<super::SpurPair>();
         check::<super::Error>();
     }

@@ -1,5 +1,6 @@
-//! Noncircular face gear (NFG) pair of Liu, Lv, Zhao 2021 (Eq. 1, 8, 10, 18, 20, 22; Table 1;
-//! the test rig of Section 3.8 and Table 2).
+//! Noncircular face gear (NFG) pair of Liu, Lv, Zhao 2021 (Eq. 1, 8, 10, 18, 20, 22). The
+//! paper's parameter sets and its test rig (Table 1, Section 3.8, Table 2) live with the model,
+//! `geardyn_models::liu2021`.
 
 use std::f64::consts::{PI, TAU};
 
@@ -84,19 +85,6 @@ impl NfgPair {
             ));
         }
         Ok(Self { p })
-    }
-
-    /// Liu et al. 2021, Table 1 (p. 366): `m = 2.5 mm`, `Z1 = 18`, `i = 3.5`, `ε = 0.2`,
-    /// `α = 20°`.
-    pub fn liu2021_table1() -> Self {
-        Self::new(NfgPairParams {
-            module: 2.5e-3,
-            z1: 18,
-            ratio: 3.5,
-            eccentricity: 0.2,
-            pressure_angle: 20f64.to_radians(),
-        })
-        .expect("Table 1 parameters are valid")
     }
 
     /// The parameters.
@@ -285,104 +273,25 @@ impl NfgPair {
     }
 }
 
-/// The vibration test rig of Liu et al. 2021, Section 3.8: a variable-frequency motor drives the
-/// pinion through a synchronous belt drive of ratio `belt_ratio` (motor speed / pinion speed).
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct LiuRig {
-    /// Belt reduction ratio, motor speed / pinion speed (text: "1.3").
-    pub belt_ratio: f64,
-    /// Pinion teeth `Z1`.
-    pub z1: u32,
-    /// NFG teeth `Z2` (mesh periods per NFG revolution).
-    pub z2: u32,
-    /// Instantaneous-centre cycles per NFG revolution (1 for Eq. 18).
-    pub lobes: u32,
-}
-
-/// Liu et al. 2021, Table 2 (p. 371), theoretical columns: motor speed `n` (rpm), `f_c` (Hz),
-/// `f_e` (Hz), exactly as printed.
-pub const LIU2021_TABLE2_THEORETICAL: [(f64, f64, f64); 9] = [
-    (280.0, 1.0, 64.0),
-    (392.0, 1.4, 89.6),
-    (504.0, 1.8, 115.2),
-    (616.0, 2.2, 140.8),
-    (728.0, 2.6, 166.4),
-    (840.0, 3.0, 192.0),
-    (952.0, 3.4, 217.6),
-    (1064.0, 3.8, 243.2),
-    (1176.0, 4.2, 268.8),
-];
-
-impl LiuRig {
-    /// Validated rig: `belt_ratio > 0`, `z1, z2, lobes ≥ 1`.
-    pub fn new(belt_ratio: f64, z1: u32, z2: u32, lobes: u32) -> Result<Self, Error> {
-        positive("belt_ratio", belt_ratio)?;
-        for (name, v) in [("z1", z1), ("z2", z2), ("lobes", lobes)] {
-            if v < 1 {
-                return Err(Error::invalid(name, ">= 1", f64::from(v)));
-            }
-        }
-        Ok(Self {
-            belt_ratio,
-            z1,
-            z2,
-            lobes,
-        })
-    }
-
-    /// The constants that reproduce both theoretical columns of Table 2 exactly (reading
-    /// `R-LIU-TABLE2`): belt ratio `21/16 = 1.3125` (printed "1.3"), `Z1 = 18`, `Z2 = 64`
-    /// (`i_j = 32/9 ≈ 3.556`, printed "3.5"), one lobe. Then `f_e = 8n/35` and `f_c = n/280`
-    /// Hz, exact decimals at every printed motor speed.
-    pub fn liu2021_table2() -> Self {
-        Self {
-            belt_ratio: 21.0 / 16.0,
-            z1: 18,
-            z2: 64,
-            lobes: 1,
-        }
-    }
-
-    /// The rig as the text states it: belt ratio 1.3, `Z1 = 18`, `Z2 = i_j Z1 = 63`. Does not
-    /// reproduce Table 2 (its `f_e` at 280 rpm is 64.6 Hz, not 64.0).
-    pub fn as_printed() -> Self {
-        Self {
-            belt_ratio: 1.3,
-            z1: 18,
-            z2: 63,
-            lobes: 1,
-        }
-    }
-
-    /// Pinion speed for motor speed `n` (rpm), rpm.
-    pub fn pinion_rpm(&self, motor_rpm: f64) -> f64 {
-        motor_rpm / self.belt_ratio
-    }
-
-    /// Pinion angular speed `ω1` for motor speed `n` (rpm), rad/s.
-    pub fn pinion_angular_speed(&self, motor_rpm: f64) -> f64 {
-        self.pinion_rpm(motor_rpm) * TAU / 60.0
-    }
-
-    /// Mesh excitation frequency `f_e = Z1 · n_pinion/60`, Hz.
-    pub fn mesh_frequency(&self, motor_rpm: f64) -> f64 {
-        f64::from(self.z1) * self.pinion_rpm(motor_rpm) / 60.0
-    }
-
-    /// Instantaneous-centre frequency `f_c = lobes · f_e/Z2`, Hz.
-    pub fn centre_frequency(&self, motor_rpm: f64) -> f64 {
-        f64::from(self.lobes) * self.mesh_frequency(motor_rpm) / f64::from(self.z2)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// An NFG pair with literal inputs (`m = 3 mm`, `Z1 = 20`, `i_j = 3`, `ε = 0.3`, `α = 25°`).
+    fn nfg() -> NfgPair {
+        let p = NfgPairParams {
+            module: 3e-3,
+            z1: 20,
+            ratio: 3.0,
+            eccentricity: 0.3,
+            pressure_angle: 25f64.to_radians(),
+        };
+        NfgPair::new(p).unwrap()
+    }
+
     #[test]
     fn validation() {
-        let ok = NfgPair::liu2021_table1().params();
+        let ok = nfg().params();
         let e = |p| NfgPair::new(p).unwrap_err().to_string();
         assert!(
             e(NfgPairParams {
@@ -407,13 +316,11 @@ mod tests {
             })
             .starts_with("pressure_angle")
         );
-        assert!(LiuRig::new(0.0, 18, 64, 1).is_err());
-        assert!(LiuRig::new(1.3, 18, 0, 1).is_err());
     }
 
     #[test]
     fn nfg_angle_closes_and_matches_ratio() {
-        let p = NfgPair::liu2021_table1();
+        let p = nfg();
         assert!((p.nfg_angle(TAU) - TAU).abs() < 1e-14);
         // dφ2/dθc = i_j/i12(θc)
         let h = 1e-5;

@@ -1,20 +1,10 @@
-//! Spur pair geometry of Yu, Sun, Li, Wu 2021 (Section 2.2, Eq. 7–9, 16; Tables 1–2).
+//! Spur pair geometry of Yu, Sun, Li, Wu 2021 (Section 2.2, Eq. 7–9, 16). The paper's pairs
+//! (Tables 1–2) live with the model, `geardyn_models::yu2021`.
+
+use system::{CentreDistanceForm, PressureAngleLaw};
 
 use crate::Error;
 use crate::error::positive;
-
-/// Which operating-pressure-angle formula to use (reading `R-YU-EQ16`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[non_exhaustive]
-pub enum PressureAngleForm {
-    /// `α = arccos(a0 cos α0/a)`: base radii fixed, `α = α0` at the nominal distance `a0`.
-    /// Default.
-    #[default]
-    Consistent,
-    /// Eq. (16) as printed, `α = arccos((Rp + Rg)/a)`: `0°` at `a = a0`, undefined for `a < a0`.
-    PrintedEq16,
-}
 
 /// Unvalidated serde form of [`SpurPair`] (SI units).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -83,22 +73,6 @@ impl SpurPair {
         })
     }
 
-    /// Yu et al. 2021, Table 1 (DF rig of its ref. 10): `R_p = R_g = 0.094 m`, 25/25 teeth,
-    /// `α0 = 20°` (stated in Section 3).
-    pub fn yu2021_table1() -> Self {
-        Self::new(SpurPairParams {
-            rp: 0.094,
-            rg: 0.094,
-            pressure_angle: 20f64.to_radians(),
-        })
-        .expect("Table 1 values are valid")
-    }
-
-    /// Yu et al. 2021, Table 2 (RMS rig of its ref. 28): module 3 mm, 50/50 teeth, `α0 = 20°`.
-    pub fn yu2021_table2() -> Self {
-        Self::from_module(3e-3, 50, 50, 20f64.to_radians()).expect("Table 2 values are valid")
-    }
-
     /// The parameters.
     pub fn params(&self) -> SpurPairParams {
         self.p
@@ -125,32 +99,46 @@ impl SpurPair {
         self.p.pressure_angle
     }
 
-    /// Operating pressure angle at centre distance `a` (m), rad.
+    /// Operating pressure angle at centre distance `a` (m), rad, under the workspace's one
+    /// pressure-angle law (`system::PressureAngleLaw`, reading `R-YU-EQ16`):
+    /// `cos α = a0 cos α0/a` ([`PressureAngleLaw::Involute`], base radii fixed),
+    /// `cos α = (Rp + Rg)/a` (Eq. 16 as printed) or `α0` ([`PressureAngleLaw::Constant`]).
     ///
-    /// [`PressureAngleForm::Consistent`] needs `a ≥ a0 cos α0` (base circles apart);
-    /// [`PressureAngleForm::PrintedEq16`] needs `a ≥ a0`. Outside, or for NaN, an error naming
-    /// `a`.
+    /// The involute law needs `a ≥ a0 cos α0` (base circles apart); the printed Eq. (16) needs
+    /// `a ≥ a0`. Outside, or for NaN, an error naming `a` (the backlash leaf clamps instead).
     #[inline]
-    pub fn operating_pressure_angle(&self, a: f64, form: PressureAngleForm) -> Result<f64, Error> {
-        let a0 = self.nominal_centre_distance();
-        let (num, bound) = match form {
-            PressureAngleForm::Consistent => (
-                a0 * self.p.pressure_angle.cos(),
-                ">= a0 cos(alpha0) (base circles must not overlap)",
-            ),
-            PressureAngleForm::PrintedEq16 => (a0, ">= Rp + Rg (Eq. 16 as printed)"),
+    pub fn operating_pressure_angle(&self, a: f64, law: PressureAngleLaw) -> Result<f64, Error> {
+        let (a0, alpha0) = (self.nominal_centre_distance(), self.p.pressure_angle);
+        let bound = match law {
+            PressureAngleLaw::PrintedEq16 => ">= Rp + Rg (Eq. 16 as printed)",
+            _ => ">= a0 cos(alpha0) (base circles must not overlap)",
         };
-        if !(a.is_finite() && a >= num) {
+        if !(a.is_finite() && a >= law.cosine_numerator(a0, alpha0)) {
             return Err(Error::invalid("a", bound, a));
         }
-        Ok((num / a).min(1.0).acos())
+        Ok(law.angle(a, a0, alpha0).0)
     }
 
-    /// Actual centre distance of Eq. (8), `a = √((a0 + x_p − x_g)² + (y_p − y_g)²)`, for centre
-    /// displacements (m).
+    /// Actual centre distance of Eq. (8) as printed, `a = √((a0 + x_p − x_g)² + (y_p − y_g)²)`,
+    /// for centre displacements (m) (`system::CentreDistanceForm::PrintedEq8`).
     #[inline]
     pub fn centre_distance(&self, xp: f64, yp: f64, xg: f64, yg: f64) -> f64 {
-        (self.nominal_centre_distance() + xp - xg).hypot(yp - yg)
+        self.centre_distance_with(xp, yp, xg, yg, CentreDistanceForm::PrintedEq8)
+    }
+
+    /// Actual centre distance in either frame of Eq. (8) ([`CentreDistanceForm`], reading
+    /// `R-YU-EQ8`), m.
+    #[inline]
+    pub fn centre_distance_with(
+        &self,
+        xp: f64,
+        yp: f64,
+        xg: f64,
+        yg: f64,
+        form: CentreDistanceForm,
+    ) -> f64 {
+        form.centre_distance(self.nominal_centre_distance(), xp - xg, yp - yg)
+            .0
     }
 }
 
@@ -174,28 +162,29 @@ mod tests {
 
     #[test]
     fn nominal_distance_gives_twenty_degrees_only_in_consistent_form() {
-        let s = SpurPair::yu2021_table2();
+        // module 3 mm, 50/50 teeth, α0 = 20° (the pair of Yu 2021 Table 2)
+        let s = SpurPair::from_module(3e-3, 50, 50, 20f64.to_radians()).unwrap();
         let a0 = s.nominal_centre_distance();
         assert!((a0 - 0.15).abs() < 1e-15);
         let c = s
-            .operating_pressure_angle(a0, PressureAngleForm::Consistent)
+            .operating_pressure_angle(a0, PressureAngleLaw::Involute)
             .unwrap();
         assert!((c.to_degrees() - 20.0).abs() < 1e-12);
         let p = s
-            .operating_pressure_angle(a0, PressureAngleForm::PrintedEq16)
+            .operating_pressure_angle(a0, PressureAngleLaw::PrintedEq16)
             .unwrap();
         assert!(p.abs() < 1e-12);
         assert!(
-            s.operating_pressure_angle(0.9 * a0, PressureAngleForm::PrintedEq16)
+            s.operating_pressure_angle(0.9 * a0, PressureAngleLaw::PrintedEq16)
                 .is_err()
         );
         assert!(
-            s.operating_pressure_angle(f64::NAN, PressureAngleForm::Consistent)
+            s.operating_pressure_angle(f64::NAN, PressureAngleLaw::Involute)
                 .is_err()
         );
         // a larger centre distance opens the pressure angle (base radii fixed)
         let c2 = s
-            .operating_pressure_angle(a0 + 1e-4, PressureAngleForm::Consistent)
+            .operating_pressure_angle(a0 + 1e-4, PressureAngleLaw::Involute)
             .unwrap();
         assert!(c2 > c);
     }

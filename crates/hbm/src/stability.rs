@@ -4,19 +4,9 @@ use crate::solution::eval_state;
 use crate::{HbmError, HbmProblem, PeriodicSolution, SecondOrderSystem};
 use nalgebra::DMatrix;
 
-/// Floquet multipliers of a periodic solution and the verdict.
-#[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Stability {
-    /// Floquet multipliers `μ` as `[Re μ, Im μ]`, `2n` of them.
-    pub multipliers: Vec<[f64; 2]>,
-    /// `max |μ|`.
-    pub max_modulus: f64,
-    /// `max |μ| ≤ 1 + tolerance`.
-    pub stable: bool,
-    /// RK4 steps per period used for the monodromy matrix.
-    pub steps: usize,
-}
+/// Floquet multipliers of a periodic solution (`2n` of them, `[Re μ, Im μ]`) and the verdict:
+/// the workspace's one stability type, `system::Stability` (also `orbit::Stability`).
+pub use system::Stability;
 
 /// Tolerance on `|μ| − 1` below which a solution counts as stable: the workspace's one
 /// threshold ([`system::STABILITY_TOLERANCE`]).
@@ -142,12 +132,6 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         }
         let mu = phi.complex_eigenvalues();
         let multipliers: Vec<[f64; 2]> = mu.iter().map(|z| [z.re, z.im]).collect();
-        let max_modulus = mu.iter().map(|z| z.norm()).fold(0.0, f64::max);
-        Ok(Stability {
-            multipliers,
-            max_modulus,
-            stable: system::is_stable_multiplier(max_modulus),
-            steps,
-        })
+        Ok(Stability::from_multipliers(multipliers))
     }
 }

@@ -9,7 +9,7 @@ use std::hint::black_box;
 use criterion::{Criterion, criterion_group, criterion_main};
 use geardyn_mesh_stiffness::{
     FourierFitter, FourierStiffness, FractalContact, FractalForm, SingleHarmonicStiffness,
-    ToothPairStiffness, fit_fourier,
+    ToothPairStiffness, Waveform, fit_fourier,
 };
 
 fn series(h: usize) -> FourierStiffness {
@@ -19,7 +19,15 @@ fn series(h: usize) -> FourierStiffness {
 }
 
 fn eval(c: &mut Criterion) {
-    let single = SingleHarmonicStiffness::liu2021_table1();
+    // k0 = 3.1e8 N/m, k_r = 0.9e8 N/m, ω_e = 2880 rad/s, φ_m = π/2 (Liu 2021 Table 1 values)
+    let single = SingleHarmonicStiffness::new(
+        3.1e8,
+        0.9e8,
+        2880.0,
+        std::f64::consts::FRAC_PI_2,
+        Waveform::Sine,
+    )
+    .expect("valid stiffness");
     c.bench_function("single_harmonic_eval_with_derivative", |b| {
         let mut t = 0.0;
         b.iter(|| {

@@ -299,19 +299,6 @@ impl SingleHarmonicStiffness {
         })
     }
 
-    /// Liu et al. 2021, Table 1 and Sect. 3.1: `k0 = 3.1e8 N/m`, `k_r = 0.9e8 N/m`,
-    /// `φ_m = π/2` in the printed sine form, `ω_e = ω_1 Z_1 = 160 rad/s × 18 = 2880 rad/s`
-    /// (mesh frequency `f_2 = ω_1 Z_1 / 2π`, Sect. 2.2).
-    pub fn liu2021_table1() -> Self {
-        Self {
-            k0: 3.1e8,
-            k_r: 0.9e8,
-            omega_e: 160.0 * 18.0,
-            phi_m: std::f64::consts::FRAC_PI_2,
-            waveform: Waveform::Sine,
-        }
-    }
-
     /// Yu et al. 2021 Eq. (17): `k_am (1 + ε sin(ω_h t + φ0))`, with `k_am > 0` \[N/m\],
     /// fluctuation ratio `0 ≤ ε` \[-\], `ω_h > 0` \[rad/s\], `φ0` \[rad\].
     pub fn yu2021(k_am: f64, epsilon: f64, omega_h: f64, phi0: f64) -> Result<Self> {
@@ -426,7 +413,15 @@ mod tests {
 
     #[test]
     fn liu_table1_is_a_cosine_at_phi_pi_over_2() {
-        let k = SingleHarmonicStiffness::liu2021_table1();
+        // k0 = 3.1e8 N/m, k_r = 0.9e8 N/m, ω_e = 2880 rad/s, φ_m = π/2 (Liu 2021 Table 1 values)
+        let k = SingleHarmonicStiffness::new(
+            3.1e8,
+            0.9e8,
+            2880.0,
+            std::f64::consts::FRAC_PI_2,
+            Waveform::Sine,
+        )
+        .unwrap();
         assert_relative_eq!(k.eval(0.0), 4.0e8, max_relative = 1e-15);
         assert_relative_eq!(k.amplitude_coefficient(), 0.9 / 3.1, max_relative = 1e-15);
     }

@@ -26,6 +26,22 @@ pub struct Floquet {
     pub test_neimark_sacker: f64,
 }
 
+/// The one stability type of a periodic orbit (complex multipliers, largest modulus, verdict at
+/// the one threshold), defined in `system` so that the harmonic-balance leaf returns it too
+/// (`hbm::Stability` is this type).
+pub use system::Stability;
+
+impl Floquet {
+    /// The multipliers and verdict as the one [`Stability`] type.
+    pub fn stability(&self) -> Stability {
+        Stability {
+            multipliers: self.multipliers.clone(),
+            max_modulus: self.max_modulus,
+            stable: self.stable,
+        }
+    }
+}
+
 /// A crossing of the unit circle between two points of a branch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -127,7 +143,8 @@ pub fn floquet(monodromy: &DMatrix<f64>) -> Result<Floquet> {
     let mut mu: Vec<Complex<f64>> = ev.iter().copied().collect();
     mu.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.im.total_cmp(&a.im)));
     let condition = mu.iter().map(|&l| eigen_condition(monodromy, l)).collect();
-    let max_modulus = mu.iter().fold(0.0_f64, |a, z| a.max(z.norm()));
+    let multipliers: Vec<[f64; 2]> = mu.iter().map(|z| [z.re, z.im]).collect();
+    let max_modulus = system::max_modulus(&multipliers);
     let id = DMatrix::<f64>::identity(m, m);
     let test_period_doubling = (monodromy + &id).lu().determinant();
     let test_fold = (monodromy - &id).lu().determinant();
@@ -138,7 +155,7 @@ pub fn floquet(monodromy: &DMatrix<f64>) -> Result<Floquet> {
         }
     }
     Ok(Floquet {
-        multipliers: mu.iter().map(|z| [z.re, z.im]).collect(),
+        multipliers,
         condition,
         max_modulus,
         stable: system::is_stable_multiplier(max_modulus),
@@ -223,6 +240,25 @@ pub fn real_eigenvector(a: &DMatrix<f64>, lambda: f64) -> Result<DVector<f64>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The one stability type: largest modulus and the verdict at the one threshold, from any
+    /// multipliers and from a monodromy.
+    #[test]
+    fn stability_type_and_threshold() {
+        // |0.6 + 0.8i| = 1 exactly: on the circle, stable; 1 + 2·tol: unstable
+        let s = Stability::from_multipliers(vec![[0.5, 0.0], [0.6, 0.8], [0.6, -0.8]]);
+        assert!((s.max_modulus - 1.0).abs() < 1e-16 && s.stable);
+        let u = Stability::from_multipliers(vec![[-(1.0 + 2.0 * STABILITY_TOLERANCE), 0.0]]);
+        assert!(!u.stable);
+        let none = Stability::from_multipliers(vec![]);
+        assert!(none.max_modulus == 0.0 && none.stable);
+        // a monodromy with μ = ±i√1.2: outside the circle
+        let m = DMatrix::from_row_slice(2, 2, &[0.0, -1.2, 1.0, 0.0]);
+        let f = floquet(&m).unwrap();
+        let st = f.stability();
+        assert_eq!(st, Stability::from_multipliers(f.multipliers.clone()));
+        assert!(!st.stable && (st.max_modulus - 1.2f64.sqrt()).abs() < 1e-14);
+    }
 
     #[test]
     fn multipliers_and_condition_of_known_matrices() {

@@ -148,7 +148,7 @@ pub use continuation::{
 };
 pub use error::{OrbitError, Result};
 pub use floquet::{
-    Crossing, Floquet, OutsideCount, STABILITY_TOLERANCE, classify_crossing, floquet,
+    Crossing, Floquet, OutsideCount, STABILITY_TOLERANCE, Stability, classify_crossing, floquet,
     real_eigenvector,
 };
 pub use flow::{EventRecord, Flow, FlowOptions};

@@ -19,7 +19,9 @@
 //! other, and this crate depends on neither: it holds only the trait, its error type, the
 //! event direction, two helpers ([`finite_difference_force_jacobian`], [`gap_edges`]) and the
 //! workspace's one classical RK4 step ([`rk4::rk4_step`]) and small numerical tools
-//! ([`numeric`]: Gauss–Legendre quadrature, a periodic maximiser, bisection).
+//! ([`numeric`]: Gauss–Legendre quadrature, a periodic maximiser, bisection), and the one
+//! spur-pair pressure-angle law and centre-distance form ([`involute`]) that the geometry and
+//! backlash leaves share.
 //!
 //! ## Optional hooks
 //!
@@ -66,10 +68,14 @@
 #![deny(missing_docs)]
 
 pub mod deadline;
+pub mod format;
+pub mod involute;
 pub mod numeric;
 pub mod problems;
 pub mod rk4;
 pub mod sweep;
+
+pub use involute::{CentreDistanceForm, PressureAngleLaw};
 
 /// The workspace's one Floquet stability threshold: a periodic solution is stable when its
 /// largest multiplier modulus is `≤ 1 + STABILITY_TOLERANCE` ([`is_stable_multiplier`]). The
@@ -82,6 +88,47 @@ pub const STABILITY_TOLERANCE: f64 = 1e-6;
 #[inline]
 pub fn is_stable_multiplier(max_modulus: f64) -> bool {
     max_modulus <= 1.0 + STABILITY_TOLERANCE
+}
+
+/// The one stability type of a periodic orbit: its Floquet multipliers (complex, as
+/// `[Re μ, Im μ]`), the largest modulus ([`max_modulus`]) and the verdict
+/// `max |μ| ≤ 1 + STABILITY_TOLERANCE` ([`is_stable_multiplier`]), whatever computed the
+/// multipliers: the harmonic-balance variational equation (`hbm`, which returns this type), the
+/// shooting monodromy (`orbit::Floquet::stability`; `orbit` re-exports it as
+/// `orbit::Stability`) or a model's own period map, through [`Stability::from_multipliers`].
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Stability {
+    /// Multipliers `μ` as `[Re μ, Im μ]`, in the order given.
+    pub multipliers: Vec<[f64; 2]>,
+    /// `max |μ|` (0 for no multipliers).
+    pub max_modulus: f64,
+    /// `max |μ| ≤ 1 + STABILITY_TOLERANCE`.
+    pub stable: bool,
+}
+
+impl Stability {
+    /// The verdict on `multipliers` (`[Re μ, Im μ]`).
+    pub fn from_multipliers(multipliers: Vec<[f64; 2]>) -> Self {
+        let max_modulus = max_modulus(&multipliers);
+        Self {
+            multipliers,
+            max_modulus,
+            stable: is_stable_multiplier(max_modulus),
+        }
+    }
+}
+
+/// `max |μ|` over Floquet multipliers given as `[Re μ, Im μ]` (`|μ| = hypot(Re μ, Im μ)`; 0 for
+/// none): the one largest-modulus rule behind [`is_stable_multiplier`], shared by the
+/// harmonic-balance stability (`geardyn-hbm`), the orbit stability type (`geardyn-orbit`) and
+/// the models' shooting multipliers.
+#[inline]
+pub fn max_modulus(multipliers: &[[f64; 2]]) -> f64 {
+    multipliers
+        .iter()
+        .map(|z| z[0].hypot(z[1]))
+        .fold(0.0, f64::max)
 }
 
 use nalgebra::DMatrix;

@@ -22,36 +22,10 @@ pub enum Error {
         /// The id looked up.
         id: String,
     },
-    /// A printed number could not be read (it must look like `12`, `-0.0125` or `1.5e-3`).
-    #[error("printed number `{printed}` is not a decimal number")]
-    PrintedNumber {
-        /// The text as transcribed.
-        printed: String,
-    },
-    /// A table row had the wrong number of cells.
-    #[error("table `{table}`: row has {got} cells, the header has {expected}")]
-    RowLength {
-        /// The table's name.
-        table: String,
-        /// Number of columns in the header.
-        expected: usize,
-        /// Number of cells in the row.
-        got: usize,
-    },
-    /// An output name is not usable as a file-name part (allowed: `a-z`, `0-9`, `-`, `_`, `.`).
-    #[error("name `{name}` must be non-empty and use only a-z, 0-9, '-', '_', '.'")]
-    InvalidName {
-        /// The offending name.
-        name: String,
-    },
-    /// Rendering a figure failed.
-    #[error("figure `{figure}`: {reason}")]
-    Plot {
-        /// The figure's name.
-        figure: String,
-        /// What plotters reported.
-        reason: String,
-    },
+    /// A table, figure or heat map could not be built or rendered, or a printed number or an
+    /// output name is invalid (see [`plot::Error`]).
+    #[error(transparent)]
+    Plot(#[from] plot::Error),
     /// A model, solver or geometry computation failed inside a study.
     #[error("{context}: {source}")]
     Upstream {
@@ -63,13 +37,9 @@ pub enum Error {
     /// A study-specific failure described in words (e.g. a solver that did not converge).
     #[error("{0}")]
     Study(String),
-    /// A user study file (see `docs/studies.md`) is invalid.
+    /// An input a validation study reads is invalid.
     #[error("study file: {0}")]
     StudyFile(String),
-    /// A shard specification, partial result or journal is invalid, or partial results do not
-    /// merge (see the `shard` module).
-    #[error("shard: {0}")]
-    Shard(String),
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {
@@ -79,6 +49,8 @@ pub enum Error {
         source: std::io::Error,
     },
 }
+
+pub(crate) use plot::check_name;
 
 /// Attach context to any error from another crate, turning it into [`Error::Upstream`].
 ///
@@ -103,34 +75,5 @@ where
             context: what.to_owned(),
             source: Box::new(e),
         })
-    }
-}
-
-/// Check that `name` is usable in a file name.
-pub(crate) fn check_name(name: &str) -> Result<(), Error> {
-    let ok = !name.is_empty()
-        && name
-            .chars()
-            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || matches!(c, '-' | '_' | '.'));
-    if ok {
-        Ok(())
-    } else {
-        Err(Error::InvalidName {
-            name: name.to_owned(),
-        })
-    }
-}
-
-/// A model-contract error as the harness reports it: a bad input is a study-file error, a
-/// point that cannot be computed a study failure, an engine failure keeps its context.
-impl From<models::contract::PointError> for Error {
-    fn from(e: models::contract::PointError) -> Self {
-        use models::contract::PointError as P;
-        match e {
-            P::Input(m) => Error::StudyFile(m),
-            P::Compute(m) => Error::Study(m),
-            P::Upstream { context, source } => Error::Upstream { context, source },
-            e => Error::Study(e.to_string()),
-        }
     }
 }

@@ -106,12 +106,8 @@
 //!
 //! # User studies
 //!
-//! [`UserStudy`] reads the TOML study files of `geardyn study <file.toml>` (format in
-//! `docs/studies.md`, limits in `docs/reliability.md`): any model of [`REGISTRY`], parameter
-//! overrides and choices by name, a sweep over one or two parameters, solver and settings, the
-//! initial state. [`run_study_from_str`] parses, checks ([`prepare`]) and computes a study without
-//! writing; [`run_study_file`] is the whole command (output directory checked and locked first,
-//! atomic writes). [`run_validation`] is `cargo xtask validate` / `geardyn validate`.
+//! The `geardyn study` engine (study files, shards, merge, maps) is the `geardyn-study` crate;
+//! the harness does not use it.
 //!
 //! # References
 //!
@@ -121,34 +117,27 @@
 #![deny(missing_docs)]
 
 mod audit;
-pub mod bifurcation;
 mod error;
-mod figure;
-mod format;
-pub mod heatmap;
 mod output;
 pub mod precision;
 mod published;
 mod render;
-pub mod shard;
-mod spec;
 mod studies;
 mod study;
-mod table;
-mod user;
 pub mod verdicts;
 
 pub use audit::{Problem, audit, audit_output, output_files};
-pub use bifurcation::{BifurcationSpec, MAX_BIFURCATION_PERIODS, MAX_BIFURCATION_POINTS};
 pub use error::{Error, ResultExt};
-pub use figure::{Figure, OKABE_ITO, Series, Style, step_path};
-pub use format::{SIGNIFICANT_DIGITS, committed_text, fmt_sig, fmt6, full_text, unsettled};
-pub use models::contract::{
-    Adapter, ChoiceInfo, Context, Job, Kind, MethodInfo, Model, ModelInfo, ParamInfo, Preparer,
-    REGISTRY, Record, STEP_STATISTICS, SettingDef, check_settings, describe_all, describe_json,
-    is_step_statistic, step_statistics,
-};
+/// The step-statistic columns of a time-stepping record (from the model contract).
+pub use models::contract::STEP_STATISTICS;
 pub use output::{STATS_DIR, ValidationSummary, diff_against, run_validation, study_selected};
+pub use plot::{
+    Cell, Column, Figure, OKABE_ITO, SIGNIFICANT_DIGITS, Series, Style, Table, committed_text,
+    fmt_sig, fmt6, full_text, heatmap, step_path, unsettled,
+};
+// the output layer (tables, figures, heat maps, number formats) is the `plot` crate; its
+// modules are in scope under their old names so that `crate::table::…` paths keep working
+pub(crate) use plot::{figure, format, table};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
     ReadingsIndex, STATS_DIGEST_FILE, StudyResult, comparisons_csv, comparisons_csv_full,
@@ -158,17 +147,6 @@ pub use studies::all_studies;
 pub use study::{
     ABOUT_BAND, Claim, Comparison, Cost, Evidence, Paper, Reference, Study, StudyOutput, Tolerance,
     ToleranceBand, ToleranceBasis, Verdict,
-};
-pub use table::{Cell, Column, Table};
-pub use user::{
-    FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_SECONDS_BOUND, MAX_STEPS_BOUND,
-    MAX_SWEEP_VALUES, Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, StudyPlan,
-    Sweep, TIME_LIMIT, UserStudy, UserStudyOutput, Value, Written, apply_overrides, apply_values,
-    camel_to_kebab, check_study_name, choice, compute, compute_records, default_out_dir,
-    display_name, field_names, kebab_to_camel, lock_output_dir, merge_from_str, merge_study_files,
-    model_names, model_spec, new_run_id, prepare, run_shard_from_str, run_study_file,
-    run_study_from_str, run_study_shard_file, run_user_study, run_with_time_limit, shard_path,
-    variant_names, write_outputs,
 };
 pub use verdicts::{VERDICTS_FILE, VerdictDiff, check_verdicts, diff_verdicts, parse_verdicts};
 

@@ -28,9 +28,8 @@ pub const DRAWING_STEPS: f64 = 1000.0;
 /// half-width (smaller moves are counted, not listed).
 pub const MOVE_FRACTION: f64 = 0.1;
 
-/// Marker of a value left out of a committed table (non-periodic one-period sample; the value
-/// is in `validation/stats/`).
-pub const NOT_PERIODIC: &str = "n/p";
+/// Marker of a value left out of a committed table (defined with the number formats in `plot`).
+pub use plot::NOT_PERIODIC;
 
 /// The power-of-ten exponent `e` with `10^e ≤ scale / divisions < 10^(e+1)`, or `None` when the
 /// scale is zero or not finite (then numbers are written at 6 significant digits).

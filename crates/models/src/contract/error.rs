@@ -13,6 +13,22 @@ pub enum PointError {
     /// A bad input: an unknown or ill-typed name, a setting out of its bounds, an old spelling.
     #[error("{0}")]
     Input(String),
+    /// A parameter override names no field of the model's parameter struct.
+    #[error("unknown parameter `{name}`; parameters: {}", paths.join(", "))]
+    UnknownParameter {
+        /// The name as written.
+        name: String,
+        /// Every valid address, as canonical dotted paths ([`crate::contract::field_names`]).
+        paths: Vec<String>,
+    },
+    /// A bare parameter name that more than one nested struct holds (no "first holder wins").
+    #[error("parameter `{name}` is ambiguous: write one of {}", paths.join(", "))]
+    AmbiguousParameter {
+        /// The bare name as written.
+        name: String,
+        /// The dotted paths of every holder.
+        paths: Vec<String>,
+    },
     /// The point cannot be computed as asked (over a work limit, an unusable value).
     #[error("{0}")]
     Compute(String),

@@ -45,9 +45,9 @@ pub use overrides::{
 pub use record::{Output, Record};
 pub use settings::Settings;
 pub(crate) use settings::{no_initial, reject_legacy, take_choice, wrong_method};
+pub use system::format::{fmt_sig, fmt6};
 pub use value::{
     Limits, MAX_POINTS_BOUND, MAX_SECONDS_BOUND, MAX_STEPS_BOUND, Method, Point, Solver, Value,
-    fmt_sig, fmt6,
 };
 
 /// The computation of one prepared point.

@@ -10,9 +10,14 @@ use super::{PointError, Value};
 /// Apply `name = value` overrides to any serde parameter struct (through JSON), so that a user
 /// can set any field by its Rust name: numbers into numeric fields (integers only into integer
 /// fields), names into choice fields (kebab-case: `"printed-eq20"` for the variant
-/// `PrintedEq20`), flags into `bool` fields, lists into array/tuple fields. A name not found at
-/// the top level is looked up one level down (e.g. Liu's `readings.rigid_acceleration` as
-/// `rigid_acceleration`). Errors name the field and what it takes.
+/// `PrintedEq20`), flags into `bool` fields, lists into array/tuple fields.
+///
+/// A field is addressed by its dotted path (`readings.rigid_acceleration`, the canonical form,
+/// [`field_names`]); a bare name not found at the top level is accepted when exactly one nested
+/// struct holds it (Liu's `rigid_acceleration`). Errors are typed: a bare name two nested
+/// structs hold is [`PointError::AmbiguousParameter`] naming every dotted path, a name that
+/// addresses nothing [`PointError::UnknownParameter`] listing the valid paths; a value of the
+/// wrong kind names the field and what it takes.
 pub fn apply_values<T: Serialize + DeserializeOwned>(
     base: &T,
     overrides: &BTreeMap<String, Value>,
@@ -25,17 +30,13 @@ pub fn apply_values<T: Serialize + DeserializeOwned>(
     }
     for (k, x) in overrides {
         let slot = find_slot(&mut v, k)
-            .map_err(|names| {
-                PointError::Input(format!(
-                    "parameter `{k}` is ambiguous: write one of {}",
-                    names.join(", ")
-                ))
+            .map_err(|paths| PointError::AmbiguousParameter {
+                name: k.clone(),
+                paths,
             })?
-            .ok_or_else(|| {
-                PointError::Input(format!(
-                    "unknown parameter `{k}`; parameters: {}",
-                    field_names(base).join(", ")
-                ))
+            .ok_or_else(|| PointError::UnknownParameter {
+                name: k.clone(),
+                paths: field_names(base),
             })?;
         let old = slot.clone();
         let candidates: Vec<serde_json::Value> = match (x, &old) {
@@ -92,8 +93,8 @@ pub fn apply_overrides<T: Serialize + DeserializeOwned>(
 }
 
 /// The field an override names: a dotted path (`readings.rigid_acceleration`) walks the
-/// nested structs; a bare name is a top-level field, else the one nested field of that name.
-/// A bare name that two nested structs hold is ambiguous: `Err` with the dotted names.
+/// nested structs; a bare name is a top-level field, else the one nested field of that name at
+/// any depth. A bare name that two nested structs hold is ambiguous: `Err` with the dotted paths.
 fn find_slot<'a>(
     v: &'a mut serde_json::Value,
     k: &str,
@@ -108,37 +109,67 @@ fn find_slot<'a>(
         }
         return Ok(Some(cur));
     }
-    let Some(obj) = v.as_object_mut() else {
+    let Some(obj) = v.as_object() else {
         return Ok(None);
     };
     if obj.contains_key(k) {
-        return Ok(obj.get_mut(k));
+        return Ok(v.get_mut(k));
     }
-    let holders: Vec<String> = obj
-        .iter()
-        .filter(|(_, inner)| inner.as_object().is_some_and(|o| o.contains_key(k)))
-        .map(|(name, _)| name.clone())
-        .collect();
+    let mut holders = Vec::new();
+    nested_holders(obj, k, "", &mut holders);
     match holders.as_slice() {
         [] => Ok(None),
-        [one] => Ok(obj
-            .get_mut(one)
-            .and_then(|o| o.as_object_mut())
-            .and_then(|o| o.get_mut(k))),
-        many => Err(many.iter().map(|h| format!("{h}.{k}")).collect()),
+        [one] => {
+            let path = one.clone();
+            find_slot(v, &path)
+        }
+        _ => Err(holders),
     }
 }
 
-/// The settable fields of a parameter struct (top level and one level down).
+/// The dotted paths of the fields named `k` in the structs nested in `o` (at any depth).
+fn nested_holders(
+    o: &serde_json::Map<String, serde_json::Value>,
+    k: &str,
+    prefix: &str,
+    out: &mut Vec<String>,
+) {
+    for (name, inner) in o {
+        if let Some(io) = inner.as_object() {
+            let path = if prefix.is_empty() {
+                name.clone()
+            } else {
+                format!("{prefix}.{name}")
+            };
+            if io.contains_key(k) {
+                out.push(format!("{path}.{k}"));
+            }
+            nested_holders(io, k, &path, out);
+        }
+    }
+}
+
+/// The settable fields of a parameter struct by their canonical address: a top-level field by
+/// its name, a field of a nested struct by its dotted path (`readings.rigid_acceleration`), at
+/// any depth. A bare nested name is accepted by [`apply_values`] only when exactly one nested
+/// struct holds it; the dotted path always works.
 pub fn field_names<T: Serialize>(base: &T) -> Vec<String> {
-    let mut names = Vec::new();
-    if let Ok(serde_json::Value::Object(o)) = serde_json::to_value(base) {
+    fn walk(prefix: &str, o: serde_json::Map<String, serde_json::Value>, out: &mut Vec<String>) {
         for (k, v) in o {
+            let path = if prefix.is_empty() {
+                k
+            } else {
+                format!("{prefix}.{k}")
+            };
             match v {
-                serde_json::Value::Object(inner) => names.extend(inner.keys().cloned()),
-                _ => names.push(k),
+                serde_json::Value::Object(inner) => walk(&path, inner, out),
+                _ => out.push(path),
             }
         }
+    }
+    let mut names = Vec::new();
+    if let Ok(serde_json::Value::Object(o)) = serde_json::to_value(base) {
+        walk("", o, &mut names);
     }
     names
 }
@@ -304,12 +335,68 @@ mod dotted_tests {
 
     #[test]
     fn a_bare_name_two_structs_hold_is_ambiguous() {
-        let e = set("k", 5.0).unwrap_err().to_string();
+        let e = set("k", 5.0).unwrap_err();
         assert!(
-            e.contains("parameter `k` is ambiguous: write one of a.k, b.k"),
+            e.to_string()
+                .contains("parameter `k` is ambiguous: write one of a.k, b.k"),
             "{e}"
         );
+        match e {
+            PointError::AmbiguousParameter { name, paths } => {
+                assert_eq!(name, "k");
+                assert_eq!(paths, ["a.k", "b.k"]);
+            }
+            e => panic!("expected AmbiguousParameter, got {e:?}"),
+        }
+    }
+
+    #[test]
+    fn an_unknown_path_lists_the_valid_dotted_paths() {
+        let all = ["a.k", "a.only_a", "b.k", "b.only_a", "top"];
+        assert_eq!(field_names(&base()), all);
+        for bad in ["a.nonesuch", "nonesuch", "c.k", "a.k.deeper", "top.k"] {
+            match set(bad, 5.0).unwrap_err() {
+                PointError::UnknownParameter { name, paths } => {
+                    assert_eq!(name, bad);
+                    assert_eq!(paths, all);
+                }
+                e => panic!("{bad}: expected UnknownParameter, got {e:?}"),
+            }
+        }
         let e = set("a.nonesuch", 5.0).unwrap_err().to_string();
-        assert!(e.contains("unknown parameter `a.nonesuch`"), "{e}");
+        assert_eq!(
+            e,
+            "unknown parameter `a.nonesuch`; parameters: a.k, a.only_a, b.k, b.only_a, top"
+        );
+    }
+
+    #[test]
+    fn a_bare_name_one_struct_holds_is_accepted() {
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        struct One {
+            top: f64,
+            a: Inner,
+        }
+        let base = One {
+            top: 0.0,
+            a: Inner {
+                k: 1.0,
+                only_a: 2.0,
+            },
+        };
+        let o: BTreeMap<String, Value> = [("k".to_owned(), Value::Num(4.0))].into();
+        assert_eq!(apply_values(&base, &o).unwrap().a.k, 4.0);
+        // at any depth: `deep` is held only by `outer.a`
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        struct Two {
+            outer: One,
+        }
+        let two = Two { outer: base };
+        let o: BTreeMap<String, Value> = [("only_a".to_owned(), Value::Num(9.0))].into();
+        assert_eq!(apply_values(&two, &o).unwrap().outer.a.only_a, 9.0);
+        assert_eq!(
+            field_names(&two),
+            ["outer.a.k", "outer.a.only_a", "outer.top"]
+        );
     }
 }

@@ -75,10 +75,12 @@ use crate::Error;
 
 mod fold;
 mod levin;
+mod presets;
 mod quadrature;
 
 use quadrature::*;
 pub mod registry;
+pub use presets::{pair_params_table1, pair_table1};
 
 /// How the excitation phase of Eq. (9) is read (reading `R-KARPOV-EQ9`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]

@@ -51,7 +51,7 @@ impl contract::Model for Kinematics {
     }
 
     fn describe(&self) -> ModelInfo {
-        let base = gear_geometry::KarpovPair::karpov2017_table1().params();
+        let base = super::pair_params_table1();
         let mut parameters = params_of(&base, kinematics_unit);
         parameters.push(ParamInfo {
             name: "omega1".into(),
@@ -109,7 +109,7 @@ impl contract::Model for Kinematics {
                 };
                 let omega1 = num(&mut fields, "omega1", 1.0)?;
                 let delta_max = num(&mut fields, "delta_max", 0.001)?;
-                let base = gear_geometry::KarpovPair::karpov2017_table1().params();
+                let base = super::pair_params_table1();
                 let params = apply_values(&base, &fields)?;
                 if !(omega1.is_finite() && omega1 > 0.0) {
                     return Err(PointError::Compute(format!(

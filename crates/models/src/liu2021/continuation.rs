@@ -79,6 +79,20 @@ pub fn shooting_multipliers(model: &Model, response: &HbmResponse) -> Result<[[f
     })
 }
 
+/// [`shooting_multipliers`] as the workspace's one stability type (`orbit::Stability`: largest
+/// modulus and the verdict under `system::STABILITY_TOLERANCE`).
+///
+/// # Errors
+/// Integration failures.
+pub fn shooting_stability(
+    model: &Model,
+    response: &HbmResponse,
+) -> Result<orbit::Stability, Error> {
+    Ok(orbit::Stability::from_multipliers(
+        shooting_multipliers(model, response)?.to_vec(),
+    ))
+}
+
 /// Settings of [`continue_in_speed`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct SpeedContinuationOptions {
@@ -210,23 +224,22 @@ pub fn continue_in_speed(
         .map(|p| {
             let m = model.with_omega_c(p.parameter)?;
             let rattle = rattle_of(&m, &p.solution);
-            let max_multiplier = match options.stability {
+            let stability = match options.stability {
                 BranchStability::None => None,
-                BranchStability::Floquet => p.solution.stability.as_ref().map(|s| s.max_modulus),
+                BranchStability::Floquet => p.solution.stability.clone(),
                 BranchStability::Shooting => {
                     let r = HbmResponse {
                         solution: p.solution.clone(),
                         rattle,
                     };
-                    let mu = shooting_multipliers(&m, &r)?;
-                    Some(mu.iter().map(|z| z[0].hypot(z[1])).fold(0.0, f64::max))
+                    Some(shooting_stability(&m, &r)?)
                 }
             };
             Ok(SpeedBranchPoint {
                 omega1: p.parameter * to_omega1,
                 rattle,
-                stable: max_multiplier.map(system::is_stable_multiplier),
-                max_multiplier,
+                stable: stability.as_ref().map(|s| s.stable),
+                max_multiplier: stability.map(|s| s.max_modulus),
                 solution: p.solution.clone(),
             })
         })
@@ -280,7 +293,7 @@ pub fn add_branch_stability(
     let base_model = params.model()?;
     let to_wc = base_model.omega_c / params.omega1;
     let points = &branch.points;
-    let mus: Vec<f64> = timestep::sweep(
+    let verdicts: Vec<orbit::Stability> = timestep::sweep(
         &picked,
         |&i| {
             let pt = &points[i];
@@ -289,15 +302,15 @@ pub fn add_branch_stability(
                 solution: pt.solution.clone(),
                 rattle: pt.rattle,
             };
-            super::max_multiplier(&m, &r)
+            shooting_stability(&m, &r)
         },
         None,
     )
     .into_iter()
     .collect::<Result<_, Error>>()?;
-    for (&i, &mu) in picked.iter().zip(&mus) {
-        branch.points[i].max_multiplier = Some(mu);
-        branch.points[i].stable = Some(super::is_stable_multiplier(mu));
+    for (&i, s) in picked.iter().zip(verdicts) {
+        branch.points[i].max_multiplier = Some(s.max_modulus);
+        branch.points[i].stable = Some(s.stable);
     }
     Ok(())
 }

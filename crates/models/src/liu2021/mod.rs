@@ -113,7 +113,7 @@ mod window;
 
 pub use continuation::{
     BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedFold,
-    add_branch_stability, continue_in_speed, shooting_multipliers,
+    add_branch_stability, continue_in_speed, shooting_multipliers, shooting_stability,
 };
 pub use harmonic::{
     Basis, HbmOptions, HbmResponse, HbmStart, coefficients_from_time_response, solve_hbm,
@@ -125,6 +125,7 @@ pub use ode::{TimeSystem, Trig};
 pub use params::{
     BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries, table1,
 };
+pub use presets::{Rig, TABLE2_THEORETICAL};
 pub use strategy::{
     HbmOrigin, HbmPoint, Motion, SweepPoint, SweepStrategy, TimeReference, classify_section,
     is_stable_multiplier, max_multiplier, solve_point, solve_sweep, time_reference,

@@ -18,7 +18,7 @@
 //!   retried from a converged neighbour along the sweep (`HbmStart::Given`), sweeping up and
 //!   down, at most [`SweepStrategy::neighbour_passes`] passes (sequential, so bit-identical for
 //!   any thread count).
-//! * **Stability** — of every converged column, by the period map of the ODE at the HBM state ([`shooting_multipliers`]):
+//! * **Stability** — of every converged column, by the period map of the ODE at the HBM state ([`shooting_multipliers`](super::shooting_multipliers)):
 //!   stable when the largest multiplier modulus is `≤ 1 + hbm::STABILITY_TOLERANCE`.
 //! * **Non-convergence** — never an error: the point keeps `converged = false`, and
 //!   [`HbmPoint::flag`] / [`TimeReference::flag`] say why a point cannot carry a verdict.
@@ -45,7 +45,6 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::continuation::shooting_multipliers;
 use super::harmonic::{HbmOptions, HbmResponse, HbmStart, solve_hbm_with};
 use super::integrate::{IntegrationOptions, TimeResponse, integrate};
 use super::model::{Model, Rattle};
@@ -201,8 +200,7 @@ pub use system::is_stable_multiplier;
 
 /// Largest period-map multiplier modulus at a converged HBM state.
 pub fn max_multiplier(model: &Model, response: &HbmResponse) -> Result<f64, Error> {
-    let mu = shooting_multipliers(model, response)?;
-    Ok(mu.iter().map(|z| z[0].hypot(z[1])).fold(0.0, f64::max))
+    Ok(super::shooting_stability(model, response)?.max_modulus)
 }
 
 /// One solved sweep point.

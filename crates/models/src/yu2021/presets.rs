@@ -1,11 +1,28 @@
-//! Yu 2021 as the generic spur pair ([`crate::pair`]): the preset [`PairParams::yu2021`]. The
-//! pair stands under the papers and knows none of them; each paper's preset lives in its own
-//! folder.
+//! The presets of Yu 2021: the spur-pair geometry of a parameter set
+//! ([`Yu2021Params::spur_pair`]; Table 1 and Table 2 are [`Yu2021Params::table1`] and
+//! [`Yu2021Params::table2`]) and the model as the generic spur pair ([`crate::pair`]),
+//! [`PairParams::yu2021`]. The pair stands under the papers and knows none of them; each
+//! paper's preset lives in its own folder.
 
+use gear_geometry::{SpurPair, SpurPairParams};
 use mesh_stiffness::Stiffness;
 
+use super::Yu2021Params;
 use crate::Error;
 use crate::pair::{Dofs, PairParams};
+
+impl Yu2021Params {
+    /// The involute spur pair of this parameter set: reference radii `R_p`, `R_g` and `α_0`
+    /// (Table 1: `R_p = R_g = 0.094 m`; Table 2: module 3 mm, 50/50 teeth, `R = 75 mm`; both
+    /// `α_0 = 20°`). Errors name the field (`rp`, `rg`, `pressure_angle`).
+    pub fn spur_pair(&self) -> Result<SpurPair, Error> {
+        Ok(SpurPair::new(SpurPairParams {
+            rp: self.radius_p,
+            rg: self.radius_g,
+            pressure_angle: self.pressure_angle,
+        })?)
+    }
+}
 
 impl PairParams {
     /// The Yu 2021 model (consistent form) as this pair, in its dimensionless units at `ω*`
@@ -56,6 +73,25 @@ impl PairParams {
 #[cfg(test)]
 mod tests {
     use crate::pair::test_support::{accel, close};
+
+    /// Table 1 and Table 2 geometry: `a0 = 0.188 m`, and Table 2's `R = m z/2 = 75 mm`
+    /// (module 3 mm, 50/50 teeth). The pressure-angle law on these pairs is tested in the
+    /// geometry leaf (literal inputs) and in `system::involute`.
+    #[test]
+    fn table_spur_pairs() {
+        use crate::yu2021::Yu2021Params;
+        use gear_geometry::SpurPair;
+        let t1 = Yu2021Params::table1().spur_pair().unwrap();
+        assert!((t1.nominal_centre_distance() - 0.188).abs() < 1e-15);
+        let t2 = Yu2021Params::table2().spur_pair().unwrap();
+        assert_eq!(
+            t2,
+            SpurPair::from_module(3e-3, 50, 50, 20f64.to_radians()).unwrap()
+        );
+        let mut bad = Yu2021Params::table1();
+        bad.radius_g = -1.0;
+        assert!(bad.spur_pair().unwrap_err().to_string().contains("rg"));
+    }
     use crate::pair::{Dofs, GearPair, PairParams};
 
     /// The Yu 6-DOF model (every dynamic-backlash, pressure-angle and Eq. 8 option) is the pair

@@ -1,7 +1,10 @@
 //! Geometry studies: Karpov Eq. (4), Eq. (6) and Table 1; Liu Table 2 frequency columns; Yu
 //! Eq. (16). All closed forms or small quadratures: [`Cost::Fast`].
 
-use gear_geometry::{KarpovPair, KarpovPairParams, LiuRig, PressureAngleForm, SpurPair};
+use gear_geometry::{KarpovPair, KarpovPairParams, PressureAngleLaw};
+use models::karpov2017::{pair_params_table1, pair_table1};
+use models::liu2021::Rig;
+use models::yu2021::Yu2021Params;
 
 use crate::{
     Claim, Comparison, Cost, Error, Evidence, Figure, Paper, Reference, ResultExt, Series, Study,
@@ -82,7 +85,7 @@ fn geo<T>(r: Result<T, gear_geometry::Error>, what: &str) -> Result<T, Error> {
 }
 
 fn table1_variant(b: f64, xi: f64, j: u32) -> Result<KarpovPair, Error> {
-    let p = KarpovPair::karpov2017_table1().params();
+    let p = pair_params_table1();
     geo(
         KarpovPair::new(KarpovPairParams { b, xi, j, ..p }),
         "building the Karpov pair",
@@ -275,7 +278,7 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
     let paper = published!("karpov2017.toml")?;
     let v = |id: &str| paper.value(id).map(|p| p.value);
     let mut out = StudyOutput::new();
-    let pair = KarpovPair::karpov2017_table1();
+    let pair = pair_table1();
     let (mn, z1, z2, beta) = (
         v("table1.normal-module")?,
         v("table1.z1")?,
@@ -495,8 +498,8 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
 fn liu_table2() -> Result<StudyOutput, Error> {
     let paper = published!("liu2021.toml")?;
     let mut out = StudyOutput::new();
-    let fitted = LiuRig::liu2021_table2();
-    let printed = LiuRig::as_printed();
+    let fitted = Rig::table2();
+    let printed = Rig::as_printed();
     let mut t = Table::new(
         "frequencies",
         &[
@@ -647,14 +650,16 @@ fn liu_table2() -> Result<StudyOutput, Error> {
 fn yu_eq16() -> Result<StudyOutput, Error> {
     let paper = published!("yu2021.toml")?;
     let mut out = StudyOutput::new();
-    let pair = SpurPair::yu2021_table2();
+    let pair = Yu2021Params::table2()
+        .spur_pair()
+        .context("Yu Table 2 spur pair")?;
     let a0 = pair.nominal_centre_distance();
     let printed = geo(
-        pair.operating_pressure_angle(a0, PressureAngleForm::PrintedEq16),
+        pair.operating_pressure_angle(a0, PressureAngleLaw::PrintedEq16),
         "Eq. (16) at a0",
     )?;
     let consistent = geo(
-        pair.operating_pressure_angle(a0, PressureAngleForm::Consistent),
+        pair.operating_pressure_angle(a0, PressureAngleLaw::Involute),
         "consistent form at a0",
     )?;
     for id in ["sect23.alpha0", "table2.pressure-angle"] {
@@ -683,12 +688,12 @@ fn yu_eq16() -> Result<StudyOutput, Error> {
     for i in 0..=50 {
         let da = 1e-6 * f64::from(i); // 0 … 50 µm
         let ap = geo(
-            pair.operating_pressure_angle(a0 + da, PressureAngleForm::PrintedEq16),
+            pair.operating_pressure_angle(a0 + da, PressureAngleLaw::PrintedEq16),
             "Eq. (16)",
         )?
         .to_degrees();
         let ac = geo(
-            pair.operating_pressure_angle(a0 + da, PressureAngleForm::Consistent),
+            pair.operating_pressure_angle(a0 + da, PressureAngleLaw::Involute),
             "consistent form",
         )?
         .to_degrees();
@@ -718,14 +723,14 @@ fn yu_eq16() -> Result<StudyOutput, Error> {
                 fmt6(consistent.to_degrees()),
                 fmt6(
                     geo(
-                        pair.operating_pressure_angle(a0 + 1e-5, PressureAngleForm::PrintedEq16),
+                        pair.operating_pressure_angle(a0 + 1e-5, PressureAngleLaw::PrintedEq16),
                         "Eq. (16)"
                     )?
                     .to_degrees()
                 ),
                 fmt6(
                     geo(
-                        pair.operating_pressure_angle(a0 + 1e-5, PressureAngleForm::Consistent),
+                        pair.operating_pressure_angle(a0 + 1e-5, PressureAngleLaw::Involute),
                         "consistent"
                     )?
                     .to_degrees()

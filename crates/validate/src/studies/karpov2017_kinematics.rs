@@ -333,7 +333,7 @@ fn sect4() -> Result<StudyOutput, Error> {
         .class(Evidence::Consistency),
     );
     // ε_max over the balanced designs
-    let base = KarpovPair::karpov2017_table1();
+    let base = models::karpov2017::pair_table1();
     let mut t = Table::new("emax", &[("j", "1"), ("xi", "1"), ("emax", "rad/s^2")]);
     let mut best = (0u32, 0.0, f64::INFINITY);
     for j in 2..=4u32 {

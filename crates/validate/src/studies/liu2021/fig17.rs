@@ -1,7 +1,7 @@
 //! Fig. 17: the spectrum of the theoretical response at 864 rpm (belt drive, 3 N·m), its
 //! dominant frequencies and the combination frequencies the text names.
 
-use gear_geometry::LiuRig;
+use models::liu2021::Rig;
 
 use super::sig;
 use super::table2::rig_spectrum;
@@ -41,7 +41,7 @@ const SPECTRUM_DIGITS: i32 = 2;
 
 fn run() -> Result<StudyOutput, Error> {
     let paper = published!("liu2021.toml")?;
-    let rig = LiuRig::liu2021_table2();
+    let rig = Rig::table2();
     let rpm = paper.value("sect38.motor-rpm")?.value;
     let (_, time, sp, _) = rig_spectrum(&rig, rpm)?;
     let fc = rig.centre_frequency(rpm);

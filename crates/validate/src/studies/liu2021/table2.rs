@@ -1,6 +1,5 @@
 //! Table 2: amplitude ratio ξ = A_e/A_c, theory and experiment columns.
 
-use gear_geometry::LiuRig;
 use models::liu2021::{
     self, HbmOptions, IntegrationOptions, LongWindowOptions, SweepStrategy, TimeReference,
 };
@@ -64,7 +63,7 @@ struct Row {
 /// Poincaré motion type) and the amplitude spectrum of `q` over one steady excitation period
 /// sampled at [`SAMPLES`] points (bin k = k f_c).
 pub(super) fn rig_spectrum(
-    rig: &LiuRig,
+    rig: &liu2021::Rig,
     rpm: f64,
 ) -> Result<
     (
@@ -96,7 +95,7 @@ pub(super) fn rig_spectrum(
 
 fn run() -> Result<StudyOutput, Error> {
     let paper = published!("liu2021.toml")?;
-    let rig = LiuRig::liu2021_table2();
+    let rig = liu2021::Rig::table2();
     let mut out = StudyOutput::new();
     let rpms: Vec<(String, f64)> = paper
         .values_with_prefix("table2.rpm.")

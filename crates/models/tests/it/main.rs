@@ -1,0 +1,8 @@
+//! The integration tests of this crate, one module per former `tests/*.rs` file, built as
+//! one test binary (one link of the dependency tree instead of one per file; issue 26).
+
+mod geometry_leaves;
+mod liu2021;
+mod long_window;
+mod response;
+mod yu2021;

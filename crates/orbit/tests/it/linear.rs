@@ -1,0 +1,56 @@
+//! Linear and smooth checks: exact periodic orbit and monodromy of a forced linear oscillator,
+//! Liouville's formula, finite-difference monodromy.
+
+use crate::common::{Bilinear, exp_oscillator};
+use orbit::{OrbitProblem, ShootingOptions};
+
+/// Far below the kink the bilinear oscillator is linear: `q'' + 2ζq' + q = F cos ωt`, periodic
+/// orbit `q = P cos(ωt − ψ)`, monodromy `exp(A T)`.
+#[test]
+fn linear_orbit_and_monodromy_are_exact() {
+    let s = Bilinear {
+        zeta: 0.05,
+        kappa: 10.0,
+        d: 100.0,
+        f0: 0.0,
+        f: 0.3,
+        omega: 1.3,
+    };
+    let t = 2.0 * std::f64::consts::PI / s.omega;
+    let p = OrbitProblem::new(s, t).unwrap();
+    for segments in [1, 3] {
+        let o = p
+            .shoot(
+                &[0.0, 0.0],
+                &ShootingOptions {
+                    segments,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+        let (w, z) = (s.omega, s.zeta);
+        let den = (1.0 - w * w).powi(2) + (2.0 * z * w).powi(2);
+        let (a, b) = (s.f * (1.0 - w * w) / den, s.f * 2.0 * z * w / den); // q = a cos + b sin
+        assert!((o.x0[0] - a).abs() < 1e-8, "{} vs {a}", o.x0[0]);
+        assert!((o.x0[1] - b * w).abs() < 1e-8, "{} vs {}", o.x0[1], b * w);
+        let exact = exp_oscillator(1.0, 2.0 * z, t);
+        assert!(
+            (&o.monodromy - &exact).amax() < 1e-8,
+            "{} vs {exact}",
+            o.monodromy
+        );
+        // Liouville: det Φ = exp(−2ζ T)
+        assert!((o.monodromy.determinant() - (-2.0 * z * t).exp()).abs() < 1e-9);
+        assert!(o.floquet.stable);
+        assert!(o.events.is_empty());
+    }
+}
+
+#[test]
+fn closed_form_exponential_matches_nalgebra() {
+    for (k, c) in [(1.0, 0.1), (1.0, 3.0), (1.0, 2.0), (-0.5, 0.2)] {
+        let a = nalgebra::DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -k, -c]);
+        let e = (a * 0.7).exp();
+        assert!((e - exp_oscillator(k, c, 0.7)).amax() < 1e-12);
+    }
+}

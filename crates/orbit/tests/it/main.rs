@@ -1,0 +1,11 @@
+//! The integration tests of this crate, one module per former `tests/*.rs` file, built as
+//! one test binary (one link of the dependency tree instead of one per file; issue 26).
+
+mod common;
+mod hostile;
+mod impact;
+mod linear;
+mod liu;
+mod models;
+mod piecewise;
+mod smooth_and_grazing;
