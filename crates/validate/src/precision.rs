@@ -614,7 +614,9 @@ mod tests {
         assert_eq!(u.verdict(), v);
         assert_ne!(c.committed_model(), NOT_PERIODIC);
         // a flagged row (inconclusive) commits n/p too
-        let f = c.clone().flagged("at 162.5: time integration: non-periodic motion");
+        let f = c
+            .clone()
+            .flagged("at 162.5: time integration: non-periodic motion");
         assert_eq!(f.committed_model(), NOT_PERIODIC);
         assert_eq!(f.verdict(), crate::Verdict::Inconclusive);
     }
