@@ -179,6 +179,10 @@ pub struct Figure {
     /// The ordinates are reproducible to this many significant digits only (the study's own
     /// accuracy check): committed at no more ([`Figure::reproducible_digits`]).
     pub digits: Option<i32>,
+    /// The values are reproducible only to `10^-decades` of the largest magnitude (an absolute
+    /// noise floor, e.g. the small lines of a spectrum): committed no finer
+    /// ([`Figure::reproducible_decades`]).
+    pub decades: Option<i32>,
 }
 
 impl Figure {
@@ -195,6 +199,7 @@ impl Figure {
             non_periodic: false,
             record_reason: None,
             digits: None,
+            decades: None,
         }
     }
 
@@ -273,6 +278,13 @@ impl Figure {
         if !folds.is_empty() {
             self.push(Series::new(format!("{label}, folds"), folds, Style::Folds).colour(colour));
         }
+        self
+    }
+
+    /// Commit no finer than `10^-decades` of the largest magnitude (at least 1 decade): the
+    /// study's own check shows an absolute noise floor there. The stats copy keeps every digit.
+    pub fn reproducible_decades(mut self, decades: i32) -> Self {
+        self.decades = Some(decades.max(1));
         self
     }
 

@@ -117,6 +117,10 @@ pub struct Table {
     /// The values are reproducible to this many significant digits only (the study's own
     /// accuracy check): committed at no more ([`Table::reproducible_digits`]).
     pub digits: Option<i32>,
+    /// The values are reproducible only to `10^-decades` of the largest magnitude (an absolute
+    /// noise floor, e.g. the small lines of a spectrum): committed no finer
+    /// ([`Table::reproducible_decades`]).
+    pub decades: Option<i32>,
 }
 
 impl Table {
@@ -135,7 +139,15 @@ impl Table {
             non_periodic: false,
             record_reason: None,
             digits: None,
+            decades: None,
         }
+    }
+
+    /// Commit no finer than `10^-decades` of the largest magnitude (at least 1 decade): the
+    /// study's own check shows an absolute noise floor there. The stats copy keeps every digit.
+    pub fn reproducible_decades(mut self, decades: i32) -> Self {
+        self.decades = Some(decades.max(1));
+        self
     }
 
     /// Commit the numbers (after the first column) at no more than `digits` significant digits

@@ -208,7 +208,14 @@ pub fn committed_table_csv(table: &Table) -> String {
         .collect();
     let first = column_exponent(table.rows.iter().filter_map(|r| r.first()));
     let floors: Vec<Option<i32>> = (0..table.columns.len())
-        .map(|i| table_floor_exponent(table.rows.iter().filter_map(|r| r.get(i))))
+        .map(|i| {
+            let f = table_floor_exponent(table.rows.iter().filter_map(|r| r.get(i)));
+            // a declared noise floor: 10^-decades of the largest magnitude
+            match table.decades {
+                Some(d) => f.map(|e| e + TABLE_FLOOR_DECADES - d.clamp(1, TABLE_FLOOR_DECADES)),
+                None => f,
+            }
+        })
         .collect();
     let digits = table
         .digits
@@ -384,7 +391,22 @@ pub fn drawn_figure(f: &crate::Figure) -> crate::Figure {
         }
     };
     let ex = axis(f.x_range, &|p| p.0);
-    let ey = axis(f.y_range, &|p| p.1);
+    let mut ey = axis(f.y_range, &|p| p.1);
+    if let Some(d) = f.decades {
+        // a declared noise floor: 10^-decades of the largest magnitude of all points
+        let mag = f
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .map(|p| p.1.abs())
+            .filter(|y| y.is_finite())
+            .fold(0.0_f64, f64::max);
+        let floor = step_exponent(mag, 1.0).map(|e| e - d.max(1));
+        ey = match (ey, floor) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
+    }
     let mut g = f.clone();
     // the drawn x axis spans every point, settled or not (x is mostly the swept input): leaving
     // out an end point does not re-scale the drawing
@@ -551,6 +573,29 @@ mod tests {
         t.push_nums(&[2.0, 1.0]).unwrap();
         t.push_nums(&[3.0, 2.0e-9]).unwrap();
         assert_eq!(committed_table_csv(&t), "k [1],a [1]\n1,0.14\n2,1\n3,0\n");
+    }
+
+    /// A declared noise floor (Liu Fig. 17): every value at 10^-2 of the largest magnitude.
+    #[test]
+    fn declared_noise_floor() {
+        use crate::{Figure, Series};
+        let mut t = Table::new("s", &[("k", "1"), ("a", "1")]).reproducible_decades(2);
+        t.push_nums(&[1.0, 0.1409]).unwrap();
+        t.push_nums(&[2.0, 1.0]).unwrap();
+        t.push_nums(&[3.0, 0.00723]).unwrap();
+        assert_eq!(
+            committed_table_csv(&t),
+            "k [1],a [1]\n1,0.14\n2,1\n3,0.01\n"
+        );
+        let f = Figure::new("f", "t", ("x", "1"), ("y", "1"))
+            .with(Series::line(
+                "a",
+                vec![(1.0, 0.1409), (2.0, 1.0), (3.0, 0.00723)],
+            ))
+            .reproducible_decades(2);
+        let d = drawn_figure(&f);
+        assert_eq!(d.series[0].points[0].1, 0.14);
+        assert_eq!(d.series[0].points[2].1, 0.01);
     }
 
     /// A figure's committed ordinates: the coarser of the axis step and 3 significant digits
