@@ -594,8 +594,8 @@ mod tests {
             ))
             .reproducible_decades(2);
         let d = drawn_figure(&f);
-        assert_eq!(d.series[0].points[0].1, 0.14);
-        assert_eq!(d.series[0].points[2].1, 0.01);
+        assert_eq!(d.series[0].points[0].1.to_bits(), 0.14f64.to_bits());
+        assert_eq!(d.series[0].points[2].1.to_bits(), 0.01f64.to_bits());
     }
 
     /// A figure's committed ordinates: the coarser of the axis step and 3 significant digits
