@@ -21,6 +21,26 @@ pub fn classify_section(q: &[f64], v: &[f64], tol: f64, scale: f64) -> Motion {
     timestep::detect_period_abs(q, v, MAX_PERIOD_MULTIPLE, tol * scale)
 }
 
+/// Repeat distance of a stroboscopic section as a fraction of the classification tolerance
+/// `tol·scale` ([`timestep::section_repeat_distance`]): at the period `n` of `motion` when it is
+/// periodic (≤ 1 by construction), else the smallest over `n ≤ 4` (> 1). `+∞` when no period can
+/// be tested (too few points, non-finite data or a non-positive tolerance).
+///
+/// The margin of [`classify_section`]: a section at 1/100 of the tolerance stays periodic under
+/// a solver retune that moves its points by less than that; one near 1 can flip either way.
+pub fn section_margin(q: &[f64], v: &[f64], motion: Motion, tol: f64, scale: f64) -> f64 {
+    let t = tol * scale;
+    if !(t > 0.0 && t.is_finite()) {
+        return f64::INFINITY;
+    }
+    match motion {
+        Motion::Periodic(n) => timestep::section_repeat_distance(q, v, n) / t,
+        _ => (1..=MAX_PERIOD_MULTIPLE)
+            .map(|n| timestep::section_repeat_distance(q, v, n) / t)
+            .fold(f64::INFINITY, f64::min),
+    }
+}
+
 /// Classify a uniformly sampled record of whole periods (`samples_per_period` samples per
 /// forcing period, record starting at a period boundary) by the stroboscopic sections at every
 /// sampled phase at once: period-n when `|x_{i+n·N} − x_i| ≤ tol·scale` for every sample `i`
@@ -107,5 +127,35 @@ mod tests {
         assert_eq!(classify_section(&q, &v, 1e-12, 1.0), Motion::Periodic(2));
         assert_eq!(Motion::Periodic(2).label(), "period-2");
         assert_eq!(Motion::NonPeriodic.period_multiple(), 0);
+    }
+
+    #[test]
+    fn section_margin_is_the_repeat_distance_over_the_tolerance() {
+        // period 1 with a largest repeat error of 2e-7 against a tolerance of 1e-6·2
+        let q = [1.0, 1.0 + 2e-7, 1.0, 1.0, 1.0];
+        let v = [0.0; 5];
+        let m = classify_section(&q, &v, 1e-6, 2.0);
+        assert_eq!(m, Motion::Periodic(1));
+        let r = section_margin(&q, &v, m, 1e-6, 2.0);
+        assert!((r - 0.1).abs() < 1e-9, "{r}");
+        // non-periodic: the smallest ratio over n <= 4 is > 1
+        let qn = [0.1, 0.5, 0.9, 0.3, 0.7, 0.2, 0.8];
+        let vn = [0.0; 7];
+        let mn = classify_section(&qn, &vn, 1e-6, 1.0);
+        assert_eq!(mn, Motion::NonPeriodic);
+        let rn = section_margin(&qn, &vn, mn, 1e-6, 1.0);
+        // largest repeat distances: n = 1: 0.6, n = 2: 0.8, n = 3: 0.7, n = 4: 0.6 -> 0.6
+        assert!((rn - 0.6e6).abs() < 1e-3, "{rn}");
+        // too few points, zero tolerance, NaN data
+        assert_eq!(
+            section_margin(&[1.0, 1.0], &[0.0, 0.0], Motion::Periodic(1), 1e-6, 1.0),
+            f64::INFINITY
+        );
+        assert_eq!(section_margin(&q, &v, m, 0.0, 1.0), f64::INFINITY);
+        let qnan = [1.0, f64::NAN, 1.0, 1.0];
+        assert_eq!(
+            section_margin(&qnan, &[0.0; 4], Motion::Periodic(1), 1e-6, 1.0),
+            f64::INFINITY
+        );
     }
 }

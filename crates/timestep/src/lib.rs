@@ -119,7 +119,8 @@ pub use spectrum::{Spectrum, amplitude_spectrum, harmonic_amplitudes};
 pub use steady::{
     Classification, ClassifyOptions, LyapunovEstimate, LyapunovOptions, Motion, PoincareSection,
     SteadyOptions, SteadyState, Transient, classify_motion, detect_period, detect_period_abs,
-    largest_lyapunov, poincare_stroboscopic, poincare_surface, steady_state,
+    largest_lyapunov, poincare_stroboscopic, poincare_surface, section_repeat_distance,
+    steady_state,
 };
 #[cfg(feature = "parallel")]
 pub use sweep::sweep_with_threads;

@@ -400,6 +400,31 @@ pub fn detect_period_abs(q: &[f64], v: &[f64], max_period: usize, tol: f64) -> M
     Motion::NonPeriodic
 }
 
+/// Largest repeat distance of a stroboscopic section at period `n`:
+/// `max_k max(|q_{k+n} − q_k|, |v_{k+n} − v_k|)` over the section points, the quantity that
+/// [`detect_period_abs`] compares with its tolerance. `+∞` when fewer than `n + 2` points are
+/// given (the period cannot be accepted), when `n = 0`, or when a difference is not finite
+/// (NaN never compares below a tolerance).
+///
+/// Its ratio to the tolerance is the margin of a classification: a section that repeats at
+/// 1/100 of the tolerance is periodic under any retune of the integrator that moves the
+/// points by less than that, one that repeats just inside it is not confirmed.
+pub fn section_repeat_distance(q: &[f64], v: &[f64], n: usize) -> f64 {
+    let len = q.len().min(v.len());
+    if n == 0 || len < n + 2 {
+        return f64::INFINITY;
+    }
+    let mut d = 0.0_f64;
+    for k in 0..len - n {
+        let dk = (q[k + n] - q[k]).abs().max((v[k + n] - v[k]).abs());
+        if !dk.is_finite() {
+            return f64::INFINITY;
+        }
+        d = d.max(dk);
+    }
+    d
+}
+
 /// Settings of [`largest_lyapunov`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

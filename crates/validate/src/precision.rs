@@ -98,8 +98,10 @@ pub fn value_step(half_width: f64, model: f64, paper: f64, interval: Option<(f64
 
 /// True for a column that describes the computation rather than the model: step statistics
 /// (`steps_accepted`, `steps_rejected`, `rhs_calls`, `events`, also with a suffix such as
-/// ` dynamic`), residual norms, truncation estimates, quadrature error estimates and the
-/// change of a result under a tighter tolerance or a halved step. Matched on the column name
+/// ` dynamic`), residual norms, truncation estimates, quadrature error estimates, the
+/// Poincaré section's repeat distance against its tolerance (`section_margin`, at the
+/// integrator's error for a periodic orbit) and the change of a result under a tighter
+/// tolerance or a halved step. Matched on the column name
 /// so that every study's new tables follow the rule.
 pub fn is_solver_statistic(name: &str) -> bool {
     let n = name.trim().to_ascii_lowercase();
@@ -107,6 +109,7 @@ pub fn is_solver_statistic(name: &str) -> bool {
     ["steps_accepted", "steps_rejected", "rhs_calls", "events"].contains(&first)
         || n.starts_with("residual_norm")
         || n.starts_with("truncation")
+        || n.starts_with("section_margin")
         || n.contains("error_estimate")
         || (n.contains("change") && (n.contains("100x") || n.contains("halved")))
 }

@@ -109,6 +109,11 @@ pub struct TimeReference {
     pub rattle: Rattle,
     /// Motion type from the Poincaré section.
     pub motion: Motion,
+    /// Margin of [`TimeReference::motion`]: the section's repeat distance as a fraction of the
+    /// classification tolerance ([`crate::motion::section_margin`]; ≤ 1 periodic, `+∞` when
+    /// not known, e.g. read from data written before the field existed).
+    #[serde(default = "infinite")]
+    pub section_margin: f64,
     /// The same metrics with the tolerance divided by the refine factor.
     pub refined: Rattle,
     /// Rattle state equal and ppv within the strategy's tolerance under the refined tolerance.
@@ -118,6 +123,10 @@ pub struct TimeReference {
     /// counted. Zero when read from data written before the field existed.
     #[serde(default)]
     pub stats: timestep::Stats,
+}
+
+fn infinite() -> f64 {
+    f64::INFINITY
 }
 
 impl TimeReference {
@@ -248,6 +257,8 @@ pub fn time_reference(
     )?;
     let scale = (strobe.rattle.ppv + model.backlash.abs()).max(f64::MIN_POSITIVE);
     let motion = classify_section(&strobe.q, &strobe.v, strategy.poincare_tol, scale);
+    let section_margin =
+        crate::motion::section_margin(&strobe.q, &strobe.v, motion, strategy.poincare_tol, scale);
     let reproducible = refined.state == ti.rattle.state
         && (refined.ppv - ti.rattle.ppv).abs()
             <= strategy.ppv_rel_tol * refined.ppv.abs().max(model.backlash.abs());
@@ -255,6 +266,7 @@ pub fn time_reference(
         TimeReference {
             rattle: ti.rattle,
             motion,
+            section_margin,
             refined,
             reproducible,
             stats: ti.stats,
@@ -451,6 +463,7 @@ mod tests {
         let mut t = TimeReference {
             rattle: r,
             motion: Motion::Periodic(1),
+            section_margin: 1e-3,
             refined: r,
             reproducible: true,
             stats: timestep::Stats::default(),

@@ -1,8 +1,8 @@
 //! Fig. 15: rattle state and ppv against the load torque T2.
 
 use super::{
-    HBM_KINDS, at, converged_note, first_hbm, first_time, flags_of, refine, rise_claim, sig, sweep,
-    sweep_figures, sweep_table,
+    HBM_KINDS, any_unsettled, at, converged_note, first_hbm, first_time, flags_of, refine,
+    rise_claim, sig_u, sweep, sweep_figures, sweep_table,
 };
 use crate::{
     Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Tolerance, Verdict, published,
@@ -98,10 +98,10 @@ fn run() -> Result<StudyOutput, Error> {
         Some(w) => (
             format!(
                 "ppv {} → {} at T2 = {} N·m (×{}); 'sharply' read as below a third within one 1 N·m step",
-                sig(w[0].ppv()),
-                sig(w[1].ppv()),
+                w[0].ppv_text(),
+                w[1].ppv_text(),
                 at(w[1].x),
-                sig(w[1].ppv() / w[0].ppv())
+                sig_u(w[1].ppv() / w[0].ppv(), any_unsettled(w))
             ),
             w[1].ppv() < w[0].ppv() / 3.0,
             w.iter().filter_map(|p| p.ppv_flag(0.5)).collect::<Vec<_>>(),

@@ -135,6 +135,15 @@ fn columns<'a>(own: &[(&'a str, &'a str)], more: &[(&'a str, &'a str)]) -> Vec<(
 /// of about 1/10 at most. A periodic orbit settles to the integrator's tolerance (~1e-8).
 pub(super) const SETTLED: f64 = 1e-5;
 
+/// Margin below which a periodic one-period classification is confirmed: the Poincaré
+/// section repeats within 1/100 of the strategy's tolerance
+/// ([`liu2021::TimeReference::section_margin`]). A settled periodic orbit repeats at the
+/// integrator's error (rtol 1e-8, i.e. ~1e-4 of the tolerance 1e-4), orders inside it; a
+/// section that repeats only just inside the tolerance (the bilateral points of Fig. 11 between
+/// 165 and 250 rad/s, whose 0–1 test K is 0.6–0.97) flipped between period-1 and non-periodic
+/// under a 0.9 → 0.85 retune of the step-size controller (docs/examples/validate-diff.md).
+pub(super) const CONFIRMED: f64 = 1e-2;
+
 /// The ppv axis of the committed sweep figures: fixed, so that leaving out a point that does not
 /// settle does not re-scale the drawing. It covers every computed ppv of the sweeps (largest
 /// 2.9e-3, Fig. 12–14 a_k = 1.60).
@@ -144,9 +153,10 @@ const PPV_AXIS: (f64, f64) = (0.0, 3.0e-3);
 const RSV_AXIS: (f64, f64) = (-0.06, 2.06);
 
 impl Point {
-    /// The one-period time reference is a sample of a non-periodic orbit.
+    /// The one-period time reference is a sample of a non-periodic orbit, or its periodicity
+    /// is not confirmed with margin ([`CONFIRMED`]).
     fn time_unsettled(&self) -> bool {
-        self.time.motion.period_multiple() == 0
+        self.time.motion.period_multiple() == 0 || !(self.time.section_margin <= CONFIRMED)
     }
     /// The long-window statistics move over the variants by more than [`SETTLED`] (without long
     /// windows: the one-period reference is unsettled).
@@ -161,11 +171,10 @@ impl Point {
     /// starts seeded from the time response are committed only for a confirmed point: near a
     /// bifurcation the classification of the one-period sample flips under a solver retune.
     fn motion_unsettled(&self) -> bool {
-        self.time_unsettled()
-            || self
-                .window
-                .as_ref()
-                .is_some_and(|w| w.settled_columns(SETTLED).iter().any(|s| !s))
+        // the state and ppv characterise the attractor; a finer statistic (an impact speed,
+        // the 0–1 test K) that does not settle is withheld on its own and says nothing about
+        // which orbit a warm start reaches
+        self.time_unsettled() || (self.window.is_some() && self.window_unsettled())
     }
     /// An HBM column's values do not settle: the solver did not converge, or a warm start was
     /// seeded from the harmonics of a time response whose motion is not confirmed periodic
@@ -184,6 +193,11 @@ impl Point {
         self.window
             .as_ref()
             .map_or((self.rsv(), self.rsv()), Robust::rsv_interval)
+    }
+    /// The judged ppv for evidence text: [`sig`], as an unsettled span when it does not
+    /// settle over the variants ([`Point::window_unsettled`]).
+    fn ppv_text(&self) -> String {
+        sig_u(self.ppv(), self.window_unsettled())
     }
     /// The judged ppv: over the long window, else over the one recorded period.
     fn ppv(&self) -> f64 {
@@ -229,6 +243,21 @@ impl Point {
             )
         })
     }
+}
+
+/// `sig(x)` for evidence text, as an unsettled span ([`crate::unsettled`]) when it is computed
+/// from a value that does not settle: written in full to validation/stats/, not committed.
+fn sig_u(x: f64, unsettled: bool) -> String {
+    if unsettled {
+        crate::unsettled(sig(x))
+    } else {
+        sig(x)
+    }
+}
+
+/// Some point of `pts` has a judged ppv that does not settle ([`Point::window_unsettled`]).
+fn any_unsettled<'a>(pts: impl IntoIterator<Item = &'a Point>) -> bool {
+    pts.into_iter().any(Point::window_unsettled)
 }
 
 /// Accessor of one HBM column of a [`Point`].
@@ -288,6 +317,10 @@ struct Threshold {
     flags: Vec<String>,
     /// How the interval was found (bisection steps, variants, reasons for its width).
     note: String,
+    /// The interval rests on a state that is not robust over the variants (a bisection stopped
+    /// at one, or no robust bracket was found): which midpoints are robust can change under a
+    /// solver retune, so `[lo, hi]` is committed as unsettled.
+    unsettled: bool,
 }
 
 /// First grid point whose judged (long-window) rsv satisfies `cond`; the grid bracket
@@ -304,6 +337,7 @@ fn first_time(pts: &[Point], cond: impl Fn(&Point) -> bool) -> Threshold {
             needs: pts.iter().map(|p| p.x).collect(),
             flags: flags_of(pts),
             note: "no onset in the sweep".to_owned(),
+            unsettled: false,
         },
         Some(i) => {
             let from = i.saturating_sub(1);
@@ -319,6 +353,7 @@ fn first_time(pts: &[Point], cond: impl Fn(&Point) -> bool) -> Threshold {
                     crate::fmt_sig(pts[from].x, 6),
                     crate::fmt_sig(pts[i].x, 6)
                 ),
+                unsettled: false,
             }
         }
     }
@@ -382,6 +417,7 @@ fn refine(
     let mut lo_all = f64::INFINITY;
     let mut hi_all = f64::NEG_INFINITY;
     let mut notes = Vec::new();
+    let mut unsettled = false;
     for (label, error_term, min_depth) in variants {
         let eval = |x: f64| -> Result<Option<bool>, Error> {
             let mut p = base();
@@ -417,6 +453,7 @@ fn refine(
             widened += 1;
         }
         if !ok {
+            unsettled = true;
             notes.push(format!(
                 "{label}: no robust bracket within {WIDEN_STEPS} grid steps, interval [{}, {}]",
                 crate::fmt_sig(a, 6),
@@ -438,6 +475,7 @@ fn refine(
                 }
             }
         }
+        unsettled |= stop.is_some();
         notes.push(match stop {
             Some(m) => format!(
                 "{label}: [{}, {}] (state not robust at {})",
@@ -463,6 +501,7 @@ fn refine(
             BISECTION_STEPS,
             notes.join("; ")
         ),
+        unsettled,
         ..th
     })
 }
@@ -545,6 +584,7 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
         ("truncation_hbm_warm", "1"),
         ("residual_norm_hbm_full", "1"),
         ("truncation_hbm_full", "1"),
+        ("section_margin_time", "1"),
     ]);
     let mut t = Table::new(name, &cols);
     for p in pts {
@@ -560,6 +600,7 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
         // detector flips under a solver retune even where the long window agrees to 6 digits
         // (docs/examples/validate-diff.md, round 8), so it is committed only without a window
         let mu = p.motion_unsettled() || p.window.is_some();
+        let seed_unsettled = p.motion_unsettled();
         let flag = p.time.flag().unwrap_or_default();
         let mut row: Vec<Cell> = vec![
             p.x.into(),
@@ -567,22 +608,19 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
             cell(p.ppv(), p.window_unsettled()),
             cell(f64::from(p.time.motion.period_multiple()), mu),
             cell(flag01(p.time.reproducible), mu),
-            if mu && !flag.is_empty() {
-                crate::unsettled(flag)
-            } else {
-                flag
-            }
-            .into(),
+            // an empty flag is as unsettled as a text: it flips with the classification
+            if mu { crate::unsettled(flag) } else { flag }.into(),
             cell(f64::from(p.cold.rattle.state.rsv()), cu),
             cell(p.cold.rattle.ppv, cu),
             flag01(p.cold.converged).into(),
             cell(f64::from(p.warm.rattle.state.rsv()), wu),
             cell(p.warm.rattle.ppv, wu),
-            flag01(p.warm.converged).into(),
+            // whether a start seeded from an unconfirmed sample converges depends on the sample
+            cell(flag01(p.warm.converged), seed_unsettled),
             cell(p.warm.stable().map_or(f64::NAN, flag01), wu),
             cell(f64::from(p.full.rattle.state.rsv()), fu),
             cell(p.full.rattle.ppv, fu),
-            flag01(p.full.converged).into(),
+            cell(flag01(p.full.converged), seed_unsettled),
             cell(p.full.stable().map_or(f64::NAN, flag01), fu),
         ];
         let window = p
@@ -609,6 +647,7 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
                 .iter()
                 .flat_map(|&(r, tr)| [Cell::Num(r), Cell::Num(tr)]),
         );
+        row.push(Cell::Num(p.time.section_margin));
         t.push(row)?;
     }
     Ok(t)
@@ -725,8 +764,8 @@ fn span(pts: &[Point]) -> String {
             "{}…{}: ppv {} → {} over {} points",
             at(a.x),
             at(b.x),
-            sig(a.ppv()),
-            sig(b.ppv()),
+            a.ppv_text(),
+            b.ppv_text(),
             pts.len()
         ),
         _ => "no points".to_owned(),
@@ -742,9 +781,11 @@ fn rise_claim(text: &str, source: &str, what: &str, pts: &[Point]) -> crate::Cla
         .cloned()
         .partition(|p| p.flag().is_none() && p.ppv_flag(0.5).is_none());
     let t = ppv_rises(&robust);
+    // the fitted numbers move with any point whose ppv does not settle
+    let u = any_unsettled(&robust);
     let mut fit = ppv_slope(&robust).map_or(
         "no fit (fewer than three robust points)".to_owned(),
-        |(b, se)| format!("fitted slope {} ± {} (1 SE)", sig(b), sig(se)),
+        |(b, se)| format!("fitted slope {} ± {} (1 SE)", sig_u(b, u), sig_u(se, u)),
     );
     if !dropped.is_empty() {
         fit.push_str(&format!(

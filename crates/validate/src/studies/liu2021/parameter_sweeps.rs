@@ -3,8 +3,8 @@
 use models::liu2021::Parameters;
 
 use super::{
-    Point, Threshold, always, at, base, first_at_least, flags_of, refine, rise_claim, sig, sweep,
-    sweep_figures, sweep_table,
+    Point, Threshold, always, any_unsettled, at, base, first_at_least, flags_of, refine,
+    rise_claim, sig, sig_u, sweep, sweep_figures, sweep_table,
 };
 use crate::{Claim, Cost, Error, Paper, Study, StudyOutput, Verdict};
 
@@ -64,11 +64,11 @@ fn succession_claim(
             format!(
                 "long-window rattle state: unilateral from {} {unit} (onset in [{}, {}]), bilateral from {} {unit} (onset in [{}, {}]); states {}",
                 at(uni.x),
-                sig(uni.lo),
-                sig(uni.hi),
+                sig_u(uni.lo, uni.unsettled),
+                sig_u(uni.hi, uni.unsettled),
                 at(bi.x),
-                sig(bi.lo),
-                sig(bi.hi),
+                sig_u(bi.lo, bi.unsettled),
+                sig_u(bi.hi, bi.unsettled),
                 if monotone {
                     "non-decreasing"
                 } else {
@@ -89,7 +89,7 @@ fn succession_claim(
             jump.map_or("no onset of bilateral rattle".to_owned(), |w| {
                 format!(
                     "ppv ratio across the onset ×{} ('suddenly' read as ×3 within one step)",
-                    sig(w[1].ppv() / w[0].ppv())
+                    sig_u(w[1].ppv() / w[0].ppv(), any_unsettled(w))
                 )
             }),
             Verdict::from_bool(jump.is_some_and(|w| w[1].ppv() > 3.0 * w[0].ppv())),
@@ -180,10 +180,10 @@ fn run() -> Result<StudyOutput, Error> {
                 "Sect. 3.5, Fig. 13b",
                 format!(
                     "time integration at ω1 = 160 rad/s: ppv {} at ε = 0 against {} at ε = {} (ratio {}); 'much less' read as below half",
-                    sig(c.ppv()),
-                    sig(nfg.ppv()),
+                    c.ppv_text(),
+                    nfg.ppv_text(),
                     sig(eps0),
-                    sig(c.ppv() / nfg.ppv())
+                    sig_u(c.ppv() / nfg.ppv(), any_unsettled([c, nfg]))
                 ),
                 Verdict::from_bool(c.ppv() < 0.5 * nfg.ppv()),
             )
@@ -244,6 +244,9 @@ fn run() -> Result<StudyOutput, Error> {
     let (all_bi, bi_flags) = always(bil, |r| r == 2);
     let still_bi = !bil.is_empty() && all_bi;
     let peak_pt = bil.iter().max_by(|a, b| a.ppv().total_cmp(&b.ppv()));
+    // the largest ppv moves with every unsettled point (any of them could be the largest)
+    let peak_u = any_unsettled(bil);
+    let last_u = any_unsettled(bil.last());
     let mut drop_flags = bi_flags;
     drop_flags.extend(
         peak_pt
@@ -257,9 +260,9 @@ fn run() -> Result<StudyOutput, Error> {
             "Sect. 3.5, Fig. 13c",
             format!(
                 "long-window statistics after the bilateral onset: largest ppv {}, ppv at the end of the sweep {} (ratio {}), bilateral throughout: {still_bi}; 'drops significantly' read as below half the peak",
-                sig(peak),
-                sig(last),
-                sig(last / peak)
+                sig_u(peak, peak_u),
+                sig_u(last, last_u),
+                sig_u(last / peak, peak_u || last_u)
             ),
             Verdict::from_bool(still_bi && last < 0.5 * peak),
         )

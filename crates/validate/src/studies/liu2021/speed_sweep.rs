@@ -1,8 +1,8 @@
 //! Fig. 11: rattle state and ppv against the input speed ω1.
 
 use super::{
-    HBM_KINDS, Point, at, converged_note, first_at_least, first_hbm, flags_of, refine, rise_claim,
-    sig, speed_tolerance, sweep, sweep_figures, sweep_table,
+    HBM_KINDS, Point, any_unsettled, at, converged_note, first_at_least, first_hbm, flags_of,
+    refine, rise_claim, sig_u, speed_tolerance, sweep, sweep_figures, sweep_table,
 };
 use crate::{Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Verdict, published};
 
@@ -86,11 +86,11 @@ fn run() -> Result<StudyOutput, Error> {
         Some(w) => (
             format!(
                 "long-window ppv {} at {} rad/s → {} at {} rad/s (×{}); 'sudden' read as ×3 within one 2.5 rad/s step",
-                sig(w[0].ppv()),
+                w[0].ppv_text(),
                 at(w[0].x),
-                sig(w[1].ppv()),
+                w[1].ppv_text(),
                 at(w[1].x),
-                sig(w[1].ppv() / w[0].ppv())
+                sig_u(w[1].ppv() / w[0].ppv(), any_unsettled(w))
             ),
             w[1].ppv() > 3.0 * w[0].ppv(),
             w.iter().filter_map(|p| p.ppv_flag(0.5)).collect::<Vec<_>>(),
@@ -123,10 +123,10 @@ fn run() -> Result<StudyOutput, Error> {
             "Sect. 3.3, Fig. 11a",
             format!(
                 "long-window rattle state: unilateral onset in [{}, {}] rad/s, bilateral onset in [{}, {}] rad/s",
-                sig(uni.lo),
-                sig(uni.hi),
-                sig(bi.lo),
-                sig(bi.hi)
+                sig_u(uni.lo, uni.unsettled),
+                sig_u(uni.hi, uni.unsettled),
+                sig_u(bi.lo, bi.unsettled),
+                sig_u(bi.hi, bi.unsettled)
             ),
             Verdict::from_bool(order_ok),
         )
@@ -146,16 +146,17 @@ fn run() -> Result<StudyOutput, Error> {
     let ((s_before, se_before), (s_after, se_after)) = (slope(&pts[..onset]), slope(&pts[onset..]));
     // quicker: the difference of the fitted slopes exceeds twice its standard error
     let quicker = s_after - s_before >= 2.0 * se_before.hypot(se_after);
+    let (u_before, u_after) = (any_unsettled(&pts[..onset]), any_unsettled(&pts[onset..]));
     out.claim(
         Claim::new(
             "In the bilateral rattle state, the vibrational amplitude increases more quickly.",
             "Sect. 3.3, Fig. 11b",
             format!(
                 "long-window ppv: fitted slope {} ± {} per rad/s before the bilateral onset, {} ± {} per rad/s after it; 'more quickly' read as a difference of at least 2 SE",
-                sig(s_before),
-                sig(se_before),
-                sig(s_after),
-                sig(se_after)
+                sig_u(s_before, u_before),
+                sig_u(se_before, u_before),
+                sig_u(s_after, u_after),
+                sig_u(se_after, u_after)
             ),
             Verdict::from_bool(quicker),
         )
