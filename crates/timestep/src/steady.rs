@@ -416,11 +416,12 @@ pub fn section_repeat_distance(q: &[f64], v: &[f64], n: usize) -> f64 {
     }
     let mut d = 0.0_f64;
     for k in 0..len - n {
-        let dk = (q[k + n] - q[k]).abs().max((v[k + n] - v[k]).abs());
-        if !dk.is_finite() {
+        let (dq, dv) = ((q[k + n] - q[k]).abs(), (v[k + n] - v[k]).abs());
+        // checked one by one: `f64::max` would drop a NaN
+        if !(dq.is_finite() && dv.is_finite()) {
             return f64::INFINITY;
         }
-        d = d.max(dk);
+        d = d.max(dq).max(dv);
     }
     d
 }

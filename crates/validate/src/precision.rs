@@ -430,7 +430,10 @@ pub fn drawn_figure(f: &crate::Figure) -> crate::Figure {
         }
         s.unsettled.clear();
     }
-    g.series.retain(|s| !s.points.is_empty());
+    // a series emptied by its unsettled points stays (a legend entry without points): whether
+    // its last point settles must not add or remove a series from the committed drawing
+    let mut had_points = f.series.iter().map(|s| !s.points.is_empty());
+    g.series.retain(|_| had_points.next().unwrap_or(false));
     let digits = f
         .digits
         .map_or(FIGURE_DIGITS, |d| d.clamp(1, FIGURE_DIGITS));
@@ -622,7 +625,8 @@ mod tests {
         );
     }
 
-    /// Unsettled figure points leave the committed figure; an emptied series is dropped.
+    /// Unsettled figure points leave the committed figure; an emptied series stays as a
+    /// legend entry without points.
     #[test]
     fn unsettled_points_leave_the_drawn_figure() {
         use crate::{Figure, Series};
@@ -633,8 +637,9 @@ mod tests {
             )
             .with(Series::markers("b", vec![(0.0, 7.0)]).unsettled([true]));
         let d = drawn_figure(&f);
-        assert_eq!(d.series.len(), 1);
+        assert_eq!(d.series.len(), 2);
         assert_eq!(d.series[0].points, vec![(0.0, 1.0), (1.0, 2.0)]);
+        assert!(d.series[1].points.is_empty() && d.series[1].label == "b");
         assert!(d.series[0].unsettled.is_empty());
         // the original keeps every point (validation/stats/)
         assert_eq!(f.series[0].points.len(), 3);

@@ -165,16 +165,24 @@ impl Point {
             w.state().is_none() || !w.settled(|s| s.ppv, SETTLED)
         })
     }
-    /// The point's motion is not confirmed periodic: the one-period reference is non-periodic,
-    /// or (with long windows) a window column does not settle over the variants. The
+    /// The point's motion is not confirmed periodic: without a long window, the one-period
+    /// reference is not confirmed periodic with margin; with one, the window's section does not
+    /// repeat in every variant or its state or ppv does not settle. The
     /// one-period classification columns (motion period, reproducibility, flag) and the warm
     /// starts seeded from the time response are committed only for a confirmed point: near a
     /// bifurcation the classification of the one-period sample flips under a solver retune.
     fn motion_unsettled(&self) -> bool {
-        // the state and ppv characterise the attractor; a finer statistic (an impact speed,
-        // the 0–1 test K) that does not settle is withheld on its own and says nothing about
-        // which orbit a warm start reaches
-        self.time_unsettled() || (self.window.is_some() && self.window_unsettled())
+        match &self.window {
+            // with a long window it judges: its 50-period section repeats in every variant
+            // (`Robust::regular`) and its state and ppv settle. The one-period sample's own
+            // classification is a sample too: at chaotic points with laminar phases (Fig. 15,
+            // T2 = 0–28 N·m, 0–1 test K 0.91) its 6-period section repeats by chance under
+            // one controller setting and not under another. A finer statistic (an impact
+            // speed) that does not settle is withheld on its own and says nothing about which
+            // orbit a warm start reaches.
+            Some(w) => !w.regular() || self.window_unsettled(),
+            None => self.time_unsettled(),
+        }
     }
     /// An HBM column's values do not settle: the solver did not converge, or a warm start was
     /// seeded from the harmonics of a time response whose motion is not confirmed periodic
@@ -832,4 +840,82 @@ fn always(pts: &[Point], want: impl Fn(u8) -> bool) -> (bool, Vec<String>) {
         .filter_map(Point::flag)
         .collect();
     (true, flags)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use models::liu2021::{HbmOrigin, Motion, Rattle, RattleState};
+
+    fn point(motion: Motion, section_margin: f64) -> Point {
+        let r = Rattle {
+            state: RattleState::Bilateral,
+            ppv: 2e-3,
+            q_min: -1e-3,
+            q_max: 1e-3,
+        };
+        let h = HbmPoint {
+            rattle: r,
+            converged: true,
+            origin: HbmOrigin::TimeResponse,
+            max_multiplier: Some(0.5),
+        };
+        Point {
+            x: 200.0,
+            time: TimeReference {
+                rattle: r,
+                motion,
+                section_margin,
+                refined: r,
+                reproducible: true,
+                stats: timestep::Stats::default(),
+            },
+            cold: h,
+            warm: h,
+            full: h,
+            stats: timestep::Stats::default(),
+            accuracy: [(0.0, 0.0); 3],
+            window: None,
+        }
+    }
+
+    /// A period-1 classification is confirmed only with margin: at 1/100 of the tolerance and
+    /// below it settles, just inside the tolerance (where a retune flipped it) it does not, and
+    /// the warm starts seeded from it are withheld with it.
+    #[test]
+    fn periodicity_is_confirmed_only_with_margin() {
+        let clear = point(Motion::Periodic(1), 1e-4);
+        assert!(!clear.time_unsettled() && !clear.motion_unsettled());
+        assert!(!clear.hbm_unsettled(&clear.warm, true));
+        let edge = point(Motion::Periodic(1), CONFIRMED);
+        assert!(!edge.time_unsettled());
+        let marginal = point(Motion::Periodic(1), 0.3);
+        assert!(marginal.time_unsettled() && marginal.motion_unsettled());
+        assert!(marginal.hbm_unsettled(&marginal.warm, true));
+        // the cold start does not depend on the sample
+        assert!(!marginal.hbm_unsettled(&marginal.cold, false));
+        assert!(point(Motion::NonPeriodic, 1e-6).time_unsettled());
+        // not known (older data): not confirmed
+        assert!(point(Motion::Periodic(1), f64::INFINITY).time_unsettled());
+        assert!(point(Motion::Periodic(1), f64::NAN).time_unsettled());
+    }
+
+    /// Evidence numbers from unsettled values are committed as `n/p` and kept in full in
+    /// validation/stats/.
+    #[test]
+    fn unsettled_evidence_numbers_commit_as_not_periodic() {
+        assert_eq!(sig_u(11.43, false), sig(11.43));
+        let u = sig_u(11.43, true);
+        assert_eq!(crate::committed_text(&u), crate::format::NOT_PERIODIC);
+        assert_eq!(crate::full_text(&u), sig(11.43));
+        // without a long window the judged ppv of an unconfirmed sample is unsettled
+        let p = point(Motion::Periodic(1), 0.5);
+        assert_eq!(
+            crate::committed_text(&p.ppv_text()),
+            crate::format::NOT_PERIODIC
+        );
+        let q = point(Motion::Periodic(1), 1e-5);
+        assert_eq!(q.ppv_text(), sig(2e-3));
+        assert!(any_unsettled([&q, &p]) && !any_unsettled([&q]));
+    }
 }

@@ -110,7 +110,8 @@ fn succession_claim(
 
 fn run() -> Result<StudyOutput, Error> {
     let mut out = StudyOutput::new();
-    let er: Vec<f64> = (0..=40).map(|i| 1e-6 * f64::from(i)).collect();
+    // i / 10⁶ (not i · 10⁻⁶): the nearest double to each decimal grid value, printed as swept
+    let er: Vec<f64> = (0..=40).map(|i| f64::from(i) / 1e6).collect();
     let set_er = |p: &mut Parameters, x: f64| p.er = x;
     let pts = sweep(&er, set_er)?;
     succession_claim(
@@ -156,7 +157,7 @@ fn run() -> Result<StudyOutput, Error> {
     out.table(sweep_table("er", ("e_r", "m"), &pts)?);
     sweep_figures(&mut out, "er", ("e_r", "m"), &pts);
 
-    let eps: Vec<f64> = (0..=30).map(|i| 0.01 * f64::from(i)).collect();
+    let eps: Vec<f64> = (0..=30).map(|i| f64::from(i) / 100.0).collect();
     let set_eps = |p: &mut Parameters, x: f64| p.eccentricity = x;
     let pts = sweep(&eps, set_eps)?;
     succession_claim(
@@ -271,7 +272,7 @@ fn run() -> Result<StudyOutput, Error> {
         .flagged_all(drop_flags),
     );
 
-    let ak: Vec<f64> = (1..=16).map(|i| 0.05 * f64::from(i)).collect();
+    let ak: Vec<f64> = (1..=16).map(|i| f64::from(i) / 20.0).collect();
     // None: the critical speed at which the text says a_k changes the state
     for (w, expected) in [(160.0, Some(1u8)), (140.0, Some(0u8)), (145.0, None)] {
         let set_ak = move |p: &mut Parameters, x: f64| {
