@@ -34,8 +34,8 @@ use super::{
     run_flags,
 };
 use crate::{
-    Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
-    Table, Tolerance, ToleranceBand, Verdict, fmt_sig, published, unsettled,
+    Cell, Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study,
+    StudyOutput, Table, Tolerance, ToleranceBand, Verdict, fmt_sig, published, unsettled,
 };
 
 /// The studies of this file.
@@ -1451,6 +1451,21 @@ fn jump(xs: &[f64], ys: &[f64]) -> (f64, f64) {
     })
 }
 
+/// True when every point of a sweep chain is reproducible under the 100× tighter tolerance, so
+/// that a summary of the curve (peak, largest jump, hysteresis band) is settled.
+fn chain_settled(points: &[SweepPoint]) -> bool {
+    points.iter().all(|p| p.reproducible)
+}
+
+/// `text` as committed: an [`unsettled`] span (n/p in the committed files) when `unsettled`.
+fn settle_text(text: String, unsettled_flag: bool) -> String {
+    if unsettled_flag {
+        unsettled(text)
+    } else {
+        text
+    }
+}
+
 /// The ω* range where up- and down-sweep differ by more than 5 %: `(first, last, count)`.
 fn hysteresis(xs: &[f64], up: &[f64], down: &[f64]) -> (f64, f64, usize) {
     let idx: Vec<usize> = (0..xs.len())
@@ -1584,34 +1599,47 @@ fn sweeps() -> Result<StudyOutput, Error> {
             let (pu, pd) = (peak(ws, &up), peak(ws, &down));
             let (ju, jd) = (jump(ws, &up), jump(ws, &down));
             let (h0, h1, hn) = hysteresis(ws, &up, &down);
+            // A peak, a largest jump or a hysteresis band depends on every point of its curve:
+            // one run that is not reproducible under the 100× tighter tolerance can become the
+            // peak or the jump under any retune of the integrator (issue 28: the Table 1 peaks
+            // moved, e.g. Chen's up-sweep peak from ω* = 0.57 to 0.25). Such a summary is
+            // unsettled (n/p in the committed files, full value in validation/stats/); a curve
+            // whose points all reproduce keeps its summary.
+            let (uu, ud) = (
+                !chain_settled(get(t, m, true)),
+                !chain_settled(get(t, m, false)),
+            );
+            let uh = uu || ud;
             summary.push(vec![
                 ((t + 1) as f64).into(),
                 (*mname).into(),
                 what.into(),
-                pu.0.into(),
-                pu.1.into(),
-                pd.0.into(),
-                pd.1.into(),
-                ju.0.into(),
-                ju.1.into(),
-                jd.0.into(),
-                jd.1.into(),
-                h0.into(),
-                h1.into(),
-                (hn as f64).into(),
+                Cell::settled_if(pu.0, uu),
+                Cell::settled_if(pu.1, uu),
+                Cell::settled_if(pd.0, ud),
+                Cell::settled_if(pd.1, ud),
+                Cell::settled_if(ju.0, uu),
+                Cell::settled_if(ju.1, uu),
+                Cell::settled_if(jd.0, ud),
+                Cell::settled_if(jd.1, ud),
+                Cell::settled_if(h0, uh),
+                Cell::settled_if(h1, uh),
+                Cell::settled_if(hn as f64, uh),
             ])?;
+            let span = |x: f64, u: bool| settle_text(fmt_sig(x, 3), u);
             evidence.push(format!(
                 "Table {} {mname}: {what} peak {} at ω* = {} (up) / {} at {} (down), largest \
-                 jump {} at {} (up) / {} at {} (down), up ≠ down (> 5 %) at {hn} points",
+                 jump {} at {} (up) / {} at {} (down), up ≠ down (> 5 %) at {} points",
                 t + 1,
-                fmt_sig(pu.1, 3),
-                fmt_sig(pu.0, 3),
-                fmt_sig(pd.1, 3),
-                fmt_sig(pd.0, 3),
-                fmt_sig(ju.1, 3),
-                fmt_sig(ju.0, 3),
-                fmt_sig(jd.1, 3),
-                fmt_sig(jd.0, 3)
+                span(pu.1, uu),
+                span(pu.0, uu),
+                span(pd.1, ud),
+                span(pd.0, ud),
+                span(ju.1, uu),
+                span(ju.0, uu),
+                span(jd.1, ud),
+                span(jd.0, ud),
+                settle_text(hn.to_string(), uh)
             ));
             fig.push(Series::line(
                 format!("{mname} up"),
@@ -2096,6 +2124,28 @@ mod tests {
         let l = lines(&sp);
         assert_eq!(l.len(), 2);
         assert!((l[0].0 - 0.2).abs() < 1e-12 && (l[1].0 - 0.4).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_curve_with_a_run_that_is_not_reproducible_has_an_unsettled_summary() {
+        let pt = |reproducible| SweepPoint {
+            df: 1.0,
+            rms: 1.0,
+            df_refined: 1.0,
+            rms_refined: 1.0,
+            change: if reproducible { 1e-6 } else { 1e-2 },
+            reproducible,
+        };
+        assert!(chain_settled(&[pt(true), pt(true)]));
+        assert!(!chain_settled(&[pt(true), pt(false), pt(true)]));
+        // committed as n/p, kept in full in validation/stats/
+        let s = settle_text("38".to_owned(), true);
+        assert_eq!(crate::committed_text(&s), "n/p");
+        assert_eq!(crate::full_text(&s), "38");
+        assert_eq!(
+            crate::committed_text(&settle_text("11.3".to_owned(), false)),
+            "11.3"
+        );
     }
 
     #[test]

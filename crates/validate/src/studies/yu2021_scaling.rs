@@ -320,7 +320,7 @@ fn d_trends() -> Result<StudyOutput, Error> {
         cols.push(format!("RMS {}", label(c)));
     }
     let units: Vec<(&str, &str)> = cols.iter().map(|c| (c.as_str(), "1")).collect();
-    let mut t = Table::new("df-rms", &units);
+    let mut t = Table::new("df-rms", &units).reproducible_digits(super::yu2021::CHECKED_DIGITS);
     // values of runs that are not reproducible under the 100× tighter tolerance: n/p
     let unsettled = |k: usize| checked[k].flag(false).is_some();
     for (i, w) in omegas.iter().enumerate() {
@@ -358,6 +358,18 @@ fn d_trends() -> Result<StudyOutput, Error> {
     let totals: Vec<f64> = (0..D4.len())
         .map(|c| (0..n).map(|i| res[c * n + i].1).sum::<f64>())
         .collect();
+    // a sum over a run that is not reproducible under the 100× tighter tolerance moves with
+    // every retune of the integrator (issue 28: ΣRMS for D = 1.2, which includes the run at
+    // ω* = 1.4, moved 6.61 → 6.57): an unsettled span (n/p committed, full in validation/stats/);
+    // a sum over reproducible runs only is known to 1e-3 of itself, 3 significant digits
+    let total_text = |c: usize| {
+        let x = fmt_sig(totals[c], super::yu2021::CHECKED_DIGITS as usize);
+        if (0..n).any(|i| unsettled(c * n + i)) {
+            crate::unsettled(x)
+        } else {
+            x
+        }
+    };
     let falls = totals.windows(2).all(|w| w[1] < w[0]);
     out.claim(
         Claim::new(
@@ -366,9 +378,8 @@ fn d_trends() -> Result<StudyOutput, Error> {
             format!(
                 "ΣRMS over ω* = 0.2 … 1.4 for D = 1.2, 1.4, 1.6, 1.8: {}; falls with D: {falls} \
                  (Eq. 18 with the leaf inputs lowers k_am as D grows, raising T*)",
-                totals
-                    .iter()
-                    .map(|x| fmt_sig(*x, 3))
+                (0..totals.len())
+                    .map(total_text)
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
@@ -462,7 +473,7 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
         .chain(W_CHEN.iter().map(|w| format!("DF at omega* = {w}")))
         .collect();
     let units: Vec<(&str, &str)> = cols.iter().map(|c| (c.as_str(), "1")).collect();
-    let mut t = Table::new("df", &units);
+    let mut t = Table::new("df", &units).reproducible_digits(super::yu2021::CHECKED_DIGITS);
     let mut fig = Figure::new(
         "df-vs-az",
         "Chen's DF vs a_z/b_h, Table 1",
@@ -496,6 +507,13 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
     let zero_is_ks = (0..m).all(|j| (res[j] - ks[j]).abs() <= 1e-9 * ks[j]);
     let at = |a: f64| AZ.iter().position(|x| (x - a).abs() < 1e-12).unwrap_or(0);
     let (i1, i5) = (at(0.01), at(0.05));
+    // the DF of a run that is not reproducible under the 100× tighter tolerance moves with
+    // every retune of the integrator (issue 28: DF at a_z = 0.05 b_h, ω* = 0.3 moved 34.5 →
+    // 28.1): an unsettled span; a reproducible one at 3 significant digits (known to 1e-3)
+    let df_text = |k: usize| {
+        let x = fmt_sig(res[k], super::yu2021::CHECKED_DIGITS as usize);
+        if unsettled(k) { crate::unsettled(x) } else { x }
+    };
     out.claim(Claim::new(
         "predicted values of Chen' model and Kahraman's model both are much bigger than the experimental data",
         "Sect. 4.4, Fig. 13",
@@ -504,12 +522,12 @@ fn chen_amplitude() -> Result<StudyOutput, Error> {
              Kahraman–Singh DF exactly: {zero_is_ks}. DF at ω* = 0.3: {} (a_z = 0), {} (0.01 b_h), \
              {} (0.05 b_h, the studies' choice); at ω* = 0.9: {}, {}, {}. Chen's level in Fig. 13 \
              is set by this choice, so the claim cannot be checked",
-            fmt_sig(res[0], 3),
-            fmt_sig(res[i1 * m], 3),
-            fmt_sig(res[i5 * m], 3),
-            fmt_sig(res[2], 3),
-            fmt_sig(res[i1 * m + 2], 3),
-            fmt_sig(res[i5 * m + 2], 3),
+            df_text(0),
+            df_text(i1 * m),
+            df_text(i5 * m),
+            df_text(2),
+            df_text(i1 * m + 2),
+            df_text(i5 * m + 2),
         ),
         Verdict::Inconclusive,
     )

@@ -461,6 +461,38 @@ pub(super) fn shape_distance(a: &Portrait, b: &Portrait) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Noise floor of the Poincaré spread (relative to the response size `s = pp(δ*) + mean B`): the
+/// relative tolerance of the integration (`Engine::timestep()`, rtol 1e-8; issue 28). The
+/// section points are integrated with a local error of up to `rtol·|y|` per step, `|y| ≈ s`, so
+/// a spread below `rtol · s` is not resolved by the run — it is the integrator's noise, not the
+/// orbit's (a periodic orbit's points coincide). Measured: under a step-size controller retune
+/// (safety factor 0.9 → 0.85) the spreads moved by up to 3e-10 (2.3e-10 → 2.2e-10,
+/// 4.4e-10 → 1.6e-10, 6.72e-9 → 6.81e-9): every digit below 1e-8 is noise. The spreads are
+/// committed as multiples of this floor ([`at_spread_floor`]); the values in full are the
+/// stats-only record `poincare-spread`.
+fn spread_floor() -> f64 {
+    match models::yu2021::Engine::timestep() {
+        models::yu2021::Engine::Timestep { rtol, .. } => rtol,
+        // the fixed-step engine is not used by this study (its error is not a relative one)
+        _ => 1e-8,
+    }
+}
+
+/// `x` rounded to a multiple of the noise floor `floor` (a value below half the floor is 0:
+/// not resolved).
+fn at_spread_floor(x: f64, floor: f64) -> f64 {
+    if floor > 0.0 && x.is_finite() {
+        (x / floor).round() * floor
+    } else {
+        x
+    }
+}
+
+/// A spread as committed in a text: at the floor, and at no more than 3 significant digits.
+fn fmt_spread(x: f64, floor: f64) -> String {
+    fmt_sig(at_spread_floor(x, floor), 3)
+}
+
 /// Spread of the Poincaré points relative to the response size.
 fn section_spread(p: &Portrait, size: f64) -> f64 {
     let first = p.section.first().copied().unwrap_or((0.0, 0.0));
@@ -523,10 +555,24 @@ fn fig12() -> Result<StudyOutput, Error> {
             ("Poincare spread / size", "1"),
         ]),
     );
+    let floor = spread_floor();
+    // the spreads in full (below the floor they are the integrator's noise): stats only
+    let mut full = Table::new(
+        "poincare-spread",
+        &[
+            ("D", "1"),
+            ("G", "m"),
+            ("omega*", "1"),
+            ("Poincare spread / size", "1"),
+        ],
+    )
+    .unsettled_record("Poincaré spreads in full; below the noise floor (the integration's rtol 1e-8 of the response size) they are the integrator's noise, committed as multiples of that floor in `runs`");
     for (i, (bs, k, r)) in runs.iter().enumerate() {
         let (d, g, w) = jobs[i];
         let m = &r.metrics;
         let [motion, change] = check_cells(r);
+        let spread = section_spread(&portraits[i], m.scale());
+        full.push_nums(&[d, g, w, spread])?;
         t.push(row_with(
             &[
                 d,
@@ -540,7 +586,7 @@ fn fig12() -> Result<StudyOutput, Error> {
                 portraits[i].rate_pp,
                 m.dynamic_factor,
                 m.rms,
-                section_spread(&portraits[i], m.scale()),
+                at_spread_floor(spread, floor),
                 motion,
                 change,
             ],
@@ -548,6 +594,7 @@ fn fig12() -> Result<StudyOutput, Error> {
         ))?;
     }
     out.table(t);
+    out.table(full);
     for (fname, title, idx) in [
         (
             "portrait_d",
@@ -719,6 +766,12 @@ fn fig12() -> Result<StudyOutput, Error> {
     let noise = spreads
         .iter()
         .all(|&s| s <= models::yu2021::ReferenceCheck::default().periodicity_tol);
+    let spread_list = |v: &[f64]| {
+        v.iter()
+            .map(|&x| fmt_spread(x, floor))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     let best_d = spreads[nd - 1] <= spreads[..nd].iter().copied().fold(f64::INFINITY, f64::min);
     let best_g = spreads[nd] <= spreads[nd..].iter().copied().fold(f64::INFINITY, f64::min);
     out.claim(
@@ -726,9 +779,10 @@ fn fig12() -> Result<StudyOutput, Error> {
             "although system at different surface topography all presents periodic, but the points corresponding to D = 1.8 and G = 1 × 10⁻¹² m show better clustering",
             "Sect. 4.3, Fig. 12",
             format!(
-                "spread of the Poincaré points / (pp(δ*) + mean B), D = 1.2 … 1.8: {}; G = 1e-12 … 1e-10 m: {}",
-                list(&spreads[..nd]),
-                list(&spreads[nd..])
+                "spread of the Poincaré points / (pp(δ*) + mean B), at the integration's noise floor {} (rtol; 0: below it), D = 1.2 … 1.8: {}; G = 1e-12 … 1e-10 m: {}",
+                fmt_sig(floor, 3),
+                spread_list(&spreads[..nd]),
+                spread_list(&spreads[nd..])
             ),
             if noise { Verdict::Inconclusive } else { Verdict::from_bool(best_d && best_g) },
         )
@@ -777,6 +831,33 @@ mod tests {
         let c = components(&sp);
         assert_eq!(c, vec![(0.2, 1.0), (0.4, 0.02)]);
         assert_eq!(main_component(&sp), (0.2, 1.0));
+    }
+
+    #[test]
+    fn spreads_are_committed_at_the_noise_floor() {
+        let floor = spread_floor();
+        // the floor is the engine's rtol
+        assert_eq!(floor.to_bits(), 1e-8_f64.to_bits());
+        // below half the floor: not resolved, 0
+        assert_eq!(
+            at_spread_floor(2.28e-10, floor).to_bits(),
+            0.0_f64.to_bits()
+        );
+        assert_eq!(fmt_spread(4.4e-10, floor), "0");
+        // the measured retune moves (2.28e-10 → 2.15e-10, 6.72e-9 → 6.81e-9, 2.16e-8 → 2.17e-8,
+        // 3.926e-8 → 3.928e-8) change no committed text
+        for (a, b) in [
+            (2.28e-10, 2.15e-10),
+            (6.72e-9, 6.81e-9),
+            (2.163e-8, 2.17e-8),
+            (3.926e-8, 3.928e-8),
+        ] {
+            assert_eq!(fmt_spread(a, floor), fmt_spread(b, floor), "{a} vs {b}");
+        }
+        // a spread well above the floor keeps its value
+        assert_eq!(fmt_spread(3.80242e-5, floor), "0.000038");
+        assert_eq!(fmt_spread(2.06227e-6, floor), "2.06e-6");
+        assert!((at_spread_floor(5.32475e-7, floor) - 5.3e-7).abs() < 1e-20);
     }
 
     #[test]
