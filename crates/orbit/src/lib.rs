@@ -139,20 +139,25 @@ mod continuation;
 mod error;
 mod floquet;
 mod flow;
+mod harmonic;
 mod impact;
+pub mod path;
 mod problem;
 mod shooting;
 
-pub use continuation::{
-    Branch, BranchPoint, ContinuationOptions, Extremum, SpecialKind, SpecialPoint, StopReason,
-};
+pub use continuation::{ContinuationOptions, ShootingBranch, ShootingBranchPoint, ShootingPoint};
 pub use error::{OrbitError, Result};
 pub use floquet::{
     Crossing, Floquet, OutsideCount, STABILITY_TOLERANCE, Stability, classify_crossing, floquet,
     real_eigenvector,
 };
 pub use flow::{EventRecord, Flow, FlowOptions};
+pub use harmonic::{HbmContinuationOptions, continue_hbm};
 pub use impact::{ImpactLaw, Restitution};
+pub use path::{
+    Branch, BranchPoint, Extremum, Fold, Predictor, SpecialKind, SpecialPoint, StepControl,
+    StopReason, fill_from_neighbours,
+};
 pub use problem::{OrbitProblem, Parameter};
 pub use shooting::{PeriodicOrbit, ShootingOptions};
 
