@@ -675,3 +675,216 @@ pub fn fill_from_neighbours<T, E>(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit circle `F(z, μ) = z² + μ² − 1 = 0`: folds at `μ = ±1` (where `z = 0`), exact
+    /// Newton on the bordered system.
+    struct Circle {
+        corrections: usize,
+    }
+
+    impl Corrector for Circle {
+        type Raw = ();
+        type Point = f64;
+        type Error = OrbitError;
+
+        fn correct(
+            &mut self,
+            pred: &DVector<f64>,
+            border: &DVector<f64>,
+            reference: &DVector<f64>,
+        ) -> Result<Result<Node<()>, OrbitError>, OrbitError> {
+            self.corrections += 1;
+            let mut y = pred.clone();
+            for it in 0..20 {
+                let r = DVector::from_vec(vec![
+                    y[0] * y[0] + y[1] * y[1] - 1.0,
+                    border.dot(&(&y - pred)),
+                ]);
+                let jac = DMatrix::from_row_slice(1, 2, &[2.0 * y[0], 2.0 * y[1]]);
+                if r.amax() < 1e-13 {
+                    let Some(tangent) = bordered_tangent(&jac, reference) else {
+                        return Ok(Err(OrbitError::Singular { what: "circle" }));
+                    };
+                    return Ok(Ok(Node {
+                        y,
+                        tangent,
+                        iterations: it,
+                        raw: (),
+                    }));
+                }
+                let m =
+                    DMatrix::from_row_slice(2, 2, &[2.0 * y[0], 2.0 * y[1], border[0], border[1]]);
+                let Some(d) = m.lu().solve(&(-r)) else {
+                    return Ok(Err(OrbitError::Singular { what: "circle" }));
+                };
+                y += d;
+            }
+            Ok(Err(OrbitError::NotConverged {
+                what: "circle",
+                iterations: 20,
+                residual: f64::NAN,
+            }))
+        }
+
+        fn accept(&mut self, node: &Node<()>) -> Result<BranchPoint<f64>, OrbitError> {
+            Ok(BranchPoint {
+                parameter: node.y[1],
+                tangent_parameter: node.tangent[1],
+                stability: None,
+                orbit: node.y[0],
+            })
+        }
+    }
+
+    fn run(predictor: Predictor, max: f64) -> Branch<f64> {
+        let mut c = Circle { corrections: 0 };
+        let y = DVector::from_vec(vec![(1.0_f64 - 0.25).sqrt(), -0.5]);
+        let jac = DMatrix::from_row_slice(1, 2, &[2.0 * y[0], 2.0 * y[1]]);
+        let tangent = bordered_tangent(&jac, &DVector::from_vec(vec![0.0, 1.0])).unwrap();
+        let first = Node {
+            y,
+            tangent,
+            iterations: 0,
+            raw: (),
+        };
+        let mut branch = Branch::new(Parameter::Named("mu".into()), 1);
+        branch.points.push(c.accept(&first).unwrap());
+        let control = StepControl::shooting(0.05, 1e-9, max, 2.0);
+        let course = Course {
+            range: [-0.9, 2.0],
+            direction: 1.0,
+            max_points: 500,
+            predictor,
+        };
+        trace(&mut c, first, &control, &course, &mut branch).unwrap();
+        branch
+    }
+
+    #[test]
+    fn arclength_goes_round_the_fold_of_a_circle_and_locates_it() {
+        let b = run(Predictor::Arclength, 0.2);
+        // up to μ = 1, round the fold, back down past μ = −0.9 on the other half (z < 0)
+        assert_eq!(
+            b.stop,
+            StopReason::LeftRange {
+                parameter: b.points.last().unwrap().parameter
+            }
+        );
+        assert_eq!(b.folds.len(), 1);
+        let f = b.folds[0];
+        assert!((f.parameter - 1.0).abs() < 1e-3, "fold at {}", f.parameter);
+        let (a, c) = (&b.points[f.after_index], &b.points[f.after_index + 1]);
+        assert!(a.orbit > 0.0 && c.orbit < 0.0);
+        for p in &b.points {
+            assert!((p.orbit * p.orbit + p.parameter * p.parameter - 1.0).abs() < 1e-12);
+        }
+        assert!(b.points.last().unwrap().orbit < 0.0);
+    }
+
+    #[test]
+    fn natural_stops_at_the_fold_of_a_circle() {
+        let b = run(Predictor::Natural, 0.2);
+        let StopReason::StepTooSmall { parameter, .. } = b.stop else {
+            panic!("{:?}", b.stop);
+        };
+        assert!(b.folds.is_empty());
+        assert!(
+            parameter < 1.0 && 1.0 - parameter < 1e-6,
+            "stopped at {parameter}"
+        );
+        assert!(b.points.windows(2).all(|w| w[1].parameter > w[0].parameter));
+        assert!(b.points.iter().all(|p| p.orbit > 0.0));
+    }
+
+    #[test]
+    fn step_control_grows_to_its_cap_and_counts_points() {
+        let b = run(Predictor::Arclength, 0.05);
+        // constant step Δs = 0.05 (initial = max) on the unit circle: each step advances the
+        // angle by exactly asin(Δs) (predictor along the tangent, corrector normal to it), from
+        // θ = acos(−0.5) (μ = −0.5, z > 0) round the fold to the first point past μ = −0.9
+        // (θ = −acos(−0.9)).
+        let arc = (-0.5_f64).acos() + (-0.9_f64).acos();
+        let dtheta = 0.05_f64.asin();
+        let steps = (b.points.len() - 1) as f64;
+        assert!(
+            steps * dtheta >= arc && steps * dtheta < arc + dtheta,
+            "{steps} steps of {dtheta} for the arc {arc}"
+        );
+    }
+
+    #[test]
+    fn neighbour_fill_alternates_and_stops_when_nothing_changes() {
+        // converged only at index 2; a solve from a converged neighbour always works
+        let mut items = vec![false, false, true, false, false];
+        let mut calls = vec![];
+        fill_from_neighbours::<bool, ()>(
+            &mut items,
+            4,
+            |c| *c,
+            |i, t, f| {
+                calls.push(i);
+                assert!(*f);
+                *t = true;
+                Ok(true)
+            },
+        )
+        .unwrap();
+        assert!(items.iter().all(|c| *c));
+        // pass 1 (up): 3, 4; pass 2 (down): 1, 0; pass 3 changes nothing
+        assert_eq!(calls, vec![3, 4, 1, 0]);
+        let mut none = vec![false, false];
+        fill_from_neighbours::<bool, ()>(&mut none, 4, |c| *c, |_, _, _| Ok(true)).unwrap();
+        assert_eq!(none, vec![false, false]);
+        let mut err = vec![true, false];
+        assert_eq!(
+            fill_from_neighbours(&mut err, 1, |c| *c, |_, _, _| Err("e")),
+            Err("e")
+        );
+    }
+
+    #[test]
+    fn step_control_rejects_bad_fields() {
+        let ok = StepControl::harmonic(0.01, 1e-6, 0.1);
+        assert!(ok.validate().is_ok());
+        assert_eq!(ok.initial.to_bits(), 0.01_f64.to_bits());
+        assert_eq!(
+            StepControl::harmonic(1.0, 1e-6, 0.1).initial.to_bits(),
+            0.1_f64.to_bits()
+        );
+        for bad in [
+            StepControl { min: 0.0, ..ok },
+            StepControl { max: 1e-9, ..ok },
+            StepControl {
+                initial: f64::NAN,
+                ..ok
+            },
+            StepControl { grow: 0.5, ..ok },
+            StepControl { fail: 1.0, ..ok },
+            StepControl { shrink: 0.0, ..ok },
+            StepControl {
+                min_cos: Some(2.0),
+                ..ok
+            },
+            StepControl {
+                max_correction: Some(0.0),
+                ..ok
+            },
+        ] {
+            assert!(bad.validate().is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn bordered_tangent_is_the_unit_null_vector_oriented_by_the_reference() {
+        let jac = DMatrix::from_row_slice(1, 2, &[2.0, 0.0]);
+        let t = bordered_tangent(&jac, &DVector::from_vec(vec![0.3, -1.0])).unwrap();
+        assert!((t[0]).abs() < 1e-15 && (t[1] + 1.0).abs() < 1e-15);
+        // singular bordered matrix and wrong shapes
+        assert!(bordered_tangent(&jac, &DVector::from_vec(vec![1.0, 0.0])).is_none());
+        assert!(bordered_tangent(&jac, &DVector::from_vec(vec![1.0])).is_none());
+    }
+}
