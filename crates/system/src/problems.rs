@@ -31,6 +31,19 @@ pub struct Duffing {
     pub omega: f64,
 }
 
+impl Duffing {
+    /// The hardening case of the HBM and orbit tests, `ζ = 0.05`, `γ = 1`, `F = 0.3`, at `ω`:
+    /// its one-harmonic frequency response folds twice (near `ω ≈ 1.2` and `1.77`).
+    pub const fn hardening(omega: f64) -> Self {
+        Self {
+            zeta: 0.05,
+            gamma: 1.0,
+            force: 0.3,
+            omega,
+        }
+    }
+}
+
 impl SecondOrderSystem for Duffing {
     fn n_dof(&self) -> usize {
         1

@@ -13,17 +13,14 @@ use orbit::{
     SpecialKind, StopReason, continue_hbm,
 };
 
-const ZETA: f64 = 0.05;
-const GAMMA: f64 = 1.0;
-const FORCE: f64 = 0.3;
+/// The reference case (`system::problems::Duffing::hardening`) and its coefficients.
+const REFERENCE: Duffing = Duffing::hardening(1.0);
+const ZETA: f64 = REFERENCE.zeta;
+const GAMMA: f64 = REFERENCE.gamma;
+const FORCE: f64 = REFERENCE.force;
 
 fn duffing(omega: f64) -> Duffing {
-    Duffing {
-        zeta: ZETA,
-        gamma: GAMMA,
-        force: FORCE,
-        omega,
-    }
+    Duffing::hardening(omega)
 }
 
 /// Folds of the one-harmonic frequency response
