@@ -85,7 +85,7 @@
 //! monodromy of `hbm`); a model's own (the Liu speed continuation maps [`continue_hbm`] to
 //! `ω₁`). Every branch is one type, [`Branch<P>`](Branch) of [`BranchPoint<P>`](BranchPoint)
 //! `{ parameter, tangent_parameter, stability, orbit: P }` with the one
-//! [`Stability`](system::Stability); [`fill_from_neighbours`] is the sequential (zero-order
+//! [`Stability`]; [`fill_from_neighbours`] is the sequential (zero-order
 //! predictor) continuation of a fixed sweep grid.
 //!
 //! ## Pseudo-arclength continuation of shooting orbits

@@ -1,6 +1,7 @@
 //! The one continuation of the workspace: predictor, corrector interface, step control, fold
-//! detection and the one branch type, shared by shooting ([`OrbitProblem::continuation`]
-//! (crate::OrbitProblem::continuation)), harmonic balance ([`continue_hbm`](crate::continue_hbm))
+//! detection and the one branch type, shared by shooting
+//! ([`OrbitProblem::continuation`](crate::OrbitProblem::continuation)), harmonic balance
+//! ([`continue_hbm`](crate::continue_hbm))
 //! and every model-specific use (the Liu speed continuation, the neighbour fill of a sweep).
 //!
 //! # Equations
