@@ -2,10 +2,7 @@
 #![allow(missing_docs)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use geardyn_hbm::{
-    Basis, ContinuationOptions, ContinuationParameter, HbmProblem, Method, SecondOrderSystem,
-    SolverOptions, SystemError,
-};
+use geardyn_hbm::{Basis, HbmProblem, Method, SecondOrderSystem, SolverOptions, SystemError};
 use nalgebra::DMatrix;
 use std::hint::black_box;
 use system::problems::BenchDuffing as Duffing;
@@ -123,24 +120,7 @@ fn benches(c: &mut Criterion) {
         }
     }
 
-    // 3. 150-point continuation of the Duffing response (H = 5), with Floquet stability
-    let copts = ContinuationOptions {
-        max_points: 150,
-        max_step: 0.03,
-        ..ContinuationOptions::default()
-    };
-    group.bench_function("continuation_150_points_h5_with_stability", |b| {
-        b.iter(|| {
-            let mut p = HbmProblem::new(Duffing { omega: 0.5 }, Basis::full(5).expect("b"), 0.5)
-                .expect("p");
-            let z0 = p.zero_guess();
-            let br = p
-                .continuation(ContinuationParameter::Frequency, &z0, 0.5, 5.0, &copts)
-                .expect("continuation");
-            assert_eq!(br.points.len(), 150);
-            black_box(br)
-        })
-    });
+    // (the 150-point continuation bench moved with the continuation to `orbit`'s benches)
     group.finish();
 }
 

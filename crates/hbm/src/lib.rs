@@ -37,9 +37,10 @@
 //!   `C̄ = C + J̄_v`. `O(N log N)` per product instead of `O(n_z³)` per step; bounded by
 //!   [`KrylovOptions`], a missed linear tolerance is [`HbmError::KrylovNotConverged`].
 //!   [`Method::Auto`] switches at [`AUTO_KRYLOV_UNKNOWNS`].
-//! * **Continuation** ([`HbmProblem::continuation`]): pseudo-arclength in `ω` or in any named
-//!   parameter, with step control; goes round folds and reports them ([`FoldPoint`]) — the jump
-//!   phenomenon Liu reports at the onset of bilateral rattle.
+//! * **Continuation** is not here: the workspace's one continuation (natural and
+//!   pseudo-arclength, step control, folds, the one branch type) is in the `geardyn-orbit`
+//!   crate, whose `orbit::continue_hbm` uses this crate's residual, Jacobian and Newton
+//!   ([`solve_equations`] on a bordered [`NonlinearEquations`]) as its corrector.
 //! * **Stability** ([`HbmProblem::stability`]): Floquet multipliers of the variational
 //!   equation (RK4 monodromy matrix).
 //! * **Output**: coefficients, [`PeriodicSolution::time_series`], peak-to-peak values,
@@ -73,8 +74,6 @@
 //!   discontinuous higher derivative); AFT aliasing is then reduced, not removed, by a larger `N`.
 //! * Quasi-periodic responses (incommensurate frequencies) are out of scope: all frequencies
 //!   must be integer multiples of one base frequency.
-//! * Continuation steps are measured in unscaled `(z, λ)`; rescale the model if coefficients
-//!   and parameter differ by orders of magnitude. `∂r/∂λ` uses central finite differences.
 //! * Stability uses fixed-step RK4: it must resolve the fastest linearised frequency.
 //!
 //! ## References
@@ -129,7 +128,6 @@
 
 mod band;
 mod basis;
-mod continuation;
 mod error;
 mod krylov;
 mod plans;
@@ -148,9 +146,6 @@ pub use argmin;
 pub use nalgebra;
 
 pub use basis::{Basis, CoefficientKind};
-pub use continuation::{
-    Branch, BranchPoint, ContinuationEnd, ContinuationOptions, ContinuationParameter, FoldPoint,
-};
 pub use error::HbmError;
 pub use krylov::{KrylovOptions, MAX_BAND_HARMONICS, Preconditioner};
 pub use problem::{Counters, HbmProblem};
@@ -173,7 +168,6 @@ mod tests {
     fn public_types_are_send_sync() {
         is_send_sync::<Basis>();
         is_send_sync::<PeriodicSolution>();
-        is_send_sync::<Branch>();
         is_send_sync::<HbmError>();
         is_send_sync::<HbmProblem<()>>();
         is_send_sync::<Newton>();

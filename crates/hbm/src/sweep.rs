@@ -11,7 +11,7 @@ use crate::{HbmError, HbmProblem, PeriodicSolution, SecondOrderSystem, SolverOpt
 /// `ω`), `guess(value, &problem)` gives its initial coefficients. Every point is solved
 /// independently from its own guess and the results are collected in input order, so the output
 /// is bit-identical whatever the size of the rayon thread pool. (Use
-/// [`HbmProblem::continuation`] when points should follow one branch.)
+/// `orbit::continue_hbm` (crate `geardyn-orbit`) when points should follow one branch.)
 pub fn parallel_sweep<S, F, G>(
     values: &[f64],
     make: F,

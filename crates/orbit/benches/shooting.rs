@@ -64,5 +64,39 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+/// The 150-point continuation of the Duffing response (H = 5) with Floquet stability: the
+/// bench that was `hbm`'s `continuation_150_points_h5_with_stability`, now through the one
+/// continuation (`orbit::continue_hbm`).
+fn hbm_continuation(c: &mut Criterion) {
+    use system::problems::BenchDuffing;
+    let copts = orbit::HbmContinuationOptions {
+        max_points: 150,
+        max_step: 0.03,
+        ..orbit::HbmContinuationOptions::default()
+    };
+    c.bench_function("hbm/continuation_150_points_h5_with_stability", |b| {
+        b.iter(|| {
+            let mut p = hbm::HbmProblem::new(
+                BenchDuffing { omega: 0.5 },
+                hbm::Basis::full(5).expect("b"),
+                0.5,
+            )
+            .expect("p");
+            let z0 = p.zero_guess();
+            let br = orbit::continue_hbm(
+                &mut p,
+                orbit::Parameter::BaseFrequency,
+                &z0,
+                0.5,
+                5.0,
+                &copts,
+            )
+            .expect("continuation");
+            assert_eq!(br.points.len(), 150);
+            black_box(br)
+        })
+    });
+}
+
+criterion_group!(benches, bench, hbm_continuation);
 criterion_main!(benches);

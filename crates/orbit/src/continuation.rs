@@ -4,6 +4,10 @@
 
 use crate::error::{OrbitError, Result, check};
 use crate::floquet::{Crossing, Floquet, classify_crossing, floquet, real_eigenvector};
+use crate::path::{
+    self, Branch, BranchPoint, Corrector, Course, Extremum, Node, Predictor, SpecialKind,
+    SpecialPoint, StepControl, bordered_tangent,
+};
 use crate::problem::{OrbitProblem, Parameter};
 use crate::shooting::{PeriodicOrbit, ShootingOptions};
 use nalgebra::{DMatrix, DVector};
@@ -51,6 +55,9 @@ pub struct ContinuationOptions {
     /// step (it jumps at every contact change), and this picks the first crossing down to the
     /// piece length. `1`: no sampling.
     pub locate_samples: usize,
+    /// Pseudo-arclength (default) or natural-parameter steps.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub predictor: Predictor,
 }
 
 impl Default for ContinuationOptions {
@@ -74,6 +81,7 @@ impl Default for ContinuationOptions {
             locate_tol: 1e-8,
             locate_contact_changes: false,
             locate_samples: 1,
+            predictor: Predictor::Arclength,
         }
     }
 }
@@ -160,50 +168,9 @@ impl ContinuationOptions {
     }
 }
 
-/// Which extremum of a gap (event) function touches zero at a grazing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub enum Extremum {
-    /// The minimum over the orbit.
-    Min,
-    /// The maximum over the orbit.
-    Max,
-}
-
-/// The kind of a special point.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub enum SpecialKind {
-    /// The minimum or maximum of event function `event` over the orbit crosses zero: a contact
-    /// (switching surface) is touched tangentially, and contacts appear or disappear.
-    Grazing {
-        /// Event index.
-        event: usize,
-        /// Which extremum.
-        extremum: Extremum,
-    },
-    /// A multiplier crosses `−1`.
-    PeriodDoubling,
-    /// The branch turns back in `λ` (a multiplier crosses `+1`).
-    Fold,
-    /// A complex pair crosses the unit circle (detected, located like the others on
-    /// `Π(μ_iμ_j − 1)`).
-    NeimarkSacker,
-    /// The number of crossings of event `event` per orbit changed between two points while
-    /// neither global extremum of its function changed sign: a *local* extremum grazed the
-    /// switching surface (a contact appeared or vanished inside the orbit). Located by
-    /// bisection on the arclength with the crossing count as indicator.
-    ContactChange {
-        /// Event index.
-        event: usize,
-    },
-}
-
-/// A point of a branch.
+/// The orbit of a shooting branch point.
 #[derive(Debug, Clone, PartialEq)]
-pub struct BranchPoint {
-    /// Parameter value `λ`.
-    pub parameter: f64,
+pub struct ShootingPoint {
     /// Orbit state on the section.
     pub x0: Vec<f64>,
     /// Multipliers and stability.
@@ -216,64 +183,17 @@ pub struct BranchPoint {
     pub events: usize,
     /// Located events per orbit period, by event index.
     pub event_counts: Vec<usize>,
-    /// `dλ/ds` of the unit tangent (scaled variables); its sign change is a fold.
-    pub tangent_parameter: f64,
 }
 
-/// A detected (and, with [`ContinuationOptions::locate`], located) special point.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SpecialPoint {
-    /// What happens.
-    pub kind: SpecialKind,
-    /// The special point (located, or the first point past it).
-    pub point: BranchPoint,
-    /// Index in [`Branch::points`] of the last point before it.
-    pub after: usize,
-    /// True if located to [`ContinuationOptions::locate_tol`]; false if only detected.
-    pub located: bool,
-    /// `[λ_lo, λ_hi]`: the parameter at the two ends of the last arclength bracket that holds
-    /// the special point (sorted; the two branch points around it when only detected). Its
-    /// width is the precision of [`SpecialPoint::point`]'s parameter.
-    pub bracket: [f64; 2],
-}
+/// A point of a shooting branch.
+pub type ShootingBranchPoint = BranchPoint<ShootingPoint>;
 
-impl SpecialPoint {
-    /// Width of [`SpecialPoint::bracket`]: the precision of the located parameter.
-    pub fn precision(&self) -> f64 {
-        self.bracket[1] - self.bracket[0]
-    }
-}
+/// A continued branch of period-`k` orbits by shooting.
+pub type ShootingBranch = Branch<ShootingPoint>;
 
 /// Sorted pair.
 fn sorted(a: f64, b: f64) -> [f64; 2] {
     if a <= b { [a, b] } else { [b, a] }
-}
-
-/// Why a continuation stopped.
-#[derive(Debug, Clone, PartialEq)]
-pub enum StopReason {
-    /// `λ` left the range.
-    Range,
-    /// [`ContinuationOptions::max_points`] reached.
-    MaxPoints,
-    /// The corrector failed down to [`ContinuationOptions::min_step`]; the last error.
-    StepTooSmall(OrbitError),
-}
-
-/// A continued branch of period-`k` orbits.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Branch {
-    /// The parameter.
-    pub parameter: Parameter,
-    /// `k`.
-    pub periods: usize,
-    /// Points in arclength order; stable and unstable ones alike
-    /// ([`Floquet::stable`] tells them apart).
-    pub points: Vec<BranchPoint>,
-    /// Special points in arclength order.
-    pub special: Vec<SpecialPoint>,
-    /// Why it stopped.
-    pub stop: StopReason,
 }
 
 /// An arclength bracket `[lo, hi]` inside a step with its two corrected points.
@@ -281,16 +201,45 @@ pub struct Branch {
 struct Bracket {
     lo: f64,
     hi: f64,
-    lo_pt: BranchPoint,
-    hi_pt: BranchPoint,
+    lo_pt: ShootingBranchPoint,
+    hi_pt: ShootingBranchPoint,
 }
 
 /// A converged point with what the next step needs.
-#[derive(Clone)]
-struct Sol {
-    z: DVector<f64>,
-    tangent: DVector<f64>,
-    point: BranchPoint,
+type Sol = Node<ShootingBranchPoint>;
+
+/// The shooting corrector of the one continuation ([`path::trace`]).
+struct Shooter<'a, S> {
+    problem: &'a mut OrbitProblem<S>,
+    opts: &'a ContinuationOptions,
+}
+
+impl<S: SecondOrderSystem> Corrector for Shooter<'_, S> {
+    type Raw = ShootingBranchPoint;
+    type Point = ShootingPoint;
+    type Error = OrbitError;
+
+    fn correct(
+        &mut self,
+        pred: &DVector<f64>,
+        border: &DVector<f64>,
+        reference: &DVector<f64>,
+    ) -> Result<Result<Sol>> {
+        Ok(self.problem.correct(self.opts, pred, border, reference))
+    }
+
+    fn accept(&mut self, node: &Sol) -> Result<ShootingBranchPoint> {
+        Ok(node.raw.clone())
+    }
+
+    fn parameter_scale(&self) -> f64 {
+        self.opts.parameter_scale
+    }
+
+    fn on_step(&mut self, a: &Sol, b: &Sol, ds: f64, branch: &mut ShootingBranch) -> Result<()> {
+        self.problem.detect(self.opts, a, b, ds, branch);
+        Ok(())
+    }
 }
 
 impl<S: SecondOrderSystem> OrbitProblem<S> {
@@ -354,33 +303,19 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
 
     /// Unit null vector of `jac` (`N × (N+1)`), oriented along `reference`.
     fn tangent_of(jac: &DMatrix<f64>, reference: &DVector<f64>) -> Result<DVector<f64>> {
-        let nn = jac.nrows();
-        let mut a = DMatrix::zeros(nn + 1, nn + 1);
-        a.view_mut((0, 0), (nn, nn + 1)).copy_from(jac);
-        a.row_mut(nn).copy_from(&reference.transpose());
-        let mut rhs = DVector::zeros(nn + 1);
-        rhs[nn] = 1.0;
-        let t = a
-            .lu()
-            .solve(&rhs)
-            .filter(|t| t.iter().all(|v| v.is_finite()))
-            .ok_or(OrbitError::Singular {
-                what: "bordered continuation Jacobian",
-            })?;
-        let n = t.norm();
-        let mut t = t / n;
-        if t.dot(reference) < 0.0 {
-            t = -t;
-        }
-        Ok(t)
+        bordered_tangent(jac, reference).ok_or(OrbitError::Singular {
+            what: "bordered continuation Jacobian",
+        })
     }
 
-    /// Newton corrector on `F(z) = 0`, `tᵀ(z − z_pred) = 0`.
+    /// Newton corrector on `F(z) = 0`, `tᵀ(z − z_pred) = 0`; the tangent at the solution is
+    /// oriented along `reference`.
     fn correct(
         &mut self,
         opts: &ContinuationOptions,
         z_pred: &DVector<f64>,
         t: &DVector<f64>,
+        reference: &DVector<f64>,
     ) -> Result<Sol> {
         let nn = self.dim();
         let mut z = z_pred.clone();
@@ -394,7 +329,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             let res = r.amax();
             let xs = z.rows(0, nn).amax() * opts.state_scale;
             if res <= tol * (1.0 + xs) && a.abs() <= tol * (1.0 + xs) {
-                return self.finish_point(opts, z, jac, t);
+                return self.finish_point(opts, z, jac, reference);
             }
             if it == opts.shooting.max_iter {
                 return Err(OrbitError::NotConverged {
@@ -451,17 +386,25 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         );
         let point = BranchPoint {
             parameter: z[nn] * opts.parameter_scale,
-            x0: x,
-            floquet: fl,
-            monodromy: mono,
-            extrema,
-            events: fr.events.len(),
-            event_counts: (0..self.system().n_events())
-                .map(|i| fr.events.iter().filter(|e| e.index == i).count())
-                .collect(),
             tangent_parameter: tangent[nn],
+            stability: Some(fl.stability()),
+            orbit: ShootingPoint {
+                x0: x,
+                floquet: fl,
+                monodromy: mono,
+                extrema,
+                events: fr.events.len(),
+                event_counts: (0..self.system().n_events())
+                    .map(|i| fr.events.iter().filter(|e| e.index == i).count())
+                    .collect(),
+            },
         };
-        Ok(Sol { z, tangent, point })
+        Ok(Sol {
+            y: z,
+            tangent,
+            iterations: 0,
+            raw: point,
+        })
     }
 
     /// Pseudo-arclength continuation of the period-`k` orbit through `x0` (a guess, refined by
@@ -484,7 +427,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         x0: &[f64],
         lambda0: f64,
         opts: &ContinuationOptions,
-    ) -> Result<Branch> {
+    ) -> Result<ShootingBranch> {
         opts.validate()?;
         self.check_state(x0)?;
         check(lambda0.is_finite(), "lambda0", "finite", lambda0)?;
@@ -503,51 +446,26 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         })?;
         let mut e = DVector::zeros(nn + 1);
         e[nn] = opts.direction;
-        let mut cur = self.finish_point(opts, z, jac, &e)?;
-        let mut branch = Branch {
-            parameter: opts.parameter.clone(),
-            periods: opts.shooting.periods,
-            points: vec![cur.point.clone()],
-            special: vec![],
-            stop: StopReason::MaxPoints,
+        let first = self.finish_point(opts, z, jac, &e)?;
+        let mut branch = Branch::new(opts.parameter.clone(), opts.shooting.periods);
+        branch.points.push(first.raw.clone());
+        let control = StepControl::shooting(
+            opts.initial_step,
+            opts.min_step,
+            opts.max_step,
+            opts.max_correction,
+        );
+        let course = Course {
+            range: opts.range,
+            direction: opts.direction,
+            max_points: opts.max_points,
+            predictor: opts.predictor,
         };
-        let mut ds = opts.initial_step;
-        let in_range = |l: f64| l >= opts.range[0] && l <= opts.range[1];
-        while branch.points.len() < opts.max_points {
-            let pred = &cur.z + &cur.tangent * ds;
-            let corrected = self.correct(opts, &pred, &cur.tangent).and_then(|next| {
-                let dist = (&next.z - &pred).norm();
-                if dist > opts.max_correction * ds {
-                    Err(OrbitError::NotConverged {
-                        what: "continuation corrector (moved farther than max_correction·Δs)",
-                        iterations: 0,
-                        residual: dist,
-                    })
-                } else {
-                    Ok(next)
-                }
-            });
-            match corrected {
-                Ok(next) => {
-                    self.detect(opts, &cur, &next, ds, &mut branch);
-                    branch.points.push(next.point.clone());
-                    let lam = next.point.parameter;
-                    cur = next;
-                    if !in_range(lam) {
-                        branch.stop = StopReason::Range;
-                        break;
-                    }
-                    ds = (ds * 1.5).min(opts.max_step);
-                }
-                Err(err) => {
-                    ds *= 0.5;
-                    if ds < opts.min_step {
-                        branch.stop = StopReason::StepTooSmall(err);
-                        break;
-                    }
-                }
-            }
-        }
+        let mut shooter = Shooter {
+            problem: self,
+            opts,
+        };
+        path::trace(&mut shooter, first, &control, &course, &mut branch)?;
         Ok(branch)
     }
 
@@ -558,11 +476,11 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         a: &Sol,
         b: &Sol,
         ds: f64,
-        branch: &mut Branch,
+        branch: &mut ShootingBranch,
     ) {
         let after = branch.points.len() - 1;
         let mut found: Vec<(f64, SpecialKind)> = vec![];
-        let (pa, pb) = (&a.point, &b.point);
+        let (pa, pb) = (&a.raw, &b.raw);
         for (i, (ea, eb)) in pa.extrema.iter().zip(&pb.extrema).enumerate() {
             for (slot, ext) in [(0usize, Extremum::Min), (1usize, Extremum::Max)] {
                 if ea[slot].is_finite() && eb[slot].is_finite() && ea[slot] * eb[slot] < 0.0 {
@@ -600,7 +518,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         for (_, kind) in found {
             let detected = SpecialPoint {
                 kind,
-                point: b.point.clone(),
+                point: b.raw.clone(),
                 after,
                 located: false,
                 bracket: sorted(pa.parameter, pb.parameter),
@@ -626,15 +544,15 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         }
         // arclength order within the step
         located.sort_by(|x, y| {
-            let d = |p: &SpecialPoint| (p.point.parameter - a.point.parameter).abs();
+            let d = |p: &SpecialPoint<ShootingPoint>| (p.point.parameter - a.raw.parameter).abs();
             d(x).total_cmp(&d(y))
         });
         branch.special.extend(located);
         // leave the problem at b's parameter
-        let _ = self.set_mu(opts, b.z[self.dim()]);
+        let _ = self.set_mu(opts, b.y[self.dim()]);
     }
 
-    fn test_value(kind: SpecialKind, p: &BranchPoint) -> f64 {
+    fn test_value(kind: SpecialKind, p: &ShootingBranchPoint) -> f64 {
         match kind {
             SpecialKind::Grazing { event, extremum } => {
                 let e = p.extrema.get(event).copied().unwrap_or([f64::NAN; 2]);
@@ -661,16 +579,16 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         (a, b): (&Sol, &Sol),
         ds: f64,
         kind: SpecialKind,
-    ) -> Result<(BranchPoint, [f64; 2], bool)> {
+    ) -> Result<(ShootingBranchPoint, [f64; 2], bool)> {
         // the first sampled piece [lo, hi] whose end has left a's side
-        let (mut lo, mut lo_pt) = (0.0, a.point.clone());
-        let (mut hi, mut hi_pt) = (ds, b.point.clone());
+        let (mut lo, mut lo_pt) = (0.0, a.raw.clone());
+        let (mut hi, mut hi_pt) = (ds, b.raw.clone());
         for k in 1..opts.locate_samples {
             let s = ds * k as f64 / opts.locate_samples as f64;
             let Ok(p) = self.point_at(opts, a, s) else {
                 continue;
             };
-            match Self::same_side(kind, &a.point, &p) {
+            match Self::same_side(kind, &a.raw, &p) {
                 Some(true) => {
                     lo = s;
                     lo_pt = p;
@@ -699,7 +617,11 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
 
     /// Whether `p` is on the same side of the test function (crossing count) as `a`; `None`
     /// when undecidable (NaN).
-    fn same_side(kind: SpecialKind, a: &BranchPoint, p: &BranchPoint) -> Option<bool> {
+    fn same_side(
+        kind: SpecialKind,
+        a: &ShootingBranchPoint,
+        p: &ShootingBranchPoint,
+    ) -> Option<bool> {
         match kind {
             SpecialKind::ContactChange { event } => {
                 Some(p.event_counts.get(event)? == a.event_counts.get(event)?)
@@ -715,10 +637,15 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// The corrected point at arclength `s` of the step from `a`, rejected (like a step) when
     /// the corrector moved farther than `max_correction · max(s, locate_tol)` from the
     /// predictor (it jumped to another branch).
-    fn point_at(&mut self, opts: &ContinuationOptions, a: &Sol, s: f64) -> Result<BranchPoint> {
-        let pred = &a.z + &a.tangent * s;
-        let sol = self.correct(opts, &pred, &a.tangent)?;
-        let dist = (&sol.z - &pred).norm();
+    fn point_at(
+        &mut self,
+        opts: &ContinuationOptions,
+        a: &Sol,
+        s: f64,
+    ) -> Result<ShootingBranchPoint> {
+        let pred = &a.y + &a.tangent * s;
+        let sol = self.correct(opts, &pred, &a.tangent, &a.tangent)?;
+        let dist = (&sol.y - &pred).norm();
         if dist > opts.max_correction * s.max(opts.locate_tol) {
             return Err(OrbitError::NotConverged {
                 what: "special point location (corrector left the step)",
@@ -726,7 +653,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
                 residual: dist,
             });
         }
-        Ok(sol.point)
+        Ok(sol.raw)
     }
 
     /// Illinois on the arclength bracket of the step from `a`.
@@ -736,7 +663,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         a: &Sol,
         br: Bracket,
         kind: SpecialKind,
-    ) -> Result<(BranchPoint, [f64; 2], bool)> {
+    ) -> Result<(ShootingBranchPoint, [f64; 2], bool)> {
         let (mut lo, mut hi) = (br.lo, br.hi);
         let mut flo = Self::test_value(kind, &br.lo_pt);
         let mut best = br.hi_pt;
@@ -807,9 +734,9 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         a: &Sol,
         br: Bracket,
         kind: SpecialKind,
-    ) -> Result<(BranchPoint, [f64; 2], bool)> {
+    ) -> Result<(ShootingBranchPoint, [f64; 2], bool)> {
         let mut hi_pt = br.hi_pt;
-        if Self::same_side(kind, &a.point, &hi_pt) != Some(false) {
+        if Self::same_side(kind, &a.raw, &hi_pt) != Some(false) {
             return Err(OrbitError::NotConverged {
                 what: "special point location (no change across the step)",
                 iterations: 0,
@@ -832,7 +759,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             let Some((s, p)) = trial else {
                 break;
             };
-            match Self::same_side(kind, &a.point, &p) {
+            match Self::same_side(kind, &a.raw, &p) {
                 Some(true) => {
                     lo = s;
                     plo = p.parameter;
@@ -859,7 +786,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// Invalid input, eigenvector failure, or no period-`2k` orbit found.
     pub fn switch_at_period_doubling(
         &mut self,
-        pd: &BranchPoint,
+        pd: &ShootingBranchPoint,
         parameter: &Parameter,
         periods: usize,
         h: f64,

@@ -62,7 +62,33 @@
 //! Neimark–Sacker points; [`classify_crossing`] names the crossing between two sets of
 //! multipliers from the count outside the unit circle.
 //!
-//! ## Pseudo-arclength continuation
+//! ## The one continuation
+//!
+//! Every branch of the workspace comes from one loop, [`path::trace`], generic over a
+//! [`path::Corrector`]. With unknowns `y = (z, μ)`, the branch `F(y) = 0` (`F: ℝ^{N+1} → ℝ^N`)
+//! and `J = [F_z | F_μ]`:
+//!
+//! ```text
+//! tangent     [J(y_i); t_{i−1}ᵀ] v = e_{N+1},   t_i = v/‖v‖        (t_{i−1}ᵀ t_i > 0)
+//! arclength   y_p = y_i + Δs t_i,                F(y) = 0,  t_iᵀ (y − y_p) = 0
+//! natural     y_p = y_i + (±Δs / t_{i,μ}) t_i,   F(y) = 0,  e_{N+1}ᵀ (y − y_p) = 0
+//! fold        t_{i,μ} t_{i+1,μ} < 0,   μ_F = μ_i + ½ t_{i,μ} σ,   σ = t_{i,μ} Δs/(t_{i,μ} − t_{i+1,μ})
+//! ```
+//!
+//! ([`Predictor`]; the natural corrector holds `μ`, so it stops at a fold with
+//! [`StopReason::StepTooSmall`], where pseudo-arclength goes round it). Step control
+//! ([`StepControl`]): halve after a rejection (corrector failure, a correction longer than
+//! `max_correction · Δs`, a tangent turn with `cos < min_cos`), grow after success (always, or
+//! only after easy corrections), stop below the minimum. The correctors: the shooting residual
+//! below; the harmonic-balance residual of `hbm` ([`continue_hbm`]: Newton with line search on
+//! `[r(z, λ); bᵀ(y − y_p)] = 0`, `∂r/∂λ` by central differences, Floquet stability by the RK4
+//! monodromy of `hbm`); a model's own (the Liu speed continuation maps [`continue_hbm`] to
+//! `ω₁`). Every branch is one type, [`Branch<P>`](Branch) of [`BranchPoint<P>`](BranchPoint)
+//! `{ parameter, tangent_parameter, stability, orbit: P }` with the one
+//! [`Stability`]; [`fill_from_neighbours`] is the sequential (zero-order
+//! predictor) continuation of a fixed sweep grid.
+//!
+//! ## Pseudo-arclength continuation of shooting orbits
 //!
 //! [`OrbitProblem::continuation`] continues `z = (x₀/s_x, λ/s_λ)` along
 //! `F(z) = φ_{kT}(x₀; λ) − x₀ = 0` in any [`Parameter`] (a named model parameter, or the base
@@ -73,7 +99,8 @@
 //! corrector  F(z) = 0,  t_iᵀ (z − z_p) = 0   (Newton, F_λ by central differences)
 //! ```
 //!
-//! with step halving on failure and growth after success. Between consecutive points the test
+//! through [`path::trace`] ([`StepControl::shooting`]: halving on failure, growth by 1.5 after
+//! success, corrections limited to `max_correction · Δs`). Between consecutive points the test
 //! functions are checked: the minimum and maximum of every event (gap) function over the
 //! orbit (**grazing**: the orbit touches a switching surface and contacts appear or vanish),
 //! `det(Φ + I)` (**period doubling**), the `λ`-component of the tangent (**fold**), and the
@@ -139,20 +166,25 @@ mod continuation;
 mod error;
 mod floquet;
 mod flow;
+mod harmonic;
 mod impact;
+pub mod path;
 mod problem;
 mod shooting;
 
-pub use continuation::{
-    Branch, BranchPoint, ContinuationOptions, Extremum, SpecialKind, SpecialPoint, StopReason,
-};
+pub use continuation::{ContinuationOptions, ShootingBranch, ShootingBranchPoint, ShootingPoint};
 pub use error::{OrbitError, Result};
 pub use floquet::{
     Crossing, Floquet, OutsideCount, STABILITY_TOLERANCE, Stability, classify_crossing, floquet,
     real_eigenvector,
 };
 pub use flow::{EventRecord, Flow, FlowOptions};
+pub use harmonic::{HbmContinuationOptions, continue_hbm};
 pub use impact::{ImpactLaw, Restitution};
+pub use path::{
+    Branch, BranchPoint, Extremum, Fold, Predictor, SpecialKind, SpecialPoint, StepControl,
+    StopReason, fill_from_neighbours,
+};
 pub use problem::{OrbitProblem, Parameter};
 pub use shooting::{PeriodicOrbit, ShootingOptions};
 

@@ -35,7 +35,7 @@ fn duffing_truncation_matches_the_closed_form_of_cos_cubed() {
         force,
         omega: 1.0,
     };
-    let mut p = HbmProblem::with_grid_size(sys.clone(), Basis::full(1).unwrap(), 1.0, 16).unwrap();
+    let mut p = HbmProblem::with_grid_size(sys, Basis::full(1).unwrap(), 1.0, 16).unwrap();
     let eps = p.truncation_indicator(&[0.0, a, 0.0]).unwrap();
     let c = gamma * a.powi(3);
     let want = (c / 4.0) / (0.75 * c - force).abs();
@@ -120,7 +120,7 @@ fn solved_duffing_truncation_falls_with_h_and_is_reported_on_the_solution() {
     let mut guess: Option<geardyn_hbm::PeriodicSolution> = None;
     for h in [1usize, 3, 5, 7] {
         let basis = Basis::full(h).unwrap();
-        let mut p = HbmProblem::new(sys.clone(), basis.clone(), 1.2).unwrap();
+        let mut p = HbmProblem::new(sys, basis.clone(), 1.2).unwrap();
         let z0 = guess
             .as_ref()
             .map_or_else(|| p.zero_guess(), |g| g.embed(&basis));

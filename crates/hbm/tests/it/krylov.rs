@@ -38,7 +38,7 @@ fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
 #[test]
 fn krylov_agrees_with_dense_newton_on_duffing_near_resonance() {
     let (omega, sys) = duffing();
-    let mut p1 = HbmProblem::new(sys.clone(), Basis::full(1).unwrap(), omega).unwrap();
+    let mut p1 = HbmProblem::new(sys, Basis::full(1).unwrap(), omega).unwrap();
     let mut g = p1.zero_guess();
     g[1] = 0.8;
     let s1 = p1.solve(&g, &opts(Method::Newton)).unwrap();
@@ -161,7 +161,7 @@ fn auto_takes_the_dense_path_below_the_crossover() {
 /// H = 1 solution, with each preconditioner: (iterations, products, residuals, solution).
 fn h400(pre: Preconditioner) -> (u64, u64, u64, Vec<f64>) {
     let (omega, sys) = duffing();
-    let mut p1 = HbmProblem::new(sys.clone(), Basis::full(1).unwrap(), omega).unwrap();
+    let mut p1 = HbmProblem::new(sys, Basis::full(1).unwrap(), omega).unwrap();
     let mut g = p1.zero_guess();
     g[1] = 0.8;
     let s1 = p1.solve(&g, &opts(Method::Newton)).unwrap();

@@ -1,5 +1,6 @@
-//! Pseudo-arclength continuation of the harmonic-balance response in the input speed `ω₁`,
-//! through the `hbm` engine (`HbmProblem::continuation` in the base frequency `ω̄_c`).
+//! Pseudo-arclength continuation of the harmonic-balance response in the input speed `ω₁`:
+//! a thin use of the workspace's one continuation (`orbit::continue_hbm` in the base
+//! frequency `ω̄_c`, the Liu harmonic-balance problem as corrector), mapped to `ω₁`.
 //!
 //! `ω₁` enters the model only through `ω̄_c = ω₁/(i_j ω_n)`: `ω̄_e = Z₂ ω̄_c` and the Eq. (22)
 //! amplitudes follow it ([`Model::with_omega_c`], called by the engine through
@@ -131,46 +132,31 @@ impl Default for SpeedContinuationOptions {
     }
 }
 
-/// One point of a continued branch.
+/// The orbit of a point of a continued speed branch (the branch point's
+/// [`parameter`](orbit::BranchPoint::parameter) is the input speed `ω₁` \[rad/s\], its
+/// [`stability`](orbit::BranchPoint::stability) the one stability type).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SpeedBranchPoint {
-    /// Input speed `ω₁` \[rad/s\].
-    pub omega1: f64,
+pub struct SpeedPoint {
     /// Rattle state and ppv of the periodic response.
     pub rattle: Rattle,
-    /// Stability verdict (`max |μ| ≤ 1 + 1e-6`); `None` without stability.
-    pub stable: Option<bool>,
-    /// Largest multiplier modulus; `None` without stability.
-    pub max_multiplier: Option<f64>,
     /// The harmonic-balance solution (coefficients at this speed).
     pub solution: hbm::PeriodicSolution,
 }
 
-/// A fold (turning point) of a branch: where `dω₁/ds` changes sign.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct SpeedFold {
-    /// Input speed `ω₁` \[rad/s\] at the fold (quadratic fit of `ω₁(s)`).
-    pub omega1: f64,
-    /// The fold lies between points `after_index` and `after_index + 1`.
-    pub after_index: usize,
-}
+/// One point of a continued branch: `ω₁` \[rad/s\], stability, rattle and solution.
+pub type SpeedBranchPoint = orbit::BranchPoint<SpeedPoint>;
 
-/// A branch of periodic responses over `ω₁`.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SpeedBranch {
-    /// Points in arclength order.
-    pub points: Vec<SpeedBranchPoint>,
-    /// Folds (turning points: the jumps).
-    pub folds: Vec<SpeedFold>,
-    /// Why the engine stopped.
-    pub end: hbm::ContinuationEnd,
-}
+/// A branch of periodic responses over `ω₁` \[rad/s\] (the workspace's one branch type;
+/// folds are the jumps, in rad/s). The parameter of [`orbit::Branch::stop`] stays in the
+/// engine's `ω̄_c` (as committed in the Fig. 11 run records).
+pub type SpeedBranch = orbit::Branch<SpeedPoint>;
 
 /// Continue the harmonic-balance response of `params` from `params.omega1` to
-/// `options.omega1_end` by pseudo-arclength continuation, going round folds.
+/// `options.omega1_end` by pseudo-arclength continuation, going round folds: the one
+/// continuation ([`orbit::continue_hbm`] in the base frequency `ω̄_c`), mapped to `ω₁`.
 ///
 /// The first point is solved from `start` (a warm start picks the branch). Non-convergence is
-/// reported in [`SpeedBranch::end`], not as an error.
+/// reported in [`orbit::Branch::stop`], not as an error.
 ///
 /// # Errors
 /// Invalid parameters or options.
@@ -199,7 +185,7 @@ pub fn continue_in_speed(
     let first = solve_hbm_with(&model, &options.hbm, start)?;
     let basis = options.hbm.basis.to_hbm(model.z2)?;
     let mut problem = problem_of(&model, basis, options.hbm.samples)?;
-    let copts = hbm::ContinuationOptions {
+    let copts = orbit::HbmContinuationOptions {
         initial_step: options.initial_step / to_omega1,
         min_step: options.min_step / to_omega1,
         max_step: options.max_step / to_omega1,
@@ -208,61 +194,51 @@ pub fn continue_in_speed(
         corrector_max_iters: options.hbm.max_iter.max(1),
         stability: options.stability == BranchStability::Floquet,
         stability_steps: Some(options.stability_steps.max(4)),
+        predictor: orbit::Predictor::Arclength,
     };
-    let branch = problem
-        .continuation(
-            hbm::ContinuationParameter::Frequency,
-            &first.solution.coefficients,
-            model.omega_c,
-            options.omega1_end / to_omega1,
-            &copts,
-        )
-        .map_err(Error::from)?;
-    let points = branch
-        .points
-        .iter()
-        .map(|p| {
+    let branch = orbit::continue_hbm(
+        &mut problem,
+        orbit::Parameter::BaseFrequency,
+        &first.solution.coefficients,
+        model.omega_c,
+        options.omega1_end / to_omega1,
+        &copts,
+    )
+    .map_err(Error::from)?;
+    branch.try_map(
+        |p| {
             let m = model.with_omega_c(p.parameter)?;
-            let rattle = rattle_of(&m, &p.solution);
+            let rattle = rattle_of(&m, &p.orbit);
             let stability = match options.stability {
                 BranchStability::None => None,
-                BranchStability::Floquet => p.solution.stability.clone(),
+                BranchStability::Floquet => p.orbit.stability.clone(),
                 BranchStability::Shooting => {
                     let r = HbmResponse {
-                        solution: p.solution.clone(),
+                        solution: p.orbit.clone(),
                         rattle,
                     };
                     Some(shooting_stability(&m, &r)?)
                 }
             };
-            Ok(SpeedBranchPoint {
-                omega1: p.parameter * to_omega1,
-                rattle,
-                stable: stability.as_ref().map(|s| s.stable),
-                max_multiplier: stability.map(|s| s.max_modulus),
-                solution: p.solution.clone(),
+            Ok(orbit::BranchPoint {
+                parameter: p.parameter * to_omega1,
+                tangent_parameter: p.tangent_parameter,
+                stability,
+                orbit: SpeedPoint {
+                    rattle,
+                    solution: p.orbit.clone(),
+                },
             })
-        })
-        .collect::<Result<Vec<_>, Error>>()?;
-    Ok(SpeedBranch {
-        points,
-        folds: branch
-            .folds
-            .iter()
-            .map(|f| SpeedFold {
-                omega1: f.parameter * to_omega1,
-                after_index: f.after_index,
-            })
-            .collect(),
-        end: branch.end,
-    })
+        },
+        |w| w * to_omega1,
+    )
 }
 
 /// Shooting stability ([`BranchStability::Shooting`], three integrations per point) of a
 /// branch continued without it, on a thinned subset: the first point and then every point at
 /// least `spacing` rad/s of `ω₁` from the last one taken, in arclength order. The points are
 /// evaluated in parallel and written back in order, so the branch is bit-identical for any
-/// thread count; the points not taken keep `stable = None`. `params` is the parameter set the
+/// thread count; the points not taken keep `stability = None`. `params` is the parameter set the
 /// branch was continued from (its `ω̄_c/ω₁` ratio maps each point's `ω₁` to its model).
 ///
 /// # Errors
@@ -282,7 +258,7 @@ pub fn add_branch_stability(
     let mut last = f64::NAN;
     let picked: Vec<usize> = (0..branch.points.len())
         .filter(|&i| {
-            let w = branch.points[i].omega1;
+            let w = branch.points[i].parameter;
             let take = last.is_nan() || (w - last).abs() >= spacing;
             if take {
                 last = w;
@@ -297,7 +273,7 @@ pub fn add_branch_stability(
         &picked,
         |&i| {
             let pt = &points[i];
-            let m = base_model.with_omega_c(pt.omega1 * to_wc)?;
+            let m = base_model.with_omega_c(pt.parameter * to_wc)?;
             let r = HbmResponse {
                 solution: pt.solution.clone(),
                 rattle: pt.rattle,
@@ -309,8 +285,7 @@ pub fn add_branch_stability(
     .into_iter()
     .collect::<Result<_, Error>>()?;
     for (&i, s) in picked.iter().zip(verdicts) {
-        branch.points[i].max_multiplier = Some(s.max_modulus);
-        branch.points[i].stable = Some(s.stable);
+        branch.points[i].stability = Some(s);
     }
     Ok(())
 }

@@ -112,7 +112,7 @@ mod trig;
 mod window;
 
 pub use continuation::{
-    BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedFold,
+    BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedPoint,
     add_branch_stability, continue_in_speed, shooting_multipliers, shooting_stability,
 };
 pub use harmonic::{

@@ -362,14 +362,15 @@ pub fn solve_sweep(
 }
 
 /// Sequential continuation along the sweep for the points whose warm start did not converge:
-/// start from a converged neighbour, sweeping up and down until nothing changes.
+/// start from a converged neighbour, sweeping up and down until nothing changes (the one
+/// neighbour continuation, [`orbit::fill_from_neighbours`], with the Liu harmonic-balance
+/// solve as corrector).
 fn fill_from_neighbours(
     models: &[Model],
     pts: &mut [SweepPoint],
     strategy: &SweepStrategy,
     full: bool,
 ) -> Result<(), Error> {
-    let n = pts.len();
     let converged = |p: &SweepPoint| {
         if full {
             p.full.is_some_and(|f| f.converged)
@@ -377,45 +378,35 @@ fn fill_from_neighbours(
             p.warm.converged
         }
     };
-    for pass in 0..strategy.neighbour_passes {
-        let mut changed = false;
-        let order: Vec<usize> = if pass % 2 == 0 {
-            (1..n).collect()
-        } else {
-            (0..n.saturating_sub(1)).rev().collect()
-        };
-        for i in order {
-            let j = if pass % 2 == 0 { i - 1 } else { i + 1 };
-            if converged(&pts[i]) || !converged(&pts[j]) {
-                continue;
-            }
+    orbit::fill_from_neighbours(
+        pts,
+        strategy.neighbour_passes,
+        converged,
+        |i, target, from| {
             let m = &models[i];
             let (opts, start) = if full {
-                let Some(s) = pts[j].full_solution.clone() else {
-                    continue;
+                let Some(s) = from.full_solution.clone() else {
+                    return Ok(false);
                 };
                 (HbmOptions::full(m, strategy.full_basis.unwrap_or(1)), s)
             } else {
-                (strategy.paper_hbm, pts[j].warm_solution.clone())
+                (strategy.paper_hbm, from.warm_solution.clone())
             };
             let r = solve_hbm_with(m, &opts, HbmStart::Given(&start))?;
-            if r.converged() {
-                let hp = HbmPoint::of(&r, HbmOrigin::Neighbour);
-                if full {
-                    pts[i].full = Some(hp);
-                    pts[i].full_solution = Some(r);
-                } else {
-                    pts[i].warm = hp;
-                    pts[i].warm_solution = r;
-                }
-                changed = true;
+            if !r.converged() {
+                return Ok(false);
             }
-        }
-        if !changed {
-            break;
-        }
-    }
-    Ok(())
+            let hp = HbmPoint::of(&r, HbmOrigin::Neighbour);
+            if full {
+                target.full = Some(hp);
+                target.full_solution = Some(r);
+            } else {
+                target.warm = hp;
+                target.warm_solution = r;
+            }
+            Ok(true)
+        },
+    )
 }
 
 #[cfg(test)]

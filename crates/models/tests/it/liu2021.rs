@@ -323,19 +323,19 @@ fn continuation_finds_the_jump_fold_of_the_unilateral_branch() {
     };
     let b = liu2021::continue_in_speed(&p, &o, HbmStart::Cold).unwrap();
     assert!(!b.points.is_empty());
-    assert!((b.points[0].omega1 - 180.0).abs() < 1e-9);
+    assert!((b.points[0].parameter - 180.0).abs() < 1e-9);
     let fold = b.folds.first().expect("a fold");
     assert!(
-        (184.0..187.0).contains(&fold.omega1),
+        (184.0..187.0).contains(&fold.parameter),
         "fold at {}",
-        fold.omega1
+        fold.parameter
     );
     let before = &b.points[fold.after_index];
     assert_eq!(before.rattle.state, RattleState::Unilateral);
     // past the fold the branch runs back to lower speeds with a larger ppv
     let last = b.points.last().unwrap();
-    assert!(last.omega1 < fold.omega1 && last.rattle.ppv > before.rattle.ppv);
-    assert!(b.points.iter().all(|p| p.stable.is_none()));
+    assert!(last.parameter < fold.parameter && last.rattle.ppv > before.rattle.ppv);
+    assert!(b.points.iter().all(|p| p.stable().is_none()));
     let bad = SpeedContinuationOptions {
         initial_step: f64::NAN,
         ..o
@@ -347,11 +347,11 @@ fn continuation_finds_the_jump_fold_of_the_unilateral_branch() {
     let mut thinned = b.clone();
     liu2021::add_branch_stability(&p, &mut thinned, 2.0).unwrap();
     let picked: Vec<usize> = (0..thinned.points.len())
-        .filter(|&i| thinned.points[i].stable.is_some())
+        .filter(|&i| thinned.points[i].stable().is_some())
         .collect();
     assert_eq!(picked.first(), Some(&0));
     for w in picked.windows(2) {
-        assert!((thinned.points[w[1]].omega1 - thinned.points[w[0]].omega1).abs() >= 2.0);
+        assert!((thinned.points[w[1]].parameter - thinned.points[w[0]].parameter).abs() >= 2.0);
     }
     let i = *picked.last().unwrap();
     let m = p
@@ -359,14 +359,14 @@ fn continuation_finds_the_jump_fold_of_the_unilateral_branch() {
         .unwrap()
         // the library's order of operations (`ω₁ · (ω̄_c/ω₁,params)`): the multiplier of this
         // unstable orbit moves by ~1e-3 under a one-ulp change of ω̄_c
-        .with_omega_c(thinned.points[i].omega1 * (p.model().unwrap().omega_c / p.omega1))
+        .with_omega_c(thinned.points[i].parameter * (p.model().unwrap().omega_c / p.omega1))
         .unwrap();
     let r = liu2021::HbmResponse {
         solution: thinned.points[i].solution.clone(),
         rattle: thinned.points[i].rattle,
     };
     assert_eq!(
-        thinned.points[i].max_multiplier,
+        thinned.points[i].max_multiplier(),
         Some(liu2021::max_multiplier(&m, &r).unwrap())
     );
     assert!(liu2021::add_branch_stability(&p, &mut thinned, -1.0).is_err());

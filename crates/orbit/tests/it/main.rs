@@ -2,6 +2,7 @@
 //! one test binary (one link of the dependency tree instead of one per file; issue 26).
 
 mod common;
+mod hbm_branch;
 mod hostile;
 mod impact;
 mod linear;

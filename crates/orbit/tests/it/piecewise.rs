@@ -132,7 +132,7 @@ fn grazing_in_a_named_parameter_matches_closed_form() {
         ..Default::default()
     };
     let br = p.continuation(&[0.0, 0.0], 0.3, &opts).unwrap();
-    assert_eq!(br.stop, orbit::StopReason::Range);
+    assert_eq!(br.stop, orbit::StopReason::ReachedEnd);
     let g: Vec<_> = br
         .special
         .iter()

@@ -15,7 +15,7 @@ fn duffing_multipliers_match_harmonic_balance() {
         let s = Duffing {
             zeta: 0.05,
             gamma: 0.3,
-            f: 0.2,
+            force: 0.2,
             omega,
         };
         let basis = hbm::Basis::full(15).unwrap();
@@ -54,7 +54,7 @@ fn duffing_folds_are_located_with_a_unit_multiplier() {
     let s = Duffing {
         zeta: 0.05,
         gamma: 0.3,
-        f: 0.2,
+        force: 0.2,
         omega: 0.8,
     };
     let mut p = OrbitProblem::new(s, 2.0 * PI / 0.8).unwrap();
@@ -131,7 +131,7 @@ fn duffing_folds_are_located_with_a_unit_multiplier() {
 trait Dist {
     fn floquet_distance_to_one(&self) -> f64;
 }
-impl Dist for orbit::SpecialPoint {
+impl Dist for orbit::SpecialPoint<orbit::ShootingPoint> {
     fn floquet_distance_to_one(&self) -> f64 {
         self.point
             .floquet

@@ -45,56 +45,8 @@ impl SecondOrderSystem for Linear {
     }
 }
 
-/// Duffing `q'' + 2ζ q' + q + γ q³ = F cos ωt`; `omega` is the forcing frequency and can be
-/// continued as the parameter "omega" too (the HBM base frequency must equal it).
-#[derive(Debug, Clone)]
-pub struct Duffing {
-    pub zeta: f64,
-    pub gamma: f64,
-    pub force: f64,
-    pub omega: f64,
-}
-
-impl SecondOrderSystem for Duffing {
-    fn n_dof(&self) -> usize {
-        1
-    }
-    fn mass(&self) -> DMatrix<f64> {
-        DMatrix::identity(1, 1)
-    }
-    fn damping(&self) -> DMatrix<f64> {
-        DMatrix::from_element(1, 1, 2.0 * self.zeta)
-    }
-    fn stiffness(&self) -> DMatrix<f64> {
-        DMatrix::identity(1, 1)
-    }
-    fn nonlinear_force(&self, _t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
-        g[0] = self.gamma * q[0].powi(3);
-    }
-    fn force_jacobian(&self, _t: f64, q: &[f64], _qd: &[f64], a: &mut [f64], b: &mut [f64]) {
-        a[0] = 3.0 * self.gamma * q[0] * q[0];
-        b[0] = 0.0;
-    }
-    fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = self.force * (self.omega * t).cos();
-    }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), geardyn_hbm::SystemError> {
-        self.omega = omega;
-        Ok(())
-    }
-    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), geardyn_hbm::SystemError> {
-        match name {
-            "force" => self.force = value,
-            "gamma" => self.gamma = value,
-            _ => {
-                return Err(geardyn_hbm::SystemError::UnknownParameter {
-                    name: name.to_string(),
-                });
-            }
-        }
-        Ok(())
-    }
-}
+/// Duffing `q'' + 2ζ q' + q + γ q³ = F cos ωt`: the workspace's reference problem.
+pub use system::problems::Duffing;
 
 /// Dead-zone (backlash) oscillator `q'' + 2ζ q' + f(q) = F0 + F cos ωt`.
 #[derive(Debug, Clone)]

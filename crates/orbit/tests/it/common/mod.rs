@@ -119,43 +119,8 @@ impl SecondOrderSystem for ImpactOscillator {
     }
 }
 
-/// Duffing `q'' + 2ζ q' + q + γ q³ = F cos ωt`.
-#[derive(Debug, Clone, Copy)]
-pub struct Duffing {
-    pub zeta: f64,
-    pub gamma: f64,
-    pub f: f64,
-    pub omega: f64,
-}
-
-impl SecondOrderSystem for Duffing {
-    fn n_dof(&self) -> usize {
-        1
-    }
-    fn mass(&self) -> DMatrix<f64> {
-        DMatrix::identity(1, 1)
-    }
-    fn damping(&self) -> DMatrix<f64> {
-        DMatrix::from_element(1, 1, 2.0 * self.zeta)
-    }
-    fn stiffness(&self) -> DMatrix<f64> {
-        DMatrix::identity(1, 1)
-    }
-    fn nonlinear_force(&self, _t: f64, q: &[f64], _v: &[f64], g: &mut [f64]) {
-        g[0] = self.gamma * q[0].powi(3);
-    }
-    fn force_jacobian(&self, _t: f64, q: &[f64], _v: &[f64], dq: &mut [f64], dv: &mut [f64]) {
-        dq[0] = 3.0 * self.gamma * q[0] * q[0];
-        dv[0] = 0.0;
-    }
-    fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = self.f * (self.omega * t).cos();
-    }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
-        self.omega = omega;
-        Ok(())
-    }
-}
+/// Duffing `q'' + 2ζ q' + q + γ q³ = F cos ωt`: the workspace's reference problem.
+pub use system::problems::Duffing;
 
 /// One-DOF rattle: `q'' + 2ζ q' + dz(q, b) = F0 + F cos ωt` (dead zone of half-width `b`),
 /// gap edges as events.

@@ -143,27 +143,27 @@ fn run() -> Result<StudyOutput, Error> {
         let mut pts = Vec::new();
         let rows = if unsettled { &mut t_unsettled } else { &mut t };
         for p in &b.points {
-            let marginal = p.max_multiplier.is_some_and(marginal_multiplier);
+            let marginal = p.max_multiplier().is_some_and(marginal_multiplier);
             rows.push(vec![
                 (*label).into(),
-                cell(p.omega1),
+                cell(p.parameter),
                 cell(f64::from(p.rattle.state.rsv())),
                 cell(p.rattle.ppv),
                 Cell::settled_if(
-                    p.stable.map_or(f64::NAN, |s| if s { 1.0 } else { 0.0 }),
+                    p.stable().map_or(f64::NAN, |s| if s { 1.0 } else { 0.0 }),
                     unsettled || marginal,
                 ),
                 // the multiplier itself is resolved to a few per cent only (MULTIPLIER_FLOOR):
                 // the committed judgement is the stability column
-                Cell::Unsettled(p.max_multiplier.map_or(f64::NAN, resolved_multiplier)),
+                Cell::Unsettled(p.max_multiplier().map_or(f64::NAN, resolved_multiplier)),
                 p.solution.residual_norm.into(),
                 p.solution.truncation.into(),
             ])?;
             // a marginal multiplier draws as "not known stable" (dashed) whichever side it falls
             pts.push((
-                p.omega1,
+                p.parameter,
                 p.rattle.ppv,
-                if marginal { None } else { p.stable },
+                if marginal { None } else { p.stable() },
             ));
         }
         let text = |s: String| if unsettled { crate::unsettled(s) } else { s };
@@ -173,12 +173,12 @@ fn run() -> Result<StudyOutput, Error> {
             text(
                 b.folds
                     .iter()
-                    .map(|f| sig(f.omega1))
+                    .map(|f| sig(f.parameter))
                     .collect::<Vec<_>>()
                     .join(" "),
             )
             .into(),
-            text(end_label(&b.end)).into(),
+            text(end_label(&b.stop)).into(),
         ])?;
         // a fold lies between two points: mark it at the fitted ω₁ and their mean ppv
         let folds = b
@@ -189,7 +189,7 @@ fn run() -> Result<StudyOutput, Error> {
                     b.points.get(f.after_index)?,
                     b.points.get(f.after_index + 1)?,
                 );
-                Some((f.omega1, 0.5 * (a.rattle.ppv + c.rattle.ppv)))
+                Some((f.parameter, 0.5 * (a.rattle.ppv + c.rattle.ppv)))
             })
             .collect();
         let before = fig.series.len();
@@ -222,24 +222,24 @@ fn run() -> Result<StudyOutput, Error> {
                     .get(f.after_index)
                     .is_some_and(|p| p.rattle.state != RattleState::Bilateral)
             })
-            .map(|f| f.omega1)
+            .map(|f| f.parameter)
             .fold(f64::NAN, f64::max);
         let bi_min = b
             .points
             .iter()
             .filter(|p| p.rattle.state == RattleState::Bilateral)
-            .map(|p| p.omega1)
+            .map(|p| p.parameter)
             .fold(f64::NAN, f64::min);
         let text = format!(
             "folds at [{}] rad/s (jump-up fold of the rattle-free/unilateral part {}), bilateral points down to {} rad/s, end {:?}",
             b.folds
                 .iter()
-                .map(|f| sig(f.omega1))
+                .map(|f| sig(f.parameter))
                 .collect::<Vec<_>>()
                 .join(", "),
             sig(fold_max),
             sig(bi_min),
-            end_label(&b.end)
+            end_label(&b.stop)
         );
         evidence.push(format!(
             "{label}: {}",
@@ -334,17 +334,17 @@ fn resolved_multiplier(mu: f64) -> f64 {
 }
 
 /// The end of a branch at 6 significant digits (the raw `Debug` form prints round-off).
-fn end_label(end: &hbm::ContinuationEnd) -> String {
+fn end_label(end: &orbit::StopReason) -> String {
     match end {
-        hbm::ContinuationEnd::ReachedEnd => "ReachedEnd".to_owned(),
-        hbm::ContinuationEnd::MaxPoints => "MaxPoints".to_owned(),
-        hbm::ContinuationEnd::LeftRange { parameter } => {
+        orbit::StopReason::ReachedEnd => "ReachedEnd".to_owned(),
+        orbit::StopReason::MaxPoints => "MaxPoints".to_owned(),
+        orbit::StopReason::LeftRange { parameter } => {
             format!("LeftRange {{ parameter: {} }}", sig(*parameter))
         }
-        hbm::ContinuationEnd::StepTooSmall { parameter } => {
+        orbit::StopReason::StepTooSmall { parameter, .. } => {
             format!("StepTooSmall {{ parameter: {} }}", sig(*parameter))
         }
-        hbm::ContinuationEnd::InitialSolveFailed { residual_norm } => {
+        orbit::StopReason::InitialSolveFailed { residual_norm } => {
             format!(
                 "InitialSolveFailed {{ residual_norm: {} }}",
                 sig(*residual_norm)

@@ -4,9 +4,12 @@
 
 use models::liu2021::{self, IntegrationOptions, Model, Parameters};
 use orbit::{
-    Branch, ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingOptions, SpecialKind,
-    SpecialPoint,
+    ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingOptions, ShootingPoint,
+    SpecialKind,
 };
+
+type Branch = orbit::ShootingBranch;
+type SpecialPoint = orbit::SpecialPoint<ShootingPoint>;
 use system::{SecondOrderSystem, SystemError};
 
 use super::{base, model, sig, speed_tolerance};
@@ -867,8 +870,11 @@ fn base_backlash() -> Result<f64, Error> {
 
 fn stop_label(b: &Branch) -> String {
     match &b.stop {
-        orbit::StopReason::Range => "range left".to_owned(),
+        orbit::StopReason::ReachedEnd | orbit::StopReason::LeftRange { .. } => {
+            "range left".to_owned()
+        }
         orbit::StopReason::MaxPoints => "max points".to_owned(),
-        orbit::StopReason::StepTooSmall(_) => "step too small (corrector failed)".to_owned(),
+        orbit::StopReason::StepTooSmall { .. } => "step too small (corrector failed)".to_owned(),
+        other => format!("{other:?}"),
     }
 }
