@@ -11,6 +11,33 @@ use super::Yu2021Params;
 use crate::Error;
 use crate::pair::{Dofs, PairParams};
 
+/// The constant-backlash parameters chosen here for Yu Fig. 4 (the paper prints none; reading
+/// R-YU-FIG4 in `docs/readings/backlash.md`): `b_0 = 30 µm`, `λ = 1.5`, `l_a = L = 1 mm`,
+/// `l_s = 1 µm`, 8 quadrature points per smallest wavelength, Eq. (4)–(5) with `|z|`.
+/// The law is the backlash leaf's ([`backlash::ConstantBacklashParams`]); the set is Yu's.
+pub fn fig4_backlash_params() -> backlash::ConstantBacklashParams {
+    backlash::ConstantBacklashParams {
+        b0: 30e-6,
+        gamma: 1.5,
+        l_a: 1e-3,
+        l_s: 1e-6,
+        sampling_length: 1e-3,
+        quadrature: backlash::Quadrature::default(),
+        form: backlash::ConstantPartForm::AbsoluteMean,
+    }
+}
+
+/// Yu Fig. 4 as data with [`fig4_backlash_params`]: `b_s(D, G)` for D = 1.2, 1.3, …, 1.8 and
+/// G = 1e-12 … 1e-11 m (5 log-spaced values; the decade of Fig. 12(b), containing the
+/// G = 1e-11 m of Fig. 9), through the leaf's [`backlash::fig4_grid`].
+pub fn fig4() -> Result<backlash::Fig4Data, backlash::Error> {
+    let d: Vec<f64> = (0..7).map(|i| 1.2 + 0.1 * f64::from(i)).collect();
+    let g: Vec<f64> = (0..5)
+        .map(|j| 10f64.powf(-12.0 + 0.25 * f64::from(j)))
+        .collect();
+    backlash::fig4_grid(fig4_backlash_params(), &d, &g)
+}
+
 impl Yu2021Params {
     /// The involute spur pair of this parameter set: reference radii `R_p`, `R_g` and `α_0`
     /// (Table 1: `R_p = R_g = 0.094 m`; Table 2: module 3 mm, 50/50 teeth, `R = 75 mm`; both
@@ -72,6 +99,38 @@ impl PairParams {
 
 #[cfg(test)]
 mod tests {
+
+    /// The Fig. 4 set is the one R-YU-FIG4 states, and its grid reproduces the table of
+    /// `docs/readings/backlash.md` (b_s in µm, printed to 2 decimals, so within 0.005 µm) and
+    /// the text's claims (D = 1.2: b_s < 20 µm; D = 1.8: b_s ≈ b_0; monotone in D and G).
+    #[test]
+    #[allow(clippy::float_cmp)] // exact: the stated literals
+    fn fig4_set_and_grid_are_the_documented_ones() {
+        let p = super::fig4_backlash_params();
+        assert_eq!(
+            (p.b0, p.gamma, p.l_a, p.l_s, p.sampling_length),
+            (30e-6, 1.5, 1e-3, 1e-6, 1e-3)
+        );
+        assert_eq!(p.form, backlash::ConstantPartForm::AbsoluteMean);
+        let data = super::fig4().unwrap();
+        assert_eq!((data.d.len(), data.g.len()), (7, 5));
+        for (row, d, want) in [
+            (0, 1.2, [13.57, 11.57, 9.32, 6.80, 3.96]),
+            (1, 1.3, [27.74, 27.31, 26.80, 26.20, 25.49]),
+            (2, 1.4, [29.68, 29.60, 29.50, 29.37, 29.21]),
+        ] {
+            assert!((data.d[row] - d).abs() < 1e-12);
+            for (j, w) in want.iter().enumerate() {
+                let got = 1e6 * data.b_s[row][j];
+                assert!(
+                    (got - w).abs() <= 0.005 + 1e-9,
+                    "D {d}, G {}: {got} vs {w}",
+                    data.g[j]
+                );
+            }
+        }
+        assert!(data.claims().unwrap().all_hold());
+    }
     use crate::pair::test_support::{accel, close};
 
     /// Table 1 and Table 2 geometry: `a0 = 0.188 m`, and Table 2's `R = m z/2 = 75 mm`
