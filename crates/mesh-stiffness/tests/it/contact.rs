@@ -1,7 +1,7 @@
 //! Fractal (Yu Eq. 18) and Hertzian contact stiffness: reference values, limits, trends.
 
 use approx::assert_relative_eq;
-use geardyn_mesh_stiffness::{FractalContact, FractalForm, HertzLineContact};
+use geardyn_mesh_stiffness::{CurvatureCoefficient, FractalContact, FractalForm, HertzLineContact};
 use proptest::prelude::*;
 
 /// Yang & Lin (1987) line-contact stiffness k = π E b / [4(1 − ν²)], hand-computed for
@@ -27,7 +27,7 @@ fn hertz_yang_lin_reference() {
 /// a = 1.018268643e-4 m, δ = 2.141858462e-6 m, dF/dδ = 5.790199636e8 N/m.
 #[test]
 fn hertz_johnson_reference() {
-    let fc = FractalContact::yu2021_default();
+    let fc = reference_contact();
     let h = fc.hertz_line_contact(0.02).unwrap();
     let f = fc.load;
     assert_relative_eq!(
@@ -73,7 +73,7 @@ proptest! {
     /// with G at fixed D.
     #[test]
     fn fractal_power_law_in_g(d in 1.05..1.95f64, lg in -13.0..-9.0f64) {
-        let mut p = FractalContact::yu2021_default();
+        let mut p = reference_contact();
         p.fractal_dimension = d;
         p.fractal_roughness = 10f64.powf(lg);
         let k1 = p.stiffness(FractalForm::Consistent).unwrap();
@@ -87,7 +87,7 @@ proptest! {
     /// k_c ∝ E^{D} / H^{D−1} at fixed ν: with φ = H/E the factor E (φq)^{1−D} = E^D (Hq)^{1−D}.
     #[test]
     fn fractal_material_scaling(d in 1.05..1.95f64, s in 0.5..2.0f64) {
-        let mut p = FractalContact::yu2021_default();
+        let mut p = reference_contact();
         p.fractal_dimension = d;
         let k1 = p.stiffness(FractalForm::Consistent).unwrap();
         p.elastic_modulus *= s;
@@ -106,7 +106,7 @@ proptest! {
 #[test]
 fn fractal_trend_in_d() {
     for g in [1e-12, 1e-11] {
-        let mut p = FractalContact::yu2021_default();
+        let mut p = reference_contact();
         p.fractal_roughness = g;
         let ks: Vec<f64> = (0..=18)
             .map(|i| {
@@ -119,7 +119,7 @@ fn fractal_trend_in_d() {
         }
     }
     // reference point (python, same formula): D = 1.5, G = 1e-11 m -> 8.933e3
-    let p = FractalContact::yu2021_default();
+    let p = reference_contact();
     assert_relative_eq!(
         p.stiffness(FractalForm::Consistent).unwrap(),
         8.933e3,
@@ -135,7 +135,7 @@ proptest! {
     #[test]
     fn fractal_number_is_length_unit_invariant(d in 1.05..1.95f64, lu in -7.0..0.0f64) {
         let u = 10f64.powf(lu);
-        let p = FractalContact::yu2021_default();
+        let p = reference_contact();
         let mut q = p;
         q.fractal_dimension = d;
         let mut s = q;
@@ -150,5 +150,29 @@ proptest! {
         let a = q.stiffness(FractalForm::Consistent).unwrap();
         let b = s.stiffness(FractalForm::Consistent).unwrap();
         prop_assert!((a - b).abs() < 1e-9 * a, "a={a} b={b}");
+    }
+}
+
+/// The contact of reading R-YU-EQ18 (`docs/readings/mesh-stiffness.md`; Yu's set, kept by the
+/// model as `geardyn_models::yu2021::fractal_contact_default`), written out so that the law's
+/// tests stand without the model: D = 1.5, G = 1e-11 m, E = 2.06e11 Pa, H = 2.2e9 Pa, ν = 0.3,
+/// R₁ = R₂ = 0.094 sin 20° m, F = 107.8/0.094 N, l_a = 1e-4 m, l_s = 1e-8 m, a_L = π l_a²/4,
+/// λ_c = 1.
+fn reference_contact() -> FractalContact {
+    let r = 0.094 * 20f64.to_radians().sin();
+    let la = 1e-4;
+    FractalContact {
+        fractal_dimension: 1.5,
+        fractal_roughness: 1e-11,
+        elastic_modulus: 2.06e11,
+        hardness: 2.2e9,
+        poisson_ratio: 0.3,
+        radius_pinion: r,
+        radius_gear: r,
+        load: 107.8 / 0.094,
+        largest_asperity: la,
+        smallest_asperity: 1e-8,
+        largest_contact_area: std::f64::consts::PI * la * la / 4.0,
+        curvature_coefficient: CurvatureCoefficient::Value(1.0),
     }
 }

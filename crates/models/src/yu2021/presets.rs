@@ -11,6 +11,39 @@ use super::Yu2021Params;
 use crate::Error;
 use crate::pair::{Dofs, PairParams};
 
+/// The fractal contact of Yu Eq. (18) with the values chosen here (reading R-YU-EQ18 in
+/// `docs/readings/mesh-stiffness.md`, every value with its source; the law is the
+/// `mesh-stiffness` leaf's [`mesh_stiffness::FractalContact`], the set is Yu's):
+///
+/// - `D = 1.5`, `G = 1e-11 m`: mid-range of Yu Figs. 9–12 (`G = 1e-11 m` in Fig. 9).
+/// - `E = 2.06e11 Pa`: Yu Table 2 (2.06×10⁵ N/mm²). `ν = 0.3` (steel).
+/// - `H = 2.2e9 Pa`: Tabor `H ≈ 2.8 σ_y` with `σ_y = 785 MPa` (quenched and tempered 40Cr,
+///   GB/T 3077); Yu gives no hardness.
+/// - `R₁ = R₂ = 0.094 sin 20° m`: flank curvature at the pitch point of Yu Table 1's pair
+///   (`R_p = R_g = 0.094 m`, 20° pressure angle).
+/// - `F = 107.8 N m / 0.094 m = 1146.8 N`: Yu Table 1 torque over the radius.
+/// - `l_a = 1e-4 m`, `l_s = 1e-8 m`: four decades of asperity scales (Yu gives none).
+/// - `a_L = π l_a²/4`: the base area of the largest asperity, an upper bound for its contact.
+/// - `λ_c = 1`: no curvature correction (the printed definition is unit-dependent).
+pub fn fractal_contact_default() -> mesh_stiffness::FractalContact {
+    let r = 0.094 * 20f64.to_radians().sin();
+    let la = 1e-4;
+    mesh_stiffness::FractalContact {
+        fractal_dimension: 1.5,
+        fractal_roughness: 1e-11,
+        elastic_modulus: 2.06e11,
+        hardness: 2.2e9,
+        poisson_ratio: 0.3,
+        radius_pinion: r,
+        radius_gear: r,
+        load: 107.8 / 0.094,
+        largest_asperity: la,
+        smallest_asperity: 1e-8,
+        largest_contact_area: std::f64::consts::PI * la * la / 4.0,
+        curvature_coefficient: mesh_stiffness::CurvatureCoefficient::Value(1.0),
+    }
+}
+
 /// The constant-backlash parameters chosen here for Yu Fig. 4 (the paper prints none; reading
 /// R-YU-FIG4 in `docs/readings/backlash.md`): `b_0 = 30 µm`, `λ = 1.5`, `l_a = L = 1 mm`,
 /// `l_s = 1 µm`, 8 quadrature points per smallest wavelength, Eq. (4)–(5) with `|z|`.
@@ -103,6 +136,30 @@ mod tests {
     /// The Fig. 4 set is the one R-YU-FIG4 states, and its grid reproduces the table of
     /// `docs/readings/backlash.md` (b_s in µm, printed to 2 decimals, so within 0.005 µm) and
     /// the text's claims (D = 1.2: b_s < 20 µm; D = 1.8: b_s ≈ b_0; monotone in D and G).
+    /// The Eq. (18) contact is the one R-YU-EQ18 states (values with their sources in the
+    /// function's docs) and the leaf accepts it.
+    #[test]
+    #[allow(clippy::float_cmp)] // exact: the stated literals
+    fn fractal_contact_is_the_documented_one() {
+        let c = super::fractal_contact_default();
+        let r = 0.094 * 20f64.to_radians().sin();
+        assert_eq!((c.fractal_dimension, c.fractal_roughness), (1.5, 1e-11));
+        assert_eq!(
+            (c.elastic_modulus, c.hardness, c.poisson_ratio),
+            (2.06e11, 2.2e9, 0.3)
+        );
+        assert_eq!(
+            (c.radius_pinion, c.radius_gear, c.load),
+            (r, r, 107.8 / 0.094)
+        );
+        assert_eq!((c.largest_asperity, c.smallest_asperity), (1e-4, 1e-8));
+        assert_eq!(c.largest_contact_area, std::f64::consts::PI * 1e-8 / 4.0);
+        let k = c
+            .stiffness(mesh_stiffness::FractalForm::Consistent)
+            .unwrap();
+        assert!(k.is_finite() && k > 0.0, "{k}");
+    }
+
     #[test]
     #[allow(clippy::float_cmp)] // exact: the stated literals
     fn fig4_set_and_grid_are_the_documented_ones() {
