@@ -398,5 +398,13 @@ mod tests {
         assert_eq!(unit("backlash.b").as_deref(), Some("m"));
         assert_eq!(unit("geometry.pressure_angle").as_deref(), Some("rad"));
         assert_eq!(unit("stiffness.curve.k_single").as_deref(), Some("N/m"));
+        // Yu's constant backlash is a length too (Table 1: 1 mm)
+        let yu = find("yu2021").unwrap().describe();
+        let b = yu
+            .parameters
+            .iter()
+            .find(|p| p.name == "backlash.b")
+            .unwrap();
+        assert_eq!(b.unit, "m");
     }
 }

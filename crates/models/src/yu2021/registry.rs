@@ -24,11 +24,13 @@ use crate::yu2021;
 #[derive(Debug, Clone, Copy)]
 pub struct Yu;
 
+/// The unit of a parameter by its own name (the last segment of its dotted path).
 fn yu_unit(k: &str) -> &'static str {
-    match k {
+    match k.rsplit('.').next().unwrap_or(k) {
         "inertia_p" | "inertia_g" => "kg·m²",
         "mass_p" | "mass_g" => "kg",
-        "radius_p" | "radius_g" | "ste_amplitude" | "nominal_length" | "chen_amplitude" => "m",
+        "radius_p" | "radius_g" | "ste_amplitude" | "nominal_length" | "chen_amplitude" | "b"
+        | "b0" => "m",
         "pressure_angle" | "phase" => "rad",
         "torque" => "N·m",
         "mesh_stiffness" | "bearing_stiffness" => "N/m",
