@@ -83,7 +83,16 @@ fn bench_dynamic(c: &mut Criterion) {
 }
 
 fn bench_constant(c: &mut Criterion) {
-    let p = ConstantBacklashParams::yu2021_fig4();
+    // the parameters of reading R-YU-FIG4 (Yu's set, `geardyn_models::yu2021::fig4_backlash_params`)
+    let p = ConstantBacklashParams {
+        b0: 30e-6,
+        gamma: 1.5,
+        l_a: 1e-3,
+        l_s: 1e-6,
+        sampling_length: 1e-3,
+        quadrature: geardyn_backlash::Quadrature::default(),
+        form: geardyn_backlash::ConstantPartForm::AbsoluteMean,
+    };
     let s = SurfaceFractal::new(1.4, 1e-11).unwrap();
     let mut group = c.benchmark_group("b_s");
     group.sample_size(10);

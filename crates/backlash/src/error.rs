@@ -53,6 +53,23 @@ pub enum Error {
     },
 }
 
+/// The spur-pair geometry's range errors ([`system::PairGeometry::new`]) in this crate's words:
+/// `R_p`, `R_g` finite and > 0, `alpha0` in (0, π/2) rad.
+impl From<system::InvalidGeometry> for Error {
+    fn from(e: system::InvalidGeometry) -> Self {
+        let (name, bound) = match e.field {
+            system::GeometryField::PinionRadius => ("R_p", "finite and > 0"),
+            system::GeometryField::GearRadius => ("R_g", "finite and > 0"),
+            system::GeometryField::PressureAngle => ("alpha0", "in (0, π/2) rad"),
+        };
+        Error::InvalidParameter {
+            name,
+            bound,
+            value: e.value,
+        }
+    }
+}
+
 /// Check that `value` is finite; `name` names it in the error.
 pub(crate) fn finite(name: &'static str, value: f64) -> Result<f64, Error> {
     if value.is_finite() {

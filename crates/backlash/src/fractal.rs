@@ -339,21 +339,6 @@ pub struct ConstantBacklashParams {
 }
 
 impl ConstantBacklashParams {
-    /// The parameters chosen here to reproduce Yu Fig. 4 (the paper prints none):
-    /// b0 = 30 µm, λ = 1.5, l_a = L = 1 mm, l_s = 1 µm, 8 points per wavelength.
-    /// See `docs/readings/backlash.md` (R-YU-FIG4) for why.
-    pub fn yu2021_fig4() -> Self {
-        Self {
-            b0: 30e-6,
-            gamma: 1.5,
-            l_a: 1e-3,
-            l_s: 1e-6,
-            sampling_length: 1e-3,
-            quadrature: Quadrature::default(),
-            form: ConstantPartForm::AbsoluteMean,
-        }
-    }
-
     fn validate(&self) -> Result<(), Error> {
         non_negative("b0", self.b0)?;
         check_gamma(self.gamma)?;
@@ -571,17 +556,6 @@ pub fn fig4_grid(
         b_s,
         error,
     })
-}
-
-/// Yu Fig. 4 as data with [`ConstantBacklashParams::yu2021_fig4`]: D = 1.2, 1.3, …, 1.8 and
-/// G = 1e-12 … 1e-11 m (5 log-spaced values; the decade of Fig. 12(b), containing the
-/// G = 1e-11 m of Fig. 9).
-pub fn yu2021_fig4() -> Result<Fig4Data, Error> {
-    let d: Vec<f64> = (0..7).map(|i| 1.2 + 0.1 * f64::from(i)).collect();
-    let g: Vec<f64> = (0..5)
-        .map(|j| 10f64.powf(-12.0 + 0.25 * f64::from(j)))
-        .collect();
-    fig4_grid(ConstantBacklashParams::yu2021_fig4(), &d, &g)
 }
 
 /// Most terms of [`ChenFractal`] (the limit of [`ChenFractal::for_tolerance`] too).

@@ -44,8 +44,9 @@
 //! wavelength; the result carries a quadrature error estimate (difference of the interleaved
 //! half-rules) and the truncation bound ([`MeanHeight`]). With 8 points per wavelength the
 //! estimate is below 1 % of b_i for D ≤ 1.6 (see `docs/performance/backlash.md` and the tests).
-//! [`yu2021_fig4`] returns the b_s(D, G) grid of Yu Fig. 4; [`Fig4Data::claims`] checks the
-//! text's statements.
+//! [`fig4_grid`] returns b_s over a (D, G) grid (the form of Yu Fig. 4); [`Fig4Data::claims`]
+//! checks the text's statements. The parameter set chosen for Fig. 4 is Yu's, not the law's: it
+//! lives with the model (`geardyn_models::yu2021::fig4_backlash_params`).
 //!
 //! **Dynamic part** (Yu Eq. 6–11), centre displacements `(x_p, y_p, x_g, y_g)`:
 //!
@@ -81,8 +82,8 @@
 //!
 //! ## Limitations and readings
 //!
-//! The paper prints no parameters for Fig. 4; ours are chosen and documented
-//! ([`ConstantBacklashParams::yu2021_fig4`]). Yu Eq. (16) (pressure angle) gives 0° at the
+//! The paper prints no parameters for Fig. 4; ours are chosen and documented with the model
+//! (`geardyn_models::yu2021::fig4_backlash_params`, reading R-YU-FIG4). Yu Eq. (16) (pressure angle) gives 0° at the
 //! nominal centre distance, which makes the radicand of Eq. (6) negative at rest; Eq. (6) is
 //! sign-blind; Eq. (11) drops the absolute value of Eq. (4). Each is a reading in
 //! `docs/readings/backlash.md` (R-YU-EQ16, R-YU-EQ6, R-YU-EQ11-BS, R-YU-FIG4, R-LIU-EQ12).
@@ -91,13 +92,21 @@
 //!
 //! ```
 //! use geardyn_backlash::{
-//!     ConstantBacklashParams, DeadZone, DynamicBacklash, CentreDisplacement, PairGeometry,
-//!     SurfaceFractal, dead_zone,
+//!     ConstantBacklashParams, ConstantPartForm, DeadZone, DynamicBacklash, CentreDisplacement,
+//!     PairGeometry, Quadrature, SurfaceFractal, dead_zone,
 //! };
 //!
-//! // constant part from the surface topography (Yu Eq. 5), coarse settings for the doc test
-//! let mut p = ConstantBacklashParams::yu2021_fig4();
-//! p.l_s = 1e-5;
+//! // constant part from the surface topography (Yu Eq. 5), coarse settings for the doc test:
+//! // b0 = 30 µm, λ = 1.5, l_a = L = 1 mm, l_s = 10 µm
+//! let p = ConstantBacklashParams {
+//!     b0: 30e-6,
+//!     gamma: 1.5,
+//!     l_a: 1e-3,
+//!     l_s: 1e-5,
+//!     sampling_length: 1e-3,
+//!     quadrature: Quadrature::default(),
+//!     form: ConstantPartForm::AbsoluteMean,
+//! };
 //! let s = SurfaceFractal::new(1.4, 1e-11)?;
 //! let cp = p.constant_part(s, s)?;
 //! assert!(cp.b_s > 0.0 && cp.b_s < p.b0);
@@ -134,7 +143,7 @@ pub use error::Error;
 pub use fractal::{
     CHEN_MAX_TERMS, ChenFractal, ConstantBacklashParams, ConstantPart, ConstantPartForm,
     Fig4Claims, Fig4Data, MeanHeight, Quadrature, SurfaceFractal, WmProfile, fig4_grid,
-    mean_asperity_height, yu2021_fig4,
+    mean_asperity_height,
 };
 pub use law::{
     Backlash, BacklashLaw, ChenBacklash, ContactEval, GapEval, RadiusModulatedBacklash, Smoothed,

@@ -1,7 +1,9 @@
 //! Spur pair geometry of Yu, Sun, Li, Wu 2021 (Section 2.2, Eq. 7–9, 16). The paper's pairs
 //! (Tables 1–2) live with the model, `geardyn_models::yu2021`.
 
-use system::{CentreDistanceForm, PressureAngleLaw};
+use system::{
+    CentreDisplacement, CentreDistanceForm, GeometryField, PairGeometry, PressureAngleLaw,
+};
 
 use crate::Error;
 use crate::error::positive;
@@ -18,7 +20,9 @@ pub struct SpurPairParams {
     pub pressure_angle: f64,
 }
 
-/// A validated involute spur pair.
+/// A validated involute spur pair, built on the workspace's one spur-pair geometry
+/// ([`system::PairGeometry`], which the backlash leaf uses too): this type adds the
+/// construction from module and teeth and the serde form [`SpurPairParams`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(
@@ -26,7 +30,7 @@ pub struct SpurPairParams {
     serde(try_from = "SpurPairParams", into = "SpurPairParams")
 )]
 pub struct SpurPair {
-    p: SpurPairParams,
+    g: PairGeometry,
 }
 
 impl TryFrom<SpurPairParams> for SpurPair {
@@ -38,23 +42,22 @@ impl TryFrom<SpurPairParams> for SpurPair {
 
 impl From<SpurPair> for SpurPairParams {
     fn from(s: SpurPair) -> Self {
-        s.p
+        s.params()
     }
 }
 
 impl SpurPair {
-    /// Validate: radii `> 0`, `0 < α0 < π/2`.
+    /// Validate: radii finite and `> 0`, `0 < α0 < π/2` ([`PairGeometry::new`]); the error
+    /// names the field (`rp`, `rg`, `pressure_angle`).
     pub fn new(p: SpurPairParams) -> Result<Self, Error> {
-        positive("rp", p.rp)?;
-        positive("rg", p.rg)?;
-        if !(p.pressure_angle > 0.0 && p.pressure_angle < 0.5 * std::f64::consts::PI) {
-            return Err(Error::invalid(
-                "pressure_angle",
-                "in (0, pi/2) rad",
-                p.pressure_angle,
-            ));
-        }
-        Ok(Self { p })
+        let g = PairGeometry::new(p.rp, p.rg, p.pressure_angle).map_err(|e| match e.field {
+            GeometryField::PinionRadius => Error::invalid("rp", "finite and > 0", e.value),
+            GeometryField::GearRadius => Error::invalid("rg", "finite and > 0", e.value),
+            GeometryField::PressureAngle => {
+                Error::invalid("pressure_angle", "in (0, pi/2) rad", e.value)
+            }
+        })?;
+        Ok(Self { g })
     }
 
     /// From module `m` (m) and teeth: `R = m z/2`.
@@ -75,28 +78,36 @@ impl SpurPair {
 
     /// The parameters.
     pub fn params(&self) -> SpurPairParams {
-        self.p
+        SpurPairParams {
+            rp: self.g.r_p,
+            rg: self.g.r_g,
+            pressure_angle: self.g.alpha0,
+        }
+    }
+
+    /// The pair's geometry, the workspace's one [`PairGeometry`] (as the backlash leaf takes it).
+    pub fn geometry(&self) -> PairGeometry {
+        self.g
     }
 
     /// Reference radii `(R_p, R_g)`, m.
     pub fn reference_radii(&self) -> (f64, f64) {
-        (self.p.rp, self.p.rg)
+        (self.g.r_p, self.g.r_g)
     }
 
     /// Base radii `(R_p cos α0, R_g cos α0)`, m (`R_pb` of Eq. 7).
     pub fn base_radii(&self) -> (f64, f64) {
-        let c = self.p.pressure_angle.cos();
-        (self.p.rp * c, self.p.rg * c)
+        self.g.base_radii()
     }
 
     /// Nominal centre distance `a0 = R_p + R_g` (Section 2.2), m.
     pub fn nominal_centre_distance(&self) -> f64 {
-        self.p.rp + self.p.rg
+        self.g.a0()
     }
 
     /// Standard pressure angle `α0`, rad.
     pub fn pressure_angle(&self) -> f64 {
-        self.p.pressure_angle
+        self.g.alpha0
     }
 
     /// Operating pressure angle at centre distance `a` (m), rad, under the workspace's one
@@ -108,7 +119,7 @@ impl SpurPair {
     /// `a ≥ a0`. Outside, or for NaN, an error naming `a` (the backlash leaf clamps instead).
     #[inline]
     pub fn operating_pressure_angle(&self, a: f64, law: PressureAngleLaw) -> Result<f64, Error> {
-        let (a0, alpha0) = (self.nominal_centre_distance(), self.p.pressure_angle);
+        let (a0, alpha0) = (self.g.a0(), self.g.alpha0);
         let bound = match law {
             PressureAngleLaw::PrintedEq16 => ">= Rp + Rg (Eq. 16 as printed)",
             _ => ">= a0 cos(alpha0) (base circles must not overlap)",
@@ -116,7 +127,7 @@ impl SpurPair {
         if !(a.is_finite() && a >= law.cosine_numerator(a0, alpha0)) {
             return Err(Error::invalid("a", bound, a));
         }
-        Ok(law.angle(a, a0, alpha0).0)
+        Ok(self.g.pressure_angle(a, law).0)
     }
 
     /// Actual centre distance of Eq. (8) as printed, `a = √((a0 + x_p − x_g)² + (y_p − y_g)²)`,
@@ -137,7 +148,8 @@ impl SpurPair {
         yg: f64,
         form: CentreDistanceForm,
     ) -> f64 {
-        form.centre_distance(self.nominal_centre_distance(), xp - xg, yp - yg)
+        self.g
+            .centre_distance_with(&CentreDisplacement::new(xp, yp, xg, yg), form)
             .0
     }
 }

@@ -8,9 +8,13 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use geardyn_mesh_stiffness::{
-    FourierFitter, FourierStiffness, FractalContact, FractalForm, SingleHarmonicStiffness,
-    ToothPairStiffness, Waveform, fit_fourier,
+    CurvatureCoefficient, FourierFitter, FourierStiffness, FractalContact, FractalForm,
+    SingleHarmonicStiffness, ToothPairStiffness, Waveform, fit_fourier,
 };
+
+#[path = "../tests/it/reference_contact.rs"]
+mod reference_contact;
+use reference_contact::reference_contact;
 
 fn series(h: usize) -> FourierStiffness {
     let cos = (1..=h).map(|n| 4.0e7 / n as f64).collect();
@@ -75,7 +79,7 @@ fn fit(c: &mut Criterion) {
 }
 
 fn contact(c: &mut Criterion) {
-    let p = FractalContact::yu2021_default();
+    let p = reference_contact();
     c.bench_function("fractal_contact_stiffness", |b| {
         b.iter(|| black_box(black_box(&p).stiffness(FractalForm::Consistent).unwrap()))
     });

@@ -78,37 +78,6 @@ pub struct FractalContact {
 }
 
 impl FractalContact {
-    /// This crate's documented default set (reading R-YU-EQ18, every value with its source):
-    ///
-    /// - `D = 1.5`, `G = 1e-11 m`: mid-range of Yu Figs. 9–12 (`G = 1e-11 m` in Fig. 9).
-    /// - `E = 2.06e11 Pa`: Yu Table 2 (2.06×10⁵ N/mm²). `ν = 0.3` (steel).
-    /// - `H = 2.2e9 Pa`: Tabor `H ≈ 2.8 σ_y` with `σ_y = 785 MPa` (quenched and tempered 40Cr,
-    ///   GB/T 3077); Yu gives no hardness.
-    /// - `R₁ = R₂ = 0.094 sin 20° m`: flank curvature at the pitch point of Yu Table 1's pair
-    ///   (`R_p = R_g = 0.094 m`, 20° pressure angle).
-    /// - `F = 107.8 N m / 0.094 m = 1146.8 N`: Yu Table 1 torque over the radius.
-    /// - `l_a = 1e-4 m`, `l_s = 1e-8 m`: four decades of asperity scales (Yu gives none).
-    /// - `a_L = π l_a²/4`: the base area of the largest asperity, an upper bound for its contact.
-    /// - `λ_c = 1`: no curvature correction (the printed definition is unit-dependent).
-    pub fn yu2021_default() -> Self {
-        let r = 0.094 * 20f64.to_radians().sin();
-        let la = 1e-4;
-        Self {
-            fractal_dimension: 1.5,
-            fractal_roughness: 1e-11,
-            elastic_modulus: 2.06e11,
-            hardness: 2.2e9,
-            poisson_ratio: 0.3,
-            radius_pinion: r,
-            radius_gear: r,
-            load: 107.8 / 0.094,
-            largest_asperity: la,
-            smallest_asperity: 1e-8,
-            largest_contact_area: PI * la * la / 4.0,
-            curvature_coefficient: CurvatureCoefficient::Value(1.0),
-        }
-    }
-
     /// Check every input (ranges in the field docs). NaN is always an error.
     pub fn validate(&self) -> Result<()> {
         let d = self.fractal_dimension;
@@ -402,13 +371,18 @@ impl HertzLineContact {
 }
 
 #[cfg(test)]
+#[path = "../tests/it/reference_contact.rs"]
+mod reference_contact;
+
+#[cfg(test)]
 mod tests {
+    use super::reference_contact::reference_contact;
     use super::*;
     use approx::assert_relative_eq;
 
     #[test]
     fn printed_is_negative_consistent_is_positive() {
-        let p = FractalContact::yu2021_default();
+        let p = reference_contact();
         let c = p.stiffness(FractalForm::Consistent).unwrap();
         let pr = p.stiffness(FractalForm::Printed).unwrap();
         assert!(c > 0.0);
@@ -418,7 +392,7 @@ mod tests {
     #[test]
     fn golden_ratio_limit_is_continuous() {
         let golden = 0.5 * (1.0 + 5f64.sqrt());
-        let mut p = FractalContact::yu2021_default();
+        let mut p = reference_contact();
         p.fractal_dimension = golden;
         let k0 = p.stiffness(FractalForm::Consistent).unwrap();
         for h in [1e-6, -1e-6] {
@@ -430,7 +404,7 @@ mod tests {
 
     #[test]
     fn validation_messages() {
-        let mut p = FractalContact::yu2021_default();
+        let mut p = reference_contact();
         p.fractal_dimension = 2.3;
         assert_eq!(
             p.stiffness(FractalForm::Consistent)
@@ -438,7 +412,7 @@ mod tests {
                 .to_string(),
             "D must be in (1, 2), got 2.3"
         );
-        let base = FractalContact::yu2021_default();
+        let base = reference_contact();
         type Edit = Box<dyn Fn(&mut FractalContact)>;
         let cases: Vec<Edit> = vec![
             Box::new(|p| p.fractal_dimension = 1.0),
@@ -463,7 +437,7 @@ mod tests {
 
     #[test]
     fn printed_lambda_is_unit_dependent_and_tiny() {
-        let mut p = FractalContact::yu2021_default();
+        let mut p = reference_contact();
         p.curvature_coefficient = CurvatureCoefficient::Printed;
         // exponent 2/R ≈ 124 for R ≈ 0.016 m: λ_c underflows towards 0 -> error, never NaN
         let r = p.lambda_c();

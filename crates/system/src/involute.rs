@@ -3,8 +3,10 @@
 //!
 //! Two leaves need them and may depend only on this crate: `geardyn-gear-geometry`
 //! (`SpurPair::operating_pressure_angle`, `SpurPair::centre_distance`) and `geardyn-backlash`
-//! (`PairGeometry`, the dynamic backlash). Both re-export these types, so there is one enum per
-//! concept and one formula behind it.
+//! (the dynamic backlash). Both re-export these types, so there is one enum per concept and one
+//! formula behind it. The pair's geometry itself is one type too, [`PairGeometry`] (reference
+//! radii, `α_0`, centre distance, pressure angle, Δp of Eq. 7) with [`CentreDisplacement`] and
+//! [`Beta0`]: the backlash leaf re-exports it and `gear_geometry::SpurPair` is built on it.
 //!
 //! Pressure angle at centre distance `a` of a pair with nominal distance `a0 = R_p + R_g` and
 //! standard pressure angle `α0`:
@@ -108,6 +110,203 @@ impl CentreDistanceForm {
         };
         (a, delta_a, [ux, uy, -ux, -uy])
     }
+}
+
+/// The field of a [`PairGeometry`] outside its range.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum GeometryField {
+    /// `R_p`: finite and `> 0`.
+    PinionRadius,
+    /// `R_g`: finite and `> 0`.
+    GearRadius,
+    /// `α_0`: in `(0, π/2)` rad.
+    PressureAngle,
+}
+
+/// A [`PairGeometry`] field outside its range, with the value given.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("spur pair: {field:?} = {value} is outside its range")]
+pub struct InvalidGeometry {
+    /// Which field.
+    pub field: GeometryField,
+    /// The value given.
+    pub value: f64,
+}
+
+/// The nominal geometry of an involute spur pair: reference radii and standard pressure angle,
+/// with the nominal centre distance, base radii, the centre distance of displaced centres
+/// (Eq. 8–9) and the operating pressure angle (Eq. 16) under [`PressureAngleLaw`], and Δp of
+/// Eq. (7). The one home of the spur-pair geometry: `geardyn_backlash::PairGeometry` is this type,
+/// and `geardyn_gear_geometry::SpurPair` is built on it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct PairGeometry {
+    /// Reference (pitch) radius of the pinion R_p (m), > 0 (Yu Eq. 8, 16).
+    pub r_p: f64,
+    /// Reference (pitch) radius of the gear R_g (m), > 0 (Yu Eq. 8, 16).
+    pub r_g: f64,
+    /// Nominal pressure angle α_0 (rad), in (0, π/2) (Yu §3: 20°).
+    pub alpha0: f64,
+}
+
+impl PairGeometry {
+    /// Checked constructor: radii finite and `> 0`, `α_0` in `(0, π/2)`; the error names the
+    /// field ([`GeometryField`]) and carries the value, and each leaf words it in its own terms.
+    pub fn new(r_p: f64, r_g: f64, alpha0: f64) -> Result<Self, InvalidGeometry> {
+        let bad = |field, value| Err(InvalidGeometry { field, value });
+        if !(r_p.is_finite() && r_p > 0.0) {
+            return bad(GeometryField::PinionRadius, r_p);
+        }
+        if !(r_g.is_finite() && r_g > 0.0) {
+            return bad(GeometryField::GearRadius, r_g);
+        }
+        if !(alpha0.is_finite() && alpha0 > 0.0 && alpha0 < std::f64::consts::FRAC_PI_2) {
+            return bad(GeometryField::PressureAngle, alpha0);
+        }
+        Ok(Self { r_p, r_g, alpha0 })
+    }
+
+    /// Base radii `(R_p cos α_0, R_g cos α_0)` (m).
+    #[inline]
+    pub fn base_radii(&self) -> (f64, f64) {
+        let c = self.alpha0.cos();
+        (self.r_p * c, self.r_g * c)
+    }
+
+    /// Nominal centre distance a_0 = R_p + R_g (m).
+    #[inline]
+    pub fn a0(&self) -> f64 {
+        self.r_p + self.r_g
+    }
+
+    /// Pinion base radius R_pb = R_p cos α_0 (m) (Yu Eq. 7).
+    #[inline]
+    pub fn r_pb(&self) -> f64 {
+        self.r_p * self.alpha0.cos()
+    }
+
+    /// Sum of base radii R_pb + R_gb = a_0 cos α_0 (m).
+    #[inline]
+    pub fn base_sum(&self) -> f64 {
+        self.a0() * self.alpha0.cos()
+    }
+
+    /// Actual centre distance a (Yu Eq. 8, printed sign) and Δa = a − a_0 (Eq. 9), with
+    /// ∂a/∂(x_p, y_p, x_g, y_g). Δa is computed as (a² − a_0²)/(a + a_0), free of cancellation
+    /// for tiny displacements. [`PairGeometry::centre_distance_with`] takes the sign option.
+    #[inline]
+    pub fn centre_distance(&self, c: &CentreDisplacement) -> (f64, f64, [f64; 4]) {
+        self.centre_distance_with(c, CentreDistanceForm::PrintedEq8)
+    }
+
+    /// As [`PairGeometry::centre_distance`] under the sign convention `form` (Yu Eq. 8 as
+    /// printed, `a_0 + x_p − x_g`, or the frame of Eq. 12/15, `a_0 − x_p + x_g`).
+    #[inline]
+    pub fn centre_distance_with(
+        &self,
+        c: &CentreDisplacement,
+        form: CentreDistanceForm,
+    ) -> (f64, f64, [f64; 4]) {
+        form.centre_distance(self.a0(), c.x_p - c.x_g, c.y_p - c.y_g)
+    }
+
+    /// Operating pressure angle α at centre distance `a` (rad) and dα/da, for the given law.
+    /// `cos α = c/a` with c = R_pb + R_gb (involute) or c = R_p + R_g (printed Eq. 16); for
+    /// a ≤ c the angle is clamped to 0 (and dα/da = 0): no NaN.
+    /// [`PressureAngleLaw::Constant`] gives `(α_0, 0)`.
+    #[inline]
+    pub fn pressure_angle(&self, a: f64, law: PressureAngleLaw) -> (f64, f64) {
+        law.angle(a, self.a0(), self.alpha0)
+    }
+
+    /// The numerator `c` of `cos α = c/a` of `law` for this pair (m).
+    #[inline]
+    pub fn law_constant(&self, law: PressureAngleLaw) -> f64 {
+        law.cosine_numerator(self.a0(), self.alpha0)
+    }
+
+    /// Δp of Yu Eq. (7): (R_pb/2)(β_c² − β_0²), β = tan α, β_0 = tan α_0, β_c from the law at
+    /// centre distance `a`; returns (Δp, dΔp/da). Uses tan²α = a²/c² − 1 (no trigonometry).
+    /// [`PairGeometry::delta_p_with`] takes the reference angle option.
+    #[inline]
+    pub fn delta_p(&self, a: f64, law: PressureAngleLaw) -> (f64, f64) {
+        self.delta_p_with(a, law, Beta0::Nominal)
+    }
+
+    /// Δp of Yu Eq. (7) with β_0 per `beta0`: `tan α_0` ([`Beta0::Nominal`]) or the law's own
+    /// angle at `a_0` ([`Beta0::LawAtRest`], zero under the printed Eq. 16, so that Δp = 0 at
+    /// rest under every law).
+    #[inline]
+    pub fn delta_p_with(&self, a: f64, law: PressureAngleLaw, beta0: Beta0) -> (f64, f64) {
+        if law == PressureAngleLaw::Constant {
+            return (0.0, 0.0);
+        }
+        let c = self.law_constant(law);
+        let r_pb = self.r_pb();
+        let t0 = match beta0 {
+            Beta0::Nominal => self.alpha0.tan(),
+            Beta0::LawAtRest => self.pressure_angle(self.a0(), law).0.tan(),
+        };
+        let (beta_c_sq, d) = if a > c {
+            (a * a / (c * c) - 1.0, 2.0 * a / (c * c))
+        } else {
+            (0.0, 0.0)
+        };
+        let diff = match law {
+            // β_c² − β_0² = (a² − a_0²)/c² exactly, since tan²α_0 = a_0²/c² − 1
+            PressureAngleLaw::Involute if a > c => {
+                let a0 = self.a0();
+                (a - a0) * (a + a0) / (c * c)
+            }
+            _ => beta_c_sq - t0 * t0,
+        };
+        (0.5 * r_pb * diff, 0.5 * r_pb * d)
+    }
+}
+
+/// Translations of the two gear centres (m), Yu Fig. 6 / Eq. (8): x along the line of centres,
+/// y normal to it, signed so that a = √((a_0 + x_p − x_g)² + (y_p − y_g)²) (x_p > 0 or x_g < 0
+/// moves the centres apart).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct CentreDisplacement {
+    /// x_p (m).
+    pub x_p: f64,
+    /// y_p (m).
+    pub y_p: f64,
+    /// x_g (m).
+    pub x_g: f64,
+    /// y_g (m).
+    pub y_g: f64,
+}
+
+impl CentreDisplacement {
+    /// From (x_p, y_p, x_g, y_g) in m.
+    pub fn new(x_p: f64, y_p: f64, x_g: f64, y_g: f64) -> Self {
+        Self { x_p, y_p, x_g, y_g }
+    }
+
+    /// As an array in the order of the gradients: [x_p, y_p, x_g, y_g].
+    pub fn to_array(&self) -> [f64; 4] {
+        [self.x_p, self.y_p, self.x_g, self.y_g]
+    }
+
+    /// From an array [x_p, y_p, x_g, y_g].
+    pub fn from_array(v: [f64; 4]) -> Self {
+        Self::new(v[0], v[1], v[2], v[3])
+    }
+}
+
+/// Reference angle β_0 = tan α of Yu Eq. (7) (reading R-YU-EQ16).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Beta0 {
+    /// β_0 = tan α_0, the nominal pressure angle (default).
+    #[default]
+    Nominal,
+    /// β_0 from the pressure-angle law at the nominal centre distance (0 under the printed
+    /// Eq. 16): Δp vanishes at rest under every law.
+    LawAtRest,
 }
 
 #[cfg(test)]

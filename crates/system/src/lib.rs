@@ -75,7 +75,10 @@ pub mod problems;
 pub mod rk4;
 pub mod sweep;
 
-pub use involute::{CentreDistanceForm, PressureAngleLaw};
+pub use involute::{
+    Beta0, CentreDisplacement, CentreDistanceForm, GeometryField, InvalidGeometry, PairGeometry,
+    PressureAngleLaw,
+};
 
 /// The workspace's one Floquet stability threshold: a periodic solution is stable when its
 /// largest multiplier modulus is `≤ 1 + STABILITY_TOLERANCE` ([`is_stable_multiplier`]). The

@@ -8,6 +8,22 @@ use geardyn_backlash::{
 };
 use proptest::prelude::*;
 
+/// The constant-part parameters of reading R-YU-FIG4 (`docs/readings/backlash.md`; Yu's set,
+/// kept by the model as `geardyn_models::yu2021::fig4_backlash_params`), written out here so
+/// that the law's tests stand without the model: b0 = 30 µm, λ = 1.5, l_a = L = 1 mm,
+/// l_s = 1 µm, 8 points per wavelength, Eq. (4)–(5).
+fn fig4_params() -> ConstantBacklashParams {
+    ConstantBacklashParams {
+        b0: 30e-6,
+        gamma: 1.5,
+        l_a: 1e-3,
+        l_s: 1e-6,
+        sampling_length: 1e-3,
+        quadrature: Quadrature::default(),
+        form: ConstantPartForm::AbsoluteMean,
+    }
+}
+
 /// R_p = R_g = 0.094 m, α_0 = 20° (the values of Yu 2021 Table 1, as literal inputs).
 fn geometry() -> PairGeometry {
     PairGeometry::new(0.094, 0.094, 20f64.to_radians()).unwrap()
@@ -222,7 +238,7 @@ fn mean_height_convergence() {
 /// D = 1.2 → b_s < 20 µm for every G; D = 1.8 → b_s ≈ b0; b_s rises with D, falls with G.
 #[test]
 fn fig4_claims_hold() {
-    let mut p = ConstantBacklashParams::yu2021_fig4();
+    let mut p = fig4_params();
     p.l_s = 1e-5;
     let d: Vec<f64> = (0..7).map(|i| 1.2 + 0.1 * f64::from(i)).collect();
     let g: Vec<f64> = (0..5)
@@ -238,13 +254,50 @@ fn fig4_claims_hold() {
 /// The printed b_s of Eq. (11) (no |·|, k from 0) gives metre-scale "heights": b_s ≪ 0.
 #[test]
 fn printed_eq11_is_unphysical() {
-    let mut p = ConstantBacklashParams::yu2021_fig4();
+    let mut p = fig4_params();
     p.form = ConstantPartForm::PrintedEq11;
     let s = SurfaceFractal::new(1.2, 1e-11).unwrap();
     let c = p.constant_part(s, s).unwrap();
     // G^{0.2} = 6.3e-3 m for the k = 0 term alone
     assert!(c.b_s < -1e-3, "{c:?}");
     assert!(c.b_s.is_finite());
+}
+
+/// Eq. (4)–(5) against an exact solution: with a single kept level k (l_a = 1 mm gives
+/// k_min = 18, l_s = 0.5 mm gives n_max = 18), z(l) = G^{D−1} λ^{(D−2)k}
+/// cos(2π λ^k l) and, over L = 100 whole wavelengths, the mean of |z| is the amplitude times
+/// 2/π (mean of |cos| over a period); b_s = b0 − 2 b_i for two alike surfaces.
+#[test]
+fn constant_part_of_a_single_level_is_two_over_pi_of_its_amplitude() {
+    let (d, g, lambda) = (1.4, 1e-11, 1.5f64);
+    let s = SurfaceFractal::new(d, g).unwrap();
+    // 1.5^18 = 1477.9 ≤ 2000 < 1.5^19 = 2216.8: n_max = 18 = k_min
+    let prof = WmProfile::new(s, lambda, 1e-3, 1.0 / 2000.0).unwrap();
+    assert_eq!((prof.k_min(), prof.n_max()), (18, 18));
+    let k = 18;
+    let amplitude = g.powf(d - 1.0) * lambda.powf((d - 2.0) * f64::from(k));
+    let exact = amplitude * std::f64::consts::FRAC_2_PI;
+    let p = ConstantBacklashParams {
+        b0: 30e-6,
+        gamma: lambda,
+        l_a: 1e-3,
+        l_s: 1.0 / 2000.0,
+        sampling_length: 100.0 * lambda.powi(-k),
+        quadrature: Quadrature {
+            points_per_wavelength: 1000.0,
+            max_points: 1 << 22,
+        },
+        form: ConstantPartForm::AbsoluteMean,
+    };
+    let c = p.constant_part(s, s).unwrap();
+    // midpoint rule on |cos| (kinks at the zeros): O(h²), h = 1/1000 of a wavelength
+    assert!(
+        (c.b_p - exact).abs() <= 1e-5 * exact,
+        "{} vs {exact}",
+        c.b_p
+    );
+    assert_eq!(c.b_p.to_bits(), c.b_g.to_bits());
+    assert!((c.b_s - (30e-6 - 2.0 * exact)).abs() <= 2e-5 * exact);
 }
 
 /// Chen's fractal backlash (Eq. 3): the tail bound holds.

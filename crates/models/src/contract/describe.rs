@@ -103,28 +103,45 @@ pub(crate) fn outs(v: &[(&str, &str)]) -> Vec<(String, String)> {
         .collect()
 }
 
-/// The numeric fields (numbers and number lists) of a serde parameter struct, with their
-/// units from `unit` and their values as defaults.
+/// The numeric fields (numbers and number lists) of a serde parameter struct, at any depth,
+/// named by the dotted path that a point's overrides accept ([`apply_values`](super::apply_values):
+/// `geometry.rp`, `backlash.b`; a top-level field by its bare name), with their units from
+/// `unit` (called with the last segment of the path, the field's own name) and their values as
+/// defaults. Text fields (enum choices) are not parameters.
 pub(crate) fn params_of<T: Serialize>(base: &T, unit: fn(&str) -> &'static str) -> Vec<ParamInfo> {
-    let mut out = Vec::new();
-    if let Ok(serde_json::Value::Object(o)) = serde_json::to_value(base) {
+    fn walk(
+        prefix: &str,
+        o: serde_json::Map<String, serde_json::Value>,
+        unit: fn(&str) -> &'static str,
+        out: &mut Vec<ParamInfo>,
+    ) {
         for (k, v) in o {
+            let name = if prefix.is_empty() {
+                k.clone()
+            } else {
+                format!("{prefix}.{k}")
+            };
             match v {
                 serde_json::Value::Number(n) => out.push(ParamInfo {
                     unit: unit(&k).to_owned(),
-                    name: k,
+                    name,
                     default: n.to_string(),
                 }),
                 serde_json::Value::Array(a) if a.iter().all(|x| x.is_number()) => {
                     out.push(ParamInfo {
                         unit: unit(&k).to_owned(),
-                        name: k,
+                        name,
                         default: serde_json::Value::Array(a).to_string(),
-                    })
+                    });
                 }
+                serde_json::Value::Object(inner) => walk(&name, inner, unit, out),
                 _ => {}
             }
         }
+    }
+    let mut out = Vec::new();
+    if let Ok(serde_json::Value::Object(o)) = serde_json::to_value(base) {
+        walk("", o, unit, &mut out);
     }
     out
 }

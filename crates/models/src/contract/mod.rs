@@ -26,6 +26,7 @@ mod overrides;
 mod record;
 mod settings;
 pub(crate) mod shoot;
+pub(crate) mod spur;
 mod value;
 
 pub(crate) use accuracy::outs_stepped;
@@ -286,5 +287,124 @@ mod tests {
             }
         }
         assert!(find("nope").unwrap_err().to_string().contains("known: "));
+    }
+
+    /// Every parameter a model describes is accepted as a point override under its described
+    /// name (the dotted path of a nested field: `geometry.rp`, `backlash.b`) with its described
+    /// default, by every method the model offers; a name the model does not hold is the typed
+    /// [`PointError::UnknownParameter`] listing the valid paths, among them every described one.
+    #[test]
+    fn every_described_parameter_is_an_accepted_override() {
+        let limits = Limits {
+            max_steps: MAX_STEPS_BOUND as f64,
+            ..Limits::default()
+        };
+        for m in REGISTRY {
+            let info = m.describe();
+            // a required number without a default (Yu's ω*)
+            let mut base = Point::new();
+            for p in &info.parameters {
+                if p.default.starts_with("(required)") {
+                    base.insert(p.name.clone(), Value::Num(1.0));
+                }
+            }
+            let mut tried = 0;
+            for d in &info.methods {
+                let solver = Solver {
+                    method: d.method,
+                    settings: BTreeMap::new(),
+                };
+                let ctx = Context {
+                    solver: &solver,
+                    initial: None,
+                    limits,
+                };
+                let adapter = m
+                    .build(&ctx)
+                    .unwrap_or_else(|e| panic!("{} {:?}: {e}", m.name(), d.method));
+                for p in &info.parameters {
+                    let value = match serde_json::from_str::<serde_json::Value>(&p.default) {
+                        Ok(serde_json::Value::Number(n)) => Value::Num(n.as_f64().unwrap()),
+                        Ok(serde_json::Value::Array(a)) => {
+                            Value::List(a.iter().filter_map(serde_json::Value::as_f64).collect())
+                        }
+                        _ => {
+                            assert!(base.contains_key(&p.name), "{}: {p:?}", m.name());
+                            continue;
+                        }
+                    };
+                    let mut point = base.clone();
+                    point.insert(p.name.clone(), value);
+                    if let Err(e) = (adapter.prepare)(&point) {
+                        panic!("{} {:?}: `{}` refused: {e}", m.name(), d.method, p.name);
+                    }
+                    tried += 1;
+                }
+                let mut point = base.clone();
+                point.insert("no_such_parameter".into(), Value::Num(1.0));
+                match (adapter.prepare)(&point) {
+                    Err(PointError::UnknownParameter { name, paths }) => {
+                        assert_eq!(name, "no_such_parameter");
+                        for p in &info.parameters {
+                            assert!(
+                                base.contains_key(&p.name) || paths.contains(&p.name),
+                                "{}: `{}` not among {paths:?}",
+                                m.name(),
+                                p.name
+                            );
+                        }
+                    }
+                    Err(e) => panic!(
+                        "{} {:?}: expected UnknownParameter, got {e:?}",
+                        m.name(),
+                        d.method
+                    ),
+                    Ok(_) => panic!(
+                        "{} {:?}: an unknown parameter was accepted",
+                        m.name(),
+                        d.method
+                    ),
+                }
+            }
+            assert!(tried > 0, "{}", m.name());
+        }
+    }
+
+    /// The generic pair's geometry and backlash are nested: described by their dotted paths,
+    /// and `pressure_angle` (the law, a name) is not the geometry's angle `geometry.pressure_angle`.
+    #[test]
+    fn the_generic_pair_describes_nested_fields_by_dotted_path() {
+        let info = find("generic-pair").unwrap().describe();
+        let names: Vec<&str> = info.parameters.iter().map(|p| p.name.as_str()).collect();
+        for want in [
+            "geometry.rp",
+            "geometry.rg",
+            "geometry.pressure_angle",
+            "backlash.b",
+            "stiffness.curve.k_single",
+            "mesh_frequency",
+        ] {
+            assert!(names.contains(&want), "{want} not in {names:?}");
+        }
+        for bare in ["rp", "rg", "b", "pressure_angle", "stiffness.omega_e"] {
+            assert!(!names.contains(&bare), "{bare} in {names:?}");
+        }
+        let unit = |n: &str| {
+            info.parameters
+                .iter()
+                .find(|p| p.name == n)
+                .map(|p| p.unit.clone())
+        };
+        assert_eq!(unit("backlash.b").as_deref(), Some("m"));
+        assert_eq!(unit("geometry.pressure_angle").as_deref(), Some("rad"));
+        assert_eq!(unit("stiffness.curve.k_single").as_deref(), Some("N/m"));
+        // Yu's constant backlash is a length too (Table 1: 1 mm)
+        let yu = find("yu2021").unwrap().describe();
+        let b = yu
+            .parameters
+            .iter()
+            .find(|p| p.name == "backlash.b")
+            .unwrap();
+        assert_eq!(b.unit, "m");
     }
 }

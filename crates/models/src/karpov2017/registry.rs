@@ -110,7 +110,15 @@ impl contract::Model for Kinematics {
                 let omega1 = num(&mut fields, "omega1", 1.0)?;
                 let delta_max = num(&mut fields, "delta_max", 0.001)?;
                 let base = super::pair_params_table1();
-                let params = apply_values(&base, &fields)?;
+                // an unknown name lists the two point numbers taken above with the set's paths
+                let params = apply_values(&base, &fields).map_err(|e| match e {
+                    PointError::UnknownParameter { name, mut paths } => {
+                        paths.extend(["delta_max".to_owned(), "omega1".to_owned()]);
+                        paths.sort();
+                        PointError::UnknownParameter { name, paths }
+                    }
+                    e => e,
+                })?;
                 if !(omega1.is_finite() && omega1 > 0.0) {
                     return Err(PointError::Compute(format!(
                         "omega1 must be finite and > 0, got {omega1}"

@@ -249,8 +249,8 @@ mod tests {
                 assert!((a - b).abs() <= 1e-6 * ppv, "{omega1}: {a:e} vs {b:e}");
             }
             let tight = timestep::Options {
-                rtol: opts.rtol / 100.0,
-                atol: opts.atol / 100.0,
+                rtol: opts.rtol / crate::contract::TIGHTER,
+                atol: opts.atol / crate::contract::TIGHTER,
                 ..opts.clone()
             };
             let (_, tr) = two_runs(&mech, &tight);

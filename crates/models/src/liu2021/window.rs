@@ -22,7 +22,8 @@ pub struct LongWindowOptions {
     pub max_step: f64,
     /// Relative tolerance of the nominal runs (Dormand–Prince 5(4)).
     pub rtol: f64,
-    /// The tolerance variant runs with `rtol / refine_factor`.
+    /// The tolerance variant runs with `rtol / refine_factor` (default: the one accuracy
+    /// check's factor, [`crate::contract::TIGHTER`]).
     pub refine_factor: f64,
     /// Minimum separation depth (fraction of `b̄`) for a unilateral period
     /// ([`WindowOptions::min_depth`]).
@@ -37,7 +38,7 @@ impl Default for LongWindowOptions {
             sample_step: 0.1,
             max_step: 0.5,
             rtol: 1e-8,
-            refine_factor: 100.0,
+            refine_factor: crate::contract::TIGHTER,
             min_depth: 0.0,
         }
     }

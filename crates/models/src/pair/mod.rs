@@ -133,7 +133,7 @@ pub fn equivalent_mass(inertia_p: f64, inertia_g: f64, r_p: f64, r_g: f64) -> f6
 /// A gear pair built from a stiffness law `S` and a backlash law `B`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GearPair<S = Stiffness, B = Backlash> {
-    geometry: backlash::PairGeometry,
+    geometry: system::PairGeometry,
     dofs: Dofs,
     mass: [f64; 5],
     bearing_stiffness: [f64; 4],
@@ -182,15 +182,8 @@ impl<S: StiffnessLaw, B: BacklashLaw> GearPair<S, B> {
     /// Build from the numbers of `p` (its `stiffness` and `backlash` fields are ignored) and
     /// the laws `stiffness`, `backlash`. Every number is checked; the error names the field.
     pub fn new(p: &PairParams, stiffness: S, backlash: B) -> Result<Self, Error> {
-        let g = gear_geometry::SpurPair::new(p.geometry)?;
-        let (r_p, r_g) = g.reference_radii();
-        let geometry =
-            backlash::PairGeometry::new(r_p, r_g, g.pressure_angle()).map_err(|source| {
-                Error::Backlash {
-                    context: "pair.geometry",
-                    source,
-                }
-            })?;
+        // the one spur-pair geometry (`system::PairGeometry`), validated by the geometry leaf
+        let geometry = gear_geometry::SpurPair::new(p.geometry)?.geometry();
         check(
             "equivalent_mass",
             p.equivalent_mass,

@@ -5,27 +5,28 @@
 use std::sync::Arc;
 
 use crate::contract::shoot::{SHOOT_OUT, shoot_any, shoot_settings, shoot_transient};
+use crate::contract::spur::{
+    AFT_SAMPLES, RECORD_PERIODS, TRANSIENT_PERIODS, time_stepping_and_hbm,
+};
 use crate::contract::{
-    self, Adapter, ChoiceInfo, Context, Job, Kind, Method, MethodInfo, ModelInfo, ParamInfo, Point,
+    self, Adapter, ChoiceInfo, Context, Job, Kind, Method, MethodInfo, ModelInfo, Point,
     PointError, Record, SettingDef, Settings, TOLERANCE_CHECK, Value, WithContext, apply_values,
     no_initial, outs, outs_stepped, params_of, run_stepped, take_choice, wrong_method,
 };
 use crate::pair;
-use crate::yu2021::registry::{
-    AFT_SAMPLES, RECORD_PERIODS, TRANSIENT_PERIODS, time_stepping_and_hbm,
-};
 
 /// The generic spur pair from the leaves (tooth-pair stiffness, constant backlash; 1-DOF or
 /// 6-DOF).
 #[derive(Debug, Clone, Copy)]
 pub struct Pair;
 
+/// The unit of a parameter by its own name (the last segment of its dotted path).
 fn pair_unit(k: &str) -> &'static str {
-    match k {
+    match k.rsplit('.').next().unwrap_or(k) {
         "equivalent_mass" | "masses" => "kg",
         "rp" | "rg" | "ste_amplitude" | "b" => "m",
         "pressure_angle" | "ste_phase" => "rad",
-        "bearing_stiffness" => "N/m",
+        "bearing_stiffness" | "k_single" | "k_double" => "N/m",
         "bearing_damping" | "mesh_damping" => "N·s/m",
         "static_force" => "N",
         "mesh_frequency" => "rad/s",
@@ -139,18 +140,13 @@ impl contract::Model for Pair {
 
     fn describe(&self) -> ModelInfo {
         ModelInfo {
-            parameters: {
-                // the top-level numbers, the geometry and the constant half gap `b`
-                let p = pair::PairParams::example_spur();
-                let mut v = params_of(&p, pair_unit);
-                v.extend(params_of(&p.geometry, pair_unit));
-                v.push(ParamInfo {
-                    name: "b".into(),
-                    unit: "m".into(),
-                    default: "5e-5 (half gap of the constant backlash law)".into(),
-                });
-                v
-            },
+            // every number of `PairParams` by the dotted path a point's overrides accept
+            // (`geometry.rp`, `backlash.b`, `stiffness.curve.k_single`), except the stiffness
+            // law's own mesh frequency, which `mesh_frequency` replaces
+            parameters: params_of(&pair::PairParams::example_spur(), pair_unit)
+                .into_iter()
+                .filter(|p| p.name != "stiffness.omega_e")
+                .collect(),
             choices: vec![ChoiceInfo {
                 name: "dofs".into(),
                 options: vec!["torsional".into(), "transverse-torsional".into()],

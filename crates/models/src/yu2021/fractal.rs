@@ -145,7 +145,7 @@ mod tests {
                 largest_asperity: 1e-4,
                 smallest_asperity: 1e-7,
                 curvature_coefficient: CurvatureCoefficient::Value(1.0),
-                ..FractalContact::yu2021_default()
+                ..crate::yu2021::fractal_contact_default()
             };
             let printed = fractal_contact_stiffness(&c, FractalForm::Printed).unwrap();
             let consistent = fractal_contact_stiffness(&c, FractalForm::Consistent).unwrap();

@@ -11,6 +11,66 @@ use super::Yu2021Params;
 use crate::Error;
 use crate::pair::{Dofs, PairParams};
 
+/// The fractal contact of Yu Eq. (18) with the values chosen here (reading R-YU-EQ18 in
+/// `docs/readings/mesh-stiffness.md`, every value with its source; the law is the
+/// `mesh-stiffness` leaf's [`mesh_stiffness::FractalContact`], the set is Yu's):
+///
+/// - `D = 1.5`, `G = 1e-11 m`: mid-range of Yu Figs. 9–12 (`G = 1e-11 m` in Fig. 9).
+/// - `E = 2.06e11 Pa`: Yu Table 2 (2.06×10⁵ N/mm²). `ν = 0.3` (steel).
+/// - `H = 2.2e9 Pa`: Tabor `H ≈ 2.8 σ_y` with `σ_y = 785 MPa` (quenched and tempered 40Cr,
+///   GB/T 3077); Yu gives no hardness.
+/// - `R₁ = R₂ = 0.094 sin 20° m`: flank curvature at the pitch point of Yu Table 1's pair
+///   (`R_p = R_g = 0.094 m`, 20° pressure angle).
+/// - `F = 107.8 N m / 0.094 m = 1146.8 N`: Yu Table 1 torque over the radius.
+/// - `l_a = 1e-4 m`, `l_s = 1e-8 m`: four decades of asperity scales (Yu gives none).
+/// - `a_L = π l_a²/4`: the base area of the largest asperity, an upper bound for its contact.
+/// - `λ_c = 1`: no curvature correction (the printed definition is unit-dependent).
+pub fn fractal_contact_default() -> mesh_stiffness::FractalContact {
+    let r = 0.094 * 20f64.to_radians().sin();
+    let la = 1e-4;
+    mesh_stiffness::FractalContact {
+        fractal_dimension: 1.5,
+        fractal_roughness: 1e-11,
+        elastic_modulus: 2.06e11,
+        hardness: 2.2e9,
+        poisson_ratio: 0.3,
+        radius_pinion: r,
+        radius_gear: r,
+        load: 107.8 / 0.094,
+        largest_asperity: la,
+        smallest_asperity: 1e-8,
+        largest_contact_area: std::f64::consts::PI * la * la / 4.0,
+        curvature_coefficient: mesh_stiffness::CurvatureCoefficient::Value(1.0),
+    }
+}
+
+/// The constant-backlash parameters chosen here for Yu Fig. 4 (the paper prints none; reading
+/// R-YU-FIG4 in `docs/readings/backlash.md`): `b_0 = 30 µm`, `λ = 1.5`, `l_a = L = 1 mm`,
+/// `l_s = 1 µm`, 8 quadrature points per smallest wavelength, Eq. (4)–(5) with `|z|`.
+/// The law is the backlash leaf's ([`backlash::ConstantBacklashParams`]); the set is Yu's.
+pub fn fig4_backlash_params() -> backlash::ConstantBacklashParams {
+    backlash::ConstantBacklashParams {
+        b0: 30e-6,
+        gamma: 1.5,
+        l_a: 1e-3,
+        l_s: 1e-6,
+        sampling_length: 1e-3,
+        quadrature: backlash::Quadrature::default(),
+        form: backlash::ConstantPartForm::AbsoluteMean,
+    }
+}
+
+/// Yu Fig. 4 as data with [`fig4_backlash_params`]: `b_s(D, G)` for D = 1.2, 1.3, …, 1.8 and
+/// G = 1e-12 … 1e-11 m (5 log-spaced values; the decade of Fig. 12(b), containing the
+/// G = 1e-11 m of Fig. 9), through the leaf's [`backlash::fig4_grid`].
+pub fn fig4() -> Result<backlash::Fig4Data, backlash::Error> {
+    let d: Vec<f64> = (0..7).map(|i| 1.2 + 0.1 * f64::from(i)).collect();
+    let g: Vec<f64> = (0..5)
+        .map(|j| 10f64.powf(-12.0 + 0.25 * f64::from(j)))
+        .collect();
+    backlash::fig4_grid(fig4_backlash_params(), &d, &g)
+}
+
 impl Yu2021Params {
     /// The involute spur pair of this parameter set: reference radii `R_p`, `R_g` and `α_0`
     /// (Table 1: `R_p = R_g = 0.094 m`; Table 2: module 3 mm, 50/50 teeth, `R = 75 mm`; both
@@ -72,6 +132,62 @@ impl PairParams {
 
 #[cfg(test)]
 mod tests {
+
+    /// The Fig. 4 set is the one R-YU-FIG4 states, and its grid reproduces the table of
+    /// `docs/readings/backlash.md` (b_s in µm, printed to 2 decimals, so within 0.005 µm) and
+    /// the text's claims (D = 1.2: b_s < 20 µm; D = 1.8: b_s ≈ b_0; monotone in D and G).
+    /// The Eq. (18) contact is the one R-YU-EQ18 states (values with their sources in the
+    /// function's docs) and the leaf accepts it.
+    #[test]
+    #[allow(clippy::float_cmp)] // exact: the stated literals
+    fn fractal_contact_is_the_documented_one() {
+        let c = super::fractal_contact_default();
+        let r = 0.094 * 20f64.to_radians().sin();
+        assert_eq!((c.fractal_dimension, c.fractal_roughness), (1.5, 1e-11));
+        assert_eq!(
+            (c.elastic_modulus, c.hardness, c.poisson_ratio),
+            (2.06e11, 2.2e9, 0.3)
+        );
+        assert_eq!(
+            (c.radius_pinion, c.radius_gear, c.load),
+            (r, r, 107.8 / 0.094)
+        );
+        assert_eq!((c.largest_asperity, c.smallest_asperity), (1e-4, 1e-8));
+        assert_eq!(c.largest_contact_area, std::f64::consts::PI * 1e-8 / 4.0);
+        let k = c
+            .stiffness(mesh_stiffness::FractalForm::Consistent)
+            .unwrap();
+        assert!(k.is_finite() && k > 0.0, "{k}");
+    }
+
+    #[test]
+    #[allow(clippy::float_cmp)] // exact: the stated literals
+    fn fig4_set_and_grid_are_the_documented_ones() {
+        let p = super::fig4_backlash_params();
+        assert_eq!(
+            (p.b0, p.gamma, p.l_a, p.l_s, p.sampling_length),
+            (30e-6, 1.5, 1e-3, 1e-6, 1e-3)
+        );
+        assert_eq!(p.form, backlash::ConstantPartForm::AbsoluteMean);
+        let data = super::fig4().unwrap();
+        assert_eq!((data.d.len(), data.g.len()), (7, 5));
+        for (row, d, want) in [
+            (0, 1.2, [13.57, 11.57, 9.32, 6.80, 3.96]),
+            (1, 1.3, [27.74, 27.31, 26.80, 26.20, 25.49]),
+            (2, 1.4, [29.68, 29.60, 29.50, 29.37, 29.21]),
+        ] {
+            assert!((data.d[row] - d).abs() < 1e-12);
+            for (j, w) in want.iter().enumerate() {
+                let got = 1e6 * data.b_s[row][j];
+                assert!(
+                    (got - w).abs() <= 0.005 + 1e-9,
+                    "D {d}, G {}: {got} vs {w}",
+                    data.g[j]
+                );
+            }
+        }
+        assert!(data.claims().unwrap().all_hold());
+    }
     use crate::pair::test_support::{accel, close};
 
     /// Table 1 and Table 2 geometry: `a0 = 0.188 m`, and Table 2's `R = m z/2 = 75 mm`

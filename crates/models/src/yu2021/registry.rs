@@ -8,6 +8,9 @@ use std::sync::Arc;
 use serde_json::{Value as J, json};
 
 use crate::contract::shoot::{SHOOT_OUT, shoot_any, shoot_settings, shoot_transient};
+use crate::contract::spur::{
+    AFT_SAMPLES, RECORD_PERIODS, TRANSIENT_PERIODS, time_stepping_and_hbm,
+};
 use crate::contract::{
     self, Adapter, ChoiceInfo, Context, Job, Kind, Method, MethodInfo, ModelInfo, ParamInfo, Point,
     PointError, Preset, Record, SettingDef, Settings, TOLERANCE_CHECK, Value, WithContext, api,
@@ -21,50 +24,19 @@ use crate::yu2021;
 #[derive(Debug, Clone, Copy)]
 pub struct Yu;
 
+/// The unit of a parameter by its own name (the last segment of its dotted path).
 fn yu_unit(k: &str) -> &'static str {
-    match k {
+    match k.rsplit('.').next().unwrap_or(k) {
         "inertia_p" | "inertia_g" => "kg·m²",
         "mass_p" | "mass_g" => "kg",
-        "radius_p" | "radius_g" | "ste_amplitude" | "nominal_length" | "chen_amplitude" => "m",
+        "radius_p" | "radius_g" | "ste_amplitude" | "nominal_length" | "chen_amplitude" | "b"
+        | "b0" => "m",
         "pressure_angle" | "phase" => "rad",
         "torque" => "N·m",
         "mesh_stiffness" | "bearing_stiffness" => "N/m",
         _ => "1",
     }
 }
-
-/// Mesh periods discarded (time stepping of the spur-pair models).
-pub(crate) const TRANSIENT_PERIODS: SettingDef = SettingDef {
-    name: "transient_periods",
-    kind: Kind::Int {
-        lo: 0,
-        hi: 100_000,
-        default: Some(200),
-    },
-    doc: "mesh periods discarded",
-};
-
-/// Mesh periods recorded (time stepping of the spur-pair models).
-pub(crate) const RECORD_PERIODS: SettingDef = SettingDef {
-    name: "record_periods",
-    kind: Kind::Int {
-        lo: 1,
-        hi: 10_000,
-        default: Some(20),
-    },
-    doc: "mesh periods recorded",
-};
-
-/// AFT samples per period (harmonic balance of the spur-pair models; default: the model's).
-pub(crate) const AFT_SAMPLES: SettingDef = SettingDef {
-    name: "samples",
-    kind: Kind::Int {
-        lo: 6,
-        hi: 65_536,
-        default: None,
-    },
-    doc: "AFT samples per period (≥ 4H + 2)",
-};
 
 const YU_VARIANTS: &[&str] = &["yu", "kahraman-singh", "chen", "yu-as-printed"];
 
@@ -172,28 +144,6 @@ const YU_SHOOT_TRANSIENT: &str = "mesh periods of the model's fixed-step RK4 (25
 /// The shooting settings of Yu.
 fn yu_shoot_settings() -> Vec<SettingDef> {
     shoot_settings(shoot_transient(200, YU_SHOOT_TRANSIENT))
-}
-
-/// The two methods of the spur-pair models: time stepping (with an initial state) and HBM.
-pub(crate) fn time_stepping_and_hbm(
-    ts: (&[SettingDef], &[(&str, &str)]),
-    initial: &'static str,
-    hbm: (&[SettingDef], &[(&str, &str)]),
-) -> Vec<MethodInfo> {
-    vec![
-        MethodInfo {
-            method: Method::TimeStepping,
-            settings: ts.0.to_vec(),
-            outputs: outs_stepped(ts.1, false),
-            initial: Some(initial),
-        },
-        MethodInfo {
-            method: Method::Hbm,
-            settings: hbm.0.to_vec(),
-            outputs: outs(hbm.1),
-            initial: None,
-        },
-    ]
 }
 
 /// Split a Yu point into ω*, the model options and the parameters.

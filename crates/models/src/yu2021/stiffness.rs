@@ -152,8 +152,8 @@ pub struct FractalMeshStiffness {
 }
 
 impl FractalMeshStiffness {
-    /// The reference used by the Yu dynamic studies on the Table 2 rig: the `mesh-stiffness`
-    /// leaf's documented defaults ([`FractalContact::yu2021_default`]: `D_ref = 1.5`,
+    /// The reference used by the Yu dynamic studies on the Table 2 rig: the
+    /// model's documented contact ([`crate::yu2021::fractal_contact_default`], reading R-YU-EQ18: `D_ref = 1.5`,
     /// `G_ref = 1e-11 m`, steel, `l_a = 1e-4 m`, `l_s = 1e-8 m`, `a_L = π l_a²/4`, `λ_c = 1`)
     /// with the Table 2 pair's flank radii (`0.075 sin 20°` m) and load (340 N·m / 0.075 m),
     /// and `k_ref` = the Table 2 parameter set's mean stiffness (4e8 N/m, ISO 6336-1 typical
@@ -166,7 +166,7 @@ impl FractalMeshStiffness {
                 radius_pinion: r,
                 radius_gear: p.radius_g * p.pressure_angle.sin(),
                 load: p.static_force(),
-                ..FractalContact::yu2021_default()
+                ..crate::yu2021::fractal_contact_default()
             },
             reference_stiffness: p.mesh_stiffness,
             area: ContactAreaLaw::Fixed,

@@ -1,10 +1,11 @@
-//! The spur-pair geometry is held by two leaves that do not depend on each other:
-//! `gear_geometry::SpurPair` (geometry studies, the generic pair) and `backlash::PairGeometry`
-//! (the dynamic backlash the Yu model uses). The pressure-angle law and the centre-distance form
-//! are one definition (`system::PressureAngleLaw`, `system::CentreDistanceForm`) that both
-//! re-export; this checks that the two leaves feed it the same pair (nominal distance, base
-//! radii) and apply it alike (the geometry leaf rejects `a` below the law's domain, the
-//! backlash leaf clamps), over a grid of centre displacements.
+//! The spur-pair geometry is one type, `system::PairGeometry`: the backlash leaf re-exports it
+//! (`backlash::PairGeometry`, the dynamic backlash the Yu model uses) and
+//! `gear_geometry::SpurPair` (geometry studies, the generic pair) is built on it. The
+//! pressure-angle law and the centre-distance form are one definition
+//! (`system::PressureAngleLaw`, `system::CentreDistanceForm`) that both re-export; this checks
+//! that the two leaves give the same pair (nominal distance, base radii) and apply the law alike
+//! (the geometry leaf rejects `a` below the law's domain, the backlash leaf clamps), over a grid
+//! of centre displacements.
 
 use backlash::{CentreDisplacement, PairGeometry, PressureAngleLaw};
 use gear_geometry::{SpurPair, SpurPairParams};
@@ -22,6 +23,37 @@ fn one_law_for_both_leaves() {
         form(system::CentreDistanceForm::default()),
         backlash::CentreDistanceForm::PrintedEq8
     );
+}
+
+/// One geometry type: the backlash leaf's is `system`'s, and the geometry leaf's pair hands out
+/// the same value it was built from (a second type would not compile here).
+#[test]
+fn one_geometry_type_for_both_leaves() {
+    let same = |g: system::PairGeometry| -> backlash::PairGeometry { g };
+    let s = SpurPair::from_module(3e-3, 50, 50, 20f64.to_radians()).unwrap();
+    let g = same(s.geometry());
+    assert_eq!(
+        g,
+        PairGeometry::new(0.075, 0.075, 20f64.to_radians()).unwrap()
+    );
+    assert_eq!(
+        s.params(),
+        SpurPairParams {
+            rp: 0.075,
+            rg: 0.075,
+            pressure_angle: g.alpha0
+        }
+    );
+    // each leaf names an out-of-range field in its own words
+    let e = SpurPair::new(SpurPairParams {
+        rp: -1.0,
+        rg: 0.1,
+        pressure_angle: 0.3,
+    })
+    .unwrap_err();
+    assert!(e.to_string().starts_with("rp"), "{e}");
+    let e = backlash::Error::from(PairGeometry::new(0.1, 0.1, 2.0).unwrap_err());
+    assert!(e.to_string().starts_with("alpha0"), "{e}");
 }
 
 #[test]

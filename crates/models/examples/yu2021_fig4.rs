@@ -1,14 +1,12 @@
 //! Prints Yu Fig. 4 as data (b_s over D and G) with the documented parameters, the text's
-//! claims, and the convergence numbers quoted in the docs. Run in release:
-//! `cargo run -p backlash --release --example fig4`.
+//! claims, and the convergence numbers quoted in the docs (reading R-YU-FIG4). Run in release:
+//! `cargo run -p geardyn-models --release --example yu2021_fig4`.
 
-use geardyn_backlash::{
-    ConstantBacklashParams, ConstantPartForm, Quadrature, SurfaceFractal, WmProfile,
-    mean_asperity_height, yu2021_fig4,
-};
+use backlash::{ConstantPartForm, Quadrature, SurfaceFractal, WmProfile, mean_asperity_height};
+use geardyn_models::yu2021;
 
-fn main() -> Result<(), geardyn_backlash::Error> {
-    let data = yu2021_fig4()?;
+fn main() -> Result<(), backlash::Error> {
+    let data = yu2021::fig4()?;
     println!(
         "# Yu Fig. 4 data: b_s in µm (b0 = {} µm)",
         data.params.b0 * 1e6
@@ -53,7 +51,7 @@ fn main() -> Result<(), geardyn_backlash::Error> {
     }
 
     println!("\n# printed Eq. (11) b_s (no |.|, k from 0), D = 1.2, G = 1e-11 m");
-    let mut pr = ConstantBacklashParams::yu2021_fig4();
+    let mut pr = yu2021::fig4_backlash_params();
     pr.form = ConstantPartForm::PrintedEq11;
     let s = SurfaceFractal::new(1.2, 1e-11)?;
     let c = pr.constant_part(s, s)?;
