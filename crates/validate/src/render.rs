@@ -19,12 +19,18 @@ pub struct StudyResult {
 
 /// Run studies in parallel (rayon), results in input order; `on_done` is called as each finishes
 /// (e.g. to advance a progress bar). Deterministic: each study runs on one task and the results
-/// are collected in order.
+/// are collected in order. With the environment variable `GEARDYN_STUDY_TIMES` set, each study's
+/// wall time is printed to stderr (to see which studies dominate a run; never in an output file).
 pub fn run_studies(studies: &[Study], on_done: impl Fn(&Study) + Sync) -> Vec<StudyResult> {
+    let times = std::env::var_os("GEARDYN_STUDY_TIMES").is_some();
     timestep::sweep(
         studies,
         |s| {
+            let t0 = std::time::Instant::now();
             let output = s.execute();
+            if times {
+                eprintln!("study {}: {:.2} s", s.id, t0.elapsed().as_secs_f64());
+            }
             on_done(s);
             StudyResult { study: *s, output }
         },

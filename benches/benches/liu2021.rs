@@ -78,7 +78,7 @@ fn bench(c: &mut Criterion) {
 /// lean `liu2021::TimeSystem` (bit-identical results). Steps per second = accepted steps /
 /// time (the counts are printed).
 fn bench_timestep(c: &mut Criterion) {
-    use timestep as ts;
+    use geardyn_timestep as ts;
     use ts::OdeSystem;
     let mut g = c.benchmark_group("liu2021_timestep");
     g.sample_size(20);

@@ -5,7 +5,7 @@
 #![allow(missing_docs)] // criterion_group! generates an undocumented pub fn
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use models::liu2021::{self, BaseRadius, HbmOptions, HbmStart, IntegrationOptions, Model};
+use geardyn_models::liu2021::{self, BaseRadius, HbmOptions, HbmStart, IntegrationOptions, Model};
 use orbit::{FlowOptions, OrbitProblem, ShootingOptions};
 use std::hint::black_box;
 

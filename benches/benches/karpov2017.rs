@@ -17,7 +17,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use geardyn_models::karpov2017::{Excitation, Karpov2017};
-use timestep::{Method, Options, Output};
+use geardyn_timestep::{self as timestep, Method, Options, Output};
 
 fn bench(c: &mut Criterion) {
     let fig3 = Karpov2017::fig3();

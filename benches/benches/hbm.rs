@@ -3,9 +3,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use geardyn_hbm::{Basis, HbmProblem, Method, SecondOrderSystem, SolverOptions, SystemError};
+use geardyn_system::problems::BenchDuffing as Duffing;
 use nalgebra::DMatrix;
 use std::hint::black_box;
-use system::problems::BenchDuffing as Duffing;
 
 /// Liu-type 1-DOF rattle model: `q'' + 2ζq' + F(t) f(q) = F_m + F_e cos(Z2 ω t)` with
 /// `F(t) = 1 + ε_c cos ωt + ε_e cos Z2ωt` and a dead zone `f`.
