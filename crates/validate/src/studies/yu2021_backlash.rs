@@ -14,8 +14,8 @@ pub fn studies() -> Vec<Study> {
         source: "Fig. 4, Eq. (4)-(5), Sect. 2.1",
         title: "Constant part of the backlash b_s vs fractal dimension D and roughness G",
         description: "b_s = b0 − b_p − b_g with b_i the mean absolute W-M profile height (Eq. 4), \
-            on the grid D = 1.2 … 1.8, G = 1e-12 … 1e-11 m, with the parameters the backlash crate \
-            chooses for Fig. 4 (the paper prints none: b0 = 30 µm, λ = 1.5, L = 1 mm). Fig. 4 \
+            on the grid D = 1.2 … 1.8, G = 1e-12 … 1e-11 m, with the parameters the Yu model chooses \
+            for Fig. 4 (`models::yu2021::fig4`; the paper prints none: b0 = 30 µm, λ = 1.5, L = 1 mm). Fig. 4 \
             prints no numbers in the seed, so only the text's claims are checked and the curves \
             snapshotted.",
         cost: Cost::Fast,
