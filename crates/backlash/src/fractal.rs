@@ -428,10 +428,12 @@ impl ConstantPart {
     }
 }
 
-/// The data of Yu Fig. 4: b_i and b_s over a (D, G) grid, with D_p = D_g, G_p = G_g.
+/// b_i and b_s over a (D, G) grid, with D_p = D_g, G_p = G_g (the form of Yu Fig. 4; the
+/// paper's parameter set and the checks of its text are the Yu model's:
+/// `geardyn_models::yu2021::{fig4, fig4_claims}`).
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Fig4Data {
+pub struct ConstantPartGrid {
     /// Parameters used.
     pub params: ConstantBacklashParams,
     /// Fractal dimensions D (rows).
@@ -446,85 +448,13 @@ pub struct Fig4Data {
     pub error: Vec<Vec<f64>>,
 }
 
-/// The text's claims about Fig. 4, evaluated on a [`Fig4Data`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Fig4Claims {
-    /// Largest b_s over G at the row D = 1.2 (m); the text: below 20 µm.
-    pub max_b_s_at_d12: f64,
-    /// Smallest b_s over G at the row D = 1.2 (m) (negative means interference).
-    pub min_b_s_at_d12: f64,
-    /// Largest |b_s − b_0| / b_0 over G at the row D = 1.8; the text: b_s ≈ b_0.
-    pub max_rel_dev_at_d18: f64,
-    /// b_s non-decreasing in D for every G.
-    pub rises_with_d: bool,
-    /// b_s non-increasing in G for every D.
-    pub falls_with_g: bool,
-}
-
-impl Fig4Claims {
-    /// All claims hold: b_s(1.2, ·) < 20 µm, |b_s(1.8, ·) − b0| < 1 % b0, monotone in D and G.
-    pub fn all_hold(&self) -> bool {
-        self.max_b_s_at_d12 < 20e-6
-            && self.max_rel_dev_at_d18 < 0.01
-            && self.rises_with_d
-            && self.falls_with_g
-    }
-}
-
-impl Fig4Data {
-    /// Evaluate the text's claims. Needs rows D = 1.2 and D = 1.8 (within 1e-9).
-    pub fn claims(&self) -> Result<Fig4Claims, Error> {
-        let row = |d: f64| {
-            self.d
-                .iter()
-                .position(|&x| (x - d).abs() < 1e-9)
-                .ok_or_else(|| Error::Inconsistent {
-                    what: "Fig. 4 grid",
-                    detail: format!("no row D = {d}"),
-                })
-        };
-        let r12 = row(1.2)?;
-        let r18 = row(1.8)?;
-        let b0 = self.params.b0;
-        let max12 = self.b_s[r12]
-            .iter()
-            .copied()
-            .fold(f64::NEG_INFINITY, f64::max);
-        let min12 = self.b_s[r12].iter().copied().fold(f64::INFINITY, f64::min);
-        let dev18 = self.b_s[r18]
-            .iter()
-            .map(|b| (b - b0).abs() / b0.max(f64::MIN_POSITIVE))
-            .fold(0.0, f64::max);
-        let mut rises = true;
-        let mut falls = true;
-        for i in 0..self.d.len() {
-            for j in 0..self.g.len() {
-                if i + 1 < self.d.len() && self.d[i + 1] > self.d[i] {
-                    rises &= self.b_s[i + 1][j] >= self.b_s[i][j];
-                }
-                if j + 1 < self.g.len() && self.g[j + 1] > self.g[j] {
-                    falls &= self.b_s[i][j + 1] <= self.b_s[i][j];
-                }
-            }
-        }
-        Ok(Fig4Claims {
-            max_b_s_at_d12: max12,
-            min_b_s_at_d12: min12,
-            max_rel_dev_at_d18: dev18,
-            rises_with_d: rises,
-            falls_with_g: falls,
-        })
-    }
-}
-
-/// b_i and b_s over a (D, G) grid (Yu Fig. 4), both surfaces alike. The W-M integral is
+/// b_i and b_s over a (D, G) grid (the form of Yu Fig. 4), both surfaces alike. The W-M integral is
 /// computed once per D; G enters only through the exact factor G^{D−1}.
-pub fn fig4_grid(
+pub fn constant_part_grid(
     params: ConstantBacklashParams,
     d_values: &[f64],
     g_values: &[f64],
-) -> Result<Fig4Data, Error> {
+) -> Result<ConstantPartGrid, Error> {
     params.validate()?;
     for &g in g_values {
         positive("G", g)?;
@@ -548,7 +478,7 @@ pub fn fig4_grid(
         b_s.push(rs);
         error.push(re);
     }
-    Ok(Fig4Data {
+    Ok(ConstantPartGrid {
         params,
         d: d_values.to_vec(),
         g: g_values.to_vec(),

@@ -44,9 +44,10 @@
 //! wavelength; the result carries a quadrature error estimate (difference of the interleaved
 //! half-rules) and the truncation bound ([`MeanHeight`]). With 8 points per wavelength the
 //! estimate is below 1 % of b_i for D ≤ 1.6 (see `docs/performance/backlash.md` and the tests).
-//! [`fig4_grid`] returns b_s over a (D, G) grid (the form of Yu Fig. 4); [`Fig4Data::claims`]
-//! checks the text's statements. The parameter set chosen for Fig. 4 is Yu's, not the law's: it
-//! lives with the model (`geardyn_models::yu2021::fig4_backlash_params`).
+//! [`constant_part_grid`] returns b_s over a (D, G) grid (the form of Yu Fig. 4). The parameter
+//! set chosen for Fig. 4 and the checks of the text's statements about it are Yu's, not the
+//! law's: they live with the model (`geardyn_models::yu2021::{fig4_backlash_params, fig4,
+//! fig4_claims}`).
 //!
 //! **Dynamic part** (Yu Eq. 6–11), centre displacements `(x_p, y_p, x_g, y_g)`:
 //!
@@ -142,7 +143,7 @@ pub use dynamic::{
 pub use error::Error;
 pub use fractal::{
     CHEN_MAX_TERMS, ChenFractal, ConstantBacklashParams, ConstantPart, ConstantPartForm,
-    Fig4Claims, Fig4Data, MeanHeight, Quadrature, SurfaceFractal, WmProfile, fig4_grid,
+    ConstantPartGrid, MeanHeight, Quadrature, SurfaceFractal, WmProfile, constant_part_grid,
     mean_asperity_height,
 };
 pub use law::{
@@ -161,7 +162,7 @@ mod tests {
         assert_send_sync::<DynamicBacklash>();
         assert_send_sync::<ConstantBacklashParams>();
         assert_send_sync::<WmProfile>();
-        assert_send_sync::<Fig4Data>();
+        assert_send_sync::<ConstantPartGrid>();
         assert_send_sync::<Error>();
     }
 }

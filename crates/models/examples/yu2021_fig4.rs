@@ -27,7 +27,7 @@ fn main() -> Result<(), backlash::Error> {
         }
         println!();
     }
-    println!("claims: {:?}", data.claims()?);
+    println!("claims: {:?}", geardyn_models::yu2021::fig4_claims(&data)?);
 
     println!("\n# convergence of b_i/G^(D-1) with l_s (L = l_a = 1 mm, 8 points/wavelength)");
     for d in [1.2, 1.4, 1.6, 1.8] {

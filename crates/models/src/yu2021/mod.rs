@@ -121,7 +121,7 @@ pub use model::{
     STATE_LEN, Yu2021Dimensionless, Yu2021Model, dead_zone,
 };
 pub use params::{BacklashSpec, Yu2021Params};
-pub use presets::{fig4, fig4_backlash_params, fractal_contact_default};
+pub use presets::{Fig4Claims, fig4, fig4_backlash_params, fig4_claims, fractal_contact_default};
 pub use reference::{Metrics, ReferenceCheck, ReferenceRun};
 pub use stiffness::{
     ContactAreaLaw, FractalMeshStiffness, majumdar_bhushan_area, majumdar_bhushan_load,

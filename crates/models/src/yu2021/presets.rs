@@ -62,13 +62,86 @@ pub fn fig4_backlash_params() -> backlash::ConstantBacklashParams {
 
 /// Yu Fig. 4 as data with [`fig4_backlash_params`]: `b_s(D, G)` for D = 1.2, 1.3, …, 1.8 and
 /// G = 1e-12 … 1e-11 m (5 log-spaced values; the decade of Fig. 12(b), containing the
-/// G = 1e-11 m of Fig. 9), through the leaf's [`backlash::fig4_grid`].
-pub fn fig4() -> Result<backlash::Fig4Data, backlash::Error> {
+/// G = 1e-11 m of Fig. 9), through the leaf's [`backlash::constant_part_grid`].
+pub fn fig4() -> Result<backlash::ConstantPartGrid, backlash::Error> {
     let d: Vec<f64> = (0..7).map(|i| 1.2 + 0.1 * f64::from(i)).collect();
     let g: Vec<f64> = (0..5)
         .map(|j| 10f64.powf(-12.0 + 0.25 * f64::from(j)))
         .collect();
-    backlash::fig4_grid(fig4_backlash_params(), &d, &g)
+    backlash::constant_part_grid(fig4_backlash_params(), &d, &g)
+}
+
+/// The text's claims about Yu Fig. 4 (Sect. 2.1), evaluated on a grid of the backlash leaf
+/// ([`backlash::ConstantPartGrid`], from [`fig4`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Fig4Claims {
+    /// Largest b_s over G at the row D = 1.2 (m); the text: below 20 µm.
+    pub max_b_s_at_d12: f64,
+    /// Smallest b_s over G at the row D = 1.2 (m) (negative means interference).
+    pub min_b_s_at_d12: f64,
+    /// Largest |b_s − b_0| / b_0 over G at the row D = 1.8; the text: b_s ≈ b_0.
+    pub max_rel_dev_at_d18: f64,
+    /// b_s non-decreasing in D for every G.
+    pub rises_with_d: bool,
+    /// b_s non-increasing in G for every D.
+    pub falls_with_g: bool,
+}
+
+impl Fig4Claims {
+    /// All claims hold: b_s(1.2, ·) < 20 µm, |b_s(1.8, ·) − b0| < 1 % b0, monotone in D and G.
+    pub fn all_hold(&self) -> bool {
+        self.max_b_s_at_d12 < 20e-6
+            && self.max_rel_dev_at_d18 < 0.01
+            && self.rises_with_d
+            && self.falls_with_g
+    }
+}
+
+/// Evaluate the text's claims about Fig. 4 on `grid`. Needs rows D = 1.2 and D = 1.8 (within
+/// 1e-9); otherwise [`backlash::Error::Inconsistent`] names the missing row.
+pub fn fig4_claims(grid: &backlash::ConstantPartGrid) -> Result<Fig4Claims, backlash::Error> {
+    {
+        let row = |d: f64| {
+            grid.d
+                .iter()
+                .position(|&x| (x - d).abs() < 1e-9)
+                .ok_or_else(|| backlash::Error::Inconsistent {
+                    what: "Fig. 4 grid",
+                    detail: format!("no row D = {d}"),
+                })
+        };
+        let r12 = row(1.2)?;
+        let r18 = row(1.8)?;
+        let b0 = grid.params.b0;
+        let max12 = grid.b_s[r12]
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
+        let min12 = grid.b_s[r12].iter().copied().fold(f64::INFINITY, f64::min);
+        let dev18 = grid.b_s[r18]
+            .iter()
+            .map(|b| (b - b0).abs() / b0.max(f64::MIN_POSITIVE))
+            .fold(0.0, f64::max);
+        let mut rises = true;
+        let mut falls = true;
+        for i in 0..grid.d.len() {
+            for j in 0..grid.g.len() {
+                if i + 1 < grid.d.len() && grid.d[i + 1] > grid.d[i] {
+                    rises &= grid.b_s[i + 1][j] >= grid.b_s[i][j];
+                }
+                if j + 1 < grid.g.len() && grid.g[j + 1] > grid.g[j] {
+                    falls &= grid.b_s[i][j + 1] <= grid.b_s[i][j];
+                }
+            }
+        }
+        Ok(Fig4Claims {
+            max_b_s_at_d12: max12,
+            min_b_s_at_d12: min12,
+            max_rel_dev_at_d18: dev18,
+            rises_with_d: rises,
+            falls_with_g: falls,
+        })
+    }
 }
 
 impl Yu2021Params {
@@ -186,7 +259,7 @@ mod tests {
                 );
             }
         }
-        assert!(data.claims().unwrap().all_hold());
+        assert!(super::fig4_claims(&data).unwrap().all_hold());
     }
     use crate::pair::test_support::{accel, close};
 
@@ -275,5 +348,26 @@ mod tests {
                 assert!(close(got, want, 1.0), "{o:?} {tau}: {got} vs {want}");
             }
         }
+    }
+
+    /// Yu Fig. 4 claims with coarse settings (l_s = 10 µm, moved from the backlash leaf with
+    /// the claims): D = 1.2 → b_s < 20 µm for every G; D = 1.8 → b_s ≈ b0; b_s rises with D,
+    /// falls with G. A grid without the row D = 1.8 is an error naming it.
+    #[test]
+    fn fig4_claims_hold_with_coarse_settings() {
+        let mut p = super::fig4_backlash_params();
+        p.l_s = 1e-5;
+        let d: Vec<f64> = (0..7).map(|i| 1.2 + 0.1 * f64::from(i)).collect();
+        let g: Vec<f64> = (0..5)
+            .map(|j| 10f64.powf(-12.0 + 0.25 * f64::from(j)))
+            .collect();
+        let data = backlash::constant_part_grid(p, &d, &g).unwrap();
+        let c = super::fig4_claims(&data).unwrap();
+        assert!(c.all_hold(), "{c:?}");
+        assert!(c.min_b_s_at_d12 > 0.0, "{c:?}");
+        assert!(c.max_rel_dev_at_d18 < 1e-4, "{c:?}");
+        let short = backlash::constant_part_grid(p, &d[..3], &g).unwrap();
+        let e = super::fig4_claims(&short).unwrap_err();
+        assert!(e.to_string().contains("D = 1.8"), "{e}");
     }
 }

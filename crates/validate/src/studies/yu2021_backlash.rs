@@ -27,7 +27,7 @@ fn yu_fig4() -> Result<StudyOutput, Error> {
     let paper = published!("yu2021.toml")?;
     let bound = paper.value("fig4.bs-d12-bound")?.value; // µm
     let data = models::yu2021::fig4().context("Fig. 4 grid")?;
-    let claims = data.claims().context("Fig. 4 claims")?;
+    let claims = models::yu2021::fig4_claims(&data).context("Fig. 4 claims")?;
     let mut out = StudyOutput::new();
     let mut cols: Vec<(String, &str)> = vec![("D".to_owned(), "1")];
     for g in &data.g {
