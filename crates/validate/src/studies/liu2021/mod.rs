@@ -507,7 +507,12 @@ fn refine(
             "{}; bisected on the long-window rattle state ({} steps) under each variant: {}",
             th.note,
             BISECTION_STEPS,
-            notes.join("; ")
+            // the per-variant intervals move with the robustness of the midpoints
+            if unsettled {
+                crate::unsettled(notes.join("; "))
+            } else {
+                notes.join("; ")
+            }
         ),
         unsettled,
         ..th

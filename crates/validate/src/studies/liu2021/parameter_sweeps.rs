@@ -283,11 +283,11 @@ fn run() -> Result<StudyOutput, Error> {
         let (uni, bi) = onsets(&pts, &set_ak, 0.05)?;
         out.note(format!(
             "a_k at ω1 = {w} rad/s — onsets as intervals: unilateral in [{}, {}] ({}); bilateral in [{}, {}] ({})",
-            sig(uni.lo),
-            sig(uni.hi),
+            sig_u(uni.lo, uni.unsettled),
+            sig_u(uni.hi, uni.unsettled),
             uni.note,
-            sig(bi.lo),
-            sig(bi.hi),
+            sig_u(bi.lo, bi.unsettled),
+            sig_u(bi.hi, bi.unsettled),
             bi.note
         ));
         // the text's range is a_k = 0.1–0.8 (the 0.05 point is shown, not judged)
