@@ -156,7 +156,9 @@ impl Point {
     /// The one-period time reference is a sample of a non-periodic orbit, or its periodicity
     /// is not confirmed with margin ([`CONFIRMED`]).
     fn time_unsettled(&self) -> bool {
-        self.time.motion.period_multiple() == 0 || !(self.time.section_margin <= CONFIRMED)
+        self.time.motion.period_multiple() == 0
+            || self.time.section_margin.is_nan()
+            || self.time.section_margin > CONFIRMED
     }
     /// The long-window statistics move over the variants by more than [`SETTLED`] (without long
     /// windows: the one-period reference is unsettled).

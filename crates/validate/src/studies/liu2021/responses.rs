@@ -85,7 +85,9 @@ fn run() -> Result<StudyOutput, Error> {
                 // one recorded period: a sample unless its periodicity is confirmed with margin
                 sig_u(
                     ti.rattle.ppv,
-                    time.motion.period_multiple() == 0 || !(time.section_margin <= CONFIRMED)
+                    time.motion.period_multiple() == 0
+                        || time.section_margin.is_nan()
+                        || time.section_margin > CONFIRMED
                 ),
                 time.motion.label(),
                 if time.reproducible { "same metrics" } else { "metrics change" },
@@ -270,7 +272,8 @@ fn spectrum_outputs(
     if let [[c160, e160], [c140, e140], [c180, e180]] = lines[..] {
         // a range that spreads by more than SETTLED moves with every retune
         let iv = |(lo, hi): (f64, f64)| {
-            let u = !((hi - lo).abs() <= SETTLED * hi.abs().max(lo.abs()));
+            let spread = (hi - lo).abs();
+            let u = spread.is_nan() || spread > SETTLED * hi.abs().max(lo.abs());
             format!("[{}, {}]", sig_u(lo, u), sig_u(hi, u))
         };
         // robust when the intervals over the variants decide the comparison
