@@ -12,7 +12,7 @@ use geardyn_mesh_stiffness::{
     SingleHarmonicStiffness, ToothPairStiffness, Waveform, fit_fourier,
 };
 
-#[path = "../tests/it/reference_contact.rs"]
+#[path = "../../crates/mesh-stiffness/tests/it/reference_contact.rs"]
 mod reference_contact;
 use reference_contact::reference_contact;
 

@@ -68,7 +68,7 @@ fn bench(c: &mut Criterion) {
 /// bench that was `hbm`'s `continuation_150_points_h5_with_stability`, now through the one
 /// continuation (`orbit::continue_hbm`).
 fn hbm_continuation(c: &mut Criterion) {
-    use system::problems::BenchDuffing;
+    use geardyn_system::problems::BenchDuffing;
     let copts = orbit::HbmContinuationOptions {
         max_points: 150,
         max_step: 0.03,
@@ -76,9 +76,9 @@ fn hbm_continuation(c: &mut Criterion) {
     };
     c.bench_function("hbm/continuation_150_points_h5_with_stability", |b| {
         b.iter(|| {
-            let mut p = hbm::HbmProblem::new(
+            let mut p = geardyn_hbm::HbmProblem::new(
                 BenchDuffing { omega: 0.5 },
-                hbm::Basis::full(5).expect("b"),
+                geardyn_hbm::Basis::full(5).expect("b"),
                 0.5,
             )
             .expect("p");

@@ -611,12 +611,36 @@ pub fn figure_change(old_csv: &str, new_csv: &str) -> String {
         match a.get(name) {
             None => parts.push(format!("series «{name}» added")),
             Some(pa) if pa != pb => {
-                let moved =
-                    pa.iter().zip(pb).filter(|(x, y)| x != y).count() + pa.len().abs_diff(pb.len());
-                parts.push(format!(
-                    "series «{name}»: {moved} of {} points moved",
-                    pb.len()
-                ));
+                // matched by abscissa (a point leaving or entering does not shift the others);
+                // repeated abscissas (a hysteresis sweep, a phase portrait) pair in order
+                let by_x = |v: &[(String, String)]| {
+                    let mut m: BTreeMap<String, Vec<String>> = BTreeMap::new();
+                    for (x, y) in v {
+                        m.entry(x.clone()).or_default().push(y.clone());
+                    }
+                    m
+                };
+                let (xa, xb) = (by_x(pa), by_x(pb));
+                let (mut moved, mut entered, mut left) = (0, 0, 0);
+                for (x, ys) in &xb {
+                    let old: &[String] = xa.get(x).map_or(&[], Vec::as_slice);
+                    moved += ys.iter().zip(old).filter(|(p, q)| p != q).count();
+                    entered += ys.len().saturating_sub(old.len());
+                    left += old.len().saturating_sub(ys.len());
+                }
+                for (x, ys) in &xa {
+                    if !xb.contains_key(x) {
+                        left += ys.len();
+                    }
+                }
+                let mut what = vec![format!("{moved} of {} points moved", pb.len())];
+                if entered > 0 {
+                    what.push(format!("{entered} entered"));
+                }
+                if left > 0 {
+                    what.push(format!("{left} left"));
+                }
+                parts.push(format!("series «{name}»: {}", what.join(", ")));
             }
             Some(_) => {}
         }
@@ -647,5 +671,29 @@ pub fn check_verdicts(committed: &str, fresh: &str) -> Result<(), String> {
         )
     } else {
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Points are matched by abscissa: one point entering a series is one entry, not a shift
+    /// of every later point.
+    #[test]
+    fn figure_change_matches_points_by_abscissa() {
+        let old = "series,x,y\na,1,10\na,2,20\na,3,30\n";
+        let new = "series,x,y\na,1,10\na,1.5,15\na,2,20\na,3,31\n";
+        assert_eq!(
+            super::figure_change(old, new),
+            "series «a»: 1 of 4 points moved, 1 entered"
+        );
+        let fewer = "series,x,y\na,1,10\na,3,30\n";
+        assert_eq!(
+            super::figure_change(old, fewer),
+            "series «a»: 0 of 2 points moved, 1 left"
+        );
+        assert_eq!(
+            super::figure_change(old, old),
+            "data unchanged (style or labels only)"
+        );
     }
 }
