@@ -692,6 +692,13 @@ impl Robust {
 
     /// A one-line description of the spread: `rsv 2 (all), P_bi 0.41–0.47, ppv 1.62–1.70`.
     pub fn describe(&self) -> String {
+        self.describe_marked(0.0, |s| s)
+    }
+
+    /// [`Robust::describe`] with each statistic (bilateral fraction, ppv, 0–1 test K) passed
+    /// through `mark` when it does not settle over the variants to `rel`
+    /// ([`Robust::settled_columns`]), e.g. to mark it as not committed.
+    pub fn describe_marked(&self, rel: f64, mark: impl Fn(String) -> String) -> String {
         let (rl, rh) = self.rsv_interval();
         let (fl, fh) = self.interval(WindowStats::bilateral_fraction);
         let (pl, ph) = self.interval(|w| w.ppv);
@@ -700,9 +707,19 @@ impl Robust {
         } else {
             format!("rsv {rl}–{rh} over {} variants", self.variants.len() + 1)
         };
+        let settled = self.settled_columns(rel);
+        let column = |name: &str| {
+            Self::COLUMNS
+                .iter()
+                .position(|c| c.0 == name)
+                .is_some_and(|i| settled[i])
+        };
+        let span = |x: String, name: &str| if column(name) { x } else { mark(x) };
         format!(
-            "{rsv}, bilateral periods {:.3}–{:.3}, long-window ppv {:.4}–{:.4}, 0–1 test K {:.2}",
-            fl, fh, pl, ph, self.nominal.chaos_k
+            "{rsv}, bilateral periods {}, long-window ppv {}, 0–1 test K {}",
+            span(format!("{fl:.3}–{fh:.3}"), "bilateral_fraction"),
+            span(format!("{pl:.4}–{ph:.4}"), "ppv_window"),
+            span(format!("{:.2}", self.nominal.chaos_k), "chaos_k_01"),
         )
     }
 }
@@ -751,6 +768,14 @@ mod tests {
         let cols = r.settled_columns(1e-5);
         assert!(cols[..7].iter().all(|&s| s), "{cols:?}");
         assert!(!cols[7] && !cols[8] && !cols[9] && !cols[16], "{cols:?}");
+        // the marked description marks the moving ppv and nothing of the identical variants
+        let mark = |s: String| format!("<{s}>");
+        assert_eq!(same.describe_marked(1e-5, mark), same.describe());
+        let d = r.describe_marked(1e-5, mark);
+        assert!(
+            d.contains("long-window ppv <") && d.contains("bilateral periods 0"),
+            "{d}"
+        );
         assert!(student_t_975(0).is_infinite());
         assert_eq!(student_t_975(3).to_bits(), 3.182f64.to_bits());
         assert_eq!(student_t_975(500).to_bits(), 2.042f64.to_bits());

@@ -327,26 +327,5 @@ fn spectrum_outputs(
 /// does not settle over the variants ([`SETTLED`]; the 0–1 test K of a bilateral orbit moved
 /// from 0.17 to 0.92 under a solver retune whose ppv agreed to 6 digits).
 fn window_text(lw: &Robust) -> String {
-    let settled = |name: &str| {
-        Robust::COLUMNS
-            .iter()
-            .position(|c| c.0 == name)
-            .is_some_and(|i| lw.settled_columns(SETTLED)[i])
-    };
-    let (rl, rh) = lw.rsv_interval();
-    let n = lw.variants.len() + 1;
-    let rsv = if rl == rh {
-        format!("rsv {rl} in all {n} variants")
-    } else {
-        format!("rsv {rl}–{rh} over {n} variants")
-    };
-    let span = |x: String, ok: bool| if ok { x } else { crate::unsettled(x) };
-    let (fl, fh) = lw.interval(models::response::WindowStats::bilateral_fraction);
-    let (pl, ph) = lw.interval(|w| w.ppv);
-    format!(
-        "{rsv}, bilateral periods {}, long-window ppv {}, 0–1 test K {}",
-        span(format!("{fl:.3}–{fh:.3}"), settled("bilateral_fraction")),
-        span(format!("{pl:.4}–{ph:.4}"), settled("ppv_window")),
-        span(format!("{:.2}", lw.nominal.chaos_k), settled("chaos_k_01")),
-    )
+    lw.describe_marked(SETTLED, crate::unsettled)
 }
