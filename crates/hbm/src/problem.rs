@@ -322,6 +322,31 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         self.refresh_matrices()
     }
 
+    /// Replace the system by another with the same number of degrees of freedom (e.g. the same
+    /// model at another speed or load) at base frequency `omega`, keeping the basis, the grid,
+    /// the FFT plans and every buffer: the matrices and the time tables are re-read, as after
+    /// [`HbmProblem::with_grid_size`]. A solve afterwards gives the same bits as one on a
+    /// freshly built problem of the new system.
+    ///
+    /// # Errors
+    /// `omega` not finite and > 0; a different `n_dof()` (the problem is left unchanged);
+    /// matrices of the wrong size or non-finite, non-finite time tables.
+    pub fn set_system(&mut self, system: S, omega: f64) -> Result<(), HbmError> {
+        check_positive("omega", omega)?;
+        let mut system = system;
+        system.set_base_frequency(omega)?;
+        if system.n_dof() != self.n {
+            return Err(HbmError::DimensionMismatch {
+                what: "degrees of freedom of the new system",
+                expected: self.n,
+                got: system.n_dof(),
+            });
+        }
+        self.system = system;
+        self.omega = omega;
+        self.refresh_matrices()
+    }
+
     pub(crate) fn check_len(&self, what: &'static str, len: usize) -> Result<(), HbmError> {
         if len != self.n_unknowns() {
             return Err(HbmError::DimensionMismatch {

@@ -13,7 +13,8 @@
 //!   rtol 1e-12.
 //! * `hbm`: the cold Liu HBM solve (paper basis, 15 unknowns, `liu2021::solve_hbm`) and the
 //!   Duffing oscillator of the `hbm` bench at `H = 400` (801 unknowns) by Newton–Krylov and by
-//!   dense Newton, with the work counters.
+//!   dense Newton, with the work counters; the Liu solve also re-solved along a sweep on one
+//!   prepared problem (`liu2021::PreparedHbm`, neighbouring speeds alternating).
 //!
 //! `karpov` takes a third argument, `printed` or `accumulated`, to run one reading only.
 //!
@@ -291,6 +292,19 @@ fn hbm(reps: u32) -> Value {
         liu2021::solve_hbm(&m, &o, None).expect("solves")
     });
     let t_liu_cpu = cpu();
+    // the same cold solve along a sweep: one prepared problem (`liu2021::PreparedHbm`, plans,
+    // buffers and basis kept) re-solved at alternating neighbouring speeds (160 and 161 rad/s)
+    let mut p2 = p;
+    p2.omega1 += 1.0;
+    let m2 = p2.model().expect("valid");
+    let mut prepared = liu2021::PreparedHbm::new(&m, &o).expect("prepares");
+    let mut flip = false;
+    let t_prep = best(reps * 20, || {
+        flip = !flip;
+        let mm = if flip { &m2 } else { &m };
+        prepared.solve(mm, liu2021::HbmStart::Cold).expect("solves")
+    });
+    let t_prep_cpu = cpu();
     // the FFT floor of that solve: per residual one complex inverse FFT (q and q' packed) and
     // one real-to-complex forward FFT of N = 1024, per Jacobian one complex forward FFT, and
     // the 4096-point inverse FFT of the metrics' samples
@@ -304,6 +318,7 @@ fn hbm(reps: u32) -> Value {
         "coefficients": sol.solution.coefficients, "residual_norm": sol.solution.residual_norm,
         "truncation": sol.solution.truncation, "iterations": sol.solution.iterations,
         "ppv": sol.rattle.ppv, "time_s": t_liu, "cpu_s": t_liu_cpu,
+        "prepared_time_s": t_prep, "prepared_cpu_s": t_prep_cpu,
     });
     // Duffing H = 400 from the embedded H = 1 solution
     let omega = 1.3;

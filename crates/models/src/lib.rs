@@ -20,12 +20,14 @@
 
 pub mod contract;
 mod error;
+pub(crate) mod fastlog;
 
 pub mod karpov2017;
 pub mod liu2021;
 pub mod motion;
 pub mod pair;
 pub mod response;
+pub(crate) mod trig;
 pub mod yu2021;
 
 pub use error::Error;

@@ -32,8 +32,11 @@ use std::f64::consts::TAU;
 
 use nalgebra::Complex;
 
-use super::{Acc, Kernel, MAX_PANELS};
+use std::cell::OnceCell;
+
+use super::{Acc, Kernel, MAX_PANELS, Rot, level_rots};
 use crate::Error;
+use crate::trig::sin_cos;
 
 /// `N` whole periods `T` folded onto `[s₀, s₀ + T]`.
 #[derive(Debug, Clone, Copy)]
@@ -44,10 +47,10 @@ pub(super) struct Fold {
     pub period: f64,
     /// Number of periods `N` (≥ 2), as `f64`.
     pub n: f64,
-    /// `(sin(Nδ/2)/sin(δ/2), (N − 1)δ/2)` of `D_N(T a±)` for `σ = +1, −1` when `a±` does not
-    /// depend on `u` (the accumulated reading): computed once per fold by [`integrate`]
-    /// instead of at every node (the same operations, so the same bits).
-    pub fixed: Option<[(f64, f64); 2]>,
+    /// `±D_N(T a±)` as `σ R± e^{ih±}` (`R± = sin(Nδ/2)/sin(δ/2)`, `h± = (N − 1)δ/2`) for
+    /// `σ = +1, −1` when `a±` does not depend on `u` (the accumulated reading): computed once
+    /// per fold by [`integrate`] instead of at every node.
+    pub fixed_rotors: Option<[Complex<f64>; 2]>,
 }
 
 impl Fold {
@@ -67,7 +70,7 @@ impl Fold {
             s0,
             period,
             n,
-            fixed: None,
+            fixed_rotors: None,
         })
     }
 }
@@ -82,7 +85,7 @@ fn dirichlet(f: &Fold, big_a: f64, sigma: f64) -> (f64, f64) {
         (f.n, 0.0)
     } else {
         (
-            (0.5 * f.n * d).sin() / (0.5 * d).sin(),
+            sin_cos(0.5 * f.n * d).0 / sin_cos(0.5 * d).0,
             0.5 * (f.n - 1.0) * d,
         )
     }
@@ -96,36 +99,61 @@ impl Kernel {
         (self.c * (self.eps + ct) / (den * den)).abs()
     }
 
-    /// `e^{ib₊}D_N(T a₊) − e^{ib₋}D_N(T a₋)` at `u` (`= 2i ×` the folded `e^{iu} sin Φ`).
+    /// `e^{ib₊}D_N(T a₊) − e^{ib₋}D_N(T a₋)` at `u` (`= 2i ×` the folded `e^{iu} sin Φ`),
+    /// given `sin`, `cos` of `kωu`, `e^{iu}` and `e^{iωu}` (the rotations of exactly the same
+    /// node).
     #[inline]
-    fn folded(&self, u: f64, f: &Fold) -> Complex<f64> {
-        let (st, ct) = (self.kw * u).sin_cos();
+    fn folded(
+        &self,
+        u: f64,
+        (st, ct): (f64, f64),
+        eu: Complex<f64>,
+        ewu: Complex<f64>,
+        f: &Fold,
+    ) -> Complex<f64> {
+        if let Some([p, m]) = f.fixed_rotors {
+            // accumulated: e^{iΦ} = e^{iωu} e^{iG/k}, and the sum is
+            // e^{iu}(R₊e^{ih₊} e^{iΦ} − R₋e^{ih₋} e^{−iΦ}): no large phase is rounded
+            let (sg, cg) = sin_cos(self.g_over_k(ct));
+            let e = ewu * Complex::new(cg, sg);
+            return eu * (p * e - m * e.conj());
+        }
         let phi = self.phi(u, st, ct);
-        let big_a = if self.printed {
-            self.w * (1.0 + self.c * st / (1.0 + self.eps * ct))
-        } else {
-            self.w
-        };
+        let big_a = self.w * (1.0 + self.c * st / (1.0 + self.eps * ct));
         let mut out = Complex::new(0.0, 0.0);
-        for (i, sigma) in [1.0, -1.0].into_iter().enumerate() {
+        for sigma in [1.0, -1.0] {
             let b = u + sigma * phi;
-            let (ratio, half) = match f.fixed {
-                Some(d) => d[i],
-                None => dirichlet(f, big_a, sigma),
-            };
-            let (s, c) = (b + half).sin_cos();
+            let (ratio, half) = dirichlet(f, big_a, sigma);
+            let (s, c) = sin_cos(b + half);
             out += Complex::new(c, s) * (sigma * ratio);
         }
         out
     }
 
-    /// 10-point Gauss–Legendre panel of [`Kernel::folded`] over `[u, u + h]`, as `(ΔC, ΔS)`.
-    fn folded_panel(&self, u: f64, h: f64, f: &Fold) -> (f64, f64) {
-        let half = 0.5 * h;
+    /// 10-point Gauss–Legendre panel of [`Kernel::folded`] over `[u, u + r.h]`, as
+    /// `(ΔC, ΔS)`; the nodes' `e^{iu}`, `e^{ikωu}` by rotating the midpoint's by `r`.
+    fn folded_panel(&self, u: f64, r: &Rot, f: &Fold) -> (f64, f64) {
+        let half = 0.5 * r.h;
         let mid = u + half;
+        let (sm, cm) = sin_cos(mid);
+        let (stm, ctm) = sin_cos(self.kw * mid);
+        let ewm = if f.fixed_rotors.is_some() {
+            let (s, c) = sin_cos(self.w * mid);
+            Complex::new(c, s)
+        } else {
+            Complex::new(1.0, 0.0)
+        };
         let mut acc = Complex::new(0.0, 0.0);
         for i in 0..10 {
-            acc += self.folded(mid + half * self.gl.nodes[i], f) * self.gl.weights[i];
+            let (sd, cd) = r.s[i];
+            let (sdt, cdt) = r.th[i];
+            let (sdw, cdw) = r.om[i];
+            let eu = Complex::new(cm * cd - sm * sd, sm * cd + cm * sd);
+            let ewu = ewm * Complex::new(cdw, sdw);
+            let st = stm * cdt + ctm * sdt;
+            let ct = ctm * cdt - stm * sdt;
+            let x = mid + half * self.gl.nodes[i];
+            acc += self.folded(x, (st, ct), eu, ewu, f) * self.gl.weights[i];
         }
         // (I₊ − I₋)/(2i)
         let v = acc * Complex::new(0.0, -0.5 * half);
@@ -136,7 +164,7 @@ impl Kernel {
     fn folded_rate(&self, u: f64, f: &Fold) -> f64 {
         let base = 1.0 + self.phi_rate(u).abs();
         if self.printed {
-            let ct = (self.kw * u).cos();
+            let ct = sin_cos(self.kw * u).1;
             base + f.n * f.period * self.w * self.kw * self.g_prime_abs(ct)
         } else {
             base
@@ -175,10 +203,21 @@ pub(super) fn panel_estimate(ker: &Kernel, f: &Fold, theta: f64, b: f64) -> f64 
 ///
 /// Ends: each pair advances `u` by a positive length (checked; typed error otherwise) and is
 /// counted against `MAX_PANELS`.
-pub(super) fn integrate(ker: &Kernel, f: &Fold, theta: f64, acc: &mut Acc) -> Result<(), Error> {
+pub(super) fn integrate(
+    ker: &Kernel,
+    table: &[OnceCell<Rot>],
+    f: &Fold,
+    theta: f64,
+    acc: &mut Acc,
+) -> Result<(), Error> {
     // accumulated reading: `a± = 1 ± ω` at every node, so `D_N(T a±)` is one pair of numbers
+    let rotor = |sigma: f64| {
+        let (ratio, half) = dirichlet(f, ker.w, sigma);
+        let (s, c) = sin_cos(half);
+        Complex::new(c, s) * (sigma * ratio)
+    };
     let f = &Fold {
-        fixed: (!ker.printed).then(|| [dirichlet(f, ker.w, 1.0), dirichlet(f, ker.w, -1.0)]),
+        fixed_rotors: (!ker.printed).then(|| [rotor(1.0), -rotor(-1.0)]),
         ..*f
     };
     let end = f.s0 + f.period;
@@ -195,17 +234,25 @@ pub(super) fn integrate(ker: &Kernel, f: &Fold, theta: f64, acc: &mut Acc) -> Re
         let l = 4.0 * theta / (r + (r * r + 4.0 * m2 * theta).sqrt());
         let done = u + l >= end;
         let h = if done { 0.5 * (end - u) } else { 0.5 * l };
+        // the panel lengths rounded down to the tabulated levels (the node rotations reused)
+        let (fine, coarse) = if done {
+            let om = !ker.printed;
+            (ker.rot_with(h, om), ker.rot_with(2.0 * h, om))
+        } else {
+            level_rots(ker, table, theta, h)
+        };
+        let h = fine.h;
         if h.is_nan() || h <= 0.0 || (!done && u + h <= u) {
             return Err(Error::Quadrature {
                 reason: format!("Duhamel integral (folded): panel length {h:e} does not advance"),
                 at: u,
             });
         }
-        let first = ker.folded_panel(u, h, f);
-        let second = ker.folded_panel(u + h, h, f);
+        let first = ker.folded_panel(u, &fine, f);
+        let second = ker.folded_panel(u + h, &fine, f);
         acc.add(first);
         acc.add(second);
-        acc.check(first, second, ker.folded_panel(u, 2.0 * h, f));
+        acc.check(first, second, ker.folded_panel(u, &coarse, f));
         u = if done { end } else { u + 2.0 * h };
     }
     Ok(())

@@ -7,6 +7,7 @@
 
 use std::cell::OnceCell;
 use std::f64::consts::TAU;
+use std::sync::OnceLock;
 
 use nalgebra::Complex;
 use system::numeric::GaussLegendre;
@@ -16,6 +17,8 @@ use super::{
     LEVELS_PER_OCTAVE, MAX_PANELS, SAMPLE, fold, levin,
 };
 use crate::Error;
+use crate::fastlog::ln;
+use crate::trig::sin_cos;
 
 impl Karpov2017 {
     pub(super) fn panel_estimate_with(&self, ker: &Kernel, theta: f64) -> f64 {
@@ -94,7 +97,7 @@ impl Karpov2017 {
                         let (h, done) = acc.pair(&ker, &table, theta, t, h, f.s0, None)?;
                         t = if done { f.s0 } else { t + 2.0 * h };
                     }
-                    fold::integrate(&ker, &f, theta, &mut acc)?;
+                    fold::integrate(&ker, &table, &f, theta, &mut acc)?;
                     folded_periods = f.n as u64;
                     t = t_w;
                 }
@@ -108,7 +111,7 @@ impl Karpov2017 {
         }
         // Last cycle: sampled, extrema refined.
         let x_at = |t: f64, c: f64, s: f64| {
-            let (st, ct) = t.sin_cos();
+            let (st, ct) = sin_cos(t);
             (st * c - ct * s, ct * c + st * s)
         };
         let (mut c0, mut s0) = (acc.c.value(), acc.s.value());
@@ -363,6 +366,30 @@ pub(super) fn level_length(theta: f64, j: usize) -> f64 {
     2.0 * theta * (-(j as f64) / f64::from(LEVELS_PER_OCTAVE)).exp2()
 }
 
+/// The node rotations of a pair of panels of length `≤ h` (fine) and twice that (coarse), `h`
+/// rounded down to the tabulated level lengths [`level_length`] (each level computed when
+/// first used; beyond the last level, the exact `h` computed directly).
+pub(super) fn level_rots(ker: &Kernel, table: &[OnceCell<Rot>], theta: f64, h: f64) -> (Rot, Rot) {
+    let j = (f64::from(LEVELS_PER_OCTAVE) * (2.0 * theta / h).log2()).ceil();
+    let j = if j.is_finite() {
+        j.max(f64::from(LEVELS_PER_OCTAVE))
+    } else {
+        f64::MAX
+    };
+    // the folded accumulated reading also rotates e^{iωu} (`fold`)
+    let om = !ker.printed;
+    if j < LEVELS as f64 {
+        let j = j as usize;
+        let jc = j - LEVELS_PER_OCTAVE as usize;
+        (
+            *table[j].get_or_init(|| ker.rot_with(level_length(theta, j), om)),
+            *table[jc].get_or_init(|| ker.rot_with(level_length(theta, jc), om)),
+        )
+    } else {
+        (ker.rot_with(h, om), ker.rot_with(2.0 * h, om))
+    }
+}
+
 /// The 10 Gauss–Legendre node offsets `d = h/2·x_i` of one panel length as rotations.
 #[derive(Clone, Copy)]
 pub(super) struct Rot {
@@ -372,6 +399,8 @@ pub(super) struct Rot {
     pub(super) s: [(f64, f64); 10],
     /// `(sin kωd, cos kωd)`.
     pub(super) th: [(f64, f64); 10],
+    /// `(sin ωd, cos ωd)` (the folded accumulated reading, [`Kernel::rot_with`]; else unset).
+    pub(super) om: [(f64, f64); 10],
 }
 
 /// The integrand of the Duhamel integral with the constants of `g` unpacked.
@@ -384,6 +413,10 @@ pub(super) struct Kernel {
     /// `1/ξ` (0 in the sinusoidal limit).
     pub(super) eps: f64,
     pub(super) printed: bool,
+    /// `c/ε`, `ln(1 + ε)` and `1/k` of the accumulated phase `G/k` (0 for `ε = 0`).
+    pub(super) c_over_eps: f64,
+    pub(super) ln_1p_eps: f64,
+    pub(super) inv_k: f64,
     pub(super) gl: GaussLegendre<10>,
     /// Bounds of `|g'|` and `|g''|` (+5 %).
     pub(super) g1: f64,
@@ -395,17 +428,8 @@ impl Kernel {
         let (b, xi) = (m.dev.b(), m.dev.xi());
         let eps = if xi.is_infinite() { 0.0 } else { 1.0 / xi };
         let c = b * ((1.0 - eps) * (1.0 + eps)).sqrt();
-        // g' = c(ε + cos θ)/(1 + ε cos θ)², g'' = c sin θ (2ε² − 1 + ε cos θ)/(1 + ε cos θ)³;
-        // both peak within ~(1 − ε) of θ = π, so the grid resolves that width 400 times.
-        let n = ((400.0 / (1.0 - eps)) as usize).clamp(4096, 1 << 20);
-        let [g1, g2] = grid_max(n, |i| {
-            let (s, co) = (TAU * i as f64 / n as f64).sin_cos();
-            let den = 1.0 + eps * co;
-            [
-                (c * (eps + co) / (den * den)).abs(),
-                (c * s * (2.0 * eps * eps - 1.0 + eps * co) / (den * den * den)).abs(),
-            ]
-        });
+        // the bounds of |g'|/c, |g''|/c were computed with the model (`shape_bounds`)
+        let [g1, g2] = m.shape.map(|h| c * h);
         Self {
             w: m.p.omega,
             k: m.p.k,
@@ -413,7 +437,10 @@ impl Kernel {
             c,
             eps,
             printed: m.p.excitation == Excitation::PrintedPhase,
-            gl: GaussLegendre::<10>::new(),
+            c_over_eps: if eps == 0.0 { 0.0 } else { c / eps },
+            ln_1p_eps: ln(1.0 + eps),
+            inv_k: 1.0 / m.p.k,
+            gl: gauss_legendre_10(),
             g1: 1.05 * g1,
             g2: 1.05 * g2,
         }
@@ -421,17 +448,37 @@ impl Kernel {
 
     /// Node rotations of panel length `h`.
     pub(super) fn rot(&self, h: f64) -> Rot {
+        self.rot_with(h, false)
+    }
+
+    /// Node rotations of panel length `h`, with those of `ωd` when `omega`.
+    pub(super) fn rot_with(&self, h: f64, omega: bool) -> Rot {
         let mut r = Rot {
             h,
             s: [(0.0, 1.0); 10],
             th: [(0.0, 1.0); 10],
+            om: [(0.0, 1.0); 10],
         };
         for i in 0..10 {
             let d = 0.5 * h * self.gl.nodes[i];
-            r.s[i] = d.sin_cos();
-            r.th[i] = (self.kw * d).sin_cos();
+            r.s[i] = sin_cos(d);
+            r.th[i] = sin_cos(self.kw * d);
+            if omega {
+                r.om[i] = sin_cos(self.w * d);
+            }
         }
         r
+    }
+
+    /// `G(kωs)/k` of the accumulated phase `Φ = ωs + G/k`, given `cos θ` of `θ = kωs`.
+    #[inline]
+    pub(super) fn g_over_k(&self, ct: f64) -> f64 {
+        let big_g = if self.eps == 0.0 {
+            self.c * (1.0 - ct)
+        } else {
+            -self.c_over_eps * (ln(1.0 + self.eps * ct) - self.ln_1p_eps)
+        };
+        big_g * self.inv_k
     }
 
     /// `Φ(s)` given `sin θ`, `cos θ` of `θ = kωs`.
@@ -441,26 +488,21 @@ impl Kernel {
             let g = self.c * st / (1.0 + self.eps * ct);
             self.w * (1.0 + g) * s
         } else {
-            let big_g = if self.eps == 0.0 {
-                self.c * (1.0 - ct)
-            } else {
-                -(self.c / self.eps) * ((ct - 1.0) * self.eps / (1.0 + self.eps)).ln_1p()
-            };
-            self.w * s + big_g / self.k
+            self.w * s + self.g_over_k(ct)
         }
     }
 
     /// `sin Φ(s)` given `sin θ`, `cos θ` of `θ = kωs`.
     #[inline]
     pub(super) fn sin_phi(&self, s: f64, st: f64, ct: f64) -> f64 {
-        self.phi(s, st, ct).sin()
+        sin_cos(self.phi(s, st, ct)).0
     }
 
     /// `Φ'(s)`: `ω(1 + g)` (accumulated) or `ω(1 + g) + s ω kω g'` (printed), with
     /// `g' = c(ε + cos θ)/(1 + ε cos θ)²`.
     #[inline]
     pub(super) fn phi_rate(&self, s: f64) -> f64 {
-        let (st, ct) = (self.kw * s).sin_cos();
+        let (st, ct) = sin_cos(self.kw * s);
         let den = 1.0 + self.eps * ct;
         let g = self.c * st / den;
         let base = self.w * (1.0 + g);
@@ -473,9 +515,9 @@ impl Kernel {
 
     /// `(e^{iΦ(s)}, e^{is})`.
     pub(super) fn rotors(&self, s: f64) -> (Complex<f64>, Complex<f64>) {
-        let (st, ct) = (self.kw * s).sin_cos();
-        let (sp, cp) = self.phi(s, st, ct).sin_cos();
-        let (ss, cs) = s.sin_cos();
+        let (st, ct) = sin_cos(self.kw * s);
+        let (sp, cp) = sin_cos(self.phi(s, st, ct));
+        let (ss, cs) = sin_cos(s);
         (Complex::new(cp, sp), Complex::new(cs, ss))
     }
 
@@ -484,8 +526,8 @@ impl Kernel {
     pub(super) fn panel(&self, t: f64, r: &Rot) -> (f64, f64) {
         let half = 0.5 * r.h;
         let mid = t + half;
-        let (sm, cm) = mid.sin_cos();
-        let (stm, ctm) = (self.kw * mid).sin_cos();
+        let (sm, cm) = sin_cos(mid);
+        let (stm, ctm) = sin_cos(self.kw * mid);
         let (mut pc, mut ps) = (0.0, 0.0);
         for i in 0..10 {
             let (sd, cd) = r.s[i];
@@ -526,8 +568,8 @@ impl Kernel {
         let eval = |tau: f64| {
             let (dc, ds) = self.panel(t0, &self.rot(tau - t0));
             let (c, s) = (c0 + dc, s0 + ds);
-            let (st, ct) = tau.sin_cos();
-            let (sth, cth) = (self.kw * tau).sin_cos();
+            let (st, ct) = sin_cos(tau);
+            let (sth, cth) = sin_cos(self.kw * tau);
             (
                 st * c - ct * s,
                 ct * c + st * s,
@@ -560,6 +602,30 @@ impl Kernel {
         }
         best
     }
+}
+
+/// The 10-point Gauss–Legendre rule, built once per process.
+fn gauss_legendre_10() -> GaussLegendre<10> {
+    static RULE: OnceLock<GaussLegendre<10>> = OnceLock::new();
+    *RULE.get_or_init(GaussLegendre::<10>::new)
+}
+
+/// Bounds of `|g'|/c` and `|g''|/c` over a period (`c = B√(1 − ε²)`, `ε = 1/ξ`), which depend
+/// on `ξ` only: `g'/c = (ε + cos θ)/(1 + ε cos θ)²`, `g''/c = sin θ (2ε² − 1 + ε cos θ)/(1 +
+/// ε cos θ)³` on a grid of `n ≥ 4096` points (both peak within ~(1 − ε) of θ = π, so the grid
+/// resolves that width 400 times), by the coarse-to-fine [`grid_max`]. The kernel scales them
+/// by `c` and adds 5 %.
+pub(super) fn shape_bounds(xi: f64) -> [f64; 2] {
+    let eps = if xi.is_infinite() { 0.0 } else { 1.0 / xi };
+    let n = ((400.0 / (1.0 - eps)) as usize).clamp(4096, 1 << 20);
+    grid_max(n, |i| {
+        let (s, co) = (TAU * i as f64 / n as f64).sin_cos();
+        let den = 1.0 + eps * co;
+        [
+            ((eps + co) / (den * den)).abs(),
+            (s * (2.0 * eps * eps - 1.0 + eps * co) / (den * den * den)).abs(),
+        ]
+    })
 }
 
 /// Stride of the coarse pass of [`grid_max`].
@@ -626,27 +692,13 @@ impl Acc {
                 at: t,
             });
         }
-        let (fine, coarse);
         let done = t + 2.0 * h >= end;
-        if done {
+        let (fine, coarse) = if done {
             let h = 0.5 * (end - t);
-            (fine, coarse) = (ker.rot(h), ker.rot(2.0 * h));
+            (ker.rot(h), ker.rot(2.0 * h))
         } else {
-            let j = (f64::from(LEVELS_PER_OCTAVE) * (2.0 * theta / h).log2()).ceil();
-            let j = if j.is_finite() {
-                j.max(f64::from(LEVELS_PER_OCTAVE))
-            } else {
-                f64::MAX
-            };
-            if j < LEVELS as f64 {
-                let j = j as usize;
-                let jc = j - LEVELS_PER_OCTAVE as usize;
-                fine = *table[j].get_or_init(|| ker.rot(level_length(theta, j)));
-                coarse = *table[jc].get_or_init(|| ker.rot(level_length(theta, jc)));
-            } else {
-                (fine, coarse) = (ker.rot(h), ker.rot(2.0 * h));
-            }
-        }
+            level_rots(ker, table, theta, h)
+        };
         let h = fine.h;
         // `h` must be positive (not NaN) and large enough to move `t` at all
         if h.is_nan() || h <= 0.0 || t + h <= t {

@@ -224,6 +224,16 @@ fn solve_once(
     options: &HbmOptions,
 ) -> Result<hbm::PeriodicSolution, Error> {
     let mut problem = problem_of(model, basis, samples)?;
+    solve_on(&mut problem, model, z0, options)
+}
+
+/// Newton on a built problem of `model` from `z0` (default: the quasi-static contact position).
+fn solve_on(
+    problem: &mut hbm::HbmProblem<Model>,
+    model: &Model,
+    z0: Option<Vec<f64>>,
+    options: &HbmOptions,
+) -> Result<hbm::PeriodicSolution, Error> {
     let z0 = z0.unwrap_or_else(|| {
         let mut z = problem.zero_guess();
         z[0] = -model.backlash - model.b0;
@@ -354,10 +364,169 @@ pub fn solve_hbm_with(
     Ok(HbmResponse { solution, rattle })
 }
 
+/// A Liu harmonic-balance problem prepared once and solved at new parameter values: the sweep
+/// form of [`solve_hbm_with`].
+///
+/// What does not depend on the speed or the load is kept between solves: the basis, the AFT
+/// grid, the FFT plans (complex and real-to-complex) and every work buffer of the engine's
+/// problem; each [`PreparedHbm::solve`] re-reads only the model (its matrices and the time
+/// tables of Eq. (9) on the grid, [`hbm::HbmProblem::set_system`]). A model with another `Z₂`
+/// (another basis) rebuilds the problem. The results are those of [`solve_hbm_with`] with the
+/// same options, bit for bit (tests).
+///
+/// ```
+/// use geardyn_models::liu2021::{self, HbmOptions, HbmStart, PreparedHbm};
+/// let mut p = liu2021::table1();
+/// let mut hbm = PreparedHbm::new(&p.model()?, &HbmOptions::default())?;
+/// for omega1 in [100.0, 110.0, 120.0] {
+///     p.omega1 = omega1;
+///     let r = hbm.solve(&p.model()?, HbmStart::Cold)?;
+///     assert!(r.converged());
+/// }
+/// # Ok::<(), geardyn_models::Error>(())
+/// ```
+pub struct PreparedHbm {
+    options: HbmOptions,
+    basis: hbm::Basis,
+    z2: u32,
+    problem: hbm::HbmProblem<Model>,
+    /// The paper-basis problem of a cold start on a full basis (built on first use).
+    sparse: Option<hbm::HbmProblem<Model>>,
+}
+
+impl PreparedHbm {
+    /// Prepare the problem of `model` with `options` (validated as by [`solve_hbm_with`]).
+    ///
+    /// # Errors
+    /// `options.tol` not > 0; an invalid basis or grid for `model`.
+    pub fn new(model: &Model, options: &HbmOptions) -> Result<Self, Error> {
+        if options.tol.is_nan() || options.tol <= 0.0 {
+            return Err(Error::invalid("liu2021.hbm.tol", "> 0", options.tol));
+        }
+        let basis = options.basis.to_hbm(model.z2)?;
+        let problem = problem_of(model, basis.clone(), options.samples)?;
+        Ok(Self {
+            options: *options,
+            basis,
+            z2: model.z2,
+            problem,
+            sparse: None,
+        })
+    }
+
+    /// The options every solve uses.
+    pub fn options(&self) -> &HbmOptions {
+        &self.options
+    }
+
+    /// Solve Eq. (9) of `model` from `start`, as [`solve_hbm_with`] with this object's options.
+    ///
+    /// Non-convergence is reported in [`HbmResponse::converged`], not as an error.
+    ///
+    /// # Errors
+    /// As [`solve_hbm_with`].
+    pub fn solve(&mut self, model: &Model, start: HbmStart<'_>) -> Result<HbmResponse, Error> {
+        if model.z2 != self.z2 {
+            *self = Self::new(model, &self.options)?;
+        }
+        let options = self.options;
+        let z0 = match (start, options.basis) {
+            (HbmStart::Given(g), _) => Some(g.solution.embed(&self.basis)),
+            (HbmStart::FromTimeResponse(r), _) => {
+                Some(coefficients_from_time_response(model, r, &options.basis)?)
+            }
+            (HbmStart::Cold, Basis::Full { .. }) => {
+                let sparse_options = HbmOptions {
+                    basis: Basis::PAPER,
+                    samples: None,
+                    ..options
+                };
+                let sparse = match &mut self.sparse {
+                    Some(p) => {
+                        set_model(p, model)?;
+                        p
+                    }
+                    None => {
+                        self.sparse
+                            .insert(problem_of(model, Basis::PAPER.to_hbm(model.z2)?, None)?)
+                    }
+                };
+                let s = solve_on(sparse, model, None, &sparse_options)?;
+                s.converged.then(|| s.embed(&self.basis))
+            }
+            (HbmStart::Cold, _) => None,
+        };
+        set_model(&mut self.problem, model)?;
+        let solution = solve_on(&mut self.problem, model, z0, &options)?;
+        let rattle = rattle_of(model, &solution);
+        Ok(HbmResponse { solution, rattle })
+    }
+}
+
+impl std::fmt::Debug for PreparedHbm {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PreparedHbm")
+            .field("options", &self.options)
+            .field("z2", &self.z2)
+            .field("unknowns", &self.problem.n_unknowns())
+            .field("grid", &self.problem.grid_size())
+            .finish_non_exhaustive()
+    }
+}
+
+/// Put `model` into a prepared problem (nothing to do when it is already there).
+fn set_model(problem: &mut hbm::HbmProblem<Model>, model: &Model) -> Result<(), Error> {
+    if problem.system() != model || problem.omega().to_bits() != model.omega_c.to_bits() {
+        problem
+            .set_system(*model, model.omega_c)
+            .map_err(Error::from)?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::params::table1;
     use super::*;
+
+    #[test]
+    fn prepared_solves_equal_fresh_ones_bit_for_bit() {
+        let mut p = table1();
+        p.readings.base_radius = super::super::params::BaseRadius::Mean;
+        let first = p.model().unwrap();
+        for options in [HbmOptions::default(), HbmOptions::full(&first, 1)] {
+            let mut hbm = PreparedHbm::new(&first, &options).unwrap();
+            let mut previous: Option<HbmResponse> = None;
+            // speeds up and down, and a load change (B₀) at the same speed
+            for (omega1, load) in [(120.0, 1.0), (160.0, 1.0), (140.0, 1.0), (140.0, 1.7)] {
+                p.omega1 = omega1;
+                let mut m = p.model().unwrap();
+                m.b0 *= load;
+                let given = previous.take();
+                let mut last = None;
+                for start in [
+                    HbmStart::Cold,
+                    given.as_ref().map_or(HbmStart::Cold, HbmStart::Given),
+                ] {
+                    let fresh = solve_hbm_with(&m, &options, start).unwrap();
+                    let prepared = hbm.solve(&m, start).unwrap();
+                    assert_eq!(
+                        serde_json::to_string(&fresh).unwrap(),
+                        serde_json::to_string(&prepared).unwrap(),
+                        "omega1 = {omega1}, load ×{load}"
+                    );
+                    assert!(fresh.converged());
+                    last = Some(prepared);
+                }
+                previous = last;
+            }
+        }
+        let bad = HbmOptions {
+            tol: 0.0,
+            ..HbmOptions::default()
+        };
+        assert!(PreparedHbm::new(&first, &bad).is_err());
+    }
 
     #[test]
     fn paper_basis_has_15_unknowns() {

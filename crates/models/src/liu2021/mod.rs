@@ -33,7 +33,8 @@
 //!   no-rattle/unilateral branch), [`HbmStart::FromTimeResponse`] (warm start: the harmonics of
 //!   a time-integrated period, [`coefficients_from_time_response`]) or [`HbmStart::Given`]
 //!   (a neighbouring solution: sequential continuation). [`solve_hbm`] and
-//!   [`solve_hbm_from_time_response`] are shorthands.
+//!   [`solve_hbm_from_time_response`] are shorthands; [`PreparedHbm`] is the sweep form (the
+//!   problem, FFT plans and buffers built once, re-solved at each speed or load).
 //! * [`continue_in_speed`] — pseudo-arclength continuation in `ω₁` (the engine's frequency
 //!   continuation with [`Model::with_omega_c`]), reporting folds (the jumps) and stability
 //!   ([`BranchStability`], by default the period map of the ODE: [`shooting_multipliers`]).
@@ -108,7 +109,6 @@ mod params;
 mod presets;
 pub mod registry;
 mod strategy;
-mod trig;
 mod window;
 
 pub use continuation::{
@@ -116,8 +116,8 @@ pub use continuation::{
     add_branch_stability, continue_in_speed, shooting_multipliers, shooting_stability,
 };
 pub use harmonic::{
-    Basis, HbmOptions, HbmResponse, HbmStart, coefficients_from_time_response, solve_hbm,
-    solve_hbm_from_time_response, solve_hbm_with,
+    Basis, HbmOptions, HbmResponse, HbmStart, PreparedHbm, coefficients_from_time_response,
+    solve_hbm, solve_hbm_from_time_response, solve_hbm_with,
 };
 pub use integrate::{IntegrationOptions, TimeResponse, bifurcation_point, integrate};
 pub use model::{Model, Rattle, RattleState};

@@ -300,8 +300,8 @@ impl Model {
     /// from `phases = [sin φ_m, cos φ_m, sin φ_e, cos φ_e]`): the same formulas, different
     /// from the direct evaluation at rounding level ([`super::Trig::Kernel`]).
     pub(super) fn time_functions_kernel(&self, tau: f64, phases: &[f64; 4]) -> [f64; 3] {
-        let (sx, cx) = super::trig::sin_cos(self.omega_c * tau);
-        let (sz, cz) = super::trig::sin_cos(self.omega_e * tau);
+        let (sx, cx) = crate::trig::sin_cos(self.omega_c * tau);
+        let (sz, cz) = crate::trig::sin_cos(self.omega_e * tau);
         let [spm, cpm, spe, cpe] = *phases;
         self.time_functions_of(&TimeTrig {
             sx,

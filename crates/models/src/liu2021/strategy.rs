@@ -45,7 +45,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::harmonic::{HbmOptions, HbmResponse, HbmStart, solve_hbm_with};
+use super::harmonic::{HbmOptions, HbmResponse, HbmStart, PreparedHbm, solve_hbm_with};
 use super::integrate::{IntegrationOptions, TimeResponse, integrate};
 use super::model::{Model, Rattle};
 use super::params::Parameters;
@@ -279,8 +279,9 @@ pub fn time_reference(
 pub fn solve_point(params: &Parameters, strategy: &SweepStrategy) -> Result<SweepPoint, Error> {
     let m = params.model()?;
     let (time, ti) = time_reference(&m, strategy)?;
-    let cold = solve_hbm_with(&m, &strategy.paper_hbm, HbmStart::Cold)?;
-    let warm = solve_hbm_with(&m, &strategy.paper_hbm, HbmStart::FromTimeResponse(&ti))?;
+    let mut paper = PreparedHbm::new(&m, &strategy.paper_hbm)?;
+    let cold = paper.solve(&m, HbmStart::Cold)?;
+    let warm = paper.solve(&m, HbmStart::FromTimeResponse(&ti))?;
     let full = match strategy.full_basis {
         Some(r) => Some(solve_hbm_with(
             &m,

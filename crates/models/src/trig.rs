@@ -1,5 +1,6 @@
-//! A short `sin_cos` for the time stepping of Eq. (9): Cody–Waite reduction by `π/2` and the
-//! Taylor polynomials on `[−π/4, π/4]`.
+//! A short `sin_cos` for the inner loops of the models (the time stepping of Liu's Eq. (9), the
+//! Duhamel quadrature of Karpov's Eq. (8)): Cody–Waite reduction by `π/2` and the Taylor
+//! polynomials on `[−π/4, π/4]`.
 //!
 //! `x = k π/2 + r`, `k = round(2x/π)`, with `π/2 = P₁ + P₂ + P₃` split so that `k P₁` and
 //! `k P₂` are exact for `|k| < 2²⁰` (`P₁`, `P₂` carry 33 bits each): `r = ((x − k P₁) − k P₂) −
@@ -22,7 +23,7 @@ const LIMIT: f64 = 524_288.0;
 
 /// `(sin x, cos x)` to a few units of `10⁻¹⁶` (see the module docs).
 #[inline]
-pub(super) fn sin_cos(x: f64) -> (f64, f64) {
+pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     // NaN and ±∞ go to the fallback
     if x.is_nan() || x.abs() > LIMIT {
         return x.sin_cos();
@@ -42,13 +43,14 @@ pub(super) fn sin_cos(x: f64) -> (f64, f64) {
             + z2 * (1.0 / 20_922_789_888_000.0 + z * (-1.0 / 6_402_373_705_728_000.0)));
     let s = r + r * z * ps;
     let c = 1.0 - 0.5 * z + z2 * pc;
-    // the quadrant k mod 4 (k is an integer-valued float below 2¹⁹ in magnitude)
-    match (k as i64) & 3 {
-        0 => (s, c),
-        1 => (c, -s),
-        2 => (-s, -c),
-        _ => (-c, s),
-    }
+    // the quadrant q = k mod 4 (k is an integer-valued float below 2¹⁹ in magnitude):
+    // (s, c), (c, −s), (−s, −c), (−c, s) for q = 0, 1, 2, 3, without branches (the quadrant
+    // is data-dependent, a `match` on it mispredicts): swap on odd q, then flip the sign bits
+    let q = (k as i64) as u64;
+    let (a, b) = if q & 1 == 0 { (s, c) } else { (c, s) };
+    let sin = f64::from_bits(a.to_bits() ^ ((q & 2) << 62));
+    let cos = f64::from_bits(b.to_bits() ^ ((q.wrapping_add(1) & 2) << 62));
+    (sin, cos)
 }
 
 #[cfg(test)]
