@@ -160,11 +160,13 @@ impl Point {
             || self.time.section_margin.is_nan()
             || self.time.section_margin > CONFIRMED
     }
-    /// The long-window statistics move over the variants by more than [`SETTLED`] (without long
-    /// windows: the one-period reference is unsettled).
+    /// The long-window statistics are samples: the window is not periodic in every variant, or
+    /// its state or ppv moves over the variants by more than [`SETTLED`]
+    /// ([`Robust::reproducible`]; without long windows: the one-period reference is
+    /// unsettled).
     fn window_unsettled(&self) -> bool {
         self.window.as_ref().map_or(self.time_unsettled(), |w| {
-            w.state().is_none() || !w.settled(|s| s.ppv, SETTLED)
+            w.state().is_none() || !w.reproducible(|s| s.ppv, SETTLED)
         })
     }
     /// The point's motion is not confirmed periodic: without a long window, the one-period
