@@ -18,7 +18,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Err("need from ≤ to and 0 < step, at most 10,000 points".into());
     }
     let n = ((to - from) / step).round() as usize;
-    println!("omega1\trsv\tP_bi\tppv\tK\tspread");
+    println!("omega1\trsv\tP_bi\tppv\tK\tregular\tspread");
     for i in 0..=n {
         let w = from + step * i as f64;
         let mut p = liu2021::table1();
@@ -26,11 +26,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         p.readings.base_radius = BaseRadius::Mean;
         let r = liu2021::long_window(&p.model()?, &LongWindowOptions::default())?;
         println!(
-            "{w}\t{}\t{:.3}\t{:.4}\t{:.2}\t{}",
+            "{w}\t{}\t{:.3}\t{:.4}\t{:.2}\t{}\t{}",
             r.nominal.state.rsv(),
             r.nominal.bilateral_fraction(),
             r.nominal.ppv,
             r.nominal.chaos_k,
+            r.regular(),
             r.describe()
         );
     }

@@ -535,8 +535,11 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
         prepare: Box::new(move |p: &Point| {
             let model = liu_model(p)?;
             if let Some(w) = &window {
-                // three runs of (transient + window), the nominal one with two windows
-                let steps = (3.0 * w.transient_periods + 4.0 * w.periods as f64) * model.period()
+                // three runs of (transient + window), the nominal one with two windows, each
+                // run discarding at most `settle_windows` windows that hold a transient
+                let windows = 4.0 + 3.0 * w.settle_windows as f64;
+                let steps = (3.0 * w.transient_periods + windows * w.periods as f64)
+                    * model.period()
                     / w.max_step;
                 limits.need_steps("liu2021 long window", steps)?;
             }

@@ -113,6 +113,12 @@ pub struct WindowStats {
     pub line_incoherent: [f64; 2],
     /// 0–1 test `K` on the stroboscopic section (NaN below 20 periods).
     pub chaos_k: f64,
+    /// The last half of the stroboscopic section repeats with a period `n ≤ 4` (the test of
+    /// [`WindowStats::regular`] on periods `⌊P/2⌋ … P−1`; false below 20 periods). With
+    /// [`WindowStats::regular`] false this marks a window that caught the end of a transient
+    /// ([`WindowStats::transient`]).
+    #[serde(default)]
+    pub tail_regular: bool,
 }
 
 impl WindowStats {
@@ -125,6 +131,13 @@ impl WindowStats {
     #[allow(clippy::float_cmp)] // exact: the value 0.0 is assigned, never computed
     pub fn regular(&self) -> bool {
         self.chaos_k == 0.0
+    }
+
+    /// The window holds the end of a transient: its section is not periodic over the whole
+    /// window but is over its last half ([`WindowStats::tail_regular`]). A long-window record
+    /// discards such a window and records the next one (`liu2021::LongWindowOptions::settle_windows`).
+    pub fn transient(&self) -> bool {
+        !self.regular() && self.tail_regular
     }
 
     /// Fraction of periods with back-flank contact.
@@ -367,18 +380,26 @@ pub fn window_stats(
         line_coherent[j] = re.hypot(im) / periods as f64;
         line_incoherent[j] = inc / periods as f64;
     }
-    // stroboscopic section: the first sample of each period
+    // stroboscopic section: the first sample at or after each period start (to 1e-9 T; one
+    // point per period, so that a sample a rounding error short of a period start is not taken
+    // twice); a period start that a sampling interval longer than the period skips has none
     let mut section = Vec::with_capacity(periods);
     let mut next = 0;
+    let start = |k: usize| t0 + k as f64 * period - 1e-9 * period;
     for i in 0..=last_in_window {
-        if next < periods && t[i] >= t0 + next as f64 * period - 1e-9 * period {
+        if next < periods && t[i] >= start(next) {
             section.push(q[i]);
-            next = period_of(t[i]) + 1;
+            next += 1;
+            while next < periods && t[i] >= start(next) {
+                next += 1;
+            }
         }
     }
+    let section_tol = SECTION_TOL * (q_max - q_min + gap(t0).abs());
+    let tail_regular = section.len() >= 20 && repeats(&section[section.len() / 2..], section_tol);
     let chaos_k = if section.len() < 20 {
         f64::NAN
-    } else if repeats(&section, SECTION_TOL * (q_max - q_min + gap(t0).abs())) {
+    } else if repeats(&section, section_tol) {
         // period n ≤ 4 to within integration noise: regular by definition (the 0–1 test
         // would read the rounding-level noise of a repeating section as diffusion)
         0.0
@@ -398,6 +419,7 @@ pub fn window_stats(
         line_coherent,
         line_incoherent,
         chaos_k,
+        tail_regular,
     })
 }
 
@@ -571,6 +593,18 @@ impl Robust {
         lo.is_finite() && hi.is_finite() && (hi - lo) <= rel * mag
     }
 
+    /// The statistic `f` is a reproducible value of the point: the response is periodic in every
+    /// variant ([`Robust::regular`]) and `f` agrees over them within `rel`
+    /// ([`Robust::settled`]). A statistic of a non-periodic window is a sample of the orbit,
+    /// not a value: its agreement over four variants is chance (Liu Fig. 11 at 165–190 rad/s,
+    /// 0–1 test K ≈ 0.9: the long-window ppv agreed to 1e-5 under one step-size controller
+    /// setting and spread by 5e-4 under another), so it never counts as reproducible. The two
+    /// classes are far apart: a periodic window repeats on its section to about 1e-5 of the
+    /// section tolerance, a non-periodic one misses it by 10³.
+    pub fn reproducible(&self, f: impl Fn(&WindowStats) -> f64, rel: f64) -> bool {
+        self.regular() && self.settled(f, rel)
+    }
+
     /// The window state when every variant agrees on it, else `None` (not robust).
     pub fn state(&self) -> Option<RattleState> {
         let s = state_index(self.nominal.state);
@@ -654,16 +688,17 @@ impl Robust {
     }
 
     /// Per column of [`Robust::COLUMNS`]: the value settles, i.e. every variant agrees on the
-    /// rattle state and the column's own statistic agrees over the nominal record and every
-    /// variant within `rel` ([`Robust::settled`]; the state columns need only the agreement on
-    /// the state). A column that does not settle is a sample of the point's statistic, not a
-    /// reproducible value (issue 28: it is committed as `n/p`). A statistic that is NaN in every
-    /// variant (no impacts on a flank) settles.
+    /// rattle state and the column's own statistic is reproducible ([`Robust::reproducible`]:
+    /// periodic in every variant and agreeing within `rel`; the state columns need only the
+    /// agreement on the state). A column that does not settle is a sample of the point's
+    /// statistic, not a reproducible value (issue 28: it is committed as `n/p`). A statistic
+    /// that is NaN in every variant (no impacts on a flank) of a periodic point settles.
     pub fn settled_columns(&self, rel: f64) -> [bool; 19] {
         let robust = self.state().is_some();
+        let regular = self.regular();
         // a statistic that does not exist in any variant (NaN: no impacts on a flank) settles
         let s = |f: &dyn Fn(&WindowStats) -> f64| {
-            robust && (self.all().all(|w| f(w).is_nan()) || self.settled(f, rel))
+            robust && regular && (self.all().all(|w| f(w).is_nan()) || self.settled(f, rel))
         };
         let bilateral = s(&WindowStats::bilateral_fraction);
         let ppv = s(&|w| w.ppv);
@@ -735,7 +770,8 @@ mod tests {
     fn prediction_interval_of_four_samples() {
         let period = 2.0;
         let om = std::f64::consts::TAU / period;
-        let t = grid(4, 100, period);
+        // 20 periods: enough for the section test, so that the equal samples are periodic
+        let t = grid(20, 40, period);
         let stats = |a: f64| {
             let q: Vec<f64> = t.iter().map(|&x| a * (om * x).sin()).collect();
             let v: Vec<f64> = t.iter().map(|&x| a * om * (om * x).cos()).collect();
@@ -762,6 +798,21 @@ mod tests {
         let (lo, hi) = same.prediction_interval(amp);
         assert!((hi - lo).abs() < 1e-12 && (lo - 1.0).abs() < 1e-6);
         assert!(same.settled(amp, 1e-3));
+        assert!(same.regular() && same.reproducible(amp, 1e-3));
+        // the same equal samples over 4 periods: too short for the section test (K is NaN), so
+        // not known to be periodic: settled, but not a reproducible value, and no column commits
+        let short = {
+            let t = grid(4, 40, period);
+            let q: Vec<f64> = t.iter().map(|&x| (om * x).sin()).collect();
+            let v: Vec<f64> = t.iter().map(|&x| om * (om * x).cos()).collect();
+            window_stats(&t, &q, &v, |_| 10.0, &[], &WindowOptions::new(period)).unwrap()
+        };
+        let unknown = Robust {
+            nominal: short,
+            variants: vec![("b".into(), short)],
+        };
+        assert!(unknown.settled(amp, 1e-3) && !unknown.reproducible(amp, 1e-3));
+        assert_eq!(unknown.settled_columns(1e-3)[7..], [false; 12]);
         // per column: identical variants settle everywhere; amplitudes 1..4 move the ppv and
         // line columns (7–9, 16) but no state or fraction column (0–6)
         assert!(same.settled_columns(1e-5).iter().all(|&s| s));
@@ -785,6 +836,46 @@ mod tests {
         (0..=periods * per)
             .map(|i| i as f64 * period / per as f64)
             .collect()
+    }
+
+    /// The section holds one point per period even where the sample at a period start lies a
+    /// rounding error before it (`t = k·(T/n)` against `k·T`): a periodic response with fast
+    /// content (a 63rd harmonic, as the Liu mesh) then repeats on it exactly ([`WindowStats::regular`]).
+    /// A window whose first periods still decay repeats over its last half only
+    /// ([`WindowStats::transient`]); a chaotic amplitude sequence repeats over neither.
+    #[test]
+    fn section_one_point_per_period_and_transient() {
+        let period = std::f64::consts::TAU / 3.7;
+        let om = std::f64::consts::TAU / period;
+        let per = 97;
+        let dt = period / per as f64;
+        let t: Vec<f64> = (0..=50 * per).map(|i| i as f64 * dt).collect();
+        // the test is meaningful only if some period-start sample falls short of k·T
+        assert!((1..50).any(|k| t[k * per] < k as f64 * period));
+        let run = |amp: &dyn Fn(f64) -> f64| {
+            let q: Vec<f64> = t
+                .iter()
+                .map(|&x| amp(x) * (om * x).cos() + 0.1 * (63.0 * om * x).sin())
+                .collect();
+            // q' is not used by the section; the impact speeds need only be finite here
+            let v = vec![0.0; t.len()];
+            window_stats(&t, &q, &v, |_| 2.0, &[], &WindowOptions::new(period)).unwrap()
+        };
+        let periodic = run(&|_| 0.5);
+        assert_eq!(periodic.periods, 50);
+        assert!(periodic.regular() && periodic.tail_regular && !periodic.transient());
+        // decay over 3 periods: 0.2·e^{-25/3} ≈ 5e-5 at mid-window, inside the section
+        // tolerance (1e-4 of ppv + gap ≈ 3e-4); 0.2 at the start, far outside it
+        let decaying = run(&|x| 0.5 + 0.2 * (-x / (3.0 * period)).exp());
+        assert!(!decaying.regular() && decaying.tail_regular && decaying.transient());
+        // amplitude from the logistic map, one value per period: no repeat anywhere
+        let mut a = vec![0.3f64];
+        for _ in 0..60 {
+            let x = *a.last().unwrap_or(&0.3);
+            a.push(3.9 * x * (1.0 - x));
+        }
+        let chaotic = run(&|x| 0.2 + 0.5 * a[((x / period).floor() as usize).min(59)]);
+        assert!(!chaotic.regular() && !chaotic.tail_regular && !chaotic.transient());
     }
 
     /// A pure sinusoid `q = a sin(Ωt) + m` in a gap `±b`: exact state, fractions, ppv, lines

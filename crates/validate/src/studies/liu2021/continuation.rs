@@ -100,7 +100,7 @@ fn run() -> Result<StudyOutput, Error> {
                         crate::unsettled(r.describe())
                     )
                 }),
-                r.state().is_none() || !r.settled(|w| w.ppv, super::SETTLED),
+                r.state().is_none() || !r.reproducible(|w| w.ppv, super::SETTLED),
             ))
         },
         None,

@@ -152,37 +152,48 @@ const PPV_AXIS: (f64, f64) = (0.0, 3.0e-3);
 /// The rsv axis (states 0, 1, 2) of the committed sweep figures, with a 3 % margin.
 const RSV_AXIS: (f64, f64) = (-0.06, 2.06);
 
+/// The one-period time reference is a sample of a non-periodic orbit, or its periodicity is not
+/// confirmed with margin ([`CONFIRMED`]): its one-period values (ppv, spectrum) are samples.
+fn unconfirmed(time: &liu2021::TimeReference) -> bool {
+    time.motion.period_multiple() == 0
+        || time.section_margin.is_nan()
+        || time.section_margin > CONFIRMED
+}
+
 impl Point {
     /// The one-period time reference is a sample of a non-periodic orbit, or its periodicity
     /// is not confirmed with margin ([`CONFIRMED`]).
     fn time_unsettled(&self) -> bool {
-        self.time.motion.period_multiple() == 0
-            || self.time.section_margin.is_nan()
-            || self.time.section_margin > CONFIRMED
+        unconfirmed(&self.time)
     }
-    /// The long-window statistics move over the variants by more than [`SETTLED`] (without long
-    /// windows: the one-period reference is unsettled).
+    /// The long-window statistics are samples: the window is not periodic in every variant, or
+    /// its state or ppv moves over the variants by more than [`SETTLED`]
+    /// ([`Robust::reproducible`]; without long windows: the one-period reference is
+    /// unsettled).
     fn window_unsettled(&self) -> bool {
         self.window.as_ref().map_or(self.time_unsettled(), |w| {
-            w.state().is_none() || !w.settled(|s| s.ppv, SETTLED)
+            w.state().is_none() || !w.reproducible(|s| s.ppv, SETTLED)
         })
     }
     /// The point's motion is not confirmed periodic: without a long window, the one-period
-    /// reference is not confirmed periodic with margin; with one, the window's section does not
-    /// repeat in every variant or its state or ppv does not settle. The
+    /// reference is not confirmed periodic with margin; with one, in addition the window's
+    /// section does not repeat in every variant or its state or ppv does not settle. The
     /// one-period classification columns (motion period, reproducibility, flag) and the warm
     /// starts seeded from the time response are committed only for a confirmed point: near a
     /// bifurcation the classification of the one-period sample flips under a solver retune.
     fn motion_unsettled(&self) -> bool {
         match &self.window {
-            // with a long window it judges: its 50-period section repeats in every variant
-            // (`Robust::regular`) and its state and ppv settle. The one-period sample's own
-            // classification is a sample too: at chaotic points with laminar phases (Fig. 15,
-            // T2 = 0–28 N·m, 0–1 test K 0.91) its 6-period section repeats by chance under
-            // one controller setting and not under another. A finer statistic (an impact
-            // speed) that does not settle is withheld on its own and says nothing about which
-            // orbit a warm start reaches.
-            Some(w) => !w.regular() || self.window_unsettled(),
+            // both must hold: the one-period sample, which seeds the warm starts, is confirmed
+            // periodic (its 6-period section can repeat by chance in a laminar phase of a
+            // chaotic orbit, so it is not enough alone), and the 50-period window is periodic
+            // in every variant (it is not enough alone either: near a bifurcation the 10-period
+            // transient of the one-period sample has not decayed — Fig. 11, 170–237.5 rad/s;
+            // Fig. 15, 4–21 N·m, where the long window settles only after discarding a window —
+            // and a warm start from that sample reached the unilateral or the bilateral branch
+            // depending on the step-size controller). A finer statistic (an impact speed) that
+            // does not settle is withheld on its own and says nothing about which orbit a warm
+            // start reaches.
+            Some(w) => !w.regular() || self.window_unsettled() || self.time_unsettled(),
             None => self.time_unsettled(),
         }
     }

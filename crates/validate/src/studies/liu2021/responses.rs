@@ -6,7 +6,7 @@ use models::liu2021::{
 };
 use models::response::Robust;
 
-use super::{CONFIRMED, SETTLED, base, model, sig, sig_u, strategy};
+use super::{SETTLED, base, model, sig, sig_u, strategy};
 use crate::{
     Claim, Cost, Error, Figure, Paper, ResultExt, Series, Study, StudyOutput, Table, Verdict,
 };
@@ -83,12 +83,7 @@ fn run() -> Result<StudyOutput, Error> {
                 window_text(lw),
                 label(ti.rattle.state),
                 // one recorded period: a sample unless its periodicity is confirmed with margin
-                sig_u(
-                    ti.rattle.ppv,
-                    time.motion.period_multiple() == 0
-                        || time.section_margin.is_nan()
-                        || time.section_margin > CONFIRMED
-                ),
+                sig_u(ti.rattle.ppv, super::unconfirmed(time)),
                 time.motion.label(),
                 if time.reproducible { "same metrics" } else { "metrics change" },
                 label(hb.rattle.state),
@@ -96,7 +91,7 @@ fn run() -> Result<StudyOutput, Error> {
                 hb.converged(),
                 label(full.rattle.state),
                 // seeded from the one recorded period: settles only with the long window
-                sig_u(full.rattle.ppv, !full.converged() || !lw.settled(|w| w.ppv, SETTLED)),
+                sig_u(full.rattle.ppv, !full.converged() || !lw.reproducible(|w| w.ppv, SETTLED)),
                 full.converged()
             ),
             Verdict::from_bool(lw.nominal.state == expected),
@@ -190,13 +185,16 @@ fn spectrum_outputs(
     ];
     let mut t = Table::new("spectrum_peaks", &super::columns(&own, &super::RUN_COLUMNS));
     let mut amps = Vec::new();
-    // window-averaged line amplitudes [lo, hi] over the variants: (f_c, f_e) per case
-    let lines: Vec<[(f64, f64); 2]> = results
+    // window-averaged line amplitudes [lo, hi] over the variants: (f_c, f_e) per case, and
+    // whether the case is periodic in every variant (else the amplitudes are samples)
+    let lines: Vec<[(f64, f64, bool); 2]> = results
         .iter()
         .map(|r| {
+            let regular = r.5.regular();
+            let iv = |(lo, hi): (f64, f64)| (lo, hi, regular);
             [
-                r.5.interval(|s| s.line_incoherent[0]),
-                r.5.interval(|s| s.line_incoherent[1]),
+                iv(r.5.interval(|s| s.line_incoherent[0])),
+                iv(r.5.interval(|s| s.line_incoherent[1])),
             ]
         })
         .collect();
@@ -209,21 +207,33 @@ fn spectrum_outputs(
         // rank among the non-DC harmonics 1..=kmax (1 = largest)
         let rank = |k: usize| 1 + (1..=kmax).filter(|&j| a(j) > a(k)).count();
         let (r1, re) = (rank(1), rank(z2));
-        let mut row: Vec<crate::Cell> = [
-            w,
-            fc,
-            fc * z2 as f64,
-            a(1),
-            a(2),
-            a(z2),
-            a(z2 - 1),
-            a(z2 + 1),
-            a(2 * z2),
-            r1 as f64,
-            re as f64,
-        ]
-        .map(crate::Cell::Num)
-        .into();
+        // the amplitudes and ranks of a one-period sample that is not confirmed periodic are
+        // samples of the orbit (at 180 rad/s they moved by 5–10 % under a solver retune)
+        let sample = |x: f64| {
+            if super::unconfirmed(time) {
+                crate::Cell::Unsettled(x)
+            } else {
+                crate::Cell::Num(x)
+            }
+        };
+        let mut row: Vec<crate::Cell> = vec![
+            crate::Cell::Num(w),
+            crate::Cell::Num(fc),
+            crate::Cell::Num(fc * z2 as f64),
+        ];
+        row.extend(
+            [
+                a(1),
+                a(2),
+                a(z2),
+                a(z2 - 1),
+                a(z2 + 1),
+                a(2 * z2),
+                r1 as f64,
+                re as f64,
+            ]
+            .map(sample),
+        );
         row.extend(super::run_cells(&ti.stats, super::accuracy(hb)));
         t.push(row)?;
         let mut top: Vec<usize> = (1..=kmax).collect();
@@ -270,14 +280,15 @@ fn spectrum_outputs(
     out.table(t);
     let _ = amps;
     if let [[c160, e160], [c140, e140], [c180, e180]] = lines[..] {
-        // a range that spreads by more than SETTLED moves with every retune
-        let iv = |(lo, hi): (f64, f64)| {
+        // a range of a non-periodic case, or one that spreads by more than SETTLED, moves with
+        // every retune
+        let iv = |(lo, hi, regular): (f64, f64, bool)| {
             let spread = (hi - lo).abs();
-            let u = spread.is_nan() || spread > SETTLED * hi.abs().max(lo.abs());
+            let u = !regular || spread.is_nan() || spread > SETTLED * hi.abs().max(lo.abs());
             format!("[{}, {}]", sig_u(lo, u), sig_u(hi, u))
         };
         // robust when the intervals over the variants decide the comparison
-        let below = |a: (f64, f64), b: (f64, f64)| {
+        let below = |a: (f64, f64, bool), b: (f64, f64, bool)| {
             if a.1 < b.0 {
                 Some(true)
             } else if a.0 >= b.1 {
@@ -305,7 +316,8 @@ fn spectrum_outputs(
             ),
             verdict(reduce),
         ).cause("window-averaged line amplitudes at 140 and 160 rad/s; inconclusive only when their ranges overlap").needs([160.0, 140.0]));
-        let twice = |a: (f64, f64), b: (f64, f64)| below((2.0 * a.0, 2.0 * a.1), b);
+        let twice =
+            |a: (f64, f64, bool), b: (f64, f64, bool)| below((2.0 * a.0, 2.0 * a.1, a.2), b);
         let grow = both(twice(c160, c180), twice(e160, e180));
         out.claim(Claim::new(
             "At ω1 = 180 rad/s the amplitude of each excitation frequency increases greatly (bilateral rattle).",
