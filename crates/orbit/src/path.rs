@@ -329,6 +329,32 @@ impl StopReason {
     pub fn left_range(&self) -> bool {
         matches!(self, Self::ReachedEnd | Self::LeftRange { .. })
     }
+
+    /// The parameter where the branch stopped ([`LeftRange`](Self::LeftRange),
+    /// [`StepTooSmall`](Self::StepTooSmall)), if the reason carries one.
+    pub fn parameter(&self) -> Option<f64> {
+        match self {
+            Self::LeftRange { parameter } | Self::StepTooSmall { parameter, .. } => {
+                Some(*parameter)
+            }
+            Self::ReachedEnd | Self::MaxPoints | Self::InitialSolveFailed { .. } => None,
+        }
+    }
+
+    /// The same reason with its parameter mapped by `g` (a change of units).
+    #[must_use]
+    pub fn map_parameter(self, g: impl Fn(f64) -> f64) -> Self {
+        match self {
+            Self::LeftRange { parameter } => Self::LeftRange {
+                parameter: g(parameter),
+            },
+            Self::StepTooSmall { parameter, cause } => Self::StepTooSmall {
+                parameter: g(parameter),
+                cause,
+            },
+            other => other,
+        }
+    }
 }
 
 /// A continued branch of periodic orbits: the workspace's one branch type.
@@ -363,8 +389,9 @@ impl<P> Branch<P> {
     }
 
     /// The same branch with every point mapped by `f` (which maps its parameter itself), the
-    /// parameters of folds and special-point brackets by `g`. The stop reason is kept as it
-    /// is (its parameter stays in the corrector's units).
+    /// parameters of folds, special-point brackets and the stop reason by `g` (a change of
+    /// the parameter's units, e.g. a model's physical speed for the corrector's base
+    /// frequency).
     ///
     /// # Errors
     /// The first error of `f`.
@@ -400,7 +427,7 @@ impl<P> Branch<P> {
                 })
                 .collect(),
             special,
-            stop: self.stop,
+            stop: self.stop.map_parameter(g),
         })
     }
 }
