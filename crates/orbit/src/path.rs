@@ -39,7 +39,7 @@ use std::ops::Deref;
 use nalgebra::{DMatrix, DVector};
 use system::Stability;
 
-use crate::error::OrbitError;
+use crate::error::{OrbitError, check};
 use crate::problem::Parameter;
 
 /// How the next point is predicted and which constraint closes the corrector.
@@ -52,6 +52,77 @@ pub enum Predictor {
     Arclength,
     /// Natural parameter: `μ` advances by the step, the corrector holds it (stops at folds).
     Natural,
+}
+
+/// The one options type of every continuation: the step bounds, the cap on points and the
+/// predictor, shared by every corrector, and the corrector's own part `C`
+/// ([`ShootingCorrection`](crate::ShootingCorrection) for
+/// [`OrbitProblem::continuation`](crate::OrbitProblem::continuation),
+/// [`HbmCorrection`](crate::HbmCorrection) for [`continue_hbm`](crate::continue_hbm)). The
+/// corrector turns the step bounds into its [`StepControl`] (its growth and rejection rules)
+/// and the cap and predictor into the [`Course`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ContinuationOptions<C> {
+    /// First step `Δs` (in the corrector's variables: scaled shooting state and parameter,
+    /// or the unscaled harmonic-balance coefficients and parameter).
+    pub initial_step: f64,
+    /// Smallest step: a rejection below it stops the branch
+    /// ([`StopReason::StepTooSmall`]).
+    pub min_step: f64,
+    /// Largest step.
+    pub max_step: f64,
+    /// Cap on branch points (including the first).
+    pub max_points: usize,
+    /// Pseudo-arclength (default) or natural-parameter steps.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub predictor: Predictor,
+    /// The corrector's own settings.
+    pub corrector: C,
+}
+
+impl<C> ContinuationOptions<C> {
+    /// Checks the shared fields: `0 < min_step ≤ initial_step ≤ max_step`, all finite, and
+    /// `max_points ≥ 1` (the corrector's part is checked by its own `validate`).
+    ///
+    /// # Errors
+    /// [`OrbitError::InvalidInput`] naming the field and its bound.
+    pub fn validate_steps(&self) -> Result<(), OrbitError> {
+        check(
+            self.min_step.is_finite() && self.min_step > 0.0,
+            "ContinuationOptions::min_step",
+            "> 0 and finite",
+            self.min_step,
+        )?;
+        check(
+            self.max_step.is_finite() && self.max_step >= self.min_step,
+            "ContinuationOptions::max_step",
+            ">= min_step and finite",
+            self.max_step,
+        )?;
+        check(
+            self.initial_step >= self.min_step && self.initial_step <= self.max_step,
+            "ContinuationOptions::initial_step",
+            "in [min_step, max_step]",
+            self.initial_step,
+        )?;
+        check(
+            self.max_points >= 1,
+            "ContinuationOptions::max_points",
+            ">= 1",
+            self.max_points as f64,
+        )
+    }
+
+    /// The course of a branch over `range` in `direction` with this cap and predictor.
+    pub fn course(&self, range: [f64; 2], direction: f64) -> Course {
+        Course {
+            range,
+            direction,
+            max_points: self.max_points,
+            predictor: self.predictor,
+        }
+    }
 }
 
 /// Step-size control of [`trace`].

@@ -217,11 +217,13 @@ pub fn continue_in_speed(
         min_step: options.min_step / to_omega1,
         max_step: options.max_step / to_omega1,
         max_points: options.max_points,
-        tolerance: options.hbm.tol * residual_scale(&model),
-        corrector_max_iters: options.hbm.max_iter.max(1),
-        stability: options.stability == BranchStability::Floquet,
-        stability_steps: Some(options.stability_steps.max(4)),
         predictor: orbit::Predictor::Arclength,
+        corrector: orbit::HbmCorrection {
+            tolerance: options.hbm.tol * residual_scale(&model),
+            max_iters: options.hbm.max_iter.max(1),
+            stability: options.stability == BranchStability::Floquet,
+            stability_steps: Some(options.stability_steps.max(4)),
+        },
     };
     let branch = orbit::continue_hbm(
         &mut problem,

@@ -4,8 +4,8 @@
 
 use models::liu2021::{self, IntegrationOptions, Model, Parameters};
 use orbit::{
-    ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingOptions, ShootingPoint,
-    SpecialKind,
+    ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingCorrection, ShootingOptions,
+    ShootingPoint, SpecialKind,
 };
 
 type Branch = orbit::ShootingBranch;
@@ -173,18 +173,21 @@ fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
     let (q, v, _) = settle(&m, 199.0, 1.0, 1e-8)?;
     let mut prob = OrbitProblem::new(m, m.period()).context("orbit problem")?;
     let opts = ContinuationOptions {
-        parameter: Parameter::BaseFrequency,
-        range: [99.0 * conv, 221.0 * conv],
-        direction: dir,
-        parameter_scale: conv,
-        state_scale: 0.1 * m.backlash,
         initial_step: 1.0,
         max_step: 2.0,
         min_step: 1e-6,
         max_points: 400,
-        locate_tol: LOCATE_TOL,
-        locate_samples: LOCATE_SAMPLES,
-        shooting: shooting(),
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [99.0 * conv, 221.0 * conv],
+            direction: dir,
+            parameter_scale: conv,
+            state_scale: 0.1 * m.backlash,
+            locate_tol: LOCATE_TOL,
+            locate_samples: LOCATE_SAMPLES,
+            shooting: shooting(),
+            ..ShootingCorrection::default()
+        },
         ..ContinuationOptions::default()
     };
     let branch = prob
@@ -225,18 +228,21 @@ fn named_branch(
     let backlash = sys.m.backlash;
     let mut prob = OrbitProblem::new(sys, period).context("orbit problem")?;
     let opts = ContinuationOptions {
-        parameter: Parameter::Named(name.to_owned()),
-        range,
-        direction: dir,
-        parameter_scale: scale,
-        state_scale: 0.1 * backlash,
         initial_step: 1.0,
         max_step: 2.0,
         min_step: 1e-6,
         max_points: 300,
-        locate_tol: LOCATE_TOL,
-        locate_samples: LOCATE_SAMPLES,
-        shooting: shooting(),
+        corrector: ShootingCorrection {
+            parameter: Parameter::Named(name.to_owned()),
+            range,
+            direction: dir,
+            parameter_scale: scale,
+            state_scale: 0.1 * backlash,
+            locate_tol: LOCATE_TOL,
+            locate_samples: LOCATE_SAMPLES,
+            shooting: shooting(),
+            ..ShootingCorrection::default()
+        },
         ..ContinuationOptions::default()
     };
     let branch = prob
