@@ -5,8 +5,8 @@
 use crate::error::{OrbitError, Result, check};
 use crate::floquet::{Crossing, Floquet, classify_crossing, floquet, real_eigenvector};
 use crate::path::{
-    self, Branch, BranchPoint, ContinuationOptions, Corrector, Extremum, Node, Predictor,
-    SpecialKind, SpecialPoint, StepControl, bordered_tangent,
+    self, Branch, BranchPoint, ContinuationOptions, Corrector, Extremum, Node, SpecialKind,
+    SpecialPoint, StepControl, bordered_tangent,
 };
 use crate::problem::{OrbitProblem, Parameter};
 use crate::shooting::{PeriodicOrbit, ShootingOptions};
@@ -135,14 +135,11 @@ impl ShootingCorrection {
 pub type ShootingContinuationOptions = ContinuationOptions<ShootingCorrection>;
 
 impl Default for ContinuationOptions<ShootingCorrection> {
+    /// The shared defaults with the smallest step `1e-7` (scaled shooting variables).
     fn default() -> Self {
         Self {
-            initial_step: 0.01,
             min_step: 1e-7,
-            max_step: 0.1,
-            max_points: 500,
-            predictor: Predictor::Arclength,
-            corrector: ShootingCorrection::default(),
+            ..Self::with_corrector(ShootingCorrection::default())
         }
     }
 }

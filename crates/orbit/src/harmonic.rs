@@ -14,8 +14,8 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::error::{OrbitError, check};
 use crate::path::{
-    self, Branch, BranchPoint, ContinuationOptions, Corrector, Node, Predictor, StepControl,
-    StopReason, bordered_tangent,
+    self, Branch, BranchPoint, ContinuationOptions, Corrector, Node, StepControl, StopReason,
+    bordered_tangent,
 };
 use crate::problem::Parameter;
 
@@ -74,15 +74,9 @@ impl HbmCorrection {
 pub type HbmContinuationOptions = ContinuationOptions<HbmCorrection>;
 
 impl Default for ContinuationOptions<HbmCorrection> {
+    /// The shared defaults ([`ContinuationOptions::with_corrector`]).
     fn default() -> Self {
-        Self {
-            initial_step: 0.01,
-            min_step: 1e-6,
-            max_step: 0.1,
-            max_points: 500,
-            predictor: Predictor::Arclength,
-            corrector: HbmCorrection::default(),
-        }
+        Self::with_corrector(HbmCorrection::default())
     }
 }
 

@@ -82,6 +82,19 @@ pub struct ContinuationOptions<C> {
 }
 
 impl<C> ContinuationOptions<C> {
+    /// The shared defaults with `corrector`: first step 0.01, steps in `[1e-6, 0.1]`, 500
+    /// points, pseudo-arclength (each corrector's `Default` starts from these).
+    pub fn with_corrector(corrector: C) -> Self {
+        Self {
+            initial_step: 0.01,
+            min_step: 1e-6,
+            max_step: 0.1,
+            max_points: 500,
+            predictor: Predictor::Arclength,
+            corrector,
+        }
+    }
+
     /// Checks the shared fields: `0 < min_step ≤ initial_step ≤ max_step`, all finite, and
     /// `max_points ≥ 1` (the corrector's part is checked by its own `validate`).
     ///

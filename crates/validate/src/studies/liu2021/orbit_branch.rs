@@ -539,15 +539,26 @@ fn run() -> Result<StudyOutput, Error> {
         )?);
     }
     let bi_up = first(&up.branch, BI);
-    let (w, lo, hi) = found_or_nan(bi_up, up.scale);
-    out.compare(onset_row(
-        bi_p,
-        speed_tolerance(&bi_p.printed),
-        (w, lo, hi),
-        "R-LIU-EQ21",
-        true,
-        "grazing of the back flank on the period-1 branch from 100 rad/s (NaN: not found)",
-    )?);
+    // shown, unsettled: the back-flank grazing and the fold of the branch from 100 rad/s
+    for (found, note) in [
+        (
+            found_or_nan(bi_up, up.scale),
+            "grazing of the back flank on the period-1 branch from 100 rad/s (NaN: not found)",
+        ),
+        (
+            found_or_nan(first(&up.branch, SpecialKind::Fold), up.scale),
+            "fold that ends the unilateral period-1 branch from 100 rad/s (past it this orbit no longer exists; NaN: not found)",
+        ),
+    ] {
+        out.compare(onset_row(
+            bi_p,
+            speed_tolerance(&bi_p.printed),
+            found,
+            "R-LIU-EQ21",
+            true,
+            note,
+        )?);
+    }
     if bi_up.is_none() {
         let _ = out.note(format!(
             "the period-1 branch from 100 rad/s never touches the back flank (largest q − b̄ = {} b̄ at its end, {} rad/s): bilateral rattle does not start by a grazing of this branch",
@@ -560,15 +571,6 @@ fn run() -> Result<StudyOutput, Error> {
             crate::unsettled(sig(up.branch.points.last().map_or(f64::NAN, |p| p.parameter / up.scale)))
         ));
     }
-    let (w, lo, hi) = found_or_nan(first(&up.branch, SpecialKind::Fold), up.scale);
-    out.compare(onset_row(
-        bi_p,
-        speed_tolerance(&bi_p.printed),
-        (w, lo, hi),
-        "R-LIU-EQ21",
-        true,
-        "fold that ends the unilateral period-1 branch from 100 rad/s (past it this orbit no longer exists; NaN: not found)",
-    )?);
     // first loss of stability of the bilateral branch from 220 rad/s down: bisection in ω1 on
     // max |μ| > 1 by single shooting (warm-started from the stable side), and a 0.005 rad/s
     // shooting scan from the last stable branch point as the cross-check
@@ -663,24 +665,26 @@ fn run() -> Result<StudyOutput, Error> {
             "T2 at which the period-1 branch (from 80 N m down) separates from the drive flank (grazing)",
         )?);
     }
-    let (x, lo, hi) = found_or_nan(first(&t2.branch, SpecialKind::Fold), 1.0);
-    out.compare(onset_row(
-        below,
-        Tolerance::printed(&below.printed)?,
-        (x, lo, hi),
-        "R-LIU-FIG15",
-        true,
-        "fold that ends the unilateral period-1 branch from 80 N m down (past it this orbit no longer exists; NaN: not found)",
-    )?);
-    let (x, lo, hi) = found_or_nan(first(&t2.branch, BI), 1.0);
-    out.compare(onset_row(
-        below,
-        Tolerance::printed(&below.printed)?,
-        (x, lo, hi),
-        "R-LIU-FIG15",
-        true,
-        "T2 at which the period-1 branch (from 80 N m down) touches the back flank (grazing; NaN: not found)",
-    )?);
+    // shown, unsettled: the fold and the back-flank grazing of the branch from 80 N m down
+    for (kind, note) in [
+        (
+            SpecialKind::Fold,
+            "fold that ends the unilateral period-1 branch from 80 N m down (past it this orbit no longer exists; NaN: not found)",
+        ),
+        (
+            BI,
+            "T2 at which the period-1 branch (from 80 N m down) touches the back flank (grazing; NaN: not found)",
+        ),
+    ] {
+        out.compare(onset_row(
+            below,
+            Tolerance::printed(&below.printed)?,
+            found_or_nan(first(&t2.branch, kind), 1.0),
+            "R-LIU-FIG15",
+            true,
+            note,
+        )?);
+    }
     let ak = &runs[3];
     if let Some(g) = first(&ak.branch, UNI) {
         let x = g.point.parameter;
