@@ -68,6 +68,16 @@ pub enum Error {
         #[source]
         source: timestep::Error,
     },
+    /// The periodic-orbit crate failed (an event-located flow with its variational equations,
+    /// shooting, multipliers).
+    #[error("solver: {context}{source}")]
+    Orbit {
+        /// What the model was doing, ending in `": "` (may be empty).
+        context: &'static str,
+        /// The crate's error.
+        #[source]
+        source: orbit::OrbitError,
+    },
     /// A solver-level failure of the model itself (no underlying leaf error): an integration
     /// that did not complete, an empty response, a non-periodic state.
     #[error("solver: {0}")]
@@ -146,6 +156,15 @@ pub(crate) fn total_stats(runs: &[&timestep::Solution]) -> timestep::Stats {
 impl From<hbm::HbmError> for Error {
     fn from(source: hbm::HbmError) -> Self {
         Error::Hbm {
+            context: "",
+            source,
+        }
+    }
+}
+
+impl From<orbit::OrbitError> for Error {
+    fn from(source: orbit::OrbitError) -> Self {
+        Error::Orbit {
             context: "",
             source,
         }

@@ -5,7 +5,7 @@
 //! no-rattle / unilateral branch) or `-- down` (from 220 rad/s downward, the bilateral branch).
 
 use models::liu2021::{self, BaseRadius, IntegrationOptions};
-use orbit::{ContinuationOptions, OrbitProblem, Parameter, ShootingOptions};
+use orbit::{ContinuationOptions, OrbitProblem, Parameter, ShootingCorrection, ShootingOptions};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let down = std::env::args().nth(1).as_deref() == Some("down");
@@ -28,21 +28,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let x0 = [*ti.q.last().ok_or("empty")?, *ti.v.last().ok_or("empty")?];
     let mut p = OrbitProblem::new(m, m.period())?;
     let opts = ContinuationOptions {
-        parameter: Parameter::BaseFrequency,
-        range: [95.0 * conv, 225.0 * conv],
-        direction: if down { -1.0 } else { 1.0 },
-        // arclength unit: 1 rad/s of ω1, or a tenth of the half backlash in the state
-        parameter_scale: conv,
-        state_scale: 0.1 * m.backlash,
         initial_step: 1.0,
         max_step: 2.0,
         min_step: 1e-6,
         max_points: 400,
-        locate_tol: 1e-9,
-        shooting: ShootingOptions {
-            tol: 1e-8,
-            max_iter: 20,
-            ..ShootingOptions::default()
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [95.0 * conv, 225.0 * conv],
+            direction: if down { -1.0 } else { 1.0 },
+            // arclength unit: 1 rad/s of ω1, or a tenth of the half backlash in the state
+            parameter_scale: conv,
+            state_scale: 0.1 * m.backlash,
+            locate_tol: 1e-9,
+            shooting: ShootingOptions {
+                tol: 1e-8,
+                max_iter: 20,
+                ..ShootingOptions::default()
+            },
+            ..ShootingCorrection::default()
         },
         ..ContinuationOptions::default()
     };

@@ -5,7 +5,7 @@
 use crate::error::{OrbitError, Result, check};
 use crate::floquet::{Crossing, Floquet, classify_crossing, floquet, real_eigenvector};
 use crate::path::{
-    self, Branch, BranchPoint, Corrector, Course, Extremum, Node, Predictor, SpecialKind,
+    self, Branch, BranchPoint, ContinuationOptions, Corrector, Extremum, Node, SpecialKind,
     SpecialPoint, StepControl, bordered_tangent,
 };
 use crate::problem::{OrbitProblem, Parameter};
@@ -13,24 +13,18 @@ use crate::shooting::{PeriodicOrbit, ShootingOptions};
 use nalgebra::{DMatrix, DVector};
 use system::SecondOrderSystem;
 
-/// Settings of [`OrbitProblem::continuation`].
+/// The shooting corrector's part of [`ContinuationOptions`] ([`OrbitProblem::continuation`]):
+/// the parameter and its range, the scaling of the arclength, the correction limit, the
+/// shooting Newton and the location of special points.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct ContinuationOptions {
+pub struct ShootingCorrection {
     /// The parameter `λ`.
     pub parameter: Parameter,
     /// The branch stops when `λ` leaves `[range[0], range[1]]`.
     pub range: [f64; 2],
     /// Initial direction of `λ`: `+1` (increasing) or `−1`.
     pub direction: f64,
-    /// First arclength step (in the scaled variables `(x, λ/parameter_scale)`).
-    pub initial_step: f64,
-    /// Smallest step before the continuation stops.
-    pub min_step: f64,
-    /// Largest step.
-    pub max_step: f64,
-    /// Cap on branch points.
-    pub max_points: usize,
     /// `λ` enters the arclength as `λ/parameter_scale`.
     pub parameter_scale: f64,
     /// The state enters the arclength as `x₀/state_scale` (choose both scales so that a typical
@@ -55,21 +49,14 @@ pub struct ContinuationOptions {
     /// step (it jumps at every contact change), and this picks the first crossing down to the
     /// piece length. `1`: no sampling.
     pub locate_samples: usize,
-    /// Pseudo-arclength (default) or natural-parameter steps.
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub predictor: Predictor,
 }
 
-impl Default for ContinuationOptions {
+impl Default for ShootingCorrection {
     fn default() -> Self {
         Self {
             parameter: Parameter::BaseFrequency,
             range: [f64::NEG_INFINITY, f64::INFINITY],
             direction: 1.0,
-            initial_step: 0.01,
-            min_step: 1e-7,
-            max_step: 0.1,
-            max_points: 500,
             parameter_scale: 1.0,
             state_scale: 1.0,
             max_correction: 1.0,
@@ -81,12 +68,11 @@ impl Default for ContinuationOptions {
             locate_tol: 1e-8,
             locate_contact_changes: false,
             locate_samples: 1,
-            predictor: Predictor::Arclength,
         }
     }
 }
 
-impl ContinuationOptions {
+impl ShootingCorrection {
     /// Checks every field.
     ///
     /// # Errors
@@ -95,76 +81,77 @@ impl ContinuationOptions {
         self.shooting.validate()?;
         check(
             self.shooting.segments == 1,
-            "ContinuationOptions::shooting.segments",
+            "ShootingCorrection::shooting.segments",
             "1",
             self.shooting.segments as f64,
         )?;
         check(
             !self.range[0].is_nan() && !self.range[1].is_nan() && self.range[0] < self.range[1],
-            "ContinuationOptions::range",
+            "ShootingCorrection::range",
             "range[0] < range[1]",
             self.range[1],
         )?;
         check(
             self.direction.abs().to_bits() == 1.0_f64.to_bits(),
-            "ContinuationOptions::direction",
+            "ShootingCorrection::direction",
             "+1 or -1",
             self.direction,
         )?;
         check(
-            self.min_step.is_finite() && self.min_step > 0.0,
-            "ContinuationOptions::min_step",
-            "> 0 and finite",
-            self.min_step,
-        )?;
-        check(
-            self.max_step.is_finite() && self.max_step >= self.min_step,
-            "ContinuationOptions::max_step",
-            ">= min_step and finite",
-            self.max_step,
-        )?;
-        check(
-            self.initial_step >= self.min_step && self.initial_step <= self.max_step,
-            "ContinuationOptions::initial_step",
-            "in [min_step, max_step]",
-            self.initial_step,
-        )?;
-        check(
-            self.max_points >= 1,
-            "ContinuationOptions::max_points",
-            ">= 1",
-            self.max_points as f64,
-        )?;
-        check(
             self.parameter_scale.is_finite() && self.parameter_scale > 0.0,
-            "ContinuationOptions::parameter_scale",
+            "ShootingCorrection::parameter_scale",
             "> 0 and finite",
             self.parameter_scale,
         )?;
         check(
             self.state_scale.is_finite() && self.state_scale > 0.0,
-            "ContinuationOptions::state_scale",
+            "ShootingCorrection::state_scale",
             "> 0 and finite",
             self.state_scale,
         )?;
         check(
             self.max_correction > 0.0,
-            "ContinuationOptions::max_correction",
+            "ShootingCorrection::max_correction",
             "> 0",
             self.max_correction,
         )?;
         check(
             (1..=1000).contains(&self.locate_samples),
-            "ContinuationOptions::locate_samples",
+            "ShootingCorrection::locate_samples",
             "in [1, 1000]",
             self.locate_samples as f64,
         )?;
         check(
             self.locate_tol.is_finite() && self.locate_tol > 0.0,
-            "ContinuationOptions::locate_tol",
+            "ShootingCorrection::locate_tol",
             "> 0 and finite",
             self.locate_tol,
         )
+    }
+}
+
+/// Settings of [`OrbitProblem::continuation`]: the one [`ContinuationOptions`] with the
+/// shooting corrector's part.
+pub type ShootingContinuationOptions = ContinuationOptions<ShootingCorrection>;
+
+impl Default for ContinuationOptions<ShootingCorrection> {
+    /// The shared defaults with the smallest step `1e-7` (scaled shooting variables).
+    fn default() -> Self {
+        Self {
+            min_step: 1e-7,
+            ..Self::with_corrector(ShootingCorrection::default())
+        }
+    }
+}
+
+impl ContinuationOptions<ShootingCorrection> {
+    /// Checks every field (the shared ones and the shooting corrector's).
+    ///
+    /// # Errors
+    /// [`OrbitError::InvalidInput`] naming the field.
+    pub fn validate(&self) -> Result<()> {
+        self.corrector.validate()?;
+        self.validate_steps()
     }
 }
 
@@ -211,7 +198,7 @@ type Sol = Node<ShootingBranchPoint>;
 /// The shooting corrector of the one continuation ([`path::trace`]).
 struct Shooter<'a, S> {
     problem: &'a mut OrbitProblem<S>,
-    opts: &'a ContinuationOptions,
+    opts: &'a ShootingCorrection,
 }
 
 impl<S: SecondOrderSystem> Corrector for Shooter<'_, S> {
@@ -243,14 +230,14 @@ impl<S: SecondOrderSystem> Corrector for Shooter<'_, S> {
 }
 
 impl<S: SecondOrderSystem> OrbitProblem<S> {
-    fn set_mu(&mut self, opts: &ContinuationOptions, mu: f64) -> Result<()> {
+    fn set_mu(&mut self, opts: &ShootingCorrection, mu: f64) -> Result<()> {
         self.set_parameter(&opts.parameter, mu * opts.parameter_scale)
     }
 
     /// Residual `φ_{kT}(x) − x` at `μ`, and `[Φ − I | F_μ]` if `jac`.
     fn residual(
         &mut self,
-        opts: &ContinuationOptions,
+        opts: &ShootingCorrection,
         z: &DVector<f64>,
         jac: bool,
     ) -> Result<(DVector<f64>, Option<DMatrix<f64>>)> {
@@ -312,7 +299,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// oriented along `reference`.
     fn correct(
         &mut self,
-        opts: &ContinuationOptions,
+        opts: &ShootingCorrection,
         z_pred: &DVector<f64>,
         t: &DVector<f64>,
         reference: &DVector<f64>,
@@ -362,7 +349,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
 
     fn finish_point(
         &mut self,
-        opts: &ContinuationOptions,
+        opts: &ShootingCorrection,
         z: DVector<f64>,
         jac: DMatrix<f64>,
         t_ref: &DVector<f64>,
@@ -426,9 +413,10 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         &mut self,
         x0: &[f64],
         lambda0: f64,
-        opts: &ContinuationOptions,
+        options: &ShootingContinuationOptions,
     ) -> Result<ShootingBranch> {
-        opts.validate()?;
+        options.validate()?;
+        let opts = &options.corrector;
         self.check_state(x0)?;
         check(lambda0.is_finite(), "lambda0", "finite", lambda0)?;
         let nn = self.dim();
@@ -450,17 +438,12 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         let mut branch = Branch::new(opts.parameter.clone(), opts.shooting.periods);
         branch.points.push(first.raw.clone());
         let control = StepControl::shooting(
-            opts.initial_step,
-            opts.min_step,
-            opts.max_step,
+            options.initial_step,
+            options.min_step,
+            options.max_step,
             opts.max_correction,
         );
-        let course = Course {
-            range: opts.range,
-            direction: opts.direction,
-            max_points: opts.max_points,
-            predictor: opts.predictor,
-        };
+        let course = options.course(opts.range, opts.direction);
         let mut shooter = Shooter {
             problem: self,
             opts,
@@ -472,7 +455,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// Sign changes of the test functions between `a` and `b` (one step `ds` apart).
     fn detect(
         &mut self,
-        opts: &ContinuationOptions,
+        opts: &ShootingCorrection,
         a: &Sol,
         b: &Sol,
         ds: f64,
@@ -575,7 +558,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// bracket and whether the arclength bracket shrank to `locate_tol`.
     fn locate_special(
         &mut self,
-        opts: &ContinuationOptions,
+        opts: &ShootingCorrection,
         (a, b): (&Sol, &Sol),
         ds: f64,
         kind: SpecialKind,
@@ -639,7 +622,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// predictor (it jumped to another branch).
     fn point_at(
         &mut self,
-        opts: &ContinuationOptions,
+        opts: &ShootingCorrection,
         a: &Sol,
         s: f64,
     ) -> Result<ShootingBranchPoint> {
@@ -659,7 +642,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// Illinois on the arclength bracket of the step from `a`.
     fn illinois(
         &mut self,
-        opts: &ContinuationOptions,
+        opts: &ShootingCorrection,
         a: &Sol,
         br: Bracket,
         kind: SpecialKind,
@@ -730,7 +713,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// reached so far.
     fn bisect(
         &mut self,
-        opts: &ContinuationOptions,
+        opts: &ShootingCorrection,
         a: &Sol,
         br: Bracket,
         kind: SpecialKind,

@@ -12,51 +12,82 @@ use hbm::{
 };
 use nalgebra::{DMatrix, DVector};
 
-use crate::error::OrbitError;
+use crate::error::{OrbitError, check};
 use crate::path::{
-    self, Branch, BranchPoint, Corrector, Course, Node, Predictor, StepControl, StopReason,
+    self, Branch, BranchPoint, ContinuationOptions, Corrector, Node, StepControl, StopReason,
     bordered_tangent,
 };
 use crate::problem::Parameter;
 
-/// Options of [`continue_hbm`].
+/// The harmonic-balance corrector's part of [`ContinuationOptions`] ([`continue_hbm`]): the
+/// Newton tolerance and iteration cap of every correction, and the Floquet stability of the
+/// points.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct HbmContinuationOptions {
-    /// First step (in the unscaled `(z, λ)` space).
-    pub initial_step: f64,
-    /// Smallest step before giving up.
-    pub min_step: f64,
-    /// Largest step.
-    pub max_step: f64,
-    /// Maximum number of branch points (including the first).
-    pub max_points: usize,
+pub struct HbmCorrection {
     /// Corrector tolerance on `‖r‖₂`.
     pub tolerance: f64,
-    /// Corrector iteration limit.
-    pub corrector_max_iters: u64,
+    /// Corrector iteration limit (the first point gets at least 25).
+    pub max_iters: u64,
     /// Compute Floquet stability of every point.
     pub stability: bool,
-    /// RK4 steps per period for stability (`None` = default of [`HbmProblem::stability`]).
+    /// RK4 steps per period for stability (`None` = default of [`HbmProblem::stability`]; at
+    /// least 4).
     pub stability_steps: Option<usize>,
-    /// Pseudo-arclength (default) or natural-parameter steps.
-    #[cfg_attr(feature = "serde", serde(default))]
-    pub predictor: Predictor,
 }
 
-impl Default for HbmContinuationOptions {
+impl Default for HbmCorrection {
     fn default() -> Self {
         Self {
-            initial_step: 0.01,
-            min_step: 1e-6,
-            max_step: 0.1,
-            max_points: 500,
             tolerance: 1e-9,
-            corrector_max_iters: 10,
+            max_iters: 10,
             stability: true,
             stability_steps: None,
-            predictor: Predictor::Arclength,
         }
+    }
+}
+
+impl HbmCorrection {
+    /// Checks every field with a bound (`stability` is a switch; `stability_steps` is raised
+    /// to at least 4 by the engine).
+    ///
+    /// # Errors
+    /// [`OrbitError::InvalidInput`] naming the field.
+    pub fn validate(&self) -> Result<(), OrbitError> {
+        check(
+            self.tolerance.is_finite() && self.tolerance > 0.0,
+            "HbmCorrection::tolerance",
+            "> 0 and finite",
+            self.tolerance,
+        )?;
+        check(
+            self.max_iters >= 1,
+            "HbmCorrection::max_iters",
+            ">= 1",
+            self.max_iters as f64,
+        )
+    }
+}
+
+/// Options of [`continue_hbm`]: the one [`ContinuationOptions`] with the harmonic-balance
+/// corrector's part (steps in the unscaled `(z, λ)` space).
+pub type HbmContinuationOptions = ContinuationOptions<HbmCorrection>;
+
+impl Default for ContinuationOptions<HbmCorrection> {
+    /// The shared defaults ([`ContinuationOptions::with_corrector`]).
+    fn default() -> Self {
+        Self::with_corrector(HbmCorrection::default())
+    }
+}
+
+impl ContinuationOptions<HbmCorrection> {
+    /// Checks every field (the shared ones and the harmonic-balance corrector's).
+    ///
+    /// # Errors
+    /// [`OrbitError::InvalidInput`] naming the field.
+    pub fn validate(&self) -> Result<(), OrbitError> {
+        self.corrector.validate()?;
+        self.validate_steps()
     }
 }
 
@@ -64,25 +95,16 @@ fn invalid(name: &'static str, bound: &'static str, value: f64) -> HbmError {
     HbmError::InvalidParameter { name, bound, value }
 }
 
-impl HbmContinuationOptions {
-    fn validate(&self) -> Result<(), HbmError> {
-        for (name, v) in [
-            ("initial_step", self.initial_step),
-            ("min_step", self.min_step),
-            ("max_step", self.max_step),
-            ("tolerance", self.tolerance),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(invalid(name, "> 0 and finite", v));
-            }
-        }
-        if self.min_step > self.max_step {
-            return Err(invalid("min_step", "<= max_step", self.min_step));
-        }
-        if self.max_points < 1 || self.corrector_max_iters < 1 {
-            return Err(invalid("max_points and corrector_max_iters", ">= 1", 0.0));
-        }
-        Ok(())
+/// An invalid option as the harmonic-balance error [`continue_hbm`] returns (same field name
+/// and bound).
+fn as_hbm_error(e: OrbitError) -> HbmError {
+    match e {
+        OrbitError::InvalidInput {
+            field,
+            bound,
+            value,
+        } => invalid(field, bound, value),
+        _ => invalid("ContinuationOptions", "valid", f64::NAN),
     }
 }
 
@@ -240,8 +262,11 @@ impl<S: SecondOrderSystem> Harmonic<'_, S> {
     }
 
     fn with_stability(&mut self, sol: &mut PeriodicSolution) -> Result<(), HbmError> {
-        if self.options.stability {
-            sol.stability = Some(self.p.stability(sol, self.options.stability_steps)?);
+        if self.options.corrector.stability {
+            sol.stability = Some(
+                self.p
+                    .stability(sol, self.options.corrector.stability_steps)?,
+            );
         }
         Ok(())
     }
@@ -272,8 +297,8 @@ impl<S: SecondOrderSystem> Corrector for Harmonic<'_, S> {
             pred.as_slice().to_vec(),
             &SolverOptions {
                 method: Method::Newton,
-                tolerance: self.options.tolerance,
-                max_iters: self.options.corrector_max_iters,
+                tolerance: self.options.corrector.tolerance,
+                max_iters: self.options.corrector.max_iters,
             },
         );
         let report = match attempt {
@@ -348,7 +373,7 @@ pub fn continue_hbm<S: SecondOrderSystem>(
     lambda_end: f64,
     options: &HbmContinuationOptions,
 ) -> Result<Branch<PeriodicSolution>, HbmError> {
-    options.validate()?;
+    options.validate().map_err(as_hbm_error)?;
     if !lambda_end.is_finite() {
         return Err(invalid("lambda_end", "finite", lambda_end));
     }
@@ -356,8 +381,8 @@ pub fn continue_hbm<S: SecondOrderSystem>(
     set_lambda(problem, &parameter, lambda0)?;
     let corr = SolverOptions {
         method: Method::Newton,
-        tolerance: options.tolerance,
-        max_iters: options.corrector_max_iters.max(25),
+        tolerance: options.corrector.tolerance,
+        max_iters: options.corrector.max_iters.max(25),
     };
     let mut first = problem.solve(z0, &corr)?;
     let mut branch = Branch::new(parameter.clone(), 1);
@@ -407,12 +432,7 @@ pub fn continue_hbm<S: SecondOrderSystem>(
         },
     };
     let control = StepControl::harmonic(options.initial_step, options.min_step, options.max_step);
-    let course = Course {
-        range: [lambda0.min(lambda_end), lambda0.max(lambda_end)],
-        direction: dir,
-        max_points: options.max_points,
-        predictor: options.predictor,
-    };
+    let course = options.course([lambda0.min(lambda_end), lambda0.max(lambda_end)], dir);
     path::trace(&mut h, start, &control, &course, &mut branch)?;
     Ok(branch)
 }

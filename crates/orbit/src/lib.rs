@@ -79,7 +79,9 @@
 //! [`StopReason::StepTooSmall`], where pseudo-arclength goes round it). Step control
 //! ([`StepControl`]): halve after a rejection (corrector failure, a correction longer than
 //! `max_correction · Δs`, a tangent turn with `cos < min_cos`), grow after success (always, or
-//! only after easy corrections), stop below the minimum. The correctors: the shooting residual
+//! only after easy corrections), stop below the minimum. Every continuation takes the one
+//! [`ContinuationOptions<C>`](ContinuationOptions) (step bounds, point cap, predictor) with its
+//! corrector's part `C` ([`ShootingCorrection`], [`HbmCorrection`]). The correctors: the shooting residual
 //! below; the harmonic-balance residual of `hbm` ([`continue_hbm`]: Newton with line search on
 //! `[r(z, λ); bᵀ(y − y_p)] = 0`, `∂r/∂λ` by central differences, Floquet stability by the RK4
 //! monodromy of `hbm`); a model's own (the Liu speed continuation maps [`continue_hbm`] to
@@ -109,10 +111,10 @@
 //! function that jumps at a contact change, a corrector that stalls next to a grazing); a
 //! change of the crossing count of an event (a *local* extremum grazing,
 //! [`SpecialKind::ContactChange`]) is located by bisection on the count when
-//! [`ContinuationOptions::locate_contact_changes`] is set. Every special point carries its
+//! [`ShootingCorrection::locate_contact_changes`] is set. Every special point carries its
 //! parameter bracket ([`SpecialPoint::bracket`]). On non-smooth branches the multipliers jump
 //! at contact changes and a test function can flip several times within one step;
-//! [`ContinuationOptions::locate_samples`] samples the step first and locates the first flip.
+//! [`ShootingCorrection::locate_samples`] samples the step first and locates the first flip.
 //! Stable and unstable points are kept alike.
 //! [`OrbitProblem::switch_at_period_doubling`] starts the period-`2k` branch from
 //! `x_PD ± h v` (`v` the `−1` eigenvector), shooting over `2kT`.
@@ -172,18 +174,21 @@ pub mod path;
 mod problem;
 mod shooting;
 
-pub use continuation::{ContinuationOptions, ShootingBranch, ShootingBranchPoint, ShootingPoint};
+pub use continuation::{
+    ShootingBranch, ShootingBranchPoint, ShootingContinuationOptions, ShootingCorrection,
+    ShootingPoint,
+};
 pub use error::{OrbitError, Result};
 pub use floquet::{
     Crossing, Floquet, OutsideCount, STABILITY_TOLERANCE, Stability, classify_crossing, floquet,
     real_eigenvector,
 };
 pub use flow::{EventRecord, Flow, FlowOptions};
-pub use harmonic::{HbmContinuationOptions, continue_hbm};
+pub use harmonic::{HbmContinuationOptions, HbmCorrection, continue_hbm};
 pub use impact::{ImpactLaw, Restitution};
 pub use path::{
-    Branch, BranchPoint, Extremum, Fold, Predictor, SpecialKind, SpecialPoint, StepControl,
-    StopReason, fill_from_neighbours,
+    Branch, BranchPoint, ContinuationOptions, Extremum, Fold, Predictor, SpecialKind, SpecialPoint,
+    StepControl, StopReason, fill_from_neighbours,
 };
 pub use problem::{OrbitProblem, Parameter};
 pub use shooting::{PeriodicOrbit, ShootingOptions};

@@ -39,7 +39,7 @@ use std::ops::Deref;
 use nalgebra::{DMatrix, DVector};
 use system::Stability;
 
-use crate::error::OrbitError;
+use crate::error::{OrbitError, check};
 use crate::problem::Parameter;
 
 /// How the next point is predicted and which constraint closes the corrector.
@@ -52,6 +52,90 @@ pub enum Predictor {
     Arclength,
     /// Natural parameter: `μ` advances by the step, the corrector holds it (stops at folds).
     Natural,
+}
+
+/// The one options type of every continuation: the step bounds, the cap on points and the
+/// predictor, shared by every corrector, and the corrector's own part `C`
+/// ([`ShootingCorrection`](crate::ShootingCorrection) for
+/// [`OrbitProblem::continuation`](crate::OrbitProblem::continuation),
+/// [`HbmCorrection`](crate::HbmCorrection) for [`continue_hbm`](crate::continue_hbm)). The
+/// corrector turns the step bounds into its [`StepControl`] (its growth and rejection rules)
+/// and the cap and predictor into the [`Course`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ContinuationOptions<C> {
+    /// First step `Δs` (in the corrector's variables: scaled shooting state and parameter,
+    /// or the unscaled harmonic-balance coefficients and parameter).
+    pub initial_step: f64,
+    /// Smallest step: a rejection below it stops the branch
+    /// ([`StopReason::StepTooSmall`]).
+    pub min_step: f64,
+    /// Largest step.
+    pub max_step: f64,
+    /// Cap on branch points (including the first).
+    pub max_points: usize,
+    /// Pseudo-arclength (default) or natural-parameter steps.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub predictor: Predictor,
+    /// The corrector's own settings.
+    pub corrector: C,
+}
+
+impl<C> ContinuationOptions<C> {
+    /// The shared defaults with `corrector`: first step 0.01, steps in `[1e-6, 0.1]`, 500
+    /// points, pseudo-arclength (each corrector's `Default` starts from these).
+    pub fn with_corrector(corrector: C) -> Self {
+        Self {
+            initial_step: 0.01,
+            min_step: 1e-6,
+            max_step: 0.1,
+            max_points: 500,
+            predictor: Predictor::Arclength,
+            corrector,
+        }
+    }
+
+    /// Checks the shared fields: `0 < min_step ≤ initial_step ≤ max_step`, all finite, and
+    /// `max_points ≥ 1` (the corrector's part is checked by its own `validate`).
+    ///
+    /// # Errors
+    /// [`OrbitError::InvalidInput`] naming the field and its bound.
+    pub fn validate_steps(&self) -> Result<(), OrbitError> {
+        check(
+            self.min_step.is_finite() && self.min_step > 0.0,
+            "ContinuationOptions::min_step",
+            "> 0 and finite",
+            self.min_step,
+        )?;
+        check(
+            self.max_step.is_finite() && self.max_step >= self.min_step,
+            "ContinuationOptions::max_step",
+            ">= min_step and finite",
+            self.max_step,
+        )?;
+        check(
+            self.initial_step >= self.min_step && self.initial_step <= self.max_step,
+            "ContinuationOptions::initial_step",
+            "in [min_step, max_step]",
+            self.initial_step,
+        )?;
+        check(
+            self.max_points >= 1,
+            "ContinuationOptions::max_points",
+            ">= 1",
+            self.max_points as f64,
+        )
+    }
+
+    /// The course of a branch over `range` in `direction` with this cap and predictor.
+    pub fn course(&self, range: [f64; 2], direction: f64) -> Course {
+        Course {
+            range,
+            direction,
+            max_points: self.max_points,
+            predictor: self.predictor,
+        }
+    }
 }
 
 /// Step-size control of [`trace`].
@@ -329,6 +413,32 @@ impl StopReason {
     pub fn left_range(&self) -> bool {
         matches!(self, Self::ReachedEnd | Self::LeftRange { .. })
     }
+
+    /// The parameter where the branch stopped ([`LeftRange`](Self::LeftRange),
+    /// [`StepTooSmall`](Self::StepTooSmall)), if the reason carries one.
+    pub fn parameter(&self) -> Option<f64> {
+        match self {
+            Self::LeftRange { parameter } | Self::StepTooSmall { parameter, .. } => {
+                Some(*parameter)
+            }
+            Self::ReachedEnd | Self::MaxPoints | Self::InitialSolveFailed { .. } => None,
+        }
+    }
+
+    /// The same reason with its parameter mapped by `g` (a change of units).
+    #[must_use]
+    pub fn map_parameter(self, g: impl Fn(f64) -> f64) -> Self {
+        match self {
+            Self::LeftRange { parameter } => Self::LeftRange {
+                parameter: g(parameter),
+            },
+            Self::StepTooSmall { parameter, cause } => Self::StepTooSmall {
+                parameter: g(parameter),
+                cause,
+            },
+            other => other,
+        }
+    }
 }
 
 /// A continued branch of periodic orbits: the workspace's one branch type.
@@ -363,8 +473,9 @@ impl<P> Branch<P> {
     }
 
     /// The same branch with every point mapped by `f` (which maps its parameter itself), the
-    /// parameters of folds and special-point brackets by `g`. The stop reason is kept as it
-    /// is (its parameter stays in the corrector's units).
+    /// parameters of folds, special-point brackets and the stop reason by `g` (a change of
+    /// the parameter's units, e.g. a model's physical speed for the corrector's base
+    /// frequency).
     ///
     /// # Errors
     /// The first error of `f`.
@@ -400,7 +511,7 @@ impl<P> Branch<P> {
                 })
                 .collect(),
             special,
-            stop: self.stop,
+            stop: self.stop.map_parameter(g),
         })
     }
 }

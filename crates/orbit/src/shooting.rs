@@ -153,6 +153,29 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         self.shoot_segments(xs, opts)
     }
 
+    /// The period map at `x0` without correcting it: one flow over `kT` (`k = periods`) from
+    /// `(t₀, x0)` with its variational equations and saltation matrices, as the same record
+    /// [`shoot`](Self::shoot) returns for a converged orbit (the monodromy
+    /// `Φ = ∂φ_{kT}(x0)/∂x0`, its multipliers and conditioning, the events), with
+    /// [`residual`](PeriodicOrbit::residual) the periodicity defect `‖φ_{kT}(x0) − x0‖_∞` and no
+    /// Newton iteration. The multipliers of a state that another method found periodic (a
+    /// harmonic-balance orbit, a long time integration) through the one monodromy of shooting.
+    ///
+    /// # Errors
+    /// Invalid input, integration failures, a non-finite monodromy.
+    pub fn period_map(&self, x0: &[f64], periods: usize) -> Result<PeriodicOrbit> {
+        let opts = ShootingOptions {
+            periods,
+            segments: 1,
+            ..ShootingOptions::default()
+        };
+        opts.validate()?;
+        self.check_state(x0)?;
+        let xs = DVector::from_column_slice(x0);
+        let ev = self.eval_segments(&xs, &opts, true)?;
+        self.finish(xs, ev, &opts, 0)
+    }
+
     /// As [`shoot`](Self::shoot), from given segment starts (`m · 2n` values).
     ///
     /// # Errors

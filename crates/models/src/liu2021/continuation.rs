@@ -13,7 +13,6 @@ use serde::{Deserialize, Serialize};
 use super::harmonic::{
     HbmOptions, HbmResponse, HbmStart, problem_of, rattle_of, residual_scale, solve_hbm_with,
 };
-use super::integrate::{IntegrationOptions, integrate};
 use super::model::{Model, Rattle};
 use super::params::Parameters;
 use crate::Error;
@@ -31,53 +30,79 @@ pub enum BranchStability {
     /// (`|μ| ~ 1e30` at ω₁ = 250 rad/s, K = 65, where time integration converges to the
     /// orbit) — see `R-LIU-STABILITY` in `docs/readings/liu.md`.
     Floquet,
-    /// Multipliers of the time-integration Poincaré map: the 2×2 monodromy by finite
-    /// differences (perturbations `1e-7 b̄` of `q` and `q'`) of one period of the ODE started
-    /// at the harmonic-balance state `q(0), q'(0)`. Three integrations per point.
+    /// Multipliers of the time-integration period map at the harmonic-balance state
+    /// `x₀ = (q(0), q'(0))`: the monodromy of the workspace's one shooting
+    /// ([`orbit::OrbitProblem::period_map`], variational equations on the event-located
+    /// flow, one integration per point), see [`shooting_multipliers`].
     Shooting,
 }
 
-/// [`BranchStability::Shooting`]: multipliers of the one-period map of Eq. (9) at the state of
-/// `response` at `τ = 0`, as `[Re μ, Im μ]`; the largest modulus decides stability.
+/// Largest step in `τ` of the period map. The step-size control sees the state only; the
+/// variational equation rides on the same steps, so its global error is set by this bound:
+/// at Fig. 11 points the monodromy is within 6e-8 of a converged central difference with
+/// 0.05 (4e-7 at 160 rad/s with 0.1; on the linear mesh 1.4e-7 relative, 3e-5 with 0.1,
+/// 8e-4 with 0.25) — tested in `tests/it/liu2021.rs`.
+const PERIOD_MAP_MAX_STEP: f64 = 0.05;
+
+/// Integrator of the period map: relative tolerance `10⁻¹¹` and steps of at most
+/// [`PERIOD_MAP_MAX_STEP`]; the contact changes are located as events.
+fn period_map_problem(model: &Model) -> Result<orbit::OrbitProblem<Model>, Error> {
+    let period = model.period();
+    let flow = orbit::FlowOptions {
+        rtol: 1e-11,
+        max_step_fraction: (PERIOD_MAP_MAX_STEP / period).min(1.0),
+        ..orbit::FlowOptions::default()
+    };
+    Ok(orbit::OrbitProblem::new(*model, period)?.with_flow_options(flow)?)
+}
+
+/// [`BranchStability::Shooting`]: the Floquet multipliers (with their conditioning) of the
+/// one-period map of Eq. (9) at the state of `response` at `τ = 0`, by the shooting monodromy
+/// of `orbit` ([`orbit::OrbitProblem::period_map`]; the state is not corrected, so the
+/// multipliers are those of the period map at the harmonic-balance state).
+///
+/// With `x = (q, q')`, Eq. (9) `q'' + 2ζ q' + F(τ) f(q; b̄(τ)) = f_r(τ)` and its variational
+/// equation read
+///
+/// ```text
+/// x' = V(τ, x) = ( q',  f_r(τ) − 2ζ q' − F(τ) f(q; b̄(τ)) )
+/// Φ' = A Φ,   A = [[0, 1], [−F(τ) f'(q; b̄), −2ζ]],   f' = 1 in contact (|q| > b̄), 0 in the gap,
+/// ```
+///
+/// integrated over `T = 2π/ω̄_c` from `Φ(0) = I` with the gap edges `h± = q ∓ b̄(τ)` located as
+/// events. At an edge the state is continuous (no reset, `G = I`) and the restoring force
+/// is continuous in `q` (`f(±b̄; b̄) = 0` from both sides; only its slope jumps), so
+/// the vector field is continuous across the edge, `V⁺ = V⁻`, and the saltation matrix
+///
+/// ```text
+/// S = I + (V⁺ − V⁻) ∇hᵀ / (∇hᵀ V⁻ + ∂h/∂τ) = I
+/// ```
+///
+/// (also for the moving edge of a time-varying `b̄`, which only enters the denominator): the
+/// contacts enter the monodromy `Φ(T)` only through `A` switching between its two values
+/// along the orbit (tested: `‖S − I‖ ≈ 0` at every contact change of a bilateral Fig. 11
+/// orbit).
 ///
 /// # Errors
-/// Integration failures.
-pub fn shooting_multipliers(model: &Model, response: &HbmResponse) -> Result<[[f64; 2]; 2], Error> {
+/// Integration failures, a non-finite monodromy.
+pub fn shooting_multipliers(
+    model: &Model,
+    response: &HbmResponse,
+) -> Result<orbit::Floquet, Error> {
+    Ok(shooting_period_map(model, response)?.floquet)
+}
+
+/// The period map of Eq. (9) at the state of `response` at `τ = 0` (monodromy, multipliers,
+/// contact events, periodicity defect): the record behind [`shooting_multipliers`].
+///
+/// # Errors
+/// Integration failures, a non-finite monodromy.
+pub fn shooting_period_map(
+    model: &Model,
+    response: &HbmResponse,
+) -> Result<orbit::PeriodicOrbit, Error> {
     let (q, v) = response.solution.state_at(0.0);
-    let (q0, v0) = (q[0], v[0]);
-    let period = model.period();
-    let run = |q: f64, v: f64| -> Result<(f64, f64), Error> {
-        let r = integrate(
-            model,
-            &IntegrationOptions {
-                transient_periods: 0.0,
-                record_periods: 1.0,
-                sample_step: period / 16.0,
-                max_step: 0.25,
-                rtol: 1e-11,
-                initial: Some((q, v)),
-            },
-        )?;
-        match (r.q.last(), r.v.last()) {
-            (Some(&q), Some(&v)) => Ok((q, v)),
-            _ => Err(Error::Solver("liu2021: empty shooting run".into())),
-        }
-    };
-    let d = 1e-7 * model.backlash.max(1e-12);
-    let (qb, vb) = run(q0, v0)?;
-    let (qa, va) = run(q0 + d, v0)?;
-    let (qv, vv) = run(q0, v0 + d)?;
-    let (a, b, c, e) = ((qa - qb) / d, (qv - qb) / d, (va - vb) / d, (vv - vb) / d);
-    let tr = a + e;
-    let det = a * e - b * c;
-    let disc = 0.25 * tr * tr - det;
-    Ok(if disc >= 0.0 {
-        let r = disc.sqrt();
-        [[0.5 * tr + r, 0.0], [0.5 * tr - r, 0.0]]
-    } else {
-        let i = (-disc).sqrt();
-        [[0.5 * tr, i], [0.5 * tr, -i]]
-    })
+    Ok(period_map_problem(model)?.period_map(&[q[0], v[0]], 1)?)
 }
 
 /// [`shooting_multipliers`] as the workspace's one stability type (`orbit::Stability`: largest
@@ -89,9 +114,7 @@ pub fn shooting_stability(
     model: &Model,
     response: &HbmResponse,
 ) -> Result<orbit::Stability, Error> {
-    Ok(orbit::Stability::from_multipliers(
-        shooting_multipliers(model, response)?.to_vec(),
-    ))
+    Ok(shooting_multipliers(model, response)?.stability())
 }
 
 /// Settings of [`continue_in_speed`].
@@ -147,8 +170,12 @@ pub struct SpeedPoint {
 pub type SpeedBranchPoint = orbit::BranchPoint<SpeedPoint>;
 
 /// A branch of periodic responses over `ω₁` \[rad/s\] (the workspace's one branch type;
-/// folds are the jumps, in rad/s). The parameter of [`orbit::Branch::stop`] stays in the
-/// engine's `ω̄_c` (as committed in the Fig. 11 run records).
+/// folds are the jumps, in rad/s). Every parameter is `ω₁` in rad/s, the swept speed of the
+/// study: the points, the folds and the stop reason ([`orbit::Branch::stop`],
+/// [`orbit::StopReason::parameter`]). The engine's dimensionless base frequency of any of
+/// them is `ω̄_c = ω₁ · ω̄_c,0/ω₁,0` (the ratio of the parameter set the branch was continued
+/// from, [`Model::omega_c`] over [`Parameters::omega1`]); [`Model::with_omega_c`] of it is
+/// the point's model.
 pub type SpeedBranch = orbit::Branch<SpeedPoint>;
 
 /// Continue the harmonic-balance response of `params` from `params.omega1` to
@@ -190,11 +217,13 @@ pub fn continue_in_speed(
         min_step: options.min_step / to_omega1,
         max_step: options.max_step / to_omega1,
         max_points: options.max_points,
-        tolerance: options.hbm.tol * residual_scale(&model),
-        corrector_max_iters: options.hbm.max_iter.max(1),
-        stability: options.stability == BranchStability::Floquet,
-        stability_steps: Some(options.stability_steps.max(4)),
         predictor: orbit::Predictor::Arclength,
+        corrector: orbit::HbmCorrection {
+            tolerance: options.hbm.tol * residual_scale(&model),
+            max_iters: options.hbm.max_iter.max(1),
+            stability: options.stability == BranchStability::Floquet,
+            stability_steps: Some(options.stability_steps.max(4)),
+        },
     };
     let branch = orbit::continue_hbm(
         &mut problem,
@@ -234,7 +263,7 @@ pub fn continue_in_speed(
     )
 }
 
-/// Shooting stability ([`BranchStability::Shooting`], three integrations per point) of a
+/// Shooting stability ([`BranchStability::Shooting`], one variational integration per point) of a
 /// branch continued without it, on a thinned subset: the first point and then every point at
 /// least `spacing` rad/s of `ω₁` from the last one taken, in arclength order. The points are
 /// evaluated in parallel and written back in order, so the branch is bit-identical for any

@@ -37,7 +37,8 @@
 //!   problem, FFT plans and buffers built once, re-solved at each speed or load).
 //! * [`continue_in_speed`] — pseudo-arclength continuation in `ω₁` (the engine's frequency
 //!   continuation with [`Model::with_omega_c`]), reporting folds (the jumps) and stability
-//!   ([`BranchStability`], by default the period map of the ODE: [`shooting_multipliers`]).
+//!   ([`BranchStability`], by default the period map of the ODE: [`shooting_multipliers`],
+//!   the shooting monodromy of `orbit` at the harmonic-balance state).
 //! * [`integrate`] — the `timestep` engine (adaptive Dormand–Prince with the gap edges
 //!   `q = ±b̄` as located events) over whole periods `T = 2π/ω̄_c`, on [`TimeSystem`] (Eq. 9
 //!   written lean; [`Trig`] chooses the platform's `sin`/`cos`, bit-identical to the generic
@@ -113,7 +114,8 @@ mod window;
 
 pub use continuation::{
     BranchStability, SpeedBranch, SpeedBranchPoint, SpeedContinuationOptions, SpeedPoint,
-    add_branch_stability, continue_in_speed, shooting_multipliers, shooting_stability,
+    add_branch_stability, continue_in_speed, shooting_multipliers, shooting_period_map,
+    shooting_stability,
 };
 pub use harmonic::{
     Basis, HbmOptions, HbmResponse, HbmStart, PreparedHbm, coefficients_from_time_response,

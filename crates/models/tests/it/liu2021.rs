@@ -373,20 +373,214 @@ fn continuation_finds_the_jump_fold_of_the_unilateral_branch() {
     assert!(liu2021::add_branch_stability(&p, &mut thinned, f64::NAN).is_err());
 }
 
+/// The speed branch reports every parameter in rad/s, its stop reason included: from 184 rad/s
+/// up, the paper-basis unilateral branch turns at its fold (≈ 185.5) and leaves the range
+/// `[184, 195]` below its start; the reason carries the last point's `ω₁` (not `ω̄_c`, which
+/// is O(0.01) here).
+#[test]
+fn speed_branch_stop_reason_is_in_rad_per_s() {
+    let p = paper(184.0);
+    let o = SpeedContinuationOptions {
+        omega1_end: 195.0,
+        max_points: 300,
+        stability: BranchStability::None,
+        ..SpeedContinuationOptions::default()
+    };
+    let b = liu2021::continue_in_speed(&p, &o, HbmStart::Cold).unwrap();
+    let last = b.points.last().unwrap().parameter;
+    println!(
+        "stop {:?}, {} points, last ω1 {last}",
+        b.stop,
+        b.points.len()
+    );
+    assert_eq!(b.stop, orbit::StopReason::LeftRange { parameter: last });
+    let w = b.stop.parameter().unwrap();
+    assert!((150.0..184.0).contains(&w), "{w}");
+    // the dimensionless value is the documented ratio away
+    let m = p.model().unwrap();
+    assert!(w * m.omega_c / p.omega1 < 1.0);
+}
+
 #[test]
 fn shooting_multipliers_flag_stable_orbits() {
     // Without contact loss (120 rad/s) the true multipliers are ~exp(−ζT) ≈ 1e-10; the
-    // finite-difference period map resolves them only down to its noise floor (perturbation
-    // 1e-7 b̄ against the integrator's absolute tolerance), so the test bounds them by 1e-3.
-    // The bilateral orbit at 220 rad/s, to which time integration converges, is stable too.
+    // variational monodromy resolves them (the deleted finite-difference map had a noise floor
+    // of ~1e-7 and was bounded here by 1e-3, the bound kept). The bilateral orbit at
+    // 220 rad/s, to which time integration converges, is stable too.
     let m = paper(120.0).model().unwrap();
     let hb = solve_hbm(&m, &HbmOptions::default(), None).unwrap();
-    let modulus = |mu: [[f64; 2]; 2]| mu.iter().map(|z| z[0].hypot(z[1])).fold(0.0, f64::max);
     let mu = liu2021::shooting_multipliers(&m, &hb).unwrap();
-    assert!(modulus(mu) < 1e-3, "{mu:?}");
+    assert!(mu.max_modulus < 1e-3, "{:?}", mu.multipliers);
     let m = paper(220.0).model().unwrap();
     let ti = liu2021::integrate(&m, &short()).unwrap();
     let hb = solve_hbm_from_time_response(&m, &HbmOptions::full(&m, 1), &ti).unwrap();
     let mu = liu2021::shooting_multipliers(&m, &hb).unwrap();
-    assert!(modulus(mu) < 1.0, "{mu:?}");
+    assert!(mu.max_modulus < 1.0, "{:?}", mu.multipliers);
+}
+
+/// End state of one period of the `timestep` engine (its own event location) from `(q, v)`.
+fn one_period(m: &liu2021::Model, q: f64, v: f64, max_step: f64, rtol: f64) -> (f64, f64) {
+    let r = liu2021::integrate(
+        m,
+        &IntegrationOptions {
+            transient_periods: 0.0,
+            record_periods: 1.0,
+            sample_step: m.period() / 16.0,
+            max_step,
+            rtol,
+            initial: Some((q, v)),
+        },
+    )
+    .unwrap();
+    (*r.q.last().unwrap(), *r.v.last().unwrap())
+}
+
+/// The monodromy of the deleted `BranchStability::Shooting` implementation, kept as the
+/// reference it was: forward differences (`d = 1e-7 b̄` in `q` and in `q'`) of three
+/// one-period integrations of the `timestep` engine, rtol 1e-11, steps ≤ 0.25.
+fn finite_difference_monodromy(m: &liu2021::Model, q0: f64, v0: f64) -> nalgebra::DMatrix<f64> {
+    let d = 1e-7 * m.backlash;
+    let (qb, vb) = one_period(m, q0, v0, 0.25, 1e-11);
+    let (qa, va) = one_period(m, q0 + d, v0, 0.25, 1e-11);
+    let (qv, vv) = one_period(m, q0, v0 + d, 0.25, 1e-11);
+    nalgebra::DMatrix::from_row_slice(
+        2,
+        2,
+        &[(qa - qb) / d, (qv - qb) / d, (va - vb) / d, (vv - vb) / d],
+    )
+}
+
+/// A converged finite-difference monodromy: central differences with `d = 1e-5 b̄` of the
+/// `timestep` engine at rtol 1e-13 and steps ≤ 0.1 (noise `rtol·|x|/d ≈ 1e-8`; measured
+/// against `d = 1e-4 b̄` and `1e-6 b̄`: the entries move by ≤ 5e-8, except where `d = 1e-4 b̄`
+/// changes a contact).
+fn central_difference_monodromy(m: &liu2021::Model, q0: f64, v0: f64) -> nalgebra::DMatrix<f64> {
+    let d = 1e-5 * m.backlash;
+    let map = |q, v| one_period(m, q, v, 0.1, 1e-13);
+    let (a, b) = (map(q0 + d, v0), map(q0 - d, v0));
+    let (c, e) = (map(q0, v0 + d), map(q0, v0 - d));
+    let h = 2.0 * d;
+    nalgebra::DMatrix::from_row_slice(
+        2,
+        2,
+        &[
+            (a.0 - b.0) / h,
+            (c.0 - e.0) / h,
+            (a.1 - b.1) / h,
+            (c.1 - e.1) / h,
+        ],
+    )
+}
+
+/// Fig. 11 points (no rattle 120, unilateral 150 and 160, bilateral 220 and 250 rad/s, warm
+/// from the time response on the full basis K = 65): the shooting monodromy of `orbit`
+/// (variational equations, one integration) against the deleted finite-difference one and a
+/// converged central difference.
+///
+/// Tolerances (absolute: the map contracts strongly, its entries are 1e-3 or less):
+/// * against the deleted forward differences, their own error bound: the two perturbed runs'
+///   integration errors over the perturbation, `rtol·‖x₀‖/d` with rtol 1e-11 and
+///   `d = 1e-7 b̄` (`≈ 1e-4 ‖x₀‖/b̄`; measured up to 1.2e-5, at 250 rad/s in `Φ₁₂`);
+/// * against the central differences, 2e-7: their noise (≤ 5e-8) plus the variational
+///   equation's global error, which the step-size control does not see (measured ≤ 6e-8 here
+///   at steps ≤ 0.05; 4e-7 at 160 rad/s with steps ≤ 0.1, why the period map takes 0.05).
+#[test]
+fn shooting_multipliers_match_the_finite_difference_period_map() {
+    for omega1 in [120.0, 150.0, 160.0, 220.0, 250.0] {
+        let m = paper(omega1).model().unwrap();
+        let ti = liu2021::integrate(&m, &short()).unwrap();
+        let hb = solve_hbm_from_time_response(&m, &HbmOptions::full(&m, 1), &ti).unwrap();
+        let map = liu2021::shooting_period_map(&m, &hb).unwrap();
+        let (q, v) = hb.solution.state_at(0.0);
+        let fd = finite_difference_monodromy(&m, q[0], v[0]);
+        let bound = 1e-11 * q[0].abs().max(v[0].abs()).max(m.backlash) / (1e-7 * m.backlash);
+        let cd = central_difference_monodromy(&m, q[0], v[0]);
+        let (diff, diff_c) = ((&map.monodromy - &fd).amax(), (&map.monodromy - &cd).amax());
+        let ffd = orbit::floquet(&fd).unwrap();
+        println!(
+            "ω1 {omega1}: events {}, |Φ − Φ_fd| {diff:.2e} (bound {bound:.1e}), |Φ − Φ_cd| \
+             {diff_c:.2e}, max |μ| {:.4e}, fd {:.4e}, defect {:.1e}",
+            map.events.len(),
+            map.floquet.max_modulus,
+            ffd.max_modulus,
+            map.residual
+        );
+        assert!(diff <= bound, "ω1 {omega1}: {} vs {fd}", map.monodromy);
+        assert!(
+            (map.floquet.max_modulus - ffd.max_modulus).abs() <= bound,
+            "ω1 {omega1}"
+        );
+        assert_eq!(map.floquet.stable, ffd.stable, "ω1 {omega1}");
+        assert!(diff_c <= 2e-7, "ω1 {omega1}: {} vs {cd}", map.monodromy);
+        // Liouville, through the contacts: tr A = −2ζ everywhere, so det Φ = exp(−2ζT), to the
+        // variational equation's own global error (it is outside the step-size control, which
+        // sees the state only; steps ≤ 0.05 in τ: measured ≤ 8e-7 relative here)
+        let det = map.monodromy.determinant();
+        let exact = (-2.0 * m.zeta * m.period()).exp();
+        println!("  det Φ / exp(−2ζT) − 1 = {:.1e}", det / exact - 1.0);
+        assert!(
+            (det / exact - 1.0).abs() < 1e-5,
+            "ω1 {omega1}: {det} vs {exact}"
+        );
+        // the restoring force is continuous at the gap edges: the saltation matrices are I
+        assert!(map.events.iter().all(|e| e.saltation_jump < 1e-8));
+        if omega1 >= 220.0 {
+            // bilateral: both edges are crossed, several times per period
+            assert!(map.events.iter().any(|e| e.index == 0));
+            assert!(map.events.iter().any(|e| e.index == 1));
+        }
+        // the shooting verdict is this one
+        let s = liu2021::shooting_stability(&m, &hb).unwrap();
+        assert_eq!(s.max_modulus.to_bits(), map.floquet.max_modulus.to_bits());
+    }
+}
+
+/// A linear case through the Liu path: no stiffness fluctuation and no eccentricity
+/// (`F ≡ 1`), at a speed where the teeth never separate, Eq. (9) is `q'' + 2ζq' + q = f_r(τ)`
+/// and the monodromy is `exp(A T)`, `A = [[0, 1], [−1, −2ζ]]`, with the multipliers
+/// `exp((−ζ ± i√(1 − ζ²)) T)`.
+#[test]
+fn shooting_monodromy_is_exact_for_a_linear_mesh() {
+    let mut p = paper(120.0);
+    p.kr = 0.0;
+    p.eccentricity = 0.0;
+    let m = p.model().unwrap();
+    let hb = solve_hbm(&m, &HbmOptions::default(), None).unwrap();
+    let map = liu2021::shooting_period_map(&m, &hb).unwrap();
+    assert!(
+        map.events.is_empty(),
+        "contact is kept: the system is linear"
+    );
+    let (z, t) = (m.zeta, m.period());
+    let wd = (1.0 - z * z).sqrt();
+    let (s, c, e) = ((wd * t).sin(), (wd * t).cos(), (-z * t).exp());
+    // exp(AT) = e^{−ζT} [cos(ω_d T) I + sin(ω_d T)/ω_d (A + ζ I)]
+    let exact = nalgebra::DMatrix::from_row_slice(
+        2,
+        2,
+        &[
+            e * (c + z * s / wd),
+            e * s / wd,
+            -e * s / wd,
+            e * (c - z * s / wd),
+        ],
+    );
+    // the entries are O(e) = O(1e-9): relative to that scale, within the variational
+    // equation's global error (outside the step-size control; DP5 at steps ≤ 0.05 on the
+    // oscillation ω = 1 over T ≈ 2300: measured 1.4e-7, the bound 1e-5)
+    println!(
+        "linear: |Φ − exp(AT)| / e^(−ζT) = {:.1e}",
+        (&map.monodromy - &exact).amax() / e
+    );
+    assert!(
+        (&map.monodromy - &exact).amax() <= 1e-5 * e,
+        "{} vs {exact}",
+        map.monodromy
+    );
+    for mu in &map.floquet.multipliers {
+        assert!(
+            (mu[0].hypot(mu[1]) / e - 1.0).abs() < 1e-5,
+            "{mu:?} vs |μ| {e}"
+        );
+    }
 }

@@ -9,8 +9,9 @@ use std::f64::consts::PI;
 use crate::common::Duffing;
 use hbm::{Basis, HbmProblem, PeriodicSolution};
 use orbit::{
-    Branch, ContinuationOptions, HbmContinuationOptions, OrbitProblem, Parameter, Predictor,
-    SpecialKind, StopReason, continue_hbm,
+    Branch, ContinuationOptions, HbmContinuationOptions, HbmCorrection, OrbitProblem, Parameter,
+    Predictor, ShootingContinuationOptions, ShootingCorrection, SpecialKind, StopReason,
+    continue_hbm,
 };
 
 /// The reference case (`system::problems::Duffing::hardening`) and its coefficients.
@@ -122,8 +123,11 @@ fn resonance_peak_lies_on_the_backbone() {
     let mut p = HbmProblem::new(sys, Basis::full(7).unwrap(), 1.0).unwrap();
     let opts = HbmContinuationOptions {
         max_step: 0.05,
-        stability: false,
         max_points: 400,
+        corrector: HbmCorrection {
+            stability: false,
+            ..HbmCorrection::default()
+        },
         ..HbmContinuationOptions::default()
     };
     let z0 = p.zero_guess();
@@ -151,8 +155,11 @@ fn resonance_peak_lies_on_the_backbone() {
 fn continuation_in_a_named_parameter() {
     let mut p = HbmProblem::new(duffing(1.5), Basis::full(3).unwrap(), 1.5).unwrap();
     let opts = HbmContinuationOptions {
-        stability: false,
         max_points: 20,
+        corrector: HbmCorrection {
+            stability: false,
+            ..HbmCorrection::default()
+        },
         ..HbmContinuationOptions::default()
     };
     let z0 = p.zero_guess();
@@ -190,8 +197,11 @@ fn natural_stops_at_the_fold_that_arclength_goes_round() {
     let upper = exact[1];
     let natural = HbmContinuationOptions {
         max_step: 0.1,
-        stability: false,
         predictor: Predictor::Natural,
+        corrector: HbmCorrection {
+            stability: false,
+            ..HbmCorrection::default()
+        },
         ..HbmContinuationOptions::default()
     };
     let mut p = HbmProblem::new(duffing(0.5), Basis::full(1).unwrap(), 0.5).unwrap();
@@ -215,7 +225,10 @@ fn natural_stops_at_the_fold_that_arclength_goes_round() {
     // the arclength branch's at that ω (linear interpolation between its bracketing points)
     let arc = HbmContinuationOptions {
         max_step: 0.02,
-        stability: false,
+        corrector: HbmCorrection {
+            stability: false,
+            ..HbmCorrection::default()
+        },
         ..HbmContinuationOptions::default()
     };
     let mut p = HbmProblem::new(duffing(0.5), Basis::full(1).unwrap(), 0.5).unwrap();
@@ -263,17 +276,23 @@ fn hbm_branch_matches_shooting_branch() {
     let z0 = hp.zero_guess();
     let hopts = HbmContinuationOptions {
         max_step: 0.02,
-        stability_steps: Some(2000),
+        corrector: HbmCorrection {
+            stability_steps: Some(2000),
+            ..HbmCorrection::default()
+        },
         ..HbmContinuationOptions::default()
     };
     let hb = continue_hbm(&mut hp, Parameter::BaseFrequency, &z0, 0.8, 2.0, &hopts).unwrap();
     assert_eq!(hb.stop, StopReason::ReachedEnd);
     let mut sp = OrbitProblem::new(s, 2.0 * PI / 0.8).unwrap();
     let sopts = ContinuationOptions {
-        parameter: Parameter::BaseFrequency,
-        range: [0.7, 2.0],
         initial_step: 0.02,
         max_step: 0.1,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [0.7, 2.0],
+            ..ShootingCorrection::default()
+        },
         ..Default::default()
     };
     let sb = sp.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap();
@@ -355,7 +374,10 @@ fn branch_multipliers_match_closed_form_floquet_of_the_linear_oscillator() {
     let hopts = HbmContinuationOptions {
         max_step: 0.1,
         max_points: 30,
-        stability_steps: Some(4000),
+        corrector: HbmCorrection {
+            stability_steps: Some(4000),
+            ..HbmCorrection::default()
+        },
         ..HbmContinuationOptions::default()
     };
     let hb = continue_hbm(&mut hp, Parameter::BaseFrequency, &z0, 0.6, 1.6, &hopts).unwrap();
@@ -366,11 +388,14 @@ fn branch_multipliers_match_closed_form_floquet_of_the_linear_oscillator() {
     }
     let mut sp = OrbitProblem::new(s, 2.0 * PI / 0.6).unwrap();
     let sopts = ContinuationOptions {
-        parameter: Parameter::BaseFrequency,
-        range: [0.5, 1.6],
         initial_step: 0.05,
         max_step: 0.2,
         max_points: 20,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [0.5, 1.6],
+            ..ShootingCorrection::default()
+        },
         ..Default::default()
     };
     let sb = sp.continuation(&[0.0, 0.0], 0.6, &sopts).unwrap();
@@ -379,4 +404,101 @@ fn branch_multipliers_match_closed_form_floquet_of_the_linear_oscillator() {
         check(p.parameter, p.stability.as_ref().unwrap(), 1e-8);
         assert_eq!(p.stability.as_ref(), Some(&p.floquet.stability()));
     }
+}
+
+/// The one options type: the shared fields are checked alike for both correctors (same field
+/// names and bounds), each corrector's part by its own check.
+#[test]
+fn continuation_options_name_the_field_for_both_correctors() {
+    let shoot = |o: &ContinuationOptions<ShootingCorrection>| match o.validate() {
+        Err(orbit::OrbitError::InvalidInput { field, bound, .. }) => (field, bound),
+        other => panic!("{other:?}"),
+    };
+    let mut p = HbmProblem::new(duffing(0.5), Basis::full(1).unwrap(), 0.5).unwrap();
+    let z0 = p.zero_guess();
+    let mut harmonic = |o: &HbmContinuationOptions| match continue_hbm(
+        &mut p,
+        Parameter::BaseFrequency,
+        &z0,
+        0.5,
+        1.0,
+        o,
+    ) {
+        Err(hbm::HbmError::InvalidParameter { name, bound, .. }) => (name, bound),
+        other => panic!("{:?}", other.map(|b| b.points.len())),
+    };
+    let s = ShootingContinuationOptions::default();
+    let h = HbmContinuationOptions::default();
+    let shared = [
+        ("ContinuationOptions::min_step", "> 0 and finite"),
+        ("ContinuationOptions::max_step", ">= min_step and finite"),
+        (
+            "ContinuationOptions::initial_step",
+            "in [min_step, max_step]",
+        ),
+        ("ContinuationOptions::max_points", ">= 1"),
+    ];
+    let bad_s = [
+        ContinuationOptions {
+            min_step: 0.0,
+            ..s.clone()
+        },
+        ContinuationOptions {
+            max_step: f64::NAN,
+            ..s.clone()
+        },
+        ContinuationOptions {
+            initial_step: 1.0,
+            ..s.clone()
+        },
+        ContinuationOptions {
+            max_points: 0,
+            ..s.clone()
+        },
+    ];
+    let bad_h = [
+        ContinuationOptions {
+            min_step: -1.0,
+            ..h
+        },
+        ContinuationOptions {
+            max_step: 1e-9,
+            ..h
+        },
+        ContinuationOptions {
+            initial_step: f64::NAN,
+            ..h
+        },
+        ContinuationOptions { max_points: 0, ..h },
+    ];
+    for ((o_s, o_h), want) in bad_s.iter().zip(&bad_h).zip(shared) {
+        assert_eq!(shoot(o_s), want);
+        assert_eq!(harmonic(o_h), want);
+    }
+    let corrector = |c: HbmCorrection| ContinuationOptions { corrector: c, ..h };
+    assert_eq!(
+        harmonic(&corrector(HbmCorrection {
+            tolerance: 0.0,
+            ..HbmCorrection::default()
+        })),
+        ("HbmCorrection::tolerance", "> 0 and finite")
+    );
+    assert_eq!(
+        harmonic(&corrector(HbmCorrection {
+            max_iters: 0,
+            ..HbmCorrection::default()
+        })),
+        ("HbmCorrection::max_iters", ">= 1")
+    );
+    assert_eq!(
+        shoot(&ContinuationOptions {
+            corrector: ShootingCorrection {
+                state_scale: 0.0,
+                ..ShootingCorrection::default()
+            },
+            ..s.clone()
+        }),
+        ("ShootingCorrection::state_scale", "> 0 and finite")
+    );
+    assert!(s.validate().is_ok() && h.validate().is_ok());
 }

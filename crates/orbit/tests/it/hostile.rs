@@ -4,7 +4,7 @@ use crate::common::{Bilinear, ImpactOscillator, Rattle};
 use nalgebra::DMatrix;
 use orbit::{
     ContinuationOptions, FlowOptions, OrbitError, OrbitProblem, Parameter, Restitution,
-    ShootingOptions,
+    ShootingCorrection, ShootingOptions,
 };
 use system::SecondOrderSystem;
 
@@ -130,11 +130,17 @@ fn bad_options_name_their_field() {
     let mut p = OrbitProblem::new(bilinear(), 4.0).unwrap();
     for c in [
         ContinuationOptions {
-            range: [1.0, 0.0],
+            corrector: ShootingCorrection {
+                range: [1.0, 0.0],
+                ..ShootingCorrection::default()
+            },
             ..Default::default()
         },
         ContinuationOptions {
-            direction: 0.5,
+            corrector: ShootingCorrection {
+                direction: 0.5,
+                ..ShootingCorrection::default()
+            },
             ..Default::default()
         },
         ContinuationOptions {
@@ -146,21 +152,33 @@ fn bad_options_name_their_field() {
             ..Default::default()
         },
         ContinuationOptions {
-            parameter_scale: f64::NAN,
+            corrector: ShootingCorrection {
+                parameter_scale: f64::NAN,
+                ..ShootingCorrection::default()
+            },
             ..Default::default()
         },
         ContinuationOptions {
-            locate_tol: 0.0,
+            corrector: ShootingCorrection {
+                locate_tol: 0.0,
+                ..ShootingCorrection::default()
+            },
             ..Default::default()
         },
         ContinuationOptions {
-            locate_samples: 0,
+            corrector: ShootingCorrection {
+                locate_samples: 0,
+                ..ShootingCorrection::default()
+            },
             ..Default::default()
         },
         ContinuationOptions {
-            shooting: ShootingOptions {
-                segments: 2,
-                ..Default::default()
+            corrector: ShootingCorrection {
+                shooting: ShootingOptions {
+                    segments: 2,
+                    ..Default::default()
+                },
+                ..ShootingCorrection::default()
             },
             ..Default::default()
         },

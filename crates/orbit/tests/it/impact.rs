@@ -12,7 +12,8 @@
 use crate::common::{ImpactOscillator, exp_oscillator};
 use nalgebra::DMatrix;
 use orbit::{
-    ContinuationOptions, OrbitProblem, Parameter, Restitution, ShootingOptions, SpecialKind,
+    ContinuationOptions, OrbitProblem, Parameter, Restitution, ShootingCorrection, ShootingOptions,
+    SpecialKind,
 };
 use std::f64::consts::PI;
 
@@ -181,10 +182,13 @@ fn period_doubling_located_by_continuation_matches_closed_form() {
     let mut p = problem(w0, r);
     let c = closed_form(p.system(), r);
     let opts = ContinuationOptions {
-        parameter: Parameter::BaseFrequency,
-        range: [2.0, 2.8],
         initial_step: 0.02,
         max_step: 0.05,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [2.0, 2.8],
+            ..ShootingCorrection::default()
+        },
         ..Default::default()
     };
     let br = p.continuation(&c[0].x_section, w0, &opts).unwrap();
@@ -194,7 +198,10 @@ fn period_doubling_located_by_continuation_matches_closed_form() {
             &c[0].x_section,
             w0,
             &ContinuationOptions {
-                locate_samples: 4,
+                corrector: ShootingCorrection {
+                    locate_samples: 4,
+                    ..ShootingCorrection::default()
+                },
                 ..opts.clone()
             },
         )

@@ -54,3 +54,36 @@ fn closed_form_exponential_matches_nalgebra() {
         assert!((e - exp_oscillator(k, c, 0.7)).amax() < 1e-12);
     }
 }
+
+/// [`OrbitProblem::period_map`] is shooting without Newton: at a converged orbit it gives the
+/// bits of the shot monodromy and multipliers; elsewhere its residual is the periodicity defect.
+#[test]
+fn period_map_is_the_shooting_monodromy() {
+    let s = Bilinear {
+        zeta: 0.05,
+        kappa: 10.0,
+        d: 0.5,
+        f0: 0.0,
+        f: 0.3,
+        omega: 1.3,
+    };
+    let t = 2.0 * std::f64::consts::PI / s.omega;
+    let p = OrbitProblem::new(s, t).unwrap();
+    let o = p.shoot(&[0.0, 0.0], &ShootingOptions::default()).unwrap();
+    let m = p.period_map(&o.x0, 1).unwrap();
+    assert_eq!(m.monodromy, o.monodromy);
+    assert_eq!(m.floquet, o.floquet);
+    assert_eq!(m.iterations, 0);
+    assert!(m.residual <= 1e-9);
+    // off the orbit: the residual is the defect of the period map
+    let x = [o.x0[0] + 0.01, o.x0[1]];
+    let off = p.period_map(&x, 1).unwrap();
+    let flow = p.flow(0.0, &x, t, false).unwrap();
+    let defect = (flow.state[0] - x[0])
+        .abs()
+        .max((flow.state[1] - x[1]).abs());
+    assert_eq!(off.residual.to_bits(), defect.to_bits());
+    assert!(off.residual > 1e-4);
+    assert!(p.period_map(&[0.0], 1).is_err());
+    assert!(p.period_map(&[0.0, 0.0], 0).is_err());
+}

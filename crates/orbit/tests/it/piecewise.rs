@@ -124,11 +124,14 @@ fn grazing_in_a_named_parameter_matches_closed_form() {
     let t = 2.0 * PI / s.omega;
     let mut p = OrbitProblem::new(s, t).unwrap();
     let opts = orbit::ContinuationOptions {
-        parameter: orbit::Parameter::Named("f".into()),
-        range: [0.0, 1.2],
         initial_step: 0.05,
         max_step: 0.1,
-        locate_tol: 1e-10,
+        corrector: orbit::ShootingCorrection {
+            parameter: orbit::Parameter::Named("f".into()),
+            range: [0.0, 1.2],
+            locate_tol: 1e-10,
+            ..orbit::ShootingCorrection::default()
+        },
         ..Default::default()
     };
     let br = p.continuation(&[0.0, 0.0], 0.3, &opts).unwrap();

@@ -3,7 +3,10 @@
 //! time integration and in closed form.
 
 use crate::common::{Duffing, Rattle};
-use orbit::{ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingOptions, SpecialKind};
+use orbit::{
+    ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingCorrection, ShootingOptions,
+    SpecialKind,
+};
 use std::f64::consts::PI;
 
 /// A smooth Duffing orbit: the shooting orbit agrees with the harmonic balance solution
@@ -59,10 +62,13 @@ fn duffing_folds_are_located_with_a_unit_multiplier() {
     };
     let mut p = OrbitProblem::new(s, 2.0 * PI / 0.8).unwrap();
     let opts = ContinuationOptions {
-        parameter: Parameter::BaseFrequency,
-        range: [0.7, 2.0],
         initial_step: 0.02,
         max_step: 0.1,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [0.7, 2.0],
+            ..ShootingCorrection::default()
+        },
         ..Default::default()
     };
     let br = p.continuation(&[0.3, 0.0], 0.8, &opts).unwrap();
@@ -93,10 +99,13 @@ fn duffing_folds_are_located_with_a_unit_multiplier() {
     // the located folds do not depend on the arclength scaling
     let mut p2 = OrbitProblem::new(s, 2.0 * PI / 0.8).unwrap();
     let scaled = ContinuationOptions {
-        state_scale: 0.3,
-        parameter_scale: 0.5,
         initial_step: 0.04,
         max_step: 0.2,
+        corrector: ShootingCorrection {
+            state_scale: 0.3,
+            parameter_scale: 0.5,
+            ..ShootingCorrection::default()
+        },
         ..opts.clone()
     };
     let br2 = p2.continuation(&[0.3, 0.0], 0.8, &scaled).unwrap();
@@ -188,11 +197,14 @@ fn grazing_by_continuation_matches_time_integration_and_closed_form() {
     let s = rattle(0.5);
     let mut p = OrbitProblem::new(s, 2.0 * PI / 0.5).unwrap();
     let opts = ContinuationOptions {
-        parameter: Parameter::BaseFrequency,
-        range: [0.4, 0.9],
         initial_step: 0.02,
         max_step: 0.05,
-        locate_tol: 1e-10,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [0.4, 0.9],
+            locate_tol: 1e-10,
+            ..ShootingCorrection::default()
+        },
         ..Default::default()
     };
     let br = p.continuation(&[s.b + s.f0, 0.0], 0.5, &opts).unwrap();

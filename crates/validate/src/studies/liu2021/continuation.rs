@@ -69,7 +69,7 @@ fn run() -> Result<StudyOutput, Error> {
     )
     .into_iter()
     .collect::<Result<_, Error>>()?;
-    // Stability (period-map multipliers, three integrations each) on a thinned subset: points at
+    // Stability (period-map multipliers, one variational integration each) on a thinned subset: points at
     // least STABILITY_SPACING rad/s apart along the branch (the library's policy).
     let branches: Vec<SpeedBranch> = branches
         .into_iter()
@@ -308,20 +308,22 @@ fn branch_unsettled(full: bool) -> bool {
     full
 }
 
-/// Multipliers within this distance of the unit circle are not resolved by the
-/// finite-difference period map (strongly unstable ones move by ~3 %): their stability is not
-/// committed and their segment draws as not known stable.
+/// Multipliers within this distance of the unit circle are not committed: the period map is
+/// taken at the harmonic-balance state, not at a fixed point of the time integration, so a
+/// multiplier near the circle moves with that state (the HBM truncation and corrector
+/// tolerance); their stability is not committed and their segment draws as not known stable.
 const MARGINAL: f64 = 0.1;
 
 fn marginal_multiplier(mu: f64) -> bool {
     !mu.is_finite() || (mu - 1.0).abs() < MARGINAL
 }
 
-/// Resolution of the finite-difference period map (perturbation `1e-7 b̄` against the
-/// integrator's tolerance): multipliers below it are noise (they move by ~50 % with round-off;
-/// `shooting_multipliers_flag_stable_orbits` bounds them by the same 1e-3), and strongly
-/// unstable ones move by ~3 %. The table writes `max(|μ|, 1e-3)` at 3 significant digits so that
-/// a snapshot diff means a changed multiplier; the stability flag uses the unrounded value.
+/// Floor of the committed multiplier modulus: below it an orbit is stable by a wide margin
+/// and the value carries no verdict (the deleted finite-difference period map had its noise
+/// floor there; the variational monodromy resolves ~1e-10, but the floor keeps snapshot
+/// diffs to changes that matter; `shooting_multipliers_flag_stable_orbits` bounds them by the
+/// same 1e-3). The table writes `max(|μ|, 1e-3)` at 3 significant digits so that a snapshot
+/// diff means a changed multiplier; the stability flag uses the unrounded value.
 const MULTIPLIER_FLOOR: f64 = 1e-3;
 
 fn resolved_multiplier(mu: f64) -> f64 {
@@ -333,16 +335,17 @@ fn resolved_multiplier(mu: f64) -> f64 {
     (m * scale).round() / scale
 }
 
-/// The end of a branch at 6 significant digits (the raw `Debug` form prints round-off).
+/// The end of a branch at 6 significant digits (the raw `Debug` form prints round-off), its
+/// speed in rad/s (`SpeedBranch` reports every parameter as `ω₁`).
 fn end_label(end: &orbit::StopReason) -> String {
     match end {
         orbit::StopReason::ReachedEnd => "ReachedEnd".to_owned(),
         orbit::StopReason::MaxPoints => "MaxPoints".to_owned(),
         orbit::StopReason::LeftRange { parameter } => {
-            format!("LeftRange {{ parameter: {} }}", sig(*parameter))
+            format!("LeftRange {{ omega1: {} rad/s }}", sig(*parameter))
         }
         orbit::StopReason::StepTooSmall { parameter, .. } => {
-            format!("StepTooSmall {{ parameter: {} }}", sig(*parameter))
+            format!("StepTooSmall {{ omega1: {} rad/s }}", sig(*parameter))
         }
         orbit::StopReason::InitialSolveFailed { residual_norm } => {
             format!(

@@ -4,8 +4,8 @@
 
 use models::liu2021::{self, IntegrationOptions, Model, Parameters};
 use orbit::{
-    ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingOptions, ShootingPoint,
-    SpecialKind,
+    ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingCorrection, ShootingOptions,
+    ShootingPoint, SpecialKind,
 };
 
 type Branch = orbit::ShootingBranch;
@@ -14,8 +14,8 @@ use system::{SecondOrderSystem, SystemError};
 
 use super::{base, model, sig, speed_tolerance};
 use crate::{
-    Comparison, Cost, Error, Evidence, Figure, Paper, Reference, ResultExt, Series, Study,
-    StudyOutput, Table, Tolerance, ToleranceBand, published,
+    Comparison, Cost, Error, Evidence, Figure, Paper, PublishedValue, Reference, ResultExt, Series,
+    Study, StudyOutput, Table, Tolerance, ToleranceBand, published,
 };
 
 pub(super) fn study() -> Study {
@@ -173,18 +173,21 @@ fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
     let (q, v, _) = settle(&m, 199.0, 1.0, 1e-8)?;
     let mut prob = OrbitProblem::new(m, m.period()).context("orbit problem")?;
     let opts = ContinuationOptions {
-        parameter: Parameter::BaseFrequency,
-        range: [99.0 * conv, 221.0 * conv],
-        direction: dir,
-        parameter_scale: conv,
-        state_scale: 0.1 * m.backlash,
         initial_step: 1.0,
         max_step: 2.0,
         min_step: 1e-6,
         max_points: 400,
-        locate_tol: LOCATE_TOL,
-        locate_samples: LOCATE_SAMPLES,
-        shooting: shooting(),
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [99.0 * conv, 221.0 * conv],
+            direction: dir,
+            parameter_scale: conv,
+            state_scale: 0.1 * m.backlash,
+            locate_tol: LOCATE_TOL,
+            locate_samples: LOCATE_SAMPLES,
+            shooting: shooting(),
+            ..ShootingCorrection::default()
+        },
         ..ContinuationOptions::default()
     };
     let branch = prob
@@ -225,18 +228,21 @@ fn named_branch(
     let backlash = sys.m.backlash;
     let mut prob = OrbitProblem::new(sys, period).context("orbit problem")?;
     let opts = ContinuationOptions {
-        parameter: Parameter::Named(name.to_owned()),
-        range,
-        direction: dir,
-        parameter_scale: scale,
-        state_scale: 0.1 * backlash,
         initial_step: 1.0,
         max_step: 2.0,
         min_step: 1e-6,
         max_points: 300,
-        locate_tol: LOCATE_TOL,
-        locate_samples: LOCATE_SAMPLES,
-        shooting: shooting(),
+        corrector: ShootingCorrection {
+            parameter: Parameter::Named(name.to_owned()),
+            range,
+            direction: dir,
+            parameter_scale: scale,
+            state_scale: 0.1 * backlash,
+            locate_tol: LOCATE_TOL,
+            locate_samples: LOCATE_SAMPLES,
+            shooting: shooting(),
+            ..ShootingCorrection::default()
+        },
         ..ContinuationOptions::default()
     };
     let branch = prob
@@ -523,28 +529,36 @@ fn run() -> Result<StudyOutput, Error> {
             ti,
             "bisection in ω1 on time integration (200 + 8 periods from drive-flank contact, any gap-edge crossing)",
         ));
-        out.compare(
-            Comparison::published(uni_p, w)?
-                .with_tolerance(speed_tolerance(&uni_p.printed))
-                .within(lo, hi)
-                .shown_only()
-                .reading("R-LIU-EQ21")
-                .note("grazing of the drive flank on the period-1 branch (shooting); the judged row is the long-window one of liu2021-fig11-speed-sweep"),
-        );
+        out.compare(onset_row(
+            uni_p,
+            speed_tolerance(&uni_p.printed),
+            (w, lo, hi),
+            "R-LIU-EQ21",
+            false,
+            "grazing of the drive flank on the period-1 branch (shooting); the judged row is the long-window one of liu2021-fig11-speed-sweep",
+        )?);
     }
     let bi_up = first(&up.branch, BI);
-    let (w, lo, hi) = found_or_nan(bi_up, up.scale);
-    out.compare(
-        Comparison::published(bi_p, w)?
-            .with_tolerance(speed_tolerance(&bi_p.printed))
-            .within(lo, hi)
-            .shown_only()
-            .unsettled_if(true)
-            .reading("R-LIU-EQ21")
-            .note(
-                "grazing of the back flank on the period-1 branch from 100 rad/s (NaN: not found)",
-            ),
-    );
+    // shown, unsettled: the back-flank grazing and the fold of the branch from 100 rad/s
+    for (found, note) in [
+        (
+            found_or_nan(bi_up, up.scale),
+            "grazing of the back flank on the period-1 branch from 100 rad/s (NaN: not found)",
+        ),
+        (
+            found_or_nan(first(&up.branch, SpecialKind::Fold), up.scale),
+            "fold that ends the unilateral period-1 branch from 100 rad/s (past it this orbit no longer exists; NaN: not found)",
+        ),
+    ] {
+        out.compare(onset_row(
+            bi_p,
+            speed_tolerance(&bi_p.printed),
+            found,
+            "R-LIU-EQ21",
+            true,
+            note,
+        )?);
+    }
     if bi_up.is_none() {
         let _ = out.note(format!(
             "the period-1 branch from 100 rad/s never touches the back flank (largest q − b̄ = {} b̄ at its end, {} rad/s): bilateral rattle does not start by a grazing of this branch",
@@ -557,16 +571,6 @@ fn run() -> Result<StudyOutput, Error> {
             crate::unsettled(sig(up.branch.points.last().map_or(f64::NAN, |p| p.parameter / up.scale)))
         ));
     }
-    let (w, lo, hi) = found_or_nan(first(&up.branch, SpecialKind::Fold), up.scale);
-    out.compare(
-        Comparison::published(bi_p, w)?
-            .with_tolerance(speed_tolerance(&bi_p.printed))
-            .within(lo, hi)
-            .shown_only()
-            .unsettled_if(true)
-            .reading("R-LIU-EQ21")
-            .note("fold that ends the unilateral period-1 branch from 100 rad/s (past it this orbit no longer exists; NaN: not found)"),
-    );
     // first loss of stability of the bilateral branch from 220 rad/s down: bisection in ω1 on
     // max |μ| > 1 by single shooting (warm-started from the stable side), and a 0.005 rad/s
     // shooting scan from the last stable branch point as the cross-check
@@ -627,17 +631,14 @@ fn run() -> Result<StudyOutput, Error> {
                 crate::Cell::count(scan.len() as f64),
             ])?;
             out.table(loss_t.unsettled_record(UNSETTLED_BRANCH));
-            out.compare(
-                Comparison::published(bi_p, w_loss)?
-                    .with_tolerance(speed_tolerance(&bi_p.printed))
-                    .within(lo, hi)
-                    .shown_only()
-                    .unsettled_if(true)
-                    .reading("R-LIU-EQ21")
-                    .note(
-                        "lower end of the stable bilateral period-1 orbits from 220 rad/s down (0.005 rad/s shooting scan along the branch, then bisection in the step; bracket, kind and the sign changes of det(Φ + I) over the scan in validation/stats/); the multipliers jump at contact changes, so the first period doubling is no robust onset",
-                    ),
-            );
+            out.compare(onset_row(
+                bi_p,
+                speed_tolerance(&bi_p.printed),
+                (w_loss, lo, hi),
+                "R-LIU-EQ21",
+                true,
+                "lower end of the stable bilateral period-1 orbits from 220 rad/s down (0.005 rad/s shooting scan along the branch, then bisection in the step; bracket, kind and the sign changes of det(Φ + I) over the scan in validation/stats/); the multipliers jump at contact changes, so the first period doubling is no robust onset",
+            )?);
         }
     }
     // --- T2 and a_k onsets (shown: located on the branch; the judged rows are the long-window ones)
@@ -655,35 +656,35 @@ fn run() -> Result<StudyOutput, Error> {
             ti,
             "bisection in T2 on time integration (200 + 8 periods from drive-flank contact, any gap-edge crossing)",
         ));
-        out.compare(
-            Comparison::published(from, g.point.parameter)?
-                .with_tolerance(Tolerance::printed(&from.printed)?)
-                .within(g.bracket[0], g.bracket[1])
-                .shown_only()
-                .reading("R-LIU-FIG15")
-                .note("T2 at which the period-1 branch (from 80 N m down) separates from the drive flank (grazing)"),
-        );
+        out.compare(onset_row(
+            from,
+            Tolerance::printed(&from.printed)?,
+            (g.point.parameter, g.bracket[0], g.bracket[1]),
+            "R-LIU-FIG15",
+            false,
+            "T2 at which the period-1 branch (from 80 N m down) separates from the drive flank (grazing)",
+        )?);
     }
-    let (x, lo, hi) = found_or_nan(first(&t2.branch, SpecialKind::Fold), 1.0);
-    out.compare(
-        Comparison::published(below, x)?
-            .with_tolerance(Tolerance::printed(&below.printed)?)
-            .within(lo, hi)
-            .shown_only()
-            .unsettled_if(true)
-            .reading("R-LIU-FIG15")
-            .note("fold that ends the unilateral period-1 branch from 80 N m down (past it this orbit no longer exists; NaN: not found)"),
-    );
-    let (x, lo, hi) = found_or_nan(first(&t2.branch, BI), 1.0);
-    out.compare(
-        Comparison::published(below, x)?
-            .with_tolerance(Tolerance::printed(&below.printed)?)
-            .within(lo, hi)
-            .shown_only()
-            .unsettled_if(true)
-            .reading("R-LIU-FIG15")
-            .note("T2 at which the period-1 branch (from 80 N m down) touches the back flank (grazing; NaN: not found)"),
-    );
+    // shown, unsettled: the fold and the back-flank grazing of the branch from 80 N m down
+    for (kind, note) in [
+        (
+            SpecialKind::Fold,
+            "fold that ends the unilateral period-1 branch from 80 N m down (past it this orbit no longer exists; NaN: not found)",
+        ),
+        (
+            BI,
+            "T2 at which the period-1 branch (from 80 N m down) touches the back flank (grazing; NaN: not found)",
+        ),
+    ] {
+        out.compare(onset_row(
+            below,
+            Tolerance::printed(&below.printed)?,
+            found_or_nan(first(&t2.branch, kind), 1.0),
+            "R-LIU-FIG15",
+            true,
+            note,
+        )?);
+    }
     let ak = &runs[3];
     if let Some(g) = first(&ak.branch, UNI) {
         let x = g.point.parameter;
@@ -833,6 +834,26 @@ fn ti_bisection_in(
         }
     }
     Ok((lo, hi))
+}
+
+/// The shown-only row of an onset located on a branch against the paper's value: the located
+/// value `x` with its bracket `[lo, hi]`, the paper's tolerance, the reading and the note;
+/// `unsettled` rows are written to validation/stats/ only.
+fn onset_row(
+    published: &PublishedValue,
+    tolerance: Tolerance,
+    (x, lo, hi): (f64, f64, f64),
+    reading: &str,
+    unsettled: bool,
+    note: &str,
+) -> Result<Comparison, Error> {
+    Ok(Comparison::published(published, x)?
+        .with_tolerance(tolerance)
+        .within(lo, hi)
+        .shown_only()
+        .unsettled_if(unsettled)
+        .reading(reading)
+        .note(note))
 }
 
 /// The consistency row of a located grazing against bisection on time integration.
