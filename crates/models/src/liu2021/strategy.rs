@@ -83,6 +83,38 @@ pub struct SweepStrategy {
     /// `None` (the default): not computed.
     #[serde(default)]
     pub long_window: Option<LongWindowOptions>,
+    /// Settling of the time reference: while its Poincaré section does not repeat within
+    /// `settle_margin` of the classification tolerance ([`TimeReference::section_margin`]),
+    /// the transient is lengthened by `settle_periods`, at most `settle_rounds` times, and
+    /// the reference (nominal, refined and section runs) is taken after the longer transient.
+    /// Near a bifurcation the free transient decays slowly: at Liu Fig. 11, 170–237.5 rad/s,
+    /// and Fig. 15, 0–22 N·m, the section after the 10-period transient repeated only just
+    /// inside or outside the margin, so the reference (and the warm starts seeded from it)
+    /// flipped between a confirmed and an unconfirmed periodic orbit under a retune of the
+    /// step-size controller. A chaotic point never settles and costs the extra rounds.
+    /// `settle_rounds = 0` switches it off.
+    #[serde(default = "default_settle_rounds")]
+    pub settle_rounds: usize,
+    /// Periods added to the transient per settling round (see `settle_rounds`).
+    #[serde(default = "default_settle_periods")]
+    pub settle_periods: f64,
+    /// Section margin below which the reference counts as settled (see `settle_rounds`): a
+    /// settled periodic orbit repeats at the integrator's error, about 1e-4 of the
+    /// classification tolerance at rtol 1e-8, two decades inside it.
+    #[serde(default = "default_settle_margin")]
+    pub settle_margin: f64,
+}
+
+fn default_settle_rounds() -> usize {
+    2
+}
+
+fn default_settle_periods() -> f64 {
+    40.0
+}
+
+fn default_settle_margin() -> f64 {
+    1e-2
 }
 
 impl Default for SweepStrategy {
@@ -98,6 +130,9 @@ impl Default for SweepStrategy {
             refine_factor: crate::contract::TIGHTER,
             ppv_rel_tol: 1e-3,
             long_window: None,
+            settle_rounds: default_settle_rounds(),
+            settle_periods: default_settle_periods(),
+            settle_margin: default_settle_margin(),
         }
     }
 }
@@ -240,25 +275,65 @@ pub fn time_reference(
     model: &Model,
     strategy: &SweepStrategy,
 ) -> Result<(TimeReference, TimeResponse), Error> {
-    let opts = strategy.integration;
+    if strategy.settle_rounds > 100 {
+        return Err(Error::invalid(
+            "liu2021.strategy.settle_rounds",
+            "at most 100",
+            strategy.settle_rounds as f64,
+        ));
+    }
+    if !(strategy.settle_periods >= 0.0 && strategy.settle_periods <= 1e5) {
+        return Err(Error::invalid(
+            "liu2021.strategy.settle_periods",
+            "in [0, 1e5]",
+            strategy.settle_periods,
+        ));
+    }
+    if !(strategy.settle_margin > 0.0 && strategy.settle_margin.is_finite()) {
+        return Err(Error::invalid(
+            "liu2021.strategy.settle_margin",
+            "> 0 and finite",
+            strategy.settle_margin,
+        ));
+    }
+    let mut opts = strategy.integration;
+    // the section after the transient; lengthened while it does not repeat with margin
+    // (`settle_rounds`: a bounded loop)
+    let section = |opts: &IntegrationOptions| -> Result<(Motion, f64), Error> {
+        let strobe = integrate(
+            model,
+            &IntegrationOptions {
+                record_periods: strategy.poincare_periods as f64,
+                sample_step: model.period(),
+                ..*opts
+            },
+        )?;
+        let scale = (strobe.rattle.ppv + model.backlash.abs()).max(f64::MIN_POSITIVE);
+        let motion = classify_section(&strobe.q, &strobe.v, strategy.poincare_tol, scale);
+        let margin = crate::motion::section_margin(
+            &strobe.q,
+            &strobe.v,
+            motion,
+            strategy.poincare_tol,
+            scale,
+        );
+        Ok((motion, margin))
+    };
+    let (mut motion, mut section_margin) = section(&opts)?;
+    for _ in 0..strategy.settle_rounds {
+        // a NaN margin is not settled: it goes on to the next round
+        if section_margin <= strategy.settle_margin {
+            break;
+        }
+        opts.transient_periods += strategy.settle_periods;
+        (motion, section_margin) = section(&opts)?;
+    }
     let ti = integrate(model, &opts)?;
     let refined_opts = IntegrationOptions {
         rtol: opts.rtol / strategy.refine_factor,
         ..opts
     };
     let refined = integrate(model, &refined_opts)?.rattle;
-    let strobe = integrate(
-        model,
-        &IntegrationOptions {
-            record_periods: strategy.poincare_periods as f64,
-            sample_step: model.period(),
-            ..opts
-        },
-    )?;
-    let scale = (strobe.rattle.ppv + model.backlash.abs()).max(f64::MIN_POSITIVE);
-    let motion = classify_section(&strobe.q, &strobe.v, strategy.poincare_tol, scale);
-    let section_margin =
-        crate::motion::section_margin(&strobe.q, &strobe.v, motion, strategy.poincare_tol, scale);
     let reproducible = refined.state == ti.rattle.state
         && (refined.ppv - ti.rattle.ppv).abs()
             <= strategy.ppv_rel_tol * refined.ppv.abs().max(model.backlash.abs());
@@ -413,6 +488,55 @@ fn fill_from_neighbours(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Liu Fig. 11 at 180 rad/s (Table 1, constant b̄): after the 10-period transient the
+    /// 6-period section is still far from repeating (the free transient near the bilateral
+    /// onset decays slowly); the settling rounds lengthen the transient until it repeats at the
+    /// integrator's error, two decades inside the margin. A bad setting is an error naming the
+    /// field.
+    #[test]
+    fn time_reference_settles_the_transient() {
+        let mut p = super::super::table1();
+        p.omega1 = 180.0;
+        p.readings.base_radius = super::super::BaseRadius::Mean;
+        let m = p.model().unwrap();
+        let bare = SweepStrategy {
+            settle_rounds: 0,
+            ..SweepStrategy::default()
+        };
+        let (t0, _) = time_reference(&m, &bare).unwrap();
+        let (t1, r1) = time_reference(&m, &SweepStrategy::default()).unwrap();
+        assert!(t0.section_margin > 1e-2, "{}", t0.section_margin);
+        assert!(t1.section_margin <= 1e-4, "{}", t1.section_margin);
+        assert_eq!(t1.motion, Motion::Periodic(1));
+        assert!(r1.rattle.state == super::super::RattleState::Bilateral);
+        for (s, field) in [
+            (
+                SweepStrategy {
+                    settle_rounds: 101,
+                    ..SweepStrategy::default()
+                },
+                "settle_rounds",
+            ),
+            (
+                SweepStrategy {
+                    settle_periods: f64::NAN,
+                    ..SweepStrategy::default()
+                },
+                "settle_periods",
+            ),
+            (
+                SweepStrategy {
+                    settle_margin: 0.0,
+                    ..SweepStrategy::default()
+                },
+                "settle_margin",
+            ),
+        ] {
+            let e = time_reference(&m, &s).unwrap_err().to_string();
+            assert!(e.contains(field), "{e}");
+        }
+    }
 
     #[test]
     fn section_classification() {
