@@ -395,7 +395,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     }
 
     /// Pseudo-arclength continuation of the period-`k` orbit through `x0` (a guess, refined by
-    /// shooting first) at `λ = lambda0`, in [`ContinuationOptions::parameter`].
+    /// shooting first) at `λ = lambda0`, in [`ShootingCorrection::parameter`].
     ///
     /// Predictor `z + Δs t`, corrector Newton on `φ_{kT}(x; λ) − x = 0` bordered by
     /// `tᵀ(z − z_pred) = 0` (`z = (x/state_scale, λ/parameter_scale)`, `t` the unit tangent),

@@ -227,7 +227,7 @@ fn record(
 /// * `other start`: from the middle of the gap at rest (`q = q' = 0`), at `rtol`.
 ///
 /// Each run samples at the largest step `≤ sample_step` that divides the period, so the
-/// stroboscopic section is the state at the period starts ([`section_step`]), and discards up
+/// stroboscopic section is the state at the period starts (`T/⌈T/sample_step⌉`), and discards up
 /// to `settle_windows` windows that still hold the end of a transient
 /// ([`WindowStats::transient`]). The statistics ([`crate::response::window_stats`]) use the
 /// located gap-edge crossings, so a contact shorter than a sample step still counts.
