@@ -15,7 +15,8 @@ pub struct LongWindowOptions {
     pub transient_periods: f64,
     /// Periods of each window (≥ 50: the long window).
     pub periods: usize,
-    /// Output sampling interval `Δτ` (impact speeds are interpolated between samples; the
+    /// Largest output sampling interval; the interval used is the largest `Δτ ≤ sample_step`
+    /// that divides the period, so the section falls on the period starts (impact speeds are interpolated between samples; the
     /// state uses the located crossings, so no contact is missed).
     pub sample_step: f64,
     /// Largest integrator step.
