@@ -745,7 +745,8 @@ pub fn trace<C: Corrector>(
 
 /// Sequential continuation along a fixed grid of points (a sweep) with a zero-order
 /// predictor: every item `i` that is not `converged` is re-solved from a converged neighbour
-/// `j = i ∓ 1` (`solve(i, &mut items[i], &items[j])` returns whether that worked), in passes
+/// `j = i ∓ 1` (`solve(i, j, &mut items[i], &items[j])` returns whether that worked; `j` lets
+/// the caller record where a solution came from), in passes
 /// alternating up (`j = i − 1`) and down (`j = i + 1`), at most `passes` passes, stopping
 /// early when a pass changes nothing. Sequential, so bit-identical for any thread count.
 ///
@@ -755,7 +756,7 @@ pub fn fill_from_neighbours<T, E>(
     items: &mut [T],
     passes: usize,
     converged: impl Fn(&T) -> bool,
-    mut solve: impl FnMut(usize, &mut T, &T) -> Result<bool, E>,
+    mut solve: impl FnMut(usize, usize, &mut T, &T) -> Result<bool, E>,
 ) -> Result<(), E> {
     let n = items.len();
     for pass in 0..passes {
@@ -777,7 +778,7 @@ pub fn fill_from_neighbours<T, E>(
                 let (lo, hi) = items.split_at_mut(j);
                 (&mut lo[i], &hi[0])
             };
-            if solve(i, target, from)? {
+            if solve(i, j, target, from)? {
                 changed = true;
             }
         }
@@ -937,8 +938,9 @@ mod tests {
             &mut items,
             4,
             |c| *c,
-            |i, t, f| {
+            |i, j, t, f| {
                 calls.push(i);
+                assert_eq!(i.abs_diff(j), 1);
                 assert!(*f);
                 *t = true;
                 Ok(true)
@@ -949,11 +951,11 @@ mod tests {
         // pass 1 (up): 3, 4; pass 2 (down): 1, 0; pass 3 changes nothing
         assert_eq!(calls, vec![3, 4, 1, 0]);
         let mut none = vec![false, false];
-        fill_from_neighbours::<bool, ()>(&mut none, 4, |c| *c, |_, _, _| Ok(true)).unwrap();
+        fill_from_neighbours::<bool, ()>(&mut none, 4, |c| *c, |_, _, _, _| Ok(true)).unwrap();
         assert_eq!(none, vec![false, false]);
         let mut err = vec![true, false];
         assert_eq!(
-            fill_from_neighbours(&mut err, 1, |c| *c, |_, _, _| Err("e")),
+            fill_from_neighbours(&mut err, 1, |c| *c, |_, _, _, _| Err("e")),
             Err("e")
         );
     }

@@ -99,8 +99,11 @@ pub struct SweepStrategy {
     #[serde(default = "default_settle_periods")]
     pub settle_periods: f64,
     /// Section margin below which the reference counts as settled (see `settle_rounds`): a
-    /// settled periodic orbit repeats at the integrator's error, about 1e-4 of the
-    /// classification tolerance at rtol 1e-8, two decades inside it.
+    /// settled periodic orbit repeats at the integrator's error, about 1e-5 to 1e-4 of the
+    /// classification tolerance at rtol 1e-8 (Liu Fig. 11, 172.5–215 rad/s: 2e-5 to 1e-4
+    /// after settling), so 1e-3 stops only a decade above it. With 1e-2 (round 10) a
+    /// reference could stop at 8.7e-3 (215 rad/s), a transient still decaying, and the warm
+    /// starts seeded from it moved with the retune of the step-size controller.
     #[serde(default = "default_settle_margin")]
     pub settle_margin: f64,
 }
@@ -114,7 +117,7 @@ fn default_settle_periods() -> f64 {
 }
 
 fn default_settle_margin() -> f64 {
-    1e-2
+    1e-3
 }
 
 impl Default for SweepStrategy {
@@ -206,6 +209,24 @@ pub struct HbmPoint {
     pub origin: HbmOrigin,
     /// Largest period-map multiplier modulus; `None` when not computed or not converged.
     pub max_multiplier: Option<f64>,
+    /// Whether the warm start is reproducible: the same solve started from the harmonics of
+    /// the refined reference (the run at `rtol / refine_factor`, [`TimeReference::refined`])
+    /// reaches the same outcome — both converge to the same rattle state with ppv within
+    /// [`SweepStrategy::ppv_rel_tol`], or neither converges. `Some(false)`: which of the
+    /// coexisting solutions the warm start reaches depends on the integrator's error in the
+    /// sample that seeds it (Liu Fig. 11 near 172.5–185 rad/s: the paper basis reaches the
+    /// unilateral or the bilateral solution from two samples of one confirmed periodic orbit),
+    /// so its values are not results. A neighbour continuation inherits the check of the
+    /// point it started from. `None`: a cold start, or not checked (data written before the
+    /// field existed).
+    #[serde(default)]
+    pub seed_reproducible: Option<bool>,
+    /// For [`HbmOrigin::Neighbour`]: the index (in the sweep) of the point whose solution
+    /// started this one. Following it back ends at the warm start from a time response that
+    /// anchors the chain; a judgement of that sample (e.g. a motion not confirmed periodic)
+    /// holds for every point continued from it.
+    #[serde(default)]
+    pub neighbour: Option<usize>,
 }
 
 impl HbmPoint {
@@ -215,6 +236,26 @@ impl HbmPoint {
             converged: r.converged(),
             origin,
             max_multiplier: None,
+            seed_reproducible: None,
+            neighbour: None,
+        }
+    }
+
+    /// [`HbmPoint::of`] a warm start, checked against the warm start from the refined
+    /// reference (see [`HbmPoint::seed_reproducible`]).
+    fn checked(r: &HbmResponse, refined: &HbmResponse, ppv_rel_tol: f64, backlash: f64) -> Self {
+        let same = match (r.converged(), refined.converged()) {
+            (true, true) => {
+                r.rattle.state == refined.rattle.state
+                    && (r.rattle.ppv - refined.rattle.ppv).abs()
+                        <= ppv_rel_tol * refined.rattle.ppv.abs().max(backlash.abs())
+            }
+            (false, false) => true,
+            _ => false,
+        };
+        Self {
+            seed_reproducible: Some(same),
+            ..Self::of(r, HbmOrigin::TimeResponse)
         }
     }
 
@@ -224,11 +265,17 @@ impl HbmPoint {
         self.max_multiplier.map(is_stable_multiplier)
     }
 
-    /// Why this column cannot carry a verdict (not converged, unstable, stability unknown), or
-    /// `None`.
+    /// Why this column cannot carry a verdict (not converged, a warm start that another sample
+    /// of the same orbit leads elsewhere, unstable, stability unknown), or `None`.
     pub fn flag(&self) -> Option<String> {
         if !self.converged {
             return Some("HBM not converged".to_owned());
+        }
+        if self.seed_reproducible == Some(false) {
+            return Some(
+                "HBM warm start not reproducible: started from the refined reference it reaches another solution"
+                    .to_owned(),
+            );
         }
         match self.max_multiplier {
             None => Some("HBM stability not computed".to_owned()),
@@ -275,6 +322,14 @@ pub fn time_reference(
     model: &Model,
     strategy: &SweepStrategy,
 ) -> Result<(TimeReference, TimeResponse), Error> {
+    time_reference_runs(model, strategy).map(|(t, nominal, _)| (t, nominal))
+}
+
+/// [`time_reference`] with the recorded response of the refined run as well.
+fn time_reference_runs(
+    model: &Model,
+    strategy: &SweepStrategy,
+) -> Result<(TimeReference, TimeResponse, TimeResponse), Error> {
     if strategy.settle_rounds > 100 {
         return Err(Error::invalid(
             "liu2021.strategy.settle_rounds",
@@ -333,7 +388,8 @@ pub fn time_reference(
         rtol: opts.rtol / strategy.refine_factor,
         ..opts
     };
-    let refined = integrate(model, &refined_opts)?.rattle;
+    let refined_run = integrate(model, &refined_opts)?;
+    let refined = refined_run.rattle;
     let reproducible = refined.state == ti.rattle.state
         && (refined.ppv - ti.rattle.ppv).abs()
             <= strategy.ppv_rel_tol * refined.ppv.abs().max(model.backlash.abs());
@@ -347,35 +403,41 @@ pub fn time_reference(
             stats: ti.stats,
         },
         ti,
+        refined_run,
     ))
 }
 
 /// Solve one point without neighbours: reference, cold, warm and full columns, stability.
 pub fn solve_point(params: &Parameters, strategy: &SweepStrategy) -> Result<SweepPoint, Error> {
     let m = params.model()?;
-    let (time, ti) = time_reference(&m, strategy)?;
+    let (time, ti, refined) = time_reference_runs(&m, strategy)?;
     let mut paper = PreparedHbm::new(&m, &strategy.paper_hbm)?;
     let cold = paper.solve(&m, HbmStart::Cold)?;
+    // every warm start twice: from the nominal and from the refined sample of the reference
+    // (HbmPoint::seed_reproducible)
     let warm = paper.solve(&m, HbmStart::FromTimeResponse(&ti))?;
+    let warm_check = paper.solve(&m, HbmStart::FromTimeResponse(&refined))?;
+    let check = |a: &HbmResponse, b: &HbmResponse| {
+        HbmPoint::checked(a, b, strategy.ppv_rel_tol, m.backlash)
+    };
     let full = match strategy.full_basis {
-        Some(r) => Some(solve_hbm_with(
-            &m,
-            &HbmOptions::full(&m, r),
-            HbmStart::FromTimeResponse(&ti),
-        )?),
+        Some(r) => {
+            let o = HbmOptions::full(&m, r);
+            let f = solve_hbm_with(&m, &o, HbmStart::FromTimeResponse(&ti))?;
+            let f_check = solve_hbm_with(&m, &o, HbmStart::FromTimeResponse(&refined))?;
+            Some((f, f_check))
+        }
         None => None,
     };
     let mut point = SweepPoint {
         time,
         cold: HbmPoint::of(&cold, HbmOrigin::Cold),
-        warm: HbmPoint::of(&warm, HbmOrigin::TimeResponse),
-        full: full
-            .as_ref()
-            .map(|f| HbmPoint::of(f, HbmOrigin::TimeResponse)),
+        warm: check(&warm, &warm_check),
+        full: full.as_ref().map(|(f, c)| check(f, c)),
         response: ti,
         cold_solution: cold,
         warm_solution: warm,
-        full_solution: full,
+        full_solution: full.map(|(f, _)| f),
         window: match &strategy.long_window {
             Some(o) => Some(super::long_window(&m, o)?),
             None => None,
@@ -458,7 +520,7 @@ fn fill_from_neighbours(
         pts,
         strategy.neighbour_passes,
         converged,
-        |i, target, from| {
+        |i, j, target, from| {
             let m = &models[i];
             let (opts, start) = if full {
                 let Some(s) = from.full_solution.clone() else {
@@ -472,7 +534,17 @@ fn fill_from_neighbours(
             if !r.converged() {
                 return Ok(false);
             }
-            let hp = HbmPoint::of(&r, HbmOrigin::Neighbour);
+            // the neighbour's own seed check carries over: a start from a solution that another
+            // sample would not have reached is as arbitrary as that solution
+            let hp = HbmPoint {
+                seed_reproducible: if full {
+                    from.full.and_then(|f| f.seed_reproducible)
+                } else {
+                    from.warm.seed_reproducible
+                },
+                neighbour: Some(j),
+                ..HbmPoint::of(&r, HbmOrigin::Neighbour)
+            };
             if full {
                 target.full = Some(hp);
                 target.full_solution = Some(r);
@@ -538,6 +610,47 @@ mod tests {
         }
     }
 
+    /// Every warm start is solved twice, from the nominal and from the refined sample of the
+    /// reference: at 140 rad/s (Table 1, a confirmed periodic orbit; both converge to the same
+    /// solution) the check holds for the paper and the full basis, and the cold start carries
+    /// none.
+    #[test]
+    fn warm_starts_are_checked_against_the_refined_reference() {
+        let mut p = super::super::table1();
+        p.omega1 = 140.0;
+        p.readings.base_radius = super::super::BaseRadius::Mean;
+        let s = SweepStrategy {
+            stability: false,
+            ..SweepStrategy::default()
+        };
+        let pt = solve_point(&p, &s).unwrap();
+        assert!(pt.warm.converged);
+        assert_eq!(pt.warm.seed_reproducible, Some(true));
+        assert_eq!(pt.full.unwrap().seed_reproducible, Some(true));
+        assert_eq!(pt.cold.seed_reproducible, None);
+        assert_eq!(pt.warm.neighbour, None);
+        // the check itself: another state, a ppv outside the tolerance, one side not converged
+        let a = pt.warm_solution.clone();
+        let mut b = a.clone();
+        let same = |a: &HbmResponse, b: &HbmResponse| {
+            HbmPoint::checked(a, b, s.ppv_rel_tol, 0.0).seed_reproducible
+        };
+        assert_eq!(same(&a, &b), Some(true));
+        b.rattle.ppv *= 1.0 + 2.0 * s.ppv_rel_tol;
+        assert_eq!(same(&a, &b), Some(false));
+        b = a.clone();
+        b.rattle.state = super::super::RattleState::Bilateral;
+        assert_ne!(a.rattle.state, b.rattle.state);
+        assert_eq!(same(&a, &b), Some(false));
+        b = a.clone();
+        b.solution.converged = false;
+        assert_eq!(same(&a, &b), Some(false));
+        let mut c = b.clone();
+        c.rattle.ppv *= 3.0;
+        // neither converges: reproducibly not converged, whatever the iterates
+        assert_eq!(same(&c, &b), Some(true));
+    }
+
     #[test]
     fn section_classification() {
         let q1 = [1.0; 6];
@@ -568,6 +681,8 @@ mod tests {
             converged: false,
             origin: HbmOrigin::Cold,
             max_multiplier: None,
+            seed_reproducible: None,
+            neighbour: None,
         };
         assert!(h.flag().unwrap().contains("not converged"));
         h.converged = true;
@@ -576,6 +691,10 @@ mod tests {
         assert!(h.flag().unwrap().contains("unstable"));
         h.max_multiplier = Some(0.9);
         assert!(h.flag().is_none());
+        h.seed_reproducible = Some(true);
+        assert!(h.flag().is_none());
+        h.seed_reproducible = Some(false);
+        assert!(h.flag().unwrap().contains("not reproducible"));
         let mut t = TimeReference {
             rattle: r,
             motion: Motion::Periodic(1),

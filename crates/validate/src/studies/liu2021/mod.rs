@@ -97,6 +97,11 @@ struct Point {
     accuracy: [(f64, f64); 3],
     /// Long-window statistics with their spread (the judged metrics).
     window: Option<Robust>,
+    /// Per column of [`HBM_KINDS`]: the start of the column's solution is not a result
+    /// ([`seed_chains`]): the warm start that anchors it — its own, or that of the point its
+    /// neighbour continuation started from, followed back — was seeded from a motion not
+    /// confirmed periodic or is not reproducible ([`HbmPoint::seed_reproducible`]).
+    seed_unsettled: [bool; 3],
 }
 
 /// `(‖s‖₂, truncation indicator)` of a harmonic-balance solution.
@@ -198,10 +203,20 @@ impl Point {
         }
     }
     /// An HBM column's values do not settle: the solver did not converge, or a warm start was
-    /// seeded from the harmonics of a time response whose motion is not confirmed periodic
-    /// (which of the coexisting solutions it reaches depends on that sample).
-    fn hbm_unsettled(&self, h: &HbmPoint, warm: bool) -> bool {
-        !h.converged || (warm && self.motion_unsettled())
+    /// seeded from the harmonics of a time response whose motion is not confirmed periodic, or
+    /// the same warm start from the refined reference reaches another solution
+    /// ([`HbmPoint::seed_reproducible`]): which of the coexisting solutions it reaches depends
+    /// on that sample.
+    /// A neighbour continuation inherits this from the warm start it was continued from
+    /// ([`seed_chains`]). `col` indexes [`HBM_KINDS`].
+    fn hbm_unsettled(&self, col: usize) -> bool {
+        !(HBM_KINDS[col].1)(self).converged || self.seed_unsettled[col]
+    }
+    /// The judgement of this point's own sample as a seed of the warm column `h`: the motion
+    /// that seeds it is not confirmed periodic, or the warm start from the refined reference
+    /// has another outcome.
+    fn own_seed_unsettled(&self, h: &HbmPoint) -> bool {
+        self.motion_unsettled() || h.seed_reproducible == Some(false)
     }
     /// The judged rattle state: over the long window (all periods), else the one-period one.
     fn rsv(&self) -> u8 {
@@ -301,24 +316,63 @@ fn sweep(xs: &[f64], set: impl Fn(&mut Parameters, f64)) -> Result<Vec<Point>, E
         })
         .collect();
     let sol = liu2021::solve_sweep(&params, &strategy()).context("liu2021 sweep")?;
-    Ok(xs
-        .iter()
-        .zip(sol)
-        .map(|(&x, s)| Point {
-            x,
-            window: s.window.clone(),
-            time: s.time,
-            cold: s.cold,
-            warm: s.warm,
-            full: s.full.unwrap_or(s.warm),
-            stats: s.response.stats,
-            accuracy: [
-                accuracy(&s.cold_solution),
-                accuracy(&s.warm_solution),
-                accuracy(s.full_solution.as_ref().unwrap_or(&s.warm_solution)),
-            ],
+    Ok(seed_chains(
+        xs.iter()
+            .zip(sol)
+            .map(|(&x, s)| Point {
+                x,
+                window: s.window.clone(),
+                time: s.time,
+                cold: s.cold,
+                warm: s.warm,
+                full: s.full.unwrap_or(s.warm),
+                stats: s.response.stats,
+                accuracy: [
+                    accuracy(&s.cold_solution),
+                    accuracy(&s.warm_solution),
+                    accuracy(s.full_solution.as_ref().unwrap_or(&s.warm_solution)),
+                ],
+                seed_unsettled: [false; 3],
+            })
+            .collect(),
+    ))
+}
+
+/// Fill [`Point::seed_unsettled`]: for each warm column, follow every point's neighbour
+/// continuation back to the warm start that anchors it ([`HbmPoint::neighbour`]) and judge
+/// that anchor's sample ([`Point::own_seed_unsettled`]). A chain is anchored at one point and
+/// carries its solution along the sweep: seeded from a chaotic sample, it moves under any
+/// solver retune at every point it reaches, although each of those points is itself
+/// confirmed periodic. The walk is bounded by the number of points (a chain never revisits a
+/// point; a longer walk or a missing index counts as unsettled).
+fn seed_chains(mut pts: Vec<Point>) -> Vec<Point> {
+    let n = pts.len();
+    let flags: Vec<[bool; 3]> = (0..n)
+        .map(|i| {
+            let mut f = [false; 3];
+            for (col, flag) in f.iter_mut().enumerate().skip(1) {
+                let kind = HBM_KINDS[col].1;
+                let mut k = i;
+                let mut steps = 0;
+                *flag = loop {
+                    let h = kind(&pts[k]);
+                    match (h.origin, h.neighbour) {
+                        (liu2021::HbmOrigin::Neighbour, Some(j)) if j < n && steps < n => {
+                            k = j;
+                            steps += 1;
+                        }
+                        (liu2021::HbmOrigin::Neighbour, _) => break true,
+                        _ => break pts[k].own_seed_unsettled(&h),
+                    }
+                };
+            }
+            f
         })
-        .collect())
+        .collect();
+    for (p, f) in pts.iter_mut().zip(flags) {
+        p.seed_unsettled = f;
+    }
+    pts
 }
 
 /// A threshold on a swept parameter: the first grid point that meets the condition, the
@@ -538,12 +592,11 @@ fn refine(
 /// ([`Point::hbm_unsettled`]), so which point comes first can change under a solver retune.
 fn first_hbm(pts: &[Point], i: usize, cond: impl Fn(&HbmPoint) -> bool) -> (f64, bool) {
     let kind = HBM_KINDS[i].1;
-    let warm = i > 0;
     let found = pts
         .iter()
         .position(|p| kind(p).flag().is_none() && cond(&kind(p)));
     let upto = found.map_or(pts.len(), |j| j + 1);
-    let unsettled = pts[..upto].iter().any(|p| p.hbm_unsettled(&kind(p), warm));
+    let unsettled = pts[..upto].iter().any(|p| p.hbm_unsettled(i));
     (found.map_or(f64::NAN, |j| pts[j].x), unsettled)
 }
 
@@ -615,18 +668,13 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
     let mut t = Table::new(name, &cols);
     for p in pts {
         let tu = p.time_unsettled();
-        let (cu, wu, fu) = (
-            p.hbm_unsettled(&p.cold, false),
-            p.hbm_unsettled(&p.warm, true),
-            p.hbm_unsettled(&p.full, true),
-        );
+        let (cu, wu, fu) = (p.hbm_unsettled(0), p.hbm_unsettled(1), p.hbm_unsettled(2));
         let cell = Cell::settled_if;
         // the one-period classification (motion period, reproducibility, flag) is a diagnostic
         // of the one-period reference where a long window judges the point: its period
         // detector flips under a solver retune even where the long window agrees to 6 digits
         // (docs/examples/validate-diff.md, round 8), so it is committed only without a window
         let mu = p.motion_unsettled() || p.window.is_some();
-        let seed_unsettled = p.motion_unsettled();
         let flag = p.time.flag().unwrap_or_default();
         let mut row: Vec<Cell> = vec![
             p.x.into(),
@@ -642,11 +690,11 @@ fn sweep_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Erro
             cell(f64::from(p.warm.rattle.state.rsv()), wu),
             cell(p.warm.rattle.ppv, wu),
             // whether a start seeded from an unconfirmed sample converges depends on the sample
-            cell(flag01(p.warm.converged), seed_unsettled),
+            cell(flag01(p.warm.converged), p.seed_unsettled[1]),
             cell(p.warm.stable().map_or(f64::NAN, flag01), wu),
             cell(f64::from(p.full.rattle.state.rsv()), fu),
             cell(p.full.rattle.ppv, fu),
-            cell(flag01(p.full.converged), seed_unsettled),
+            cell(flag01(p.full.converged), p.seed_unsettled[2]),
             cell(p.full.stable().map_or(f64::NAN, flag01), fu),
         ];
         let window = p
@@ -709,8 +757,7 @@ fn sweep_figures(out: &mut StudyOutput, name: &str, x: (&str, &str), pts: &[Poin
     .ranges(xr, Some(PPV_AXIS))
     .with(Series::line("time integration", s(&|p| p.ppv())).unsettled(u(&Point::window_unsettled)));
     for (i, (label, kind)) in HBM_KINDS.into_iter().enumerate() {
-        let warm = i > 0;
-        let unsettled = u(&|p| p.hbm_unsettled(&kind(p), warm));
+        let unsettled = u(&|p| p.hbm_unsettled(i));
         rsv = rsv.with(
             Series::markers(label, s(&|p| f64::from(kind(p).rattle.state.rsv())))
                 .unsettled(unsettled.clone()),
@@ -877,6 +924,8 @@ mod tests {
             converged: true,
             origin: HbmOrigin::TimeResponse,
             max_multiplier: Some(0.5),
+            seed_reproducible: Some(true),
+            neighbour: None,
         };
         Point {
             x: 200.0,
@@ -894,7 +943,13 @@ mod tests {
             stats: timestep::Stats::default(),
             accuracy: [(0.0, 0.0); 3],
             window: None,
+            seed_unsettled: [false; 3],
         }
+    }
+
+    /// [`point`] with its seed judged ([`seed_chains`]).
+    fn judged(motion: Motion, section_margin: f64) -> Point {
+        seed_chains(vec![point(motion, section_margin)]).remove(0)
     }
 
     /// A period-1 classification is confirmed only with margin: at 1/100 of the tolerance and
@@ -902,20 +957,61 @@ mod tests {
     /// the warm starts seeded from it are withheld with it.
     #[test]
     fn periodicity_is_confirmed_only_with_margin() {
-        let clear = point(Motion::Periodic(1), 1e-4);
+        let clear = judged(Motion::Periodic(1), 1e-4);
         assert!(!clear.time_unsettled() && !clear.motion_unsettled());
-        assert!(!clear.hbm_unsettled(&clear.warm, true));
-        let edge = point(Motion::Periodic(1), CONFIRMED);
+        assert!(!clear.hbm_unsettled(1));
+        let edge = judged(Motion::Periodic(1), CONFIRMED);
         assert!(!edge.time_unsettled());
-        let marginal = point(Motion::Periodic(1), 0.3);
+        let marginal = judged(Motion::Periodic(1), 0.3);
         assert!(marginal.time_unsettled() && marginal.motion_unsettled());
-        assert!(marginal.hbm_unsettled(&marginal.warm, true));
+        assert!(marginal.hbm_unsettled(1) && marginal.hbm_unsettled(2));
         // the cold start does not depend on the sample
-        assert!(!marginal.hbm_unsettled(&marginal.cold, false));
+        assert!(!marginal.hbm_unsettled(0));
+        // a confirmed sample whose refined twin leads the warm start elsewhere
+        let mut split = point(Motion::Periodic(1), 1e-4);
+        split.warm.seed_reproducible = Some(false);
+        let split = seed_chains(vec![split]).remove(0);
+        assert!(split.hbm_unsettled(1) && split.seed_unsettled[1]);
+        assert!(!split.hbm_unsettled(2) && !split.seed_unsettled[2]);
         assert!(point(Motion::NonPeriodic, 1e-6).time_unsettled());
         // not known (older data): not confirmed
         assert!(point(Motion::Periodic(1), f64::INFINITY).time_unsettled());
         assert!(point(Motion::Periodic(1), f64::NAN).time_unsettled());
+    }
+
+    /// A neighbour continuation is as settled as the warm start that anchors it (Liu Fig. 11,
+    /// 172.5–185 rad/s under a retune: a chain from a chaotic sample at 167.5 rad/s carried
+    /// whichever solution that sample reached to confirmed periodic points): every point of a
+    /// chain from an unconfirmed anchor is withheld, a chain from a confirmed one is not, and
+    /// a broken index (older data) counts as unsettled.
+    #[test]
+    fn neighbour_chains_inherit_the_judgement_of_their_anchor() {
+        let chain = |anchor_margin: f64| {
+            let mut pts: Vec<Point> = (0..4).map(|_| point(Motion::Periodic(1), 1e-4)).collect();
+            pts[0] = point(Motion::Periodic(1), anchor_margin);
+            for i in 1..3 {
+                pts[i].warm.origin = HbmOrigin::Neighbour;
+                pts[i].warm.neighbour = Some(i - 1);
+            }
+            // the last point continued from an index that does not exist
+            pts[3].warm.origin = HbmOrigin::Neighbour;
+            pts[3].warm.neighbour = Some(7);
+            seed_chains(pts)
+        };
+        let bad = chain(0.3);
+        assert!(bad.iter().all(|p| p.hbm_unsettled(1)));
+        // the full column has no chain here: only the anchor's own sample is unsettled
+        assert!(bad[0].hbm_unsettled(2) && !bad[1].hbm_unsettled(2));
+        let good = chain(1e-4);
+        assert!(good[..3].iter().all(|p| !p.hbm_unsettled(1)));
+        assert!(good[3].hbm_unsettled(1));
+        // a cycle (impossible from the continuation, possible in hand-made data) ends
+        let mut cyc: Vec<Point> = (0..2).map(|_| point(Motion::Periodic(1), 1e-4)).collect();
+        for (i, p) in cyc.iter_mut().enumerate() {
+            p.warm.origin = HbmOrigin::Neighbour;
+            p.warm.neighbour = Some(1 - i);
+        }
+        assert!(seed_chains(cyc).iter().all(|p| p.hbm_unsettled(1)));
     }
 
     /// Evidence numbers from unsettled values are committed as `n/p` and kept in full in
