@@ -575,12 +575,86 @@ impl VerdictDiff {
                 self.annotations.len()
             );
             for (o, n) in &self.annotations {
-                let _ = writeln!(s, "- {}: before — {}; now — {}", n.name(), o.why(), n.why());
+                let _ = writeln!(s, "- {}: {}", n.name(), annotation_change(o, n));
             }
             s.push('\n');
         }
         s
     }
+}
+
+/// What changed in the flags, readings and cause of a row, and only that: the readings before
+/// and after, the flags removed and added (a row's flags are `; `-separated items, one per
+/// point, so a flag that appears at one swept point is named, not hidden 200 characters into
+/// two identical-looking lists), and the cause from a little before its first difference.
+fn annotation_change(o: &VerdictRow, n: &VerdictRow) -> String {
+    const ITEM: usize = 160;
+    const ITEMS: usize = 5;
+    let clip = |t: &str| -> String {
+        let c: String = t.chars().take(ITEM).collect();
+        let more = if t.chars().count() > ITEM { "…" } else { "" };
+        format!("«{}{more}»", md(&c))
+    };
+    let list = |items: &[&str]| -> String {
+        let mut v: Vec<String> = items.iter().take(ITEMS).map(|t| clip(t)).collect();
+        if items.len() > ITEMS {
+            v.push(format!("and {} more", items.len() - ITEMS));
+        }
+        v.join(", ")
+    };
+    let mut parts = Vec::new();
+    if o.readings != n.readings {
+        parts.push(format!(
+            "reading {} → {}",
+            clip(&o.readings),
+            clip(&n.readings)
+        ));
+    }
+    if o.flags != n.flags {
+        let split = |t: &str| -> Vec<String> {
+            t.split("; ")
+                .filter(|x| !x.is_empty())
+                .map(str::to_owned)
+                .collect()
+        };
+        let (a, b) = (split(&o.flags), split(&n.flags));
+        let gone: Vec<&str> = a
+            .iter()
+            .filter(|x| !b.contains(x))
+            .map(String::as_str)
+            .collect();
+        let new: Vec<&str> = b
+            .iter()
+            .filter(|x| !a.contains(x))
+            .map(String::as_str)
+            .collect();
+        if !gone.is_empty() {
+            parts.push(format!("flag removed: {}", list(&gone)));
+        }
+        if !new.is_empty() {
+            parts.push(format!("flag added: {}", list(&new)));
+        }
+        if gone.is_empty() && new.is_empty() {
+            parts.push("flags reordered".to_owned());
+        }
+    }
+    if o.cause != n.cause {
+        // from a little before the first differing character
+        let common = o
+            .cause
+            .chars()
+            .zip(n.cause.chars())
+            .take_while(|(x, y)| x == y)
+            .count();
+        let from = common.saturating_sub(40);
+        let tail = |t: &str| -> String {
+            let rest: String = t.chars().skip(from).collect();
+            let lead = if from > 0 { "…" } else { "" };
+            format!("{lead}{}", clip(&rest))
+        };
+        parts.push(format!("cause {} → {}", tail(&o.cause), tail(&n.cause)));
+    }
+    parts.join("; ")
 }
 
 fn fraction(x: f64) -> String {
@@ -694,6 +768,48 @@ mod tests {
         assert_eq!(
             super::figure_change(old, old),
             "data unchanged (style or labels only)"
+        );
+    }
+
+    /// A flag that appears at one point is named on its own, even when the lists agree on
+    /// their first 200 characters (the round-10 `--diff` printed two identical-looking
+    /// prefixes); an unchanged part is not repeated.
+    #[test]
+    fn annotation_change_names_only_what_changed() {
+        let row = |flags: &str, cause: &str| super::VerdictRow {
+            study: "s".into(),
+            kind: "claim".into(),
+            key: "k".into(),
+            occurrence: 1,
+            evidence: "reproduction".into(),
+            verdict: "shown".into(),
+            paper: String::new(),
+            model: String::new(),
+            band: String::new(),
+            readings: "R-A".into(),
+            flags: flags.into(),
+            cause: cause.into(),
+        };
+        let long = "x".repeat(300);
+        let a = row(&format!("{long}; at 1: f"), "same start, then one");
+        let b = row(
+            &format!("{long}; at 1: f; at 1.215: g"),
+            "same start, then two",
+        );
+        let d = super::annotation_change(&a, &b);
+        assert_eq!(
+            d,
+            "flag added: «at 1.215: g»; cause «same start, then one» → «same start, then two»"
+        );
+        assert_eq!(
+            super::annotation_change(&b, &a),
+            "flag removed: «at 1.215: g»; cause «same start, then two» → «same start, then one»"
+        );
+        let mut r = row("p; q", "");
+        r.readings = "R-B".into();
+        assert_eq!(
+            super::annotation_change(&row("q; p", ""), &r),
+            "reading «R-A» → «R-B»; flags reordered"
         );
     }
 }
