@@ -2,7 +2,7 @@
 
 use super::{
     HBM_KINDS, any_unsettled, at, converged_note, first_hbm, first_time, flags_of, refine,
-    rise_claim, sig_u, sweep, sweep_figures, sweep_table,
+    rise_claim, seeds_table, sig_u, sweep, sweep_figures, sweep_table,
 };
 use crate::{
     Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Tolerance, Verdict, published,
@@ -141,6 +141,7 @@ fn run() -> Result<StudyOutput, Error> {
         &pts[end_bi..],
     ));
     out.table(sweep_table("sweep", ("T2", "N m"), &pts)?);
+    out.table(seeds_table("sweep", ("T2", "N m"), &pts)?);
     sweep_figures(&mut out, "t2", ("T2", "N m"), &pts);
     Ok(out)
 }

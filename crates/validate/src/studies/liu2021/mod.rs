@@ -346,25 +346,12 @@ fn sweep(xs: &[f64], set: impl Fn(&mut Parameters, f64)) -> Result<Vec<Point>, E
 /// confirmed periodic. The walk is bounded by the number of points (a chain never revisits a
 /// point; a longer walk or a missing index counts as unsettled).
 fn seed_chains(mut pts: Vec<Point>) -> Vec<Point> {
-    let n = pts.len();
-    let flags: Vec<[bool; 3]> = (0..n)
+    let flags: Vec<[bool; 3]> = (0..pts.len())
         .map(|i| {
             let mut f = [false; 3];
             for (col, flag) in f.iter_mut().enumerate().skip(1) {
-                let kind = HBM_KINDS[col].1;
-                let mut k = i;
-                let mut steps = 0;
-                *flag = loop {
-                    let h = kind(&pts[k]);
-                    match (h.origin, h.neighbour) {
-                        (liu2021::HbmOrigin::Neighbour, Some(j)) if j < n && steps < n => {
-                            k = j;
-                            steps += 1;
-                        }
-                        (liu2021::HbmOrigin::Neighbour, _) => break true,
-                        _ => break pts[k].own_seed_unsettled(&h),
-                    }
-                };
+                *flag = anchor(&pts, i, col)
+                    .is_none_or(|k| pts[k].own_seed_unsettled(&(HBM_KINDS[col].1)(&pts[k])));
             }
             f
         })
@@ -373,6 +360,75 @@ fn seed_chains(mut pts: Vec<Point>) -> Vec<Point> {
         p.seed_unsettled = f;
     }
     pts
+}
+
+/// The index of the point whose own start anchors the solution of column `col` at point `i`
+/// (the neighbour continuation followed back, [`HbmPoint::neighbour`]); `None` for a broken
+/// chain (a missing or out-of-range index, or a walk longer than the sweep: a chain never
+/// revisits a point, so the walk ends).
+fn anchor(pts: &[Point], i: usize, col: usize) -> Option<usize> {
+    let kind = HBM_KINDS[col].1;
+    let n = pts.len();
+    let mut k = i;
+    for _ in 0..=n {
+        let h = kind(&pts[k]);
+        match (h.origin, h.neighbour) {
+            (liu2021::HbmOrigin::Neighbour, Some(j)) if j < n => k = j,
+            (liu2021::HbmOrigin::Neighbour, _) => return None,
+            _ => return Some(k),
+        }
+    }
+    None
+}
+
+/// Table `<name>_seeds`: for each warm column, where its solution started (its own time
+/// response or a neighbour), whether the start is reproducible, the swept value of the point
+/// whose sample anchors the chain and that sample's section margin and judgement. Diagnostics
+/// of [`Point::seed_unsettled`], written to `validation/stats/` only: they name why a warm
+/// column is or is not committed.
+fn seeds_table(name: &str, x: (&str, &str), pts: &[Point]) -> Result<Table, Error> {
+    let mut cols = vec![x];
+    let names: [[&str; 6]; 2] = [
+        [
+            "warm_from_neighbour",
+            "warm_converged",
+            "warm_seed_reproducible",
+            "warm_anchor",
+            "warm_anchor_section_margin",
+            "warm_unsettled",
+        ],
+        [
+            "full_from_neighbour",
+            "full_converged",
+            "full_seed_reproducible",
+            "full_anchor",
+            "full_anchor_section_margin",
+            "full_unsettled",
+        ],
+    ];
+    for c in names.iter().flatten() {
+        cols.push((c, "1"));
+    }
+    let mut t = Table::new(&format!("{name}_seeds"), &cols);
+    for (i, p) in pts.iter().enumerate() {
+        let mut row: Vec<Cell> = vec![p.x.into()];
+        for col in 1..3 {
+            let h = (HBM_KINDS[col].1)(p);
+            let a = anchor(pts, i, col);
+            row.extend([
+                flag01(h.origin == liu2021::HbmOrigin::Neighbour).into(),
+                flag01(h.converged).into(),
+                h.seed_reproducible.map_or(f64::NAN, flag01).into(),
+                a.map_or(f64::NAN, |k| pts[k].x).into(),
+                a.map_or(f64::NAN, |k| pts[k].time.section_margin).into(),
+                flag01(p.seed_unsettled[col]).into(),
+            ]);
+        }
+        t.push(row)?;
+    }
+    Ok(t.unsettled_record(
+        "diagnostics of the warm starts (origin, reproducibility, the anchoring sample of each neighbour chain)",
+    ))
 }
 
 /// A threshold on a swept parameter: the first grid point that meets the condition, the

@@ -4,7 +4,7 @@ use models::liu2021::Parameters;
 
 use super::{
     Point, Threshold, always, any_unsettled, at, base, first_at_least, flags_of, refine,
-    rise_claim, sig, sig_u, sweep, sweep_figures, sweep_table,
+    rise_claim, seeds_table, sig, sig_u, sweep, sweep_figures, sweep_table,
 };
 use crate::{Claim, Cost, Error, Paper, Study, StudyOutput, Verdict};
 
@@ -155,6 +155,7 @@ fn run() -> Result<StudyOutput, Error> {
         &pts[onset..],
     ));
     out.table(sweep_table("er", ("e_r", "m"), &pts)?);
+    out.table(seeds_table("er", ("e_r", "m"), &pts)?);
     sweep_figures(&mut out, "er", ("e_r", "m"), &pts);
 
     let eps: Vec<f64> = (0..=30).map(|i| f64::from(i) / 100.0).collect();
@@ -170,6 +171,7 @@ fn run() -> Result<StudyOutput, Error> {
         0.01,
     )?;
     out.table(sweep_table("eps", ("epsilon", "1"), &pts)?);
+    out.table(seeds_table("eps", ("epsilon", "1"), &pts)?);
     sweep_figures(&mut out, "eps", ("epsilon", "1"), &pts);
 
     // Fig. 13b: the circular face gear (ε = 0) against the NFG of Table 1, at 160 rad/s
@@ -351,6 +353,7 @@ fn run() -> Result<StudyOutput, Error> {
         );
         let name = format!("ak_{w}");
         out.table(sweep_table(&name, ("a_k", "1"), &pts)?);
+        out.table(seeds_table(&name, ("a_k", "1"), &pts)?);
         sweep_figures(&mut out, &name, ("a_k", "1"), &pts);
     }
     Ok(out)

@@ -2,7 +2,7 @@
 
 use super::{
     HBM_KINDS, Point, any_unsettled, at, converged_note, first_at_least, first_hbm, flags_of,
-    refine, rise_claim, sig_u, speed_tolerance, sweep, sweep_figures, sweep_table,
+    refine, rise_claim, seeds_table, sig_u, speed_tolerance, sweep, sweep_figures, sweep_table,
 };
 use crate::{Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Verdict, published};
 
@@ -164,6 +164,7 @@ fn run() -> Result<StudyOutput, Error> {
         .needs(pts.iter().map(|p| p.x)),
     );
     out.table(sweep_table("sweep", ("omega1", "rad/s"), &pts)?);
+    out.table(seeds_table("sweep", ("omega1", "rad/s"), &pts)?);
     sweep_figures(&mut out, "omega1", ("omega1", "rad/s"), &pts);
     Ok(out)
 }
