@@ -106,6 +106,16 @@ pub struct SweepStrategy {
     /// starts seeded from it moved with the retune of the step-size controller.
     #[serde(default = "default_settle_margin")]
     pub settle_margin: f64,
+    /// Section margin up to which a warm start from the time response may seed its neighbours
+    /// ([`SweepPoint::anchors`]): 1/100 of the classification tolerance, a decade above the
+    /// settled orbits' 1e-5–1e-4 and five decades below the chaotic points' 10–10⁴ (Liu
+    /// Fig. 11, 162.5–167.5 rad/s; Fig. 15 at 28 N·m).
+    #[serde(default = "default_anchor_margin")]
+    pub anchor_margin: f64,
+}
+
+fn default_anchor_margin() -> f64 {
+    1e-2
 }
 
 fn default_settle_rounds() -> usize {
@@ -136,6 +146,7 @@ impl Default for SweepStrategy {
             settle_rounds: default_settle_rounds(),
             settle_periods: default_settle_periods(),
             settle_margin: default_settle_margin(),
+            anchor_margin: default_anchor_margin(),
         }
     }
 }
@@ -317,6 +328,31 @@ pub struct SweepPoint {
     pub window: Option<Robust>,
 }
 
+impl SweepPoint {
+    /// Whether the converged HBM column `h` of this point may seed the neighbour continuation
+    /// ([`solve_sweep`]): a cold start or a neighbour continuation always; a warm start from
+    /// the time response only when that response is a confirmed periodic orbit — period 1,
+    /// reproducible under the refined tolerance, its section repeating within
+    /// [`SweepStrategy::anchor_margin`] of the tolerance — and the warm start from the refined
+    /// sample reaches the same solution ([`HbmPoint::seed_reproducible`]). A warm start from a
+    /// chaotic sample converges to whichever solution that sample is near; as a source it
+    /// carried that arbitrary choice along the sweep (Liu Fig. 11: from 165 rad/s to
+    /// 195 rad/s in one run, from 162.5 to 185 rad/s under a retune of the step-size
+    /// controller). Such a point is re-solved from a confirmed neighbour instead and keeps its
+    /// own solution only when that fails.
+    pub fn anchors(&self, h: &HbmPoint, strategy: &SweepStrategy) -> bool {
+        h.converged
+            && match h.origin {
+                HbmOrigin::Cold | HbmOrigin::Neighbour => true,
+                HbmOrigin::TimeResponse => {
+                    self.time.flag().is_none()
+                        && self.time.section_margin <= strategy.anchor_margin
+                        && h.seed_reproducible != Some(false)
+                }
+            }
+    }
+}
+
 /// The time-integration reference of a model: metrics, Poincaré motion type and the refined run.
 pub fn time_reference(
     model: &Model,
@@ -471,6 +507,13 @@ pub fn solve_sweep(
     params: &[Parameters],
     strategy: &SweepStrategy,
 ) -> Result<Vec<SweepPoint>, Error> {
+    if !(strategy.anchor_margin >= 0.0) {
+        return Err(Error::invalid(
+            "liu2021.strategy.anchor_margin",
+            ">= 0 (+inf: any periodic sample seeds)",
+            strategy.anchor_margin,
+        ));
+    }
     let no_stab = SweepStrategy {
         stability: false,
         ..*strategy
@@ -509,11 +552,13 @@ fn fill_from_neighbours(
     strategy: &SweepStrategy,
     full: bool,
 ) -> Result<(), Error> {
+    // a point counts as solved (a source, never re-solved) only when its solution may seed
+    // its neighbours: an unconfirmed warm start is re-solved from a confirmed neighbour
     let converged = |p: &SweepPoint| {
         if full {
-            p.full.is_some_and(|f| f.converged)
+            p.full.is_some_and(|f| p.anchors(&f, strategy))
         } else {
-            p.warm.converged
+            p.anchors(&p.warm, strategy)
         }
     };
     orbit::fill_from_neighbours(
@@ -608,6 +653,75 @@ mod tests {
             let e = time_reference(&m, &s).unwrap_err().to_string();
             assert!(e.contains(field), "{e}");
         }
+        let bad = SweepStrategy {
+            anchor_margin: f64::NAN,
+            ..SweepStrategy::default()
+        };
+        let e = solve_sweep(&[p], &bad).unwrap_err().to_string();
+        assert!(e.contains("anchor_margin"), "{e}");
+    }
+
+    /// Only a confirmed warm start seeds its neighbours: a chaotic reference (section margin far
+    /// above the tolerance), one that is not reproducible, or a warm start that the refined
+    /// sample leads elsewhere does not; a cold start and a neighbour continuation do; an
+    /// unconverged column never.
+    #[test]
+    fn only_confirmed_warm_starts_anchor_neighbour_chains() {
+        let r = Rattle {
+            state: super::super::RattleState::Unilateral,
+            ppv: 1.0,
+            q_min: 0.0,
+            q_max: 1.0,
+        };
+        let h = HbmPoint {
+            rattle: r,
+            converged: true,
+            origin: HbmOrigin::TimeResponse,
+            max_multiplier: None,
+            seed_reproducible: Some(true),
+            neighbour: None,
+        };
+        let mut p = super::super::table1();
+        p.omega1 = 140.0;
+        let s = SweepStrategy {
+            stability: false,
+            full_basis: None,
+            ..SweepStrategy::default()
+        };
+        let mut pt = solve_point(&p, &s).unwrap();
+        pt.time.section_margin = 1e-4;
+        assert!(pt.time.flag().is_none());
+        assert!(pt.anchors(&h, &s));
+        pt.time.section_margin = 2e3;
+        assert!(!pt.anchors(&h, &s));
+        pt.time.section_margin = 1e-4;
+        assert!(!pt.anchors(
+            &HbmPoint {
+                seed_reproducible: Some(false),
+                ..h
+            },
+            &s
+        ));
+        assert!(!pt.anchors(
+            &HbmPoint {
+                converged: false,
+                ..h
+            },
+            &s
+        ));
+        for origin in [HbmOrigin::Cold, HbmOrigin::Neighbour] {
+            let chaotic = SweepPoint {
+                time: TimeReference {
+                    section_margin: 2e3,
+                    motion: Motion::NonPeriodic,
+                    ..pt.time
+                },
+                ..pt.clone()
+            };
+            assert!(chaotic.anchors(&HbmPoint { origin, ..h }, &s));
+        }
+        pt.time.reproducible = false;
+        assert!(!pt.anchors(&h, &s));
     }
 
     /// Every warm start is solved twice, from the nominal and from the refined sample of the
