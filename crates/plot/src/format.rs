@@ -20,8 +20,18 @@ pub use system::format::fmt6;
 /// orbit, a cell marked [`crate::Cell::Unsettled`], a span marked [`unsettled`].
 pub const NOT_PERIODIC: &str = "n/p";
 
-/// Quote a CSV field when it contains a comma, quote or newline (RFC 4180).
+/// Quote a CSV field when it contains a comma, quote or newline (RFC 4180). A field that is one
+/// [`unsettled`] span as a whole is quoted inside the span, so that the committed form is a
+/// bare `n/p` whatever the value (a flag whose text had a comma committed as `"n/p"` in one run
+/// and `n/p` in another) and the full form stays valid CSV.
 pub fn csv_field(s: &str) -> String {
+    if let Some(inner) = s
+        .strip_prefix(UNSETTLED_OPEN)
+        .and_then(|r| r.strip_suffix(UNSETTLED_CLOSE))
+        .filter(|r| !r.contains([UNSETTLED_OPEN, UNSETTLED_CLOSE]))
+    {
+        return unsettled(csv_field(inner));
+    }
     if s.contains([',', '"', '\n', '\r']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {
@@ -103,6 +113,19 @@ pub fn full_text(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The committed form of an unsettled field does not depend on its value.
+    #[test]
+    fn unsettled_fields_commit_alike() {
+        let a = csv_field(&unsettled("period-2, not reproducible"));
+        let b = csv_field(&unsettled(""));
+        assert_eq!(committed_text(&a), NOT_PERIODIC);
+        assert_eq!(committed_text(&b), NOT_PERIODIC);
+        assert_eq!(full_text(&a), "\"period-2, not reproducible\"");
+        // a span inside a longer field: the field is quoted as a whole
+        let c = csv_field(&format!("x, {}", unsettled(1)));
+        assert_eq!(committed_text(&c), "\"x, n/p\"");
+    }
 
     #[test]
     fn formats() {

@@ -507,7 +507,7 @@ pub fn solve_sweep(
     params: &[Parameters],
     strategy: &SweepStrategy,
 ) -> Result<Vec<SweepPoint>, Error> {
-    if !(strategy.anchor_margin >= 0.0) {
+    if strategy.anchor_margin.is_nan() || strategy.anchor_margin < 0.0 {
         return Err(Error::invalid(
             "liu2021.strategy.anchor_margin",
             ">= 0 (+inf: any periodic sample seeds)",
