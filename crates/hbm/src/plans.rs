@@ -1,12 +1,11 @@
 //! FFT plans shared by every problem and solution on one thread.
 //!
 //! Planning a 1024-point FFT costs more than a whole Newton iteration of a small problem, so
-//! plans are cached per thread (a `rustfft::FftPlanner` reuses a plan for a size it has seen).
-//! A plan depends only on the size and the CPU, so the cache changes no result.
+//! plans are cached per thread (a planner reuses a plan for a size it has seen). The planners are
+//! `geardyn-fft`'s, which compiles rustfft's generic algorithms once, in that crate.
 
+use fft::{Fft, FftPlanner, RealFftPlanner, RealToComplex};
 use num_complex::Complex;
-use realfft::{RealFftPlanner, RealToComplex};
-use rustfft::{Fft, FftPlanner};
 use std::cell::RefCell;
 use std::sync::Arc;
 
@@ -14,8 +13,8 @@ use std::sync::Arc;
 type Buffer = Vec<Complex<f64>>;
 
 thread_local! {
-    static PLANNER: RefCell<FftPlanner<f64>> = RefCell::new(FftPlanner::new());
-    static REAL_PLANNER: RefCell<RealFftPlanner<f64>> = RefCell::new(RealFftPlanner::new());
+    static PLANNER: RefCell<FftPlanner> = RefCell::new(FftPlanner::new());
+    static REAL_PLANNER: RefCell<RealFftPlanner> = RefCell::new(RealFftPlanner::new());
     /// signal and scratch buffers of [`with_buffers`], kept between calls
     static BUFFERS: RefCell<(Buffer, Buffer)> =
         const { RefCell::new((Vec::new(), Vec::new())) };
@@ -47,12 +46,12 @@ pub(crate) fn with_buffers<T>(
 pub(crate) fn plans(n: usize) -> (Arc<dyn Fft<f64>>, Arc<dyn Fft<f64>>) {
     PLANNER.with(|p| {
         let mut p = p.borrow_mut();
-        (p.plan_fft_forward(n), p.plan_fft_inverse(n))
+        (p.plan_forward(n), p.plan_inverse(n))
     })
 }
 
 /// Real-to-complex forward plan of size `n` (cached on this thread): the `n/2 + 1` bins
 /// `0..=n/2` of the DFT of a real signal, at about half the cost of a complex FFT of size `n`.
 pub(crate) fn real_forward(n: usize) -> Arc<dyn RealToComplex<f64>> {
-    REAL_PLANNER.with(|p| p.borrow_mut().plan_fft_forward(n))
+    REAL_PLANNER.with(|p| p.borrow_mut().plan_forward(n))
 }

@@ -2,10 +2,9 @@
 
 use crate::error::check_positive;
 use crate::{Basis, CoefficientKind, HbmError, SecondOrderSystem};
+use fft::{Fft, RealToComplex};
 use nalgebra::DMatrix;
 use num_complex::Complex;
-use realfft::RealToComplex;
-use rustfft::Fft;
 use std::mem::take;
 use std::sync::Arc;
 

@@ -160,7 +160,7 @@ impl PeriodicSolution {
     fn samples_fft(
         &self,
         i: usize,
-        inv: &dyn rustfft::Fft<f64>,
+        inv: &dyn fft::Fft<f64>,
         buf: &mut [Complex<f64>],
         scratch: &mut [Complex<f64>],
     ) {

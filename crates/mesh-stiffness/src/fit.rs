@@ -2,8 +2,8 @@
 
 use std::sync::Arc;
 
+use fft::{Fft, FftPlanner};
 use num_complex::Complex;
-use rustfft::{Fft, FftPlanner};
 
 use crate::error::{Error, Result, positive};
 use crate::series::{FourierStiffness, SingleHarmonicStiffness, Waveform};
@@ -64,7 +64,7 @@ impl FourierFitter {
         if len < 3 {
             return Err(Error::TooFewSamples { min: 3, got: len });
         }
-        let fft = FftPlanner::new().plan_fft_forward(len);
+        let fft = FftPlanner::new().plan_forward(len);
         let scratch = vec![Complex::new(0.0, 0.0); fft.get_inplace_scratch_len()];
         Ok(Self {
             len,

@@ -246,14 +246,14 @@ fn liu(reps: u32) -> Value {
 /// forward, size `n`), `jacobians` × complex forward (size `n`), one complex inverse of size
 /// `m` (the metrics' samples), on this thread's planned transforms.
 fn fft_floor(n: usize, m: usize, residuals: u64, jacobians: u64, reps: u32) -> f64 {
-    use rustfft::num_complex::Complex;
-    let mut planner = rustfft::FftPlanner::<f64>::new();
+    use fft::Complex;
+    let mut planner = fft::FftPlanner::new();
     let (fwd, inv, inv_m) = (
-        planner.plan_fft_forward(n),
-        planner.plan_fft_inverse(n),
-        planner.plan_fft_inverse(m),
+        planner.plan_forward(n),
+        planner.plan_inverse(n),
+        planner.plan_inverse(m),
     );
-    let r2c = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(n);
+    let r2c = fft::RealFftPlanner::new().plan_forward(n);
     let mut buf: Vec<Complex<f64>> = (0..n).map(|i| Complex::new(i as f64, 0.5)).collect();
     let mut buf_m: Vec<Complex<f64>> = (0..m).map(|i| Complex::new(i as f64, 0.5)).collect();
     let mut scratch = vec![Complex::default(); 4 * m];

@@ -1,7 +1,7 @@
 //! One-sided amplitude spectra (rustfft).
 
+use fft::FftPlanner;
 use num_complex::Complex;
-use rustfft::FftPlanner;
 
 use crate::error::{Error, Result, check_finite_slice, check_positive};
 
@@ -70,7 +70,7 @@ pub fn amplitude_spectrum(signal: &[f64], dt: f64) -> Result<Spectrum> {
         });
     }
     let mut buf: Vec<Complex<f64>> = signal.iter().map(|&x| Complex::new(x, 0.0)).collect();
-    FftPlanner::new().plan_fft_forward(n).process(&mut buf);
+    FftPlanner::new().plan_forward(n).process(&mut buf);
     let half = n / 2;
     let nf = n as f64;
     let mut amplitude = Vec::with_capacity(half + 1);
