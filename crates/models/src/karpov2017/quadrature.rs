@@ -66,7 +66,9 @@ impl Karpov2017 {
             });
         }
         // node rotations of the quantised panel lengths, each level computed when first used
-        let table: Vec<OnceCell<Rot>> = (0..LEVELS).map(|_| OnceCell::new()).collect();
+        // (kept for the thread's next run with the same θ, ω, k and reading: `RotTable`)
+        let rots = RotTable::take(&ker, theta);
+        let table = &rots.levels[..];
         let tau_end = self.p.tau_end;
         let t_w = (tau_end - self.last_cycle()).max(0.0);
         let mut acc = Acc::default();
@@ -76,7 +78,7 @@ impl Karpov2017 {
         let mut folded_periods = 0;
         match bulk {
             Bulk::Levin(set) => {
-                stats = self.bulk_levin(&ker, &table, theta, t_w, set, &mut acc)?;
+                stats = self.bulk_levin(&ker, table, theta, t_w, set, &mut acc)?;
                 t = t_w;
             }
             Bulk::Fold => {
@@ -94,10 +96,10 @@ impl Karpov2017 {
                     // head [0, s₀) directly, then N periods folded onto [s₀, s₀ + T]
                     while t < f.s0 {
                         let h = ker.pair_length(self, t, theta) * 0.5;
-                        let (h, done) = acc.pair(&ker, &table, theta, t, h, f.s0, None)?;
+                        let (h, done) = acc.pair(&ker, table, theta, t, h, f.s0, None)?;
                         t = if done { f.s0 } else { t + 2.0 * h };
                     }
-                    fold::integrate(&ker, &table, &f, theta, &mut acc)?;
+                    fold::integrate(&ker, table, &f, theta, &mut acc)?;
                     folded_periods = f.n as u64;
                     t = t_w;
                 }
@@ -106,7 +108,7 @@ impl Karpov2017 {
         }
         while t < t_w {
             let h = ker.pair_length(self, t, theta) * 0.5;
-            let (h, done) = acc.pair(&ker, &table, theta, t, h, t_w, None)?;
+            let (h, done) = acc.pair(&ker, table, theta, t, h, t_w, None)?;
             t = if done { t_w } else { t + 2.0 * h };
         }
         // Last cycle: sampled, extrema refined.
@@ -123,7 +125,7 @@ impl Karpov2017 {
             // hold at most one root between samples, however fast the forcing
             let h = (ker.pair_length(self, t, theta.min(LAST_CYCLE_PHASE)) * 0.5).min(SAMPLE);
             let mut mid = None;
-            let (h, done) = acc.pair(&ker, &table, theta, t, h, tau_end, Some(&mut mid))?;
+            let (h, done) = acc.pair(&ker, table, theta, t, h, tau_end, Some(&mut mid))?;
             let t_next = if done { tau_end } else { t + 2.0 * h };
             let (cm, sm) = mid.unwrap_or((c0, s0));
             let ends = [(t + h, cm, sm), (t_next, acc.c.value(), acc.s.value())];
@@ -425,6 +427,74 @@ pub(super) const EMBED_PAIR: [[f64; 10]; 2] = {
     }
     r
 };
+
+thread_local! {
+    /// The rotation table of this thread's last run ([`RotTable`]).
+    static ROT_TABLE: std::cell::RefCell<Option<RotTable>> = const { std::cell::RefCell::new(None) };
+}
+
+/// The node rotations of the tabulated panel levels ([`level_rot`]) of one run, kept per
+/// thread for the next run with the same key: they depend only on `θ`, `kω`, `ω` and the
+/// reading (the same values bit for bit whether computed now or by an earlier run), so
+/// repeated calls and sweeps over `B`, `ξ` or `τ_end` at fixed `ω`, `k` skip their `sin_cos`.
+/// Taken out of the thread's slot for the run and put back when dropped.
+pub(super) struct RotTable {
+    key: [u64; 4],
+    pub(super) levels: Vec<OnceCell<Rot>>,
+}
+
+impl RotTable {
+    pub(super) fn take(ker: &Kernel, theta: f64) -> Self {
+        let key = [
+            theta.to_bits(),
+            ker.kw.to_bits(),
+            ker.w.to_bits(),
+            u64::from(ker.printed),
+        ];
+        let cached = ROT_TABLE
+            .try_with(|c| c.try_borrow_mut().ok().and_then(|mut slot| slot.take()))
+            .ok()
+            .flatten();
+        match cached {
+            Some(t) if t.key == key => t,
+            Some(mut t) => {
+                // another key: the allocation reused, the levels cleared
+                for level in &mut t.levels {
+                    level.take();
+                }
+                t.key = key;
+                t
+            }
+            None => Self {
+                key,
+                levels: (0..LEVELS).map(|_| OnceCell::new()).collect(),
+            },
+        }
+    }
+}
+
+impl Drop for RotTable {
+    fn drop(&mut self) {
+        if self.levels.is_empty() {
+            // the husk of a table moved into the slot (below)
+            return;
+        }
+        // `try_with`/`try_borrow_mut`: nothing is kept while the thread is being torn down
+        let _ = ROT_TABLE.try_with(|c| {
+            if let Ok(mut slot) = c.try_borrow_mut() {
+                let old = slot.replace(Self {
+                    key: self.key,
+                    levels: std::mem::take(&mut self.levels),
+                });
+                drop(slot);
+                // a table replaced in the slot is dropped as a husk (not put back)
+                if let Some(mut o) = old {
+                    drop(std::mem::take(&mut o.levels));
+                }
+            }
+        });
+    }
+}
 
 /// The 10 Gauss–Legendre node offsets `d = h/2·x_i` of one panel length as rotations.
 #[derive(Clone, Copy)]
