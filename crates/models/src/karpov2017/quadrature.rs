@@ -122,23 +122,50 @@ impl Karpov2017 {
         let mut est = acc.dc.hypot(acc.ds);
         while t < tau_end {
             // at most `LAST_CYCLE_PHASE` rad of phase per sample interval: `X' = 0` can then
-            // hold at most one root between samples, however fast the forcing
-            let h = (ker.pair_length(self, t, theta.min(LAST_CYCLE_PHASE)) * 0.5).min(SAMPLE);
-            let mut mid = None;
-            let (h, done) = acc.pair(&ker, table, theta, t, h, tau_end, Some(&mut mid))?;
+            // hold at most one root between samples, however fast the forcing. The panels span
+            // `DENSE` sample intervals; the samples inside a panel come from its own nodes
+            // (`DENSE_WEIGHTS`, to within `DENSE_TOL`), the panel ends are exact.
+            let sub = DENSE as f64;
+            let h = (ker.pair_length(self, t, theta.min(sub * LAST_CYCLE_PHASE)) * 0.5)
+                .min(sub * SAMPLE);
+            let mut mid = (c0, s0);
+            let mut dense = [[(0.0, 0.0); DENSE - 1]; 2];
+            let (h, done) =
+                acc.pair_dense(&ker, table, theta, t, h, tau_end, &mut mid, &mut dense)?;
             let t_next = if done { tau_end } else { t + 2.0 * h };
-            let (cm, sm) = mid.unwrap_or((c0, s0));
-            let ends = [(t + h, cm, sm), (t_next, acc.c.value(), acc.s.value())];
-            let (mut ta, mut ca, mut sa) = (t, c0, s0);
-            for (tb, cb, sb) in ends {
-                let (xb, vb) = x_at(tb, cb, sb);
-                max_abs = max_abs.max(xb.abs());
-                if ((v0 > 0.0 && vb < 0.0) || (v0 < 0.0 && vb > 0.0))
-                    && extremum_bound(tb - ta, (x0, v0), (xb, vb)) > max_abs
-                {
-                    max_abs = max_abs.max(ker.extremum(ta, ca, sa, tb));
+            let panels = [
+                ((t, c0, s0), (t + h, mid.0, mid.1), &dense[0]),
+                (
+                    (t + h, mid.0, mid.1),
+                    (t_next, acc.c.value(), acc.s.value()),
+                    &dense[1],
+                ),
+            ];
+            for ((tp, cp, sp), (tq, cq, sq), d) in panels {
+                let mut ta = tp;
+                for k in 1..=DENSE {
+                    let (tb, mut xb, mut vb);
+                    if k == DENSE {
+                        tb = tq;
+                        (xb, vb) = x_at(tq, cq, sq);
+                        max_abs = max_abs.max(xb.abs());
+                    } else {
+                        tb = tp + k as f64 * h / sub;
+                        let (dc, ds) = d[k - 1];
+                        (xb, vb) = x_at(tb, cp + dc, sp + ds);
+                        if vb.abs() <= DENSE_TOL {
+                            // the sign of X' is not certain: the exact state there
+                            (xb, vb) = ker.state_at(tp, cp, sp, tb);
+                            max_abs = max_abs.max(xb.abs());
+                        }
+                    }
+                    if ((v0 > 0.0 && vb < 0.0) || (v0 < 0.0 && vb > 0.0))
+                        && extremum_bound(tb - ta, (x0, v0), (xb, vb)) + DENSE_TOL > max_abs
+                    {
+                        max_abs = max_abs.max(ker.extremum(tp, cp, sp, ta, tb));
+                    }
+                    (ta, x0, v0) = (tb, xb, vb);
                 }
-                (ta, ca, sa, x0, v0) = (tb, cb, sb, xb, vb);
             }
             (c0, s0) = (acc.c.value(), acc.s.value());
             est = est.max(acc.dc.hypot(acc.ds));
@@ -428,6 +455,52 @@ pub(super) const EMBED_PAIR: [[f64; 10]; 2] = {
     r
 };
 
+/// Sample intervals per last-cycle panel (the run's `run` loop).
+pub(super) const DENSE: usize = 4;
+/// Bound used for the interior samples of a last-cycle panel: their `(X, X')` come from the
+/// panel's nodes to within ~5e-8 (the interpolant's error at `θ = 4`: 2.3e-8 of a panel's
+/// half-length at a quarter, on `e^{iay}`), so a sample with `|X'| ≤ DENSE_TOL` gets its exact
+/// state, and the bound that skips an extremum search is widened by it.
+pub(super) const DENSE_TOL: f64 = 1e-6;
+
+/// `q[k][i]`: the weights of `∫_{−1}^{y_k}` of the degree-9 interpolant at the Gauss–Legendre
+/// nodes `x_i`, `y_k = −1 + 2(k + 1)/DENSE`:
+/// `q[k][i] = w_i ((y + 1)/2 + Σ_{j=1}^{9} P_j(x_i)(P_{j+1}(y) − P_{j−1}(y))/2)`
+/// (the interpolant's Legendre series by the rule's discrete orthogonality, integrated term by
+/// term with `∫_{−1}^{y} P_j = (P_{j+1}(y) − P_{j−1}(y))/(2j + 1)`; at `y = 1` it is `w_i`).
+pub(super) type DenseWeights = [[f64; 10]; DENSE - 1];
+
+pub(super) fn dense_weights() -> &'static DenseWeights {
+    static Q: OnceLock<DenseWeights> = OnceLock::new();
+    Q.get_or_init(|| {
+        let gl = gauss_legendre_10();
+        let legendre = |n: usize, x: f64| {
+            let (mut p0, mut p1) = (1.0, x);
+            if n == 0 {
+                return 1.0;
+            }
+            for j in 2..=n {
+                let j = j as f64;
+                (p0, p1) = (p1, ((2.0 * j - 1.0) * x * p1 - (j - 1.0) * p0) / j);
+            }
+            p1
+        };
+        let mut q = [[0.0; 10]; DENSE - 1];
+        for (k, row) in q.iter_mut().enumerate() {
+            let y = -1.0 + 2.0 * (k + 1) as f64 / DENSE as f64;
+            for (i, v) in row.iter_mut().enumerate() {
+                let x = gl.nodes[i];
+                let mut sum = 0.5 * (y + 1.0);
+                for j in 1..10 {
+                    sum += 0.5 * legendre(j, x) * (legendre(j + 1, y) - legendre(j - 1, y));
+                }
+                *v = gl.weights[i] * sum;
+            }
+        }
+        q
+    })
+}
+
 thread_local! {
     /// The rotation table of this thread's last run ([`RotTable`]).
     static ROT_TABLE: std::cell::RefCell<Option<RotTable>> = const { std::cell::RefCell::new(None) };
@@ -641,14 +714,32 @@ impl Kernel {
     /// `(∫ cos s sin Φ, ∫ sin s sin Φ)` over `[t, t + r.h]` by 10-point Gauss–Legendre.
     #[inline]
     pub(super) fn panel(&self, t: f64, r: &Rot) -> (f64, f64) {
-        self.panel_impl::<false>(t, r, &[0.0; 10]).0
+        self.panel_impl::<false>(t, r, &[0.0; 10], None).0
     }
 
     /// [`Kernel::panel`] and the same sums with the weights `e` of the embedded estimate
     /// ([`EMBED_PAIR`]) on the same nodes.
     #[inline]
     pub(super) fn panel_est(&self, t: f64, r: &Rot, e: &[f64; 10]) -> ((f64, f64), (f64, f64)) {
-        self.panel_impl::<true>(t, r, e)
+        self.panel_impl::<true>(t, r, e, None)
+    }
+
+    /// [`Kernel::panel_est`] and the partial sums over `[t, t + k·r.h/DENSE]`,
+    /// `k = 1 … DENSE − 1`, from the same nodes ([`DENSE_WEIGHTS`]).
+    pub(super) fn panel_dense(
+        &self,
+        t: f64,
+        r: &Rot,
+        e: &[f64; 10],
+    ) -> ((f64, f64), (f64, f64), [(f64, f64); DENSE - 1]) {
+        let q = dense_weights();
+        let half = 0.5 * r.h;
+        let mut part = [(0.0, 0.0); DENSE - 1];
+        let (main, est) = self.panel_impl::<true>(t, r, e, Some((q, &mut part)));
+        for p in &mut part {
+            *p = (p.0 * half, p.1 * half);
+        }
+        (main, est, part)
     }
 
     #[inline(always)]
@@ -657,6 +748,7 @@ impl Kernel {
         t: f64,
         r: &Rot,
         e: &[f64; 10],
+        mut dense: Option<(&DenseWeights, &mut [(f64, f64); DENSE - 1])>,
     ) -> ((f64, f64), (f64, f64)) {
         let half = 0.5 * r.h;
         let mid = t + half;
@@ -680,6 +772,13 @@ impl Kernel {
                 ec += g * cs;
                 es += g * ss;
             }
+            if let Some((q, part)) = dense.as_mut() {
+                for (k, p) in part.iter_mut().enumerate() {
+                    let g = q[k][i] * sp;
+                    p.0 += g * cs;
+                    p.1 += g * ss;
+                }
+            }
         }
         ((pc * half, ps * half), (ec * half, es * half))
     }
@@ -702,10 +801,19 @@ impl Kernel {
         4.0 * theta / (a + (a * a + 4.0 * m2 * theta).sqrt())
     }
 
-    /// `|X|` at the extremum in `(t0, t1)` where `X'` changes sign, given `C`, `S` at `t0`:
-    /// safeguarded Newton on `X'(τ) = cos τ C(τ) + sin τ S(τ)` with `X'' = sin Φ − X`
-    /// (at most 60 steps; the bracket always holds a sign change).
-    pub(super) fn extremum(&self, t0: f64, c0: f64, s0: f64, t1: f64) -> f64 {
+    /// `(X, X')` at `tau` from `C`, `S` at `t0` (one panel over `[t0, tau]`).
+    pub(super) fn state_at(&self, t0: f64, c0: f64, s0: f64, tau: f64) -> (f64, f64) {
+        let (dc, ds) = self.panel(t0, &self.rot(tau - t0));
+        let (c, s) = (c0 + dc, s0 + ds);
+        let (st, ct) = sin_cos(tau);
+        (st * c - ct * s, ct * c + st * s)
+    }
+
+    /// `|X|` at the extremum in `(lo, hi)` where `X'` changes sign, given `C`, `S` at `t0 ≤ lo`
+    /// (`hi − t0` at most a panel): safeguarded Newton on `X'(τ) = cos τ C(τ) + sin τ S(τ)`
+    /// with `X'' = sin Φ − X`, each iterate's `C`, `S` by one panel from `t0` (at most 60
+    /// steps; the bracket always holds a sign change).
+    pub(super) fn extremum(&self, t0: f64, c0: f64, s0: f64, lo: f64, hi: f64) -> f64 {
         let eval = |tau: f64| {
             let (dc, ds) = self.panel(t0, &self.rot(tau - t0));
             let (c, s) = (c0 + dc, s0 + ds);
@@ -717,7 +825,7 @@ impl Kernel {
                 self.sin_phi(tau, sth, cth),
             )
         };
-        let (mut lo, mut hi) = (t0, t1);
+        let (mut lo, mut hi) = (lo, hi);
         let (_, v_lo, _) = eval(lo);
         let mut tau = 0.5 * (lo + hi);
         let mut best = 0.0f64;
@@ -862,6 +970,50 @@ impl Acc {
         self.check(e1, e2);
         // two panels of length h, |sin Φ| ≤ 1 (`Acc::round`)
         self.round += f64::EPSILON * 2.0 * h * ker.phase_bound(t + 2.0 * h);
+        Ok((h, done))
+    }
+
+    /// [`Acc::pair`] with the partial sums of both panels at `k/DENSE` of their length
+    /// (`dense`, relative to each panel's start) and the first half's `(C, S)` in `mid`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn pair_dense(
+        &mut self,
+        ker: &Kernel,
+        table: &[OnceCell<Rot>],
+        theta: f64,
+        t: f64,
+        h: f64,
+        end: f64,
+        mid: &mut (f64, f64),
+        dense: &mut [[(f64, f64); DENSE - 1]; 2],
+    ) -> Result<(f64, bool), Error> {
+        if self.panels >= MAX_PANELS {
+            return Err(Error::Quadrature {
+                reason: format!("Duhamel integral: panel budget {MAX_PANELS} exhausted"),
+                at: t,
+            });
+        }
+        let done = t + 2.0 * h >= end;
+        let fine = if done {
+            ker.rot(0.5 * (end - t))
+        } else {
+            level_rot(ker, table, theta, h)
+        };
+        let h = fine.h;
+        if h.is_nan() || h <= 0.0 || t + h <= t {
+            return Err(Error::Quadrature {
+                reason: format!("Duhamel integral: panel length {h:e} does not advance τ"),
+                at: t,
+            });
+        }
+        let (first, e1, d1) = ker.panel_dense(t, &fine, &EMBED_PAIR[0]);
+        self.add(first);
+        *mid = (self.c.value(), self.s.value());
+        let (second, e2, d2) = ker.panel_dense(t + h, &fine, &EMBED_PAIR[1]);
+        self.add(second);
+        self.check(e1, e2);
+        self.round += f64::EPSILON * 2.0 * h * ker.phase_bound(t + 2.0 * h);
+        *dense = [d1, d2];
         Ok((h, done))
     }
 
