@@ -469,6 +469,8 @@ pub(super) const DENSE_TOL: f64 = 1e-6;
 /// (the interpolant's Legendre series by the rule's discrete orthogonality, integrated term by
 /// term with `∫_{−1}^{y} P_j = (P_{j+1}(y) − P_{j−1}(y))/(2j + 1)`; at `y = 1` it is `w_i`).
 pub(super) type DenseWeights = [[f64; 10]; DENSE - 1];
+/// The partial `(ΔC, ΔS)` of a panel at its inner samples ([`Kernel::panel_dense`]).
+pub(super) type DenseSums = [(f64, f64); DENSE - 1];
 
 pub(super) fn dense_weights() -> &'static DenseWeights {
     static Q: OnceLock<DenseWeights> = OnceLock::new();
@@ -731,7 +733,7 @@ impl Kernel {
         t: f64,
         r: &Rot,
         e: &[f64; 10],
-    ) -> ((f64, f64), (f64, f64), [(f64, f64); DENSE - 1]) {
+    ) -> ((f64, f64), (f64, f64), DenseSums) {
         let q = dense_weights();
         let half = 0.5 * r.h;
         let mut part = [(0.0, 0.0); DENSE - 1];
