@@ -23,6 +23,31 @@ fn bench(c: &mut Criterion) {
     g.bench_function("hbm_full_basis_131", |b| {
         b.iter(|| liu2021::solve_hbm(black_box(&m), &full, None))
     });
+    // a sweep of cold paper-basis solves (8 speeds), each point built fresh or on the thread's
+    // prepared problem (`PreparedHbm::per_thread`, what a parallel sweep's worker reuses)
+    let sweep: Vec<liu2021::Model> = (0..8)
+        .map(|i| {
+            let mut q = p;
+            q.omega1 = 150.0 + 2.5 * f64::from(i);
+            q.model().expect("valid")
+        })
+        .collect();
+    let paper = HbmOptions::default();
+    g.bench_function("hbm_paper_sweep_8_fresh", |b| {
+        b.iter(|| {
+            for m in &sweep {
+                black_box(liu2021::solve_hbm_with(m, &paper, HbmStart::Cold).expect("solves"));
+            }
+        })
+    });
+    g.bench_function("hbm_paper_sweep_8_per_thread", |b| {
+        b.iter(|| {
+            for m in &sweep {
+                let mut hbm = liu2021::PreparedHbm::per_thread(m, &paper).expect("prepares");
+                black_box(hbm.solve(m, HbmStart::Cold).expect("solves"));
+            }
+        })
+    });
     let opts = IntegrationOptions::default();
     g.bench_function("time_integration_3_periods", |b| {
         b.iter(|| liu2021::integrate(black_box(&m), &opts))

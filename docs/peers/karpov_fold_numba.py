@@ -14,7 +14,8 @@ P = 2 pi/(k w); the N = floor(t_w/P) whole periods before the last cycle
 the head [0, s0) and the last cycle [t_w, tau_end] directly. Every stretch is integrated by
 10-point Gauss-Legendre panels whose length is theta over the local phase rate at the panel
 start (1 + |Phi'| directly; 1 + |Phi'| + N P w k w |g'| folded): the same rule as geardyn's
-phase-bounded pairs, but without geardyn's error-estimate panel (one panel in three) and without
+phase-bounded pairs, but without geardyn's error estimate (an embedded rule on the same nodes
+since round 11; a third panel per pair before) and without
 its chirp term (the budget theta is found by search instead). The peer is given the largest
 theta (of a ladder 8, 8/1.25, ...) whose error against geardyn's reference is at most geardyn's
 error ("once its resolution is known"): the resolution search is not timed.

@@ -34,7 +34,7 @@ use nalgebra::Complex;
 
 use std::cell::OnceCell;
 
-use super::{Acc, Kernel, MAX_PANELS, Rot, level_rots};
+use super::{Acc, EMBED_PAIR, Kernel, MAX_PANELS, Rot, level_rot};
 use crate::Error;
 use crate::trig::sin_cos;
 
@@ -101,7 +101,8 @@ impl Kernel {
 
     /// `e^{ib₊}D_N(T a₊) − e^{ib₋}D_N(T a₋)` at `u` (`= 2i ×` the folded `e^{iu} sin Φ`),
     /// given `sin`, `cos` of `kωu`, `e^{iu}` and `e^{iωu}` (the rotations of exactly the same
-    /// node).
+    /// node), and `|D_N(T a₊)| + |D_N(T a₋)|` (0 with `f.fixed_rotors`, whose moduli are
+    /// fixed).
     #[inline]
     fn folded(
         &self,
@@ -110,29 +111,39 @@ impl Kernel {
         eu: Complex<f64>,
         ewu: Complex<f64>,
         f: &Fold,
-    ) -> Complex<f64> {
+    ) -> (Complex<f64>, f64) {
         if let Some([p, m]) = f.fixed_rotors {
             // accumulated: e^{iΦ} = e^{iωu} e^{iG/k}, and the sum is
             // e^{iu}(R₊e^{ih₊} e^{iΦ} − R₋e^{ih₋} e^{−iΦ}): no large phase is rounded
             let (sg, cg) = sin_cos(self.g_over_k(ct));
             let e = ewu * Complex::new(cg, sg);
-            return eu * (p * e - m * e.conj());
+            return (eu * (p * e - m * e.conj()), 0.0);
         }
         let phi = self.phi(u, st, ct);
         let big_a = self.w * (1.0 + self.c * st / (1.0 + self.eps * ct));
         let mut out = Complex::new(0.0, 0.0);
+        let mut amp = 0.0;
         for sigma in [1.0, -1.0] {
             let b = u + sigma * phi;
             let (ratio, half) = dirichlet(f, big_a, sigma);
             let (s, c) = sin_cos(b + half);
             out += Complex::new(c, s) * (sigma * ratio);
+            amp += ratio.abs();
         }
-        out
+        (out, amp)
     }
 
     /// 10-point Gauss–Legendre panel of [`Kernel::folded`] over `[u, u + r.h]`, as
-    /// `(ΔC, ΔS)`; the nodes' `e^{iu}`, `e^{ikωu}` by rotating the midpoint's by `r`.
-    fn folded_panel(&self, u: f64, r: &Rot, f: &Fold) -> (f64, f64) {
+    /// `(ΔC, ΔS)`, and the same sum with the weights `e` of the embedded estimate
+    /// ([`EMBED_PAIR`]), and `∫|D_N(T a₊)| + |D_N(T a₋)|` over the panel (the weight of the
+    /// rounding estimate); the nodes' `e^{iu}`, `e^{ikωu}` by rotating the midpoint's by `r`.
+    fn folded_panel(
+        &self,
+        u: f64,
+        r: &Rot,
+        f: &Fold,
+        e: &[f64; 10],
+    ) -> ((f64, f64), (f64, f64), f64) {
         let half = 0.5 * r.h;
         let mid = u + half;
         let (sm, cm) = sin_cos(mid);
@@ -144,6 +155,8 @@ impl Kernel {
             Complex::new(1.0, 0.0)
         };
         let mut acc = Complex::new(0.0, 0.0);
+        let mut est = Complex::new(0.0, 0.0);
+        let mut amp = 0.0;
         for i in 0..10 {
             let (sd, cd) = r.s[i];
             let (sdt, cdt) = r.th[i];
@@ -153,11 +166,18 @@ impl Kernel {
             let st = stm * cdt + ctm * sdt;
             let ct = ctm * cdt - stm * sdt;
             let x = mid + half * self.gl.nodes[i];
-            acc += self.folded(x, (st, ct), eu, ewu, f) * self.gl.weights[i];
+            let (v, a) = self.folded(x, (st, ct), eu, ewu, f);
+            acc += v * self.gl.weights[i];
+            est += v * e[i];
+            amp += a * self.gl.weights[i];
+        }
+        if let Some([p, m]) = f.fixed_rotors {
+            amp = 2.0 * (p.norm() + m.norm());
         }
         // (I₊ − I₋)/(2i)
         let v = acc * Complex::new(0.0, -0.5 * half);
-        (v.re, v.im)
+        let d = est * Complex::new(0.0, -0.5 * half);
+        ((v.re, v.im), (d.re, d.im), amp * half)
     }
 
     /// Local frequency bound of the folded integrand at `u` (see the module docs).
@@ -182,7 +202,7 @@ impl Kernel {
     }
 }
 
-/// Estimated panels of [`integrate`] at budget `theta`: three per pair, the pairs from the
+/// Estimated panels of [`integrate`] at budget `theta`: two per pair, the pairs from the
 /// phase of the folded integrand over the period (`T(1 + ω(1 + B) + (s₀ + T)ω kω max|g'|)`
 /// bounds the `1 + |Φ'|` part, `N T ω·TV(g) = 4BωNT` the `D_N` part) over `2θ`, plus the
 /// pairs the chirp bound `M₂` alone allows (`T·√(M₂/(4θ))`).
@@ -195,11 +215,11 @@ pub(super) fn panel_estimate(ker: &Kernel, f: &Fold, theta: f64, b: f64) -> f64 
         0.0
     };
     let m2 = ker.folded_m2(f);
-    3.0 * ((base + chirp) / (2.0 * theta) + t * (m2 / (4.0 * theta)).sqrt() + 1.0)
+    2.0 * ((base + chirp) / (2.0 * theta) + t * (m2 / (4.0 * theta)).sqrt() + 1.0)
 }
 
 /// Integrate the folded period `[s₀, s₀ + T]` into `acc` with phase budget `theta` per panel
-/// (pairs of panels as in the direct rule, their coarse differences into the estimate).
+/// (pairs of panels as in the direct rule, their embedded differences into the estimate).
 ///
 /// Ends: each pair advances `u` by a positive length (checked; typed error otherwise) and is
 /// counted against `MAX_PANELS`.
@@ -235,11 +255,10 @@ pub(super) fn integrate(
         let done = u + l >= end;
         let h = if done { 0.5 * (end - u) } else { 0.5 * l };
         // the panel lengths rounded down to the tabulated levels (the node rotations reused)
-        let (fine, coarse) = if done {
-            let om = !ker.printed;
-            (ker.rot_with(h, om), ker.rot_with(2.0 * h, om))
+        let fine = if done {
+            ker.rot_with(h, !ker.printed)
         } else {
-            level_rots(ker, table, theta, h)
+            level_rot(ker, table, theta, h)
         };
         let h = fine.h;
         if h.is_nan() || h <= 0.0 || (!done && u + h <= u) {
@@ -248,11 +267,15 @@ pub(super) fn integrate(
                 at: u,
             });
         }
-        let first = ker.folded_panel(u, &fine, f);
-        let second = ker.folded_panel(u + h, &fine, f);
+        let (first, e1, a1) = ker.folded_panel(u, &fine, f, &EMBED_PAIR[0]);
+        let (second, e2, a2) = ker.folded_panel(u + h, &fine, f, &EMBED_PAIR[1]);
         acc.add(first);
         acc.add(second);
-        acc.check(first, second, ker.folded_panel(u, &coarse, f));
+        acc.check(e1, e2);
+        // rounding: the phases b± + (N − 1)δ/2 of the nodes, each rounded to ε of its size,
+        // weighted by |D_N| (`Acc::round`)
+        let psi = ker.phase_bound(u + 2.0 * h) + (f.n - 1.0) * std::f64::consts::PI;
+        acc.round += f64::EPSILON * (a1 + a2) * psi;
         u = if done { end } else { u + 2.0 * h };
     }
     Ok(())

@@ -23,7 +23,8 @@
 //!
 //! [`AmplitudeMeasure::LastCycleMax`] (default): `A = max |X(τ)|` over the last cycle
 //! `τ ∈ [τ_end − T, τ_end]`, `T = 2π·max(1, 1/ω)` (one period of both the free and the forced
-//! motion), sampled at most 1 rad of phase of the faster chirp `s ± Φ` and 0.5 apart, the
+//! motion), sampled at most 1 rad of phase of the faster chirp `s ± Φ` and 0.5 apart (four
+//! samples per quadrature panel, those inside a panel from its own nodes), the
 //! extrema between samples located by Newton's method on `X' = 0`.
 //! [`AmplitudeMeasure::Envelope`]: `A = √(X² + X'²)` at `τ_end`, the amplitude of the free
 //! oscillation the system would continue with.
@@ -38,8 +39,9 @@
 //! * **Gauss–Legendre** ([`Karpov2017::duhamel_with`]): 10-point panels over each of which the
 //!   phase of `e^{iψ±}` changes by at most a budget `θ`, bounded with `Φ''` included
 //!   (`a L + max|Φ''| L²/2 ≤ θ`, `a = 1 + |Φ'|` at the panel start). Every pair of panels is
-//!   checked against one panel over the pair; the signed sum of the differences is the error
-//!   estimate. Work grows with the total phase (`~2·10⁷` rad for the printed reading at
+//!   checked against an 18-point rule of lower degree on the same nodes (the pair's 20 without
+//!   the two next to its midpoint); the signed sum of the differences, plus a rounding
+//!   estimate, is the error estimate. Work grows with the total phase (`~2·10⁷` rad for the printed reading at
 //!   `B = 0.05`, `τ = 10⁵`).
 //! * **Period folding** ([`Karpov2017::duhamel`], the default): `g(kωτ)` has the period
 //!   `T = 2π/(kω)`, and in both readings `ψ±(u + nT) = b±(u) + nT·a±(u)` with
@@ -157,16 +159,24 @@ pub struct KarpovResponse {
     pub last_cycle_max: f64,
     /// The amplitude `A` by the chosen [`AmplitudeMeasure`].
     pub amplitude: f64,
-    /// Estimated absolute error of `X`, `X'` and `A`: `|(C, S)_coarse − (C, S)_fine|`, the
-    /// difference between every pair of adjacent panels and one panel over the pair, summed
-    /// with signs (the error of the coarser rule, an upper estimate for the returned finer one:
-    /// Gauss–Legendre's error grows like `θ²⁰` with the panel phase `θ`).
+    /// Estimated absolute error of `X`, `X'` and `A`: the truncation estimate
+    /// `|(C, S)_embedded − (C, S)|`, the differences between every pair of adjacent panels and
+    /// an 18-point rule of lower degree on the same nodes, summed with signs (the error of the
+    /// lower-degree rule, an upper estimate for the returned one: Gauss–Legendre's error grows
+    /// like `θ²⁰` with the panel phase `θ`), plus [`KarpovResponse::rounding_estimate`] (and
+    /// the Levin panels' bounds).
     pub error_estimate: f64,
     /// Phase budget `θ` (rad) of the panels that produced this result: over each panel the
     /// phase of the integrand `e^{i(s ± Φ(s))}` changes by at most ~`θ`, `Φ''` included.
     pub phase_budget: f64,
-    /// Ten-point Gauss–Legendre panels used, including the error-estimate panels (work
-    /// measure).
+    /// Part of [`KarpovResponse::error_estimate`] from rounding: `ε` times the size of the
+    /// integrand's phases (`|s ± Φ(s)|`, and the folded sum's `(N − 1)δ/2`) integrated against
+    /// its modulus, which the truncation estimate, taken on the same node values, does not
+    /// see. Smaller panels do not reduce it, so [`Karpov2017::duhamel_tol`] accepts on the rest.
+    #[serde(default)]
+    pub rounding_estimate: f64,
+    /// Ten-point Gauss–Legendre panels used (work measure; the error estimate reuses their
+    /// nodes).
     pub panels: u64,
     /// Levin collocation panels accepted (each solves both chirps; 0 for
     /// [`Karpov2017::duhamel_with`]).
@@ -442,9 +452,10 @@ impl Karpov2017 {
         self.run(theta, Bulk::Fold)
     }
 
-    /// Whether `r` meets `rtol` (`error_estimate ≤ rtol·A + 1e-14·τ_end`).
+    /// Whether `r` meets `rtol` (`error_estimate − rounding_estimate ≤ rtol·A + 1e-14·τ_end`:
+    /// the rounding estimate does not fall with the panels, the `1e-14·τ_end` allows for it).
     fn accepts(&self, r: &KarpovResponse, rtol: f64) -> bool {
-        r.error_estimate <= rtol * r.amplitude + 1e-14 * self.p.tau_end
+        r.error_estimate - r.rounding_estimate <= rtol * r.amplitude + 1e-14 * self.p.tau_end
     }
 
     /// A lower bound of the number of quadrature panels [`Karpov2017::duhamel_with`] needs at
@@ -467,7 +478,11 @@ impl Karpov2017 {
     /// half gets the 10-point Gauss–Legendre rule (the result) and the pair gets one more
     /// 10-point panel, whose difference to the halves is accumulated into the error estimate.
     /// The last cycle is sampled every ≤ 0.5 (and ≤ 1 rad of phase) and the extrema of `X` between samples are
-    /// located by a safeguarded Newton iteration on `X'(τ) = 0` (`X'' = sin Φ − X`).
+    /// located by a safeguarded Newton iteration on `X'(τ) = 0` (`X'' = sin Φ − X`). Its panels
+    /// (at most `4 rad` and 2 long) hold four sample intervals each: the samples inside a panel
+    /// come from the panel's own nodes (the integrated interpolant, within ~5e-8), only to find
+    /// the sign changes of `X'` (a sample with `|X'| ≤ 1e-6` is recomputed exactly); `A` is
+    /// the largest `|X|` of the exact panel ends and of the Newton searches.
     ///
     /// Every loop is bounded: the panel loop by `MAX_PANELS` and a check that each pair
     /// advances `τ` (typed [`Error::Quadrature`] otherwise), the extremum search by 60 steps.
@@ -545,6 +560,90 @@ impl Karpov2017 {
 
 #[cfg(test)]
 mod tests {
+
+    /// The embedded rule of the error estimate (`quadrature::EMBED`): with the pair's
+    /// composite weights it integrates the Legendre polynomials `P_k` over the pair `[−1, 1]`
+    /// exactly up to degree 17 (2 for `k = 0`, 0 otherwise), not at degree 18; its weights are
+    /// positive and the dropped nodes (next to the midpoint) weigh 0.
+    #[test]
+    fn embedded_rule_is_exact_to_degree_17() {
+        let gl = system::numeric::GaussLegendre::<10>::new();
+        let legendre = |k: usize, x: f64| {
+            let (mut p0, mut p1) = (1.0, x);
+            if k == 0 {
+                return 1.0;
+            }
+            for j in 2..=k {
+                let j = j as f64;
+                (p0, p1) = (p1, ((2.0 * j - 1.0) * x * p1 - (j - 1.0) * p0) / j);
+            }
+            p1
+        };
+        // nodes y and weights W of the embedded rule on the pair [−1, 1]
+        let mut rule = Vec::new();
+        for (side, e) in [(-1.0, &EMBED_PAIR[0]), (1.0, &EMBED_PAIR[1])] {
+            for i in 0..10 {
+                let w = 0.5 * (e[i] + gl.weights[i]);
+                rule.push((0.5 * (gl.nodes[i] + side), w));
+            }
+        }
+        let mid: Vec<f64> = rule
+            .iter()
+            .filter(|(y, _)| y.abs() < 0.03)
+            .map(|r| r.1)
+            .collect();
+        assert_eq!(mid.len(), 2);
+        assert!(mid.iter().all(|w| w.abs() < 1e-15), "{mid:?}");
+        assert!(
+            rule.iter()
+                .filter(|(y, _)| y.abs() >= 0.03)
+                .all(|r| r.1 > 0.0)
+        );
+        for k in 0..=18 {
+            let q: f64 = rule.iter().map(|&(y, w)| w * legendre(k, y)).sum();
+            let exact = if k == 0 { 2.0 } else { 0.0 };
+            if k <= 17 {
+                assert!((q - exact).abs() < 1e-14, "degree {k}: {q}");
+            } else {
+                assert!((q - exact).abs() > 1e-6, "degree {k}: {q}");
+            }
+        }
+    }
+
+    /// The last cycle's interior samples (`quadrature::dense_weights`): the partial sums
+    /// `∫_{−1}^{y_k} p` of every polynomial of degree ≤ 9 from its values at the 10 nodes are
+    /// exact (`x^j`: `(y^{j+1} − (−1)^{j+1})/(j + 1)`), and on `e^{2ix}` (a panel of phase 4)
+    /// they err by < 5e-8.
+    #[test]
+    fn dense_samples_integrate_the_interpolant() {
+        let gl = system::numeric::GaussLegendre::<10>::new();
+        let q = dense_weights();
+        for (k, row) in q.iter().enumerate() {
+            let y = -1.0 + 2.0 * (k + 1) as f64 / DENSE as f64;
+            for j in 0..10 {
+                let got: f64 = (0..10).map(|i| row[i] * gl.nodes[i].powi(j)).sum();
+                let jf = f64::from(j + 1);
+                let exact = (y.powi(j + 1) - (-1.0f64).powi(j + 1)) / jf;
+                assert!(
+                    (got - exact).abs() < 1e-14,
+                    "k {k}, x^{j}: {got} vs {exact}"
+                );
+            }
+            let (re, im): (f64, f64) = (0..10)
+                .map(|i| {
+                    (
+                        row[i] * (2.0 * gl.nodes[i]).cos(),
+                        row[i] * (2.0 * gl.nodes[i]).sin(),
+                    )
+                })
+                .fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
+            let (ere, eim) = (
+                ((2.0 * y).sin() + 2.0f64.sin()) / 2.0,
+                (2.0f64.cos() - (2.0 * y).cos()) / 2.0,
+            );
+            assert!((re - ere).hypot(im - eim) < 5e-8, "k {k}");
+        }
+    }
 
     #[test]
     fn coarse_to_fine_bounds_equal_the_full_grid() {

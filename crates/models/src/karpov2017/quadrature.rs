@@ -66,7 +66,9 @@ impl Karpov2017 {
             });
         }
         // node rotations of the quantised panel lengths, each level computed when first used
-        let table: Vec<OnceCell<Rot>> = (0..LEVELS).map(|_| OnceCell::new()).collect();
+        // (kept for the thread's next run with the same θ, ω, k and reading: `RotTable`)
+        let rots = RotTable::take(&ker, theta);
+        let table = &rots.levels[..];
         let tau_end = self.p.tau_end;
         let t_w = (tau_end - self.last_cycle()).max(0.0);
         let mut acc = Acc::default();
@@ -76,7 +78,7 @@ impl Karpov2017 {
         let mut folded_periods = 0;
         match bulk {
             Bulk::Levin(set) => {
-                stats = self.bulk_levin(&ker, &table, theta, t_w, set, &mut acc)?;
+                stats = self.bulk_levin(&ker, table, theta, t_w, set, &mut acc)?;
                 t = t_w;
             }
             Bulk::Fold => {
@@ -94,10 +96,10 @@ impl Karpov2017 {
                     // head [0, s₀) directly, then N periods folded onto [s₀, s₀ + T]
                     while t < f.s0 {
                         let h = ker.pair_length(self, t, theta) * 0.5;
-                        let (h, done) = acc.pair(&ker, &table, theta, t, h, f.s0, None)?;
+                        let (h, done) = acc.pair(&ker, table, theta, t, h, f.s0, None)?;
                         t = if done { f.s0 } else { t + 2.0 * h };
                     }
-                    fold::integrate(&ker, &table, &f, theta, &mut acc)?;
+                    fold::integrate(&ker, table, &f, theta, &mut acc)?;
                     folded_periods = f.n as u64;
                     t = t_w;
                 }
@@ -106,7 +108,7 @@ impl Karpov2017 {
         }
         while t < t_w {
             let h = ker.pair_length(self, t, theta) * 0.5;
-            let (h, done) = acc.pair(&ker, &table, theta, t, h, t_w, None)?;
+            let (h, done) = acc.pair(&ker, table, theta, t, h, t_w, None)?;
             t = if done { t_w } else { t + 2.0 * h };
         }
         // Last cycle: sampled, extrema refined.
@@ -120,23 +122,50 @@ impl Karpov2017 {
         let mut est = acc.dc.hypot(acc.ds);
         while t < tau_end {
             // at most `LAST_CYCLE_PHASE` rad of phase per sample interval: `X' = 0` can then
-            // hold at most one root between samples, however fast the forcing
-            let h = (ker.pair_length(self, t, theta.min(LAST_CYCLE_PHASE)) * 0.5).min(SAMPLE);
-            let mut mid = None;
-            let (h, done) = acc.pair(&ker, &table, theta, t, h, tau_end, Some(&mut mid))?;
+            // hold at most one root between samples, however fast the forcing. The panels span
+            // `DENSE` sample intervals; the samples inside a panel come from its own nodes
+            // (`DENSE_WEIGHTS`, to within `DENSE_TOL`), the panel ends are exact.
+            let sub = DENSE as f64;
+            let h = (ker.pair_length(self, t, theta.min(sub * LAST_CYCLE_PHASE)) * 0.5)
+                .min(sub * SAMPLE);
+            let mut mid = (c0, s0);
+            let mut dense = [[(0.0, 0.0); DENSE - 1]; 2];
+            let (h, done) =
+                acc.pair_dense(&ker, table, theta, t, h, tau_end, &mut mid, &mut dense)?;
             let t_next = if done { tau_end } else { t + 2.0 * h };
-            let (cm, sm) = mid.unwrap_or((c0, s0));
-            let ends = [(t + h, cm, sm), (t_next, acc.c.value(), acc.s.value())];
-            let (mut ta, mut ca, mut sa) = (t, c0, s0);
-            for (tb, cb, sb) in ends {
-                let (xb, vb) = x_at(tb, cb, sb);
-                max_abs = max_abs.max(xb.abs());
-                if ((v0 > 0.0 && vb < 0.0) || (v0 < 0.0 && vb > 0.0))
-                    && extremum_bound(tb - ta, (x0, v0), (xb, vb)) > max_abs
-                {
-                    max_abs = max_abs.max(ker.extremum(ta, ca, sa, tb));
+            let panels = [
+                ((t, c0, s0), (t + h, mid.0, mid.1), &dense[0]),
+                (
+                    (t + h, mid.0, mid.1),
+                    (t_next, acc.c.value(), acc.s.value()),
+                    &dense[1],
+                ),
+            ];
+            for ((tp, cp, sp), (tq, cq, sq), d) in panels {
+                let mut ta = tp;
+                for k in 1..=DENSE {
+                    let (tb, mut xb, mut vb);
+                    if k == DENSE {
+                        tb = tq;
+                        (xb, vb) = x_at(tq, cq, sq);
+                        max_abs = max_abs.max(xb.abs());
+                    } else {
+                        tb = tp + k as f64 * h / sub;
+                        let (dc, ds) = d[k - 1];
+                        (xb, vb) = x_at(tb, cp + dc, sp + ds);
+                        if vb.abs() <= DENSE_TOL {
+                            // the sign of X' is not certain: the exact state there
+                            (xb, vb) = ker.state_at(tp, cp, sp, tb);
+                            max_abs = max_abs.max(xb.abs());
+                        }
+                    }
+                    if ((v0 > 0.0 && vb < 0.0) || (v0 < 0.0 && vb > 0.0))
+                        && extremum_bound(tb - ta, (x0, v0), (xb, vb)) + DENSE_TOL > max_abs
+                    {
+                        max_abs = max_abs.max(ker.extremum(tp, cp, sp, ta, tb));
+                    }
+                    (ta, x0, v0) = (tb, xb, vb);
                 }
-                (ta, ca, sa, x0, v0) = (tb, cb, sb, xb, vb);
             }
             (c0, s0) = (acc.c.value(), acc.s.value());
             est = est.max(acc.dc.hypot(acc.ds));
@@ -154,7 +183,8 @@ impl Karpov2017 {
             envelope,
             last_cycle_max: max_abs,
             amplitude,
-            error_estimate: est + stats.truncation + stats.rounding,
+            error_estimate: est + stats.truncation + stats.rounding + acc.round,
+            rounding_estimate: acc.round,
             phase_budget: theta,
             panels: acc.panels,
             levin_panels: stats.panels,
@@ -366,10 +396,10 @@ pub(super) fn level_length(theta: f64, j: usize) -> f64 {
     2.0 * theta * (-(j as f64) / f64::from(LEVELS_PER_OCTAVE)).exp2()
 }
 
-/// The node rotations of a pair of panels of length `≤ h` (fine) and twice that (coarse), `h`
-/// rounded down to the tabulated level lengths [`level_length`] (each level computed when
-/// first used; beyond the last level, the exact `h` computed directly).
-pub(super) fn level_rots(ker: &Kernel, table: &[OnceCell<Rot>], theta: f64, h: f64) -> (Rot, Rot) {
+/// The node rotations of a panel of length `≤ h`, `h` rounded down to the tabulated level
+/// lengths [`level_length`] (each level computed when first used; beyond the last level, the
+/// exact `h` computed directly).
+pub(super) fn level_rot(ker: &Kernel, table: &[OnceCell<Rot>], theta: f64, h: f64) -> Rot {
     let j = (f64::from(LEVELS_PER_OCTAVE) * (2.0 * theta / h).log2()).ceil();
     let j = if j.is_finite() {
         j.max(f64::from(LEVELS_PER_OCTAVE))
@@ -380,13 +410,164 @@ pub(super) fn level_rots(ker: &Kernel, table: &[OnceCell<Rot>], theta: f64, h: f
     let om = !ker.printed;
     if j < LEVELS as f64 {
         let j = j as usize;
-        let jc = j - LEVELS_PER_OCTAVE as usize;
-        (
-            *table[j].get_or_init(|| ker.rot_with(level_length(theta, j), om)),
-            *table[jc].get_or_init(|| ker.rot_with(level_length(theta, jc), om)),
-        )
+        *table[j].get_or_init(|| ker.rot_with(level_length(theta, j), om))
     } else {
-        (ker.rot_with(h, om), ker.rot_with(2.0 * h, om))
+        ker.rot_with(h, om)
+    }
+}
+
+/// Weights of the embedded error estimate of a pair of 10-point Gauss–Legendre panels, for
+/// the nodes of its first panel (those of the second are the same reversed).
+///
+/// The 20 nodes of the pair `[t, t + 2h]` (`y = (x_i ∓ 1)/2` on `[−1, 1]`, `x_i` the
+/// Gauss–Legendre nodes) without the two next to the midpoint carry an 18-point interpolatory
+/// rule `W_j` (exact for degree 17, all weights positive, `ΣW_j = 2`). The pair's result is
+/// the composite rule (`w_i/2` on each half, exact for degree 19 and much more accurate on
+/// oscillatory integrands), so `(embedded − composite)` estimates the error of the embedded
+/// rule, an upper estimate for the composite one: on `e^{iay}` over the pair, `a = 2θ/2`,
+/// the embedded rule's error is 1e-13 at `θ = 4` (the coarse panel over the pair it replaces:
+/// 1e-12) where the composite's is 7e-18. As weights of the half-panel sum `h/2·Σ e_i f_i`:
+/// `e_i = 2W_i − w_i` (`W = 0` for the dropped node, `e_9 = −w_9`). Computed in 60-digit
+/// decimal arithmetic (Legendre-basis moment equations, Gauss–Jordan); the test
+/// `embedded_rule_is_exact_to_degree_17` checks them.
+pub(super) const EMBED: [f64; 10] = [
+    2.065370749174635e-06,
+    -9.591936948453146e-06,
+    3.12881184360725e-05,
+    -0.00010308814108293743,
+    0.0003756532832240153,
+    -0.0015404223212395968,
+    0.006861534340057197,
+    -0.029562920401286687,
+    0.09061682599677935,
+    -0.06667134430868814,
+];
+
+/// [`EMBED`] for the first (`[0]`) and the second (`[1]`, reversed) panel of a pair.
+pub(super) const EMBED_PAIR: [[f64; 10]; 2] = {
+    let mut r = [[0.0; 10]; 2];
+    let mut i = 0;
+    while i < 10 {
+        r[0][i] = EMBED[i];
+        r[1][i] = EMBED[9 - i];
+        i += 1;
+    }
+    r
+};
+
+/// Sample intervals per last-cycle panel (the run's `run` loop).
+pub(super) const DENSE: usize = 4;
+/// Bound used for the interior samples of a last-cycle panel: their `(X, X')` come from the
+/// panel's nodes to within ~5e-8 (the interpolant's error at `θ = 4`: 2.3e-8 of a panel's
+/// half-length at a quarter, on `e^{iay}`), so a sample with `|X'| ≤ DENSE_TOL` gets its exact
+/// state, and the bound that skips an extremum search is widened by it.
+pub(super) const DENSE_TOL: f64 = 1e-6;
+
+/// `q[k][i]`: the weights of `∫_{−1}^{y_k}` of the degree-9 interpolant at the Gauss–Legendre
+/// nodes `x_i`, `y_k = −1 + 2(k + 1)/DENSE`:
+/// `q[k][i] = w_i ((y + 1)/2 + Σ_{j=1}^{9} P_j(x_i)(P_{j+1}(y) − P_{j−1}(y))/2)`
+/// (the interpolant's Legendre series by the rule's discrete orthogonality, integrated term by
+/// term with `∫_{−1}^{y} P_j = (P_{j+1}(y) − P_{j−1}(y))/(2j + 1)`; at `y = 1` it is `w_i`).
+pub(super) type DenseWeights = [[f64; 10]; DENSE - 1];
+/// The partial `(ΔC, ΔS)` of a panel at its inner samples ([`Kernel::panel_dense`]).
+pub(super) type DenseSums = [(f64, f64); DENSE - 1];
+
+pub(super) fn dense_weights() -> &'static DenseWeights {
+    static Q: OnceLock<DenseWeights> = OnceLock::new();
+    Q.get_or_init(|| {
+        let gl = gauss_legendre_10();
+        let legendre = |n: usize, x: f64| {
+            let (mut p0, mut p1) = (1.0, x);
+            if n == 0 {
+                return 1.0;
+            }
+            for j in 2..=n {
+                let j = j as f64;
+                (p0, p1) = (p1, ((2.0 * j - 1.0) * x * p1 - (j - 1.0) * p0) / j);
+            }
+            p1
+        };
+        let mut q = [[0.0; 10]; DENSE - 1];
+        for (k, row) in q.iter_mut().enumerate() {
+            let y = -1.0 + 2.0 * (k + 1) as f64 / DENSE as f64;
+            for (i, v) in row.iter_mut().enumerate() {
+                let x = gl.nodes[i];
+                let mut sum = 0.5 * (y + 1.0);
+                for j in 1..10 {
+                    sum += 0.5 * legendre(j, x) * (legendre(j + 1, y) - legendre(j - 1, y));
+                }
+                *v = gl.weights[i] * sum;
+            }
+        }
+        q
+    })
+}
+
+thread_local! {
+    /// The rotation table of this thread's last run ([`RotTable`]).
+    static ROT_TABLE: std::cell::RefCell<Option<RotTable>> = const { std::cell::RefCell::new(None) };
+}
+
+/// The node rotations of the tabulated panel levels ([`level_rot`]) of one run, kept per
+/// thread for the next run with the same key: they depend only on `θ`, `kω`, `ω` and the
+/// reading (the same values bit for bit whether computed now or by an earlier run), so
+/// repeated calls and sweeps over `B`, `ξ` or `τ_end` at fixed `ω`, `k` skip their `sin_cos`.
+/// Taken out of the thread's slot for the run and put back when dropped.
+pub(super) struct RotTable {
+    key: [u64; 4],
+    pub(super) levels: Vec<OnceCell<Rot>>,
+}
+
+impl RotTable {
+    pub(super) fn take(ker: &Kernel, theta: f64) -> Self {
+        let key = [
+            theta.to_bits(),
+            ker.kw.to_bits(),
+            ker.w.to_bits(),
+            u64::from(ker.printed),
+        ];
+        let cached = ROT_TABLE
+            .try_with(|c| c.try_borrow_mut().ok().and_then(|mut slot| slot.take()))
+            .ok()
+            .flatten();
+        match cached {
+            Some(t) if t.key == key => t,
+            Some(mut t) => {
+                // another key: the allocation reused, the levels cleared
+                for level in &mut t.levels {
+                    level.take();
+                }
+                t.key = key;
+                t
+            }
+            None => Self {
+                key,
+                levels: (0..LEVELS).map(|_| OnceCell::new()).collect(),
+            },
+        }
+    }
+}
+
+impl Drop for RotTable {
+    fn drop(&mut self) {
+        if self.levels.is_empty() {
+            // the husk of a table moved into the slot (below)
+            return;
+        }
+        // `try_with`/`try_borrow_mut`: nothing is kept while the thread is being torn down
+        let _ = ROT_TABLE.try_with(|c| {
+            if let Ok(mut slot) = c.try_borrow_mut() {
+                let old = slot.replace(Self {
+                    key: self.key,
+                    levels: std::mem::take(&mut self.levels),
+                });
+                drop(slot);
+                // a table replaced in the slot is dropped as a husk (not put back)
+                if let Some(mut o) = old {
+                    drop(std::mem::take(&mut o.levels));
+                }
+            }
+        });
     }
 }
 
@@ -421,6 +602,9 @@ pub(super) struct Kernel {
     /// Bounds of `|g'|` and `|g''|` (+5 %).
     pub(super) g1: f64,
     pub(super) g2: f64,
+    /// `1 + ω(1 + max|g|)`, `max|g| ≤ c/(1 − ε)`: `|s| + |Φ(s)| ≤ |s|·psi_rate` in both
+    /// readings ([`Kernel::phase_bound`]).
+    pub(super) psi_rate: f64,
 }
 
 impl Kernel {
@@ -443,7 +627,15 @@ impl Kernel {
             gl: gauss_legendre_10(),
             g1: 1.05 * g1,
             g2: 1.05 * g2,
+            psi_rate: 1.0 + m.p.omega * (1.0 + c / (1.0 - eps)),
         }
+    }
+
+    /// Bound of the size of the chirp phases `s ± Φ(s)` on `[0, s]`, plus 1: the absolute
+    /// rounding of a node's phase is about `ε` times this (the rounding estimate, `Acc::round`).
+    #[inline]
+    pub(super) fn phase_bound(&self, s: f64) -> f64 {
+        1.0 + s.abs() * self.psi_rate
     }
 
     /// Node rotations of panel length `h`.
@@ -524,11 +716,48 @@ impl Kernel {
     /// `(∫ cos s sin Φ, ∫ sin s sin Φ)` over `[t, t + r.h]` by 10-point Gauss–Legendre.
     #[inline]
     pub(super) fn panel(&self, t: f64, r: &Rot) -> (f64, f64) {
+        self.panel_impl::<false>(t, r, &[0.0; 10], None).0
+    }
+
+    /// [`Kernel::panel`] and the same sums with the weights `e` of the embedded estimate
+    /// ([`EMBED_PAIR`]) on the same nodes.
+    #[inline]
+    pub(super) fn panel_est(&self, t: f64, r: &Rot, e: &[f64; 10]) -> ((f64, f64), (f64, f64)) {
+        self.panel_impl::<true>(t, r, e, None)
+    }
+
+    /// [`Kernel::panel_est`] and the partial sums over `[t, t + k·r.h/DENSE]`,
+    /// `k = 1 … DENSE − 1`, from the same nodes ([`DENSE_WEIGHTS`]).
+    pub(super) fn panel_dense(
+        &self,
+        t: f64,
+        r: &Rot,
+        e: &[f64; 10],
+    ) -> ((f64, f64), (f64, f64), DenseSums) {
+        let q = dense_weights();
+        let half = 0.5 * r.h;
+        let mut part = [(0.0, 0.0); DENSE - 1];
+        let (main, est) = self.panel_impl::<true>(t, r, e, Some((q, &mut part)));
+        for p in &mut part {
+            *p = (p.0 * half, p.1 * half);
+        }
+        (main, est, part)
+    }
+
+    #[inline(always)]
+    fn panel_impl<const EST: bool>(
+        &self,
+        t: f64,
+        r: &Rot,
+        e: &[f64; 10],
+        mut dense: Option<(&DenseWeights, &mut [(f64, f64); DENSE - 1])>,
+    ) -> ((f64, f64), (f64, f64)) {
         let half = 0.5 * r.h;
         let mid = t + half;
         let (sm, cm) = sin_cos(mid);
         let (stm, ctm) = sin_cos(self.kw * mid);
         let (mut pc, mut ps) = (0.0, 0.0);
+        let (mut ec, mut es) = (0.0, 0.0);
         for i in 0..10 {
             let (sd, cd) = r.s[i];
             let (sdt, cdt) = r.th[i];
@@ -536,11 +765,24 @@ impl Kernel {
             let cs = cm * cd - sm * sd;
             let st = stm * cdt + ctm * sdt;
             let ct = ctm * cdt - stm * sdt;
-            let f = self.gl.weights[i] * self.sin_phi(mid + half * self.gl.nodes[i], st, ct);
+            let sp = self.sin_phi(mid + half * self.gl.nodes[i], st, ct);
+            let f = self.gl.weights[i] * sp;
             pc += f * cs;
             ps += f * ss;
+            if EST {
+                let g = e[i] * sp;
+                ec += g * cs;
+                es += g * ss;
+            }
+            if let Some((q, part)) = dense.as_mut() {
+                for (k, p) in part.iter_mut().enumerate() {
+                    let g = q[k][i] * sp;
+                    p.0 += g * cs;
+                    p.1 += g * ss;
+                }
+            }
         }
-        (pc * half, ps * half)
+        ((pc * half, ps * half), (ec * half, es * half))
     }
 
     /// Bound of `|Φ''|` on `[0, tau]`.
@@ -561,10 +803,19 @@ impl Kernel {
         4.0 * theta / (a + (a * a + 4.0 * m2 * theta).sqrt())
     }
 
-    /// `|X|` at the extremum in `(t0, t1)` where `X'` changes sign, given `C`, `S` at `t0`:
-    /// safeguarded Newton on `X'(τ) = cos τ C(τ) + sin τ S(τ)` with `X'' = sin Φ − X`
-    /// (at most 60 steps; the bracket always holds a sign change).
-    pub(super) fn extremum(&self, t0: f64, c0: f64, s0: f64, t1: f64) -> f64 {
+    /// `(X, X')` at `tau` from `C`, `S` at `t0` (one panel over `[t0, tau]`).
+    pub(super) fn state_at(&self, t0: f64, c0: f64, s0: f64, tau: f64) -> (f64, f64) {
+        let (dc, ds) = self.panel(t0, &self.rot(tau - t0));
+        let (c, s) = (c0 + dc, s0 + ds);
+        let (st, ct) = sin_cos(tau);
+        (st * c - ct * s, ct * c + st * s)
+    }
+
+    /// `|X|` at the extremum in `(lo, hi)` where `X'` changes sign, given `C`, `S` at `t0 ≤ lo`
+    /// (`hi − t0` at most a panel): safeguarded Newton on `X'(τ) = cos τ C(τ) + sin τ S(τ)`
+    /// with `X'' = sin Φ − X`, each iterate's `C`, `S` by one panel from `t0` (at most 60
+    /// steps; the bracket always holds a sign change).
+    pub(super) fn extremum(&self, t0: f64, c0: f64, s0: f64, lo: f64, hi: f64) -> f64 {
         let eval = |tau: f64| {
             let (dc, ds) = self.panel(t0, &self.rot(tau - t0));
             let (c, s) = (c0 + dc, s0 + ds);
@@ -576,7 +827,7 @@ impl Kernel {
                 self.sin_phi(tau, sth, cth),
             )
         };
-        let (mut lo, mut hi) = (t0, t1);
+        let (mut lo, mut hi) = (lo, hi);
         let (_, v_lo, _) = eval(lo);
         let mut tau = 0.5 * (lo + hi);
         let mut best = 0.0f64;
@@ -666,15 +917,20 @@ fn grid_max(n: usize, f: impl Fn(usize) -> [f64; 2]) -> [f64; 2] {
 pub(super) struct Acc {
     pub(super) c: Sum,
     pub(super) s: Sum,
-    /// Signed sums of `coarse − fine` (error estimate).
+    /// Signed sums of `embedded − pair` ([`EMBED`]; error estimate).
     pub(super) dc: f64,
     pub(super) ds: f64,
+    /// Rounding estimate: `ε Σ ∫|amplitude|·(phase bound)` over the panels. A node's phase
+    /// `ψ` is rounded to about `ε|ψ|` (and so is its `e^{iψ}`), which the embedded estimate,
+    /// taken on the same node values, does not see; summed with absolute values (an upper
+    /// estimate of the rounding of the sum, whose signs vary).
+    pub(super) round: f64,
     pub(super) panels: u64,
 }
 
 impl Acc {
     /// One pair of panels of length `≤ h` from `t` (the last one shortened to end at `end`):
-    /// adds the fine result and the coarse difference; returns the panel length used. The
+    /// adds the result and the embedded rule's difference; returns the panel length used. The
     /// first half's `(C, S)` goes to `mid` when asked.
     pub(super) fn pair(
         &mut self,
@@ -693,11 +949,10 @@ impl Acc {
             });
         }
         let done = t + 2.0 * h >= end;
-        let (fine, coarse) = if done {
-            let h = 0.5 * (end - t);
-            (ker.rot(h), ker.rot(2.0 * h))
+        let fine = if done {
+            ker.rot(0.5 * (end - t))
         } else {
-            level_rots(ker, table, theta, h)
+            level_rot(ker, table, theta, h)
         };
         let h = fine.h;
         // `h` must be positive (not NaN) and large enough to move `t` at all
@@ -707,14 +962,60 @@ impl Acc {
                 at: t,
             });
         }
-        let first = ker.panel(t, &fine);
+        let (first, e1) = ker.panel_est(t, &fine, &EMBED_PAIR[0]);
         self.add(first);
         if let Some(m) = mid {
             *m = Some((self.c.value(), self.s.value()));
         }
-        let second = ker.panel(t + h, &fine);
+        let (second, e2) = ker.panel_est(t + h, &fine, &EMBED_PAIR[1]);
         self.add(second);
-        self.check(first, second, ker.panel(t, &coarse));
+        self.check(e1, e2);
+        // two panels of length h, |sin Φ| ≤ 1 (`Acc::round`)
+        self.round += f64::EPSILON * 2.0 * h * ker.phase_bound(t + 2.0 * h);
+        Ok((h, done))
+    }
+
+    /// [`Acc::pair`] with the partial sums of both panels at `k/DENSE` of their length
+    /// (`dense`, relative to each panel's start) and the first half's `(C, S)` in `mid`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn pair_dense(
+        &mut self,
+        ker: &Kernel,
+        table: &[OnceCell<Rot>],
+        theta: f64,
+        t: f64,
+        h: f64,
+        end: f64,
+        mid: &mut (f64, f64),
+        dense: &mut [[(f64, f64); DENSE - 1]; 2],
+    ) -> Result<(f64, bool), Error> {
+        if self.panels >= MAX_PANELS {
+            return Err(Error::Quadrature {
+                reason: format!("Duhamel integral: panel budget {MAX_PANELS} exhausted"),
+                at: t,
+            });
+        }
+        let done = t + 2.0 * h >= end;
+        let fine = if done {
+            ker.rot(0.5 * (end - t))
+        } else {
+            level_rot(ker, table, theta, h)
+        };
+        let h = fine.h;
+        if h.is_nan() || h <= 0.0 || t + h <= t {
+            return Err(Error::Quadrature {
+                reason: format!("Duhamel integral: panel length {h:e} does not advance τ"),
+                at: t,
+            });
+        }
+        let (first, e1, d1) = ker.panel_dense(t, &fine, &EMBED_PAIR[0]);
+        self.add(first);
+        *mid = (self.c.value(), self.s.value());
+        let (second, e2, d2) = ker.panel_dense(t + h, &fine, &EMBED_PAIR[1]);
+        self.add(second);
+        self.check(e1, e2);
+        self.round += f64::EPSILON * 2.0 * h * ker.phase_bound(t + 2.0 * h);
+        *dense = [d1, d2];
         Ok((h, done))
     }
 
@@ -724,17 +1025,12 @@ impl Acc {
         self.s.add(s);
     }
 
-    /// Accounts a pair: the coarse panel over both fine ones minus their sum goes into the
-    /// error estimate; three panels of work.
-    pub(super) fn check(
-        &mut self,
-        (c1, s1): (f64, f64),
-        (c2, s2): (f64, f64),
-        (cc, sc): (f64, f64),
-    ) {
-        self.dc += cc - (c1 + c2);
-        self.ds += sc - (s1 + s2);
-        self.panels += 3;
+    /// Accounts a pair: the embedded rule's difference to the pair's result ([`EMBED`], the
+    /// halves' parts `e1`, `e2`) goes into the error estimate; two panels of work.
+    pub(super) fn check(&mut self, (ec1, es1): (f64, f64), (ec2, es2): (f64, f64)) {
+        self.dc += ec1 + ec2;
+        self.ds += es1 + es2;
+        self.panels += 2;
     }
 }
 

@@ -463,6 +463,68 @@ impl PreparedHbm {
     }
 }
 
+thread_local! {
+    /// The prepared problem of this thread ([`PreparedHbm::per_thread`]).
+    static PER_THREAD: std::cell::RefCell<Option<PreparedHbm>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+impl PreparedHbm {
+    /// This thread's prepared problem for `options` (built on first use, or when the options
+    /// differ from those it was built with), lent until the returned guard is dropped: the
+    /// per-worker form of [`PreparedHbm::new`] for parallel sweeps (`timestep::sweep`), whose
+    /// points each solve on the problem their worker thread prepared for an earlier point.
+    ///
+    /// The results do not depend on which thread solved which point, or on what that thread
+    /// solved before: a prepared solve equals a fresh one ([`solve_hbm_with`]) bit for bit, so
+    /// a sweep gives the same results for any thread count (tests). A nested call on the same
+    /// thread while a guard is alive gets a problem of its own. The problem stays allocated
+    /// with the thread (its grid buffers and FFT plans, ~100 kB at the paper basis).
+    ///
+    /// # Errors
+    /// As [`PreparedHbm::new`].
+    pub fn per_thread(model: &Model, options: &HbmOptions) -> Result<PerThreadHbm, Error> {
+        let cached = PER_THREAD.with(|c| c.borrow_mut().take());
+        let hbm = match cached {
+            Some(h) if h.options == *options => h,
+            _ => Self::new(model, options)?,
+        };
+        Ok(PerThreadHbm(Some(hbm)))
+    }
+}
+
+/// A thread's prepared problem on loan from [`PreparedHbm::per_thread`] (dereferences to
+/// [`PreparedHbm`]); returned to the thread when dropped.
+pub struct PerThreadHbm(Option<PreparedHbm>);
+
+impl std::ops::Deref for PerThreadHbm {
+    type Target = PreparedHbm;
+    fn deref(&self) -> &PreparedHbm {
+        self.0.as_ref().expect("present until dropped")
+    }
+}
+
+impl std::ops::DerefMut for PerThreadHbm {
+    fn deref_mut(&mut self) -> &mut PreparedHbm {
+        self.0.as_mut().expect("present until dropped")
+    }
+}
+
+impl Drop for PerThreadHbm {
+    fn drop(&mut self) {
+        if let Some(h) = self.0.take() {
+            // `try_with`: nothing to return to while the thread itself is being torn down
+            let _ = PER_THREAD.try_with(|c| *c.borrow_mut() = Some(h));
+        }
+    }
+}
+
+impl std::fmt::Debug for PerThreadHbm {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_tuple("PerThreadHbm").field(&self.0).finish()
+    }
+}
+
 impl std::fmt::Debug for PreparedHbm {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PreparedHbm")
@@ -526,6 +588,46 @@ mod tests {
             ..HbmOptions::default()
         };
         assert!(PreparedHbm::new(&first, &bad).is_err());
+    }
+
+    /// A sweep on per-thread prepared problems gives the fresh solves' results bit for bit,
+    /// on one thread and on two (whatever each worker solved before).
+    #[test]
+    fn per_thread_sweep_equals_fresh_solves_for_any_thread_count() {
+        let mut p = table1();
+        p.readings.base_radius = super::super::params::BaseRadius::Mean;
+        let options = HbmOptions::default();
+        let models: Vec<Model> = [150.0, 175.0, 120.0, 160.0, 140.0, 165.0]
+            .iter()
+            .map(|&w| {
+                p.omega1 = w;
+                p.model().unwrap()
+            })
+            .collect();
+        let json = |r: &HbmResponse| serde_json::to_string(r).unwrap();
+        let fresh: Vec<String> = models
+            .iter()
+            .map(|m| json(&solve_hbm_with(m, &options, HbmStart::Cold).unwrap()))
+            .collect();
+        let solve = |m: &Model| {
+            let mut hbm = PreparedHbm::per_thread(m, &options).unwrap();
+            json(&hbm.solve(m, HbmStart::Cold).unwrap())
+        };
+        for threads in [1, 2] {
+            let swept = timestep::sweep_with_threads(threads, &models, solve, None).unwrap();
+            assert_eq!(swept, fresh, "{threads} thread(s)");
+        }
+        // a nested loan and other options on the same thread
+        let m = &models[0];
+        let mut outer = PreparedHbm::per_thread(m, &options).unwrap();
+        let full = HbmOptions::full(m, 1);
+        let mut inner = PreparedHbm::per_thread(m, &full).unwrap();
+        assert_eq!(inner.options(), &full);
+        assert_eq!(
+            json(&inner.solve(m, HbmStart::Cold).unwrap()),
+            json(&solve_hbm_with(m, &full, HbmStart::Cold).unwrap())
+        );
+        assert_eq!(json(&outer.solve(m, HbmStart::Cold).unwrap()), fresh[0]);
     }
 
     #[test]

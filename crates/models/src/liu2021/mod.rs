@@ -118,8 +118,8 @@ pub use continuation::{
     shooting_stability,
 };
 pub use harmonic::{
-    Basis, HbmOptions, HbmResponse, HbmStart, PreparedHbm, coefficients_from_time_response,
-    solve_hbm, solve_hbm_from_time_response, solve_hbm_with,
+    Basis, HbmOptions, HbmResponse, HbmStart, PerThreadHbm, PreparedHbm,
+    coefficients_from_time_response, solve_hbm, solve_hbm_from_time_response, solve_hbm_with,
 };
 pub use integrate::{IntegrationOptions, TimeResponse, bifurcation_point, integrate};
 pub use model::{Model, Rattle, RattleState};
