@@ -447,7 +447,7 @@ fn time_reference_runs(
 pub fn solve_point(params: &Parameters, strategy: &SweepStrategy) -> Result<SweepPoint, Error> {
     let m = params.model()?;
     let (time, ti, refined) = time_reference_runs(&m, strategy)?;
-    let mut paper = PreparedHbm::new(&m, &strategy.paper_hbm)?;
+    let mut paper = PreparedHbm::per_thread(&m, &strategy.paper_hbm)?;
     let cold = paper.solve(&m, HbmStart::Cold)?;
     // every warm start twice: from the nominal and from the refined sample of the reference
     // (HbmPoint::seed_reproducible)
