@@ -676,7 +676,9 @@ fn sweep_checks(
             t.push(row_with(&[*w, m as f64, motion, change], stat_cells(run)))?;
             if let Some(f) = run.flag(false) {
                 ok = false;
-                reasons.push(format!("{} at ω* = {}: {f}", NAMES[m], fmt_sig(*w, 3)));
+                // the swept value exactly as swept (shortest round-trip form; the grid is
+                // computed, so 1.2153846153846155 and not the "1.22" that rounding gave)
+                reasons.push(format!("{} at ω* = {w}: {f}", NAMES[m]));
             }
         }
         usable.push(ok);

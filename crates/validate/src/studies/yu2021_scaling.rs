@@ -390,7 +390,7 @@ fn d_trends() -> Result<StudyOutput, Error> {
             jobs.iter()
                 .zip(&checked)
                 .filter(|((c, _), _)| *c < D4.len())
-                .map(|((c, w), r)| (format!("{}, ω* = {}", label(*c), fmt_sig(*w, 3)), r)),
+                .map(|((c, w), r)| (format!("{}, ω* = {w}", label(*c)), r)),
             false,
         )),
     );
