@@ -942,26 +942,8 @@ impl Acc {
         end: f64,
         mid: Option<&mut Option<(f64, f64)>>,
     ) -> Result<(f64, bool), Error> {
-        if self.panels >= MAX_PANELS {
-            return Err(Error::Quadrature {
-                reason: format!("Duhamel integral: panel budget {MAX_PANELS} exhausted"),
-                at: t,
-            });
-        }
-        let done = t + 2.0 * h >= end;
-        let fine = if done {
-            ker.rot(0.5 * (end - t))
-        } else {
-            level_rot(ker, table, theta, h)
-        };
+        let (fine, done) = self.begin_pair(ker, table, theta, t, h, end)?;
         let h = fine.h;
-        // `h` must be positive (not NaN) and large enough to move `t` at all
-        if h.is_nan() || h <= 0.0 || t + h <= t {
-            return Err(Error::Quadrature {
-                reason: format!("Duhamel integral: panel length {h:e} does not advance τ"),
-                at: t,
-            });
-        }
         let (first, e1) = ker.panel_est(t, &fine, &EMBED_PAIR[0]);
         self.add(first);
         if let Some(m) = mid {
@@ -989,6 +971,31 @@ impl Acc {
         mid: &mut (f64, f64),
         dense: &mut [[(f64, f64); DENSE - 1]; 2],
     ) -> Result<(f64, bool), Error> {
+        let (fine, done) = self.begin_pair(ker, table, theta, t, h, end)?;
+        let h = fine.h;
+        let (first, e1, d1) = ker.panel_dense(t, &fine, &EMBED_PAIR[0]);
+        self.add(first);
+        *mid = (self.c.value(), self.s.value());
+        let (second, e2, d2) = ker.panel_dense(t + h, &fine, &EMBED_PAIR[1]);
+        self.add(second);
+        self.check(e1, e2);
+        self.round += f64::EPSILON * 2.0 * h * ker.phase_bound(t + 2.0 * h);
+        *dense = [d1, d2];
+        Ok((h, done))
+    }
+
+    /// The start of [`Acc::pair`] and [`Acc::pair_dense`]: the panel budget, whether this pair
+    /// ends the integral (`t + 2h ≥ end`: then two equal panels up to `end`) and the rotation of
+    /// its panel length (a tabulated level otherwise), checked to advance `t`.
+    fn begin_pair(
+        &self,
+        ker: &Kernel,
+        table: &[OnceCell<Rot>],
+        theta: f64,
+        t: f64,
+        h: f64,
+        end: f64,
+    ) -> Result<(Rot, bool), Error> {
         if self.panels >= MAX_PANELS {
             return Err(Error::Quadrature {
                 reason: format!("Duhamel integral: panel budget {MAX_PANELS} exhausted"),
@@ -1002,21 +1009,14 @@ impl Acc {
             level_rot(ker, table, theta, h)
         };
         let h = fine.h;
+        // `h` must be positive (not NaN) and large enough to move `t` at all
         if h.is_nan() || h <= 0.0 || t + h <= t {
             return Err(Error::Quadrature {
                 reason: format!("Duhamel integral: panel length {h:e} does not advance τ"),
                 at: t,
             });
         }
-        let (first, e1, d1) = ker.panel_dense(t, &fine, &EMBED_PAIR[0]);
-        self.add(first);
-        *mid = (self.c.value(), self.s.value());
-        let (second, e2, d2) = ker.panel_dense(t + h, &fine, &EMBED_PAIR[1]);
-        self.add(second);
-        self.check(e1, e2);
-        self.round += f64::EPSILON * 2.0 * h * ker.phase_bound(t + 2.0 * h);
-        *dense = [d1, d2];
-        Ok((h, done))
+        Ok((fine, done))
     }
 
     /// Adds one fine panel's `(ΔC, ΔS)` to the result.
