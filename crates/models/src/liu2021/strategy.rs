@@ -223,13 +223,12 @@ pub struct HbmPoint {
     /// Whether the warm start is reproducible: the same solve started from the harmonics of
     /// the refined reference (the run at `rtol / refine_factor`, [`TimeReference::refined`])
     /// reaches the same outcome — both converge to the same rattle state with ppv within
-    /// [`SweepStrategy::ppv_rel_tol`], or neither converges. `Some(false)`: which of the
-    /// coexisting solutions the warm start reaches depends on the integrator's error in the
-    /// sample that seeds it (Liu Fig. 11 near 172.5–185 rad/s: the paper basis reaches the
-    /// unilateral or the bilateral solution from two samples of one confirmed periodic orbit),
-    /// so its values are not results. A neighbour continuation inherits the check of the
-    /// point it started from. `None`: a cold start, or not checked (data written before the
-    /// field existed).
+    /// [`SweepStrategy::ppv_rel_tol`], or neither converges. `Some(false)`: whether and where
+    /// the warm start converges depends on the integrator's error in the sample that seeds it,
+    /// so its values are not results, and it does not seed the neighbour continuation
+    /// ([`SweepPoint::anchors`]). A neighbour continuation inherits the check of the point it
+    /// started from. `None`: a cold start, or not checked (data written before the field
+    /// existed).
     #[serde(default)]
     pub seed_reproducible: Option<bool>,
     /// For [`HbmOrigin::Neighbour`]: the index (in the sweep) of the point whose solution
