@@ -950,10 +950,7 @@ impl Acc {
             *m = Some((self.c.value(), self.s.value()));
         }
         let (second, e2) = ker.panel_est(t + h, &fine, &EMBED_PAIR[1]);
-        self.add(second);
-        self.check(e1, e2);
-        // two panels of length h, |sin Φ| ≤ 1 (`Acc::round`)
-        self.round += f64::EPSILON * 2.0 * h * ker.phase_bound(t + 2.0 * h);
+        self.end_pair(ker, t, h, second, (e1, e2));
         Ok((h, done))
     }
 
@@ -977,9 +974,7 @@ impl Acc {
         self.add(first);
         *mid = (self.c.value(), self.s.value());
         let (second, e2, d2) = ker.panel_dense(t + h, &fine, &EMBED_PAIR[1]);
-        self.add(second);
-        self.check(e1, e2);
-        self.round += f64::EPSILON * 2.0 * h * ker.phase_bound(t + 2.0 * h);
+        self.end_pair(ker, t, h, second, (e1, e2));
         *dense = [d1, d2];
         Ok((h, done))
     }
@@ -1017,6 +1012,22 @@ impl Acc {
             });
         }
         Ok((fine, done))
+    }
+
+    /// The end of a pair from `t` with panels of length `h`: the second panel's result, the
+    /// embedded rule's differences of both halves, and the rounding bound of two panels of
+    /// length `h` (`|sin Φ| ≤ 1`, [`Acc::round`]).
+    fn end_pair(
+        &mut self,
+        ker: &Kernel,
+        t: f64,
+        h: f64,
+        second: (f64, f64),
+        (e1, e2): ((f64, f64), (f64, f64)),
+    ) {
+        self.add(second);
+        self.check(e1, e2);
+        self.round += f64::EPSILON * 2.0 * h * ker.phase_bound(t + 2.0 * h);
     }
 
     /// Adds one fine panel's `(ΔC, ΔS)` to the result.
