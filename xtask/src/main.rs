@@ -8,6 +8,10 @@
 //! * `cargo xtask validate --diff [REV]` — markdown summary of what changed in meaning between
 //!   `validation/verdicts.csv` at REV (default: merge base with `main`) and the working tree.
 //! * `cargo xtask study <file.toml>` — run a user study (format in `docs/studies.md`).
+//! * `cargo xtask heavy-tests` — the heavy numerical tests (`#[ignore = "heavy: …"]` in
+//!   `geardyn-models` and `geardyn-orbit`), optimised: `cargo test --profile validate` with
+//!   `--ignored`. `cargo test --workspace` skips them so that the contributor loop stays short
+//!   (issue 26); `.ci/run` runs both.
 //!
 //! Both run the code of the `geardyn` command (`cli::validate`, `cli::study`).
 
@@ -54,6 +58,14 @@ enum Cmd {
         #[arg(long, value_name = "I/N")]
         shard: Option<String>,
     },
+    /// Run the heavy numerical tests (ignored by `cargo test --workspace`) in the optimised
+    /// `validate` profile: `cargo test --profile validate -p geardyn-models -p geardyn-orbit
+    /// --lib --tests -- --ignored`, then ARGS (e.g. a test-name filter).
+    HeavyTests {
+        /// Passed to the test binaries after `--ignored` (filters, `--nocapture`, ...).
+        #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+        args: Vec<String>,
+    },
     /// Merge shards' partial results into the outputs of the whole study.
     Merge {
         /// The study file the shards were computed from.
@@ -71,6 +83,45 @@ enum Cmd {
 fn repo_root() -> PathBuf {
     let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     manifest.parent().map(PathBuf::from).unwrap_or(manifest)
+}
+
+/// The printing helpers among the ignored tests of `geardyn-models` (tables for the docs, not
+/// checks); `heavy-tests` skips them.
+const PRINTING_HELPERS: [&str; 2] = ["paper_values", "karpov_levin_figures"];
+
+/// `cargo xtask heavy-tests`: run cargo (the one that runs this xtask, `$CARGO`) on the heavy
+/// tests and return its exit status.
+fn heavy_tests(args: &[String]) -> ExitCode {
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let mut cmd = std::process::Command::new(cargo);
+    cmd.current_dir(repo_root()).args([
+        "test",
+        "--profile",
+        "validate",
+        "-p",
+        "geardyn-models",
+        "-p",
+        "geardyn-orbit",
+        "--lib",
+        "--tests",
+        "--",
+        "--ignored",
+    ]);
+    for helper in PRINTING_HELPERS {
+        cmd.args(["--skip", helper]);
+    }
+    cmd.args(args);
+    match cmd.status() {
+        Ok(status) if status.success() => ExitCode::SUCCESS,
+        Ok(status) => {
+            eprintln!("error: the heavy tests failed ({status})");
+            ExitCode::FAILURE
+        }
+        Err(e) => {
+            eprintln!("error: could not run cargo: {e}");
+            ExitCode::FAILURE
+        }
+    }
 }
 
 fn main() -> ExitCode {
@@ -93,6 +144,7 @@ fn main() -> ExitCode {
             None => cli::study(&file, out.as_deref()),
         },
         Cmd::Merge { file, out, parts } => cli::merge(&file, out.as_deref(), &parts),
+        Cmd::HeavyTests { args } => return heavy_tests(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1103,6 +1103,7 @@ mod tests {
         /// parameters
         /// (work bounded by the Gauss–Legendre panel estimate, as in the workspace fuzzer).
         #[test]
+        #[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
         fn levin_path_ends_on_random_inputs(
             omega in 1e-3..50.0f64,
             b in 0.0..0.99f64,

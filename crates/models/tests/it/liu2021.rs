@@ -311,6 +311,7 @@ fn warm_start_converges_where_cold_start_fails() {
 }
 
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn continuation_finds_the_jump_fold_of_the_unilateral_branch() {
     // Paper basis, from the unilateral response at 180 rad/s upwards: the branch turns back at
     // a fold (measured 185.5 rad/s) where ppv grows; beyond it only the bilateral branch exists.
@@ -485,6 +486,7 @@ fn central_difference_monodromy(m: &liu2021::Model, q0: f64, v0: f64) -> nalgebr
 ///   equation's global error, which the step-size control does not see (measured ≤ 6e-8 here
 ///   at steps ≤ 0.05; 4e-7 at 160 rad/s with steps ≤ 0.1, why the period map takes 0.05).
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn shooting_multipliers_match_the_finite_difference_period_map() {
     for omega1 in [120.0, 150.0, 160.0, 220.0, 250.0] {
         let m = paper(omega1).model().unwrap();

@@ -22,6 +22,7 @@ fn model(omega1: f64) -> liu2021::Model {
 }
 
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn state_and_bilateral_fraction_are_invariant_at_chaotic_points() {
     for (omega1, state) in [
         (162.5, RattleState::Unilateral),
@@ -52,6 +53,7 @@ fn state_and_bilateral_fraction_are_invariant_at_chaotic_points() {
 /// record discards it and the next window repeats, in every variant, to integration noise; the
 /// statistics then agree over the variants far inside the committed precision (1e-5).
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn a_window_with_the_end_of_a_transient_is_discarded() {
     let m = model(180.0);
     let bare = LongWindowOptions {

@@ -265,6 +265,7 @@ fn natural_stops_at_the_fold_that_arclength_goes_round() {
 /// (Illinois on `dλ/ds`), and the stability verdicts of the two branches agree away from the
 /// folds.
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn hbm_branch_matches_shooting_branch() {
     let s = Duffing {
         zeta: 0.05,

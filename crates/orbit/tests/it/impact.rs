@@ -154,6 +154,7 @@ fn period_one_impacting_orbit_matches_closed_form() {
 /// 1994): continuation in ω locates it where the closed-form monodromy has
 /// `det(Φ + I) = 0`; branch switching gives a genuine period-2 orbit with two impacts.
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn period_doubling_located_by_continuation_matches_closed_form() {
     let r = 0.8;
     let pd_closed = {

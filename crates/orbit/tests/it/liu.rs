@@ -32,6 +32,7 @@ fn timestep_map(m: &Model, q: f64, v: f64, periods: f64, rtol: f64) -> (f64, f64
 }
 
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn liu_orbits_and_multipliers_match_the_timestep_engine() {
     for omega1 in [120.0, 160.0, 200.0, 220.0] {
         let m = model(omega1);

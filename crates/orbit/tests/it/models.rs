@@ -133,6 +133,7 @@ fn pair_case(pair: &GearPair, omega: f64, rattles: bool) {
 /// of the time response), and the multipliers agree with those of the `hbm` engine's period
 /// map at its orbit.
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn yu_six_dof_orbit_and_multipliers_match_harmonic_balance() {
     let omega = 0.5;
     let h = 32;

@@ -53,6 +53,7 @@ fn duffing_multipliers_match_harmonic_balance() {
 /// The hardening resonance curve folds twice; at each located fold a multiplier is `+1`, and
 /// the orbits between the folds are unstable.
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn duffing_folds_are_located_with_a_unit_multiplier() {
     let s = Duffing {
         zeta: 0.05,
@@ -193,6 +194,7 @@ fn min_gap_by_time_integration(omega: f64) -> f64 {
 /// locates that grazing; it agrees with bisection in `ω` on the time-integrated minimum gap and
 /// with the closed form.
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn grazing_by_continuation_matches_time_integration_and_closed_form() {
     let s = rattle(0.5);
     let mut p = OrbitProblem::new(s, 2.0 * PI / 0.5).unwrap();
