@@ -130,6 +130,7 @@ mod band;
 mod basis;
 mod error;
 mod krylov;
+mod lu;
 mod plans;
 mod problem;
 mod solution;
@@ -148,11 +149,12 @@ pub use nalgebra;
 pub use basis::{Basis, CoefficientKind};
 pub use error::HbmError;
 pub use krylov::{KrylovOptions, MAX_BAND_HARMONICS, Preconditioner};
+pub use lu::{AUTO_BLOCKED_LU_UNKNOWNS, BlockedLu, DEFAULT_LU_BLOCK, DenseLu};
 pub use problem::{Counters, HbmProblem};
 pub use solution::{HarmonicAmplitude, PeriodicSolution, TimeSeries, TruncationEstimate};
 pub use solve::{
     AUTO_KRYLOV_UNKNOWNS, Broyden, Method, Newton, NonlinearEquations, SolveReport, SolverOptions,
-    SolverState, solve_equations,
+    SolverState, solve_equations, solve_equations_with,
 };
 pub use stability::{STABILITY_TOLERANCE, Stability};
 pub use sweep::parallel_sweep;
