@@ -19,11 +19,13 @@
 //!     ⎣ A21  A22 ⎦
 //! ```
 //!
-//! 1. **Panel.** Factor the `(b + m) × b` panel `[A11; A21]` column by column with partial
-//!    pivoting (unblocked): for column `k`, the pivot is the entry of largest magnitude on or
-//!    below the diagonal; swap it into row `k` (within the panel), divide the entries below it
-//!    by it (the column of `L`) and subtract the rank-1 product from the panel's columns to
-//!    the right. Result: `P₁ [A11; A21] = [L11; L21] U11`.
+//! 1. **Panel.** Factor the `(b + m) × b` panel `[A11; A21]` with partial pivoting: for
+//!    column `k`, the pivot is the entry of largest magnitude on or below the diagonal; swap
+//!    it into row `k` (within the panel), divide the entries below it by it (the column of
+//!    `L`) and subtract the rank-1 product from the panel's columns to the right. Result:
+//!    `P₁ [A11; A21] = [L11; L21] U11`. Done column by column for panels of at most 8
+//!    columns; a wider panel is split into halves, the same three steps below applied
+//!    recursively between them (so that the panel's work is also mostly `gemm`).
 //! 2. **Interchanges.** Apply the panel's row swaps to the columns left of it (the `L` already
 //!    computed) and right of it (`A12`, `A22`).
 //! 3. **Row block of `U`.** `U12 = L11⁻¹ A12` (forward substitution with the unit lower
@@ -255,8 +257,8 @@ impl BlockedLu {
         let mut j0 = 0;
         while j0 < n {
             let b = nb.min(n - j0);
+            factor_panel(&mut self.lu, j0, b, &mut self.piv)?;
             let data = self.lu.as_mut_slice();
-            factor_panel(data, n, j0, b, &mut self.piv)?;
             // the panel's interchanges in the columns left and right of it
             for k in j0..j0 + b {
                 let p = self.piv[k];
@@ -294,9 +296,70 @@ impl BlockedLu {
     }
 }
 
+/// Panels of at most this many columns are factored unblocked ([`factor_columns`]).
+const PANEL_LEAF: usize = 8;
+
+/// LU with partial pivoting of the panel `a[j0.., j0..j0 + b]`, row swaps only within the
+/// panel's columns, by recursive halving (Toledo 1997): factor the left half, carry its
+/// interchanges and its `U12 = L11⁻¹ A12`, `A22 −= L21 U12` (`gemm`) into the right half,
+/// factor the right half below, carry its interchanges back into the left half. Halves of at
+/// most [`PANEL_LEAF`] columns are eliminated column by column ([`factor_columns`]). The
+/// pivots are those of the column-by-column elimination in exact arithmetic.
+fn factor_panel(
+    a: &mut DMatrix<f64>,
+    j0: usize,
+    b: usize,
+    piv: &mut [usize],
+) -> Result<(), HbmError> {
+    let n = a.nrows();
+    if b <= PANEL_LEAF {
+        return factor_columns(a.as_mut_slice(), n, j0, b, piv);
+    }
+    let h = b / 2;
+    let (c1, c2) = (j0 + h, j0 + b);
+    factor_panel(a, j0, h, piv)?;
+    let data = a.as_mut_slice();
+    for k in j0..c1 {
+        let p = piv[k];
+        if p != k {
+            for c in c1..c2 {
+                data.swap(c * n + k, c * n + p);
+            }
+        }
+    }
+    // U12 = L11⁻¹ A12 (rows j0..c1 of the right half)
+    let (left, right) = data.split_at_mut(c1 * n);
+    for col in right.chunks_exact_mut(n).take(c2 - c1) {
+        for k in 0..h {
+            let x = col[j0 + k];
+            let l = &left[(j0 + k) * n + j0 + k + 1..(j0 + k) * n + c1];
+            for (y, l) in col[j0 + k + 1..c1].iter_mut().zip(l) {
+                *y -= l * x;
+            }
+        }
+    }
+    {
+        let (lp, mut rp) = a.columns_range_pair_mut(j0..c1, c1..c2);
+        let l21 = lp.rows_range(c1..n);
+        let (u12, mut a22) = rp.rows_range_pair_mut(j0..c1, c1..n);
+        a22.gemm(-1.0, &l21, &u12, 1.0);
+    }
+    factor_panel(a, c1, b - h, piv)?;
+    let data = a.as_mut_slice();
+    for k in c1..c2 {
+        let p = piv[k];
+        if p != k {
+            for c in j0..c1 {
+                data.swap(c * n + k, c * n + p);
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Unblocked LU with partial pivoting of the panel `data[j0.., j0..j0 + b]` (column-major,
 /// leading dimension `n`); row swaps only within the panel's columns.
-fn factor_panel(
+fn factor_columns(
     data: &mut [f64],
     n: usize,
     j0: usize,
