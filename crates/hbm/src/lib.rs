@@ -135,7 +135,7 @@ mod band;
 mod basis;
 mod error;
 mod krylov;
-mod lu;
+pub mod lu;
 mod plans;
 mod problem;
 mod solution;
