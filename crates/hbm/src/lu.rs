@@ -33,9 +33,10 @@
 //! 4. **Trailing update.** `A22 ← A22 − L21 U12`: a `m × b` by `b × m` product, `2 b m²` of the
 //!    block's flops, through `gemm`.
 //!
-//! and continue with `A22`. With `nb ≥ n` this is the unblocked algorithm; the arithmetic is
-//! the same as nalgebra's (same pivots in exact arithmetic) but summed in another order, so
-//! the factors agree to rounding, not bit for bit.
+//! and continue with `A22`. With `nb ≥ n` the whole matrix is one (recursively factored)
+//! panel. In exact arithmetic every block width gives the pivots and factors of nalgebra's
+//! column-by-column elimination; in floating point the sums run in another order, so the
+//! factors agree to rounding, not bit for bit.
 //!
 //! A solve of `A x = b` applies the interchanges to `b`, then `L y = P b` (forward) and
 //! `U x = y` (backward substitution), column-oriented on the stored factors.
@@ -50,8 +51,9 @@
 use crate::HbmError;
 use nalgebra::DMatrix;
 
-/// The block width `nb` of [`BlockedLu::new`]: measured best of 16–128 at `n` = 401 and 801
-/// on the development machine (`docs/performance/hbm.md`, "Round 12").
+/// The block width `nb` of [`BlockedLu::new`]: of 16–128, the fastest at `n = 801` (with 64)
+/// and within 3 % of the fastest at `n = 401` on the development machine
+/// (`docs/performance/hbm.md`, "Round 12").
 pub const DEFAULT_LU_BLOCK: usize = 48;
 
 /// Number of unknowns from which [`DenseLu::Auto`] factors the Newton Jacobian with
