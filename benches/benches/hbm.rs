@@ -2,7 +2,9 @@
 #![allow(missing_docs)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use geardyn_hbm::{Basis, HbmProblem, Method, SecondOrderSystem, SolverOptions, SystemError};
+use geardyn_hbm::{
+    Basis, BlockedLu, DenseLu, HbmProblem, Method, SecondOrderSystem, SolverOptions, SystemError,
+};
 use geardyn_system::problems::BenchDuffing as Duffing;
 use nalgebra::DMatrix;
 use std::hint::black_box;
@@ -120,9 +122,61 @@ fn benches(c: &mut Criterion) {
         }
     }
 
+    // 2c. the dense Newton at H = 400 (801 unknowns) with either LU (Round 12)
+    let basis = Basis::full(400).expect("basis");
+    let mut ph = HbmProblem::new(Duffing { omega }, basis.clone(), omega).expect("problem");
+    let zh = s1.embed(&basis);
+    for lu in [DenseLu::Nalgebra, DenseLu::Blocked] {
+        ph.set_dense_lu(lu);
+        let s = ph.solve(&zh, &opts).expect("solve");
+        assert!(s.converged, "{lu:?}: {}", s.termination);
+        group.bench_function(format!("duffing_h400_Newton_lu_{lu:?}"), |b| {
+            b.iter(|| black_box(ph.solve(black_box(&zh), &opts).expect("solve")))
+        });
+    }
+
     // (the 150-point continuation bench moved with the continuation to `orbit`'s benches)
     group.finish();
 }
 
-criterion_group!(hbm_benches, benches);
+/// A matrix with entries uniform in [−1, 1) (splitmix64, fixed seed).
+fn random_matrix(n: usize, seed: u64) -> DMatrix<f64> {
+    let mut s = seed;
+    DMatrix::from_fn(n, n, |_, _| {
+        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = s;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    })
+}
+
+/// nalgebra's LU against `BlockedLu` (factor + one solve, the matrix copied in both), n = 15 …
+/// 801: `dense_lu/{nalgebra,blocked}/{n}`.
+fn dense_lu(c: &mut Criterion) {
+    let mut group = c.benchmark_group("dense_lu");
+    group.sample_size(10);
+    for n in [15usize, 31, 65, 131, 201, 401, 801] {
+        let a = random_matrix(n, n as u64);
+        let rhs = nalgebra::DVector::from_fn(n, |i, _| (i as f64).sin());
+        group.bench_function(format!("nalgebra/{n}"), |b| {
+            b.iter(|| {
+                let lu = black_box(a.clone()).lu();
+                black_box(lu.solve(&rhs).expect("regular"))
+            })
+        });
+        group.bench_function(format!("blocked/{n}"), |b| {
+            b.iter(|| {
+                let lu = BlockedLu::new(black_box(a.clone())).expect("regular");
+                let mut x = rhs.clone();
+                lu.solve_mut(x.as_mut_slice()).expect("length");
+                black_box(x)
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(hbm_benches, benches, dense_lu);
 criterion_main!(hbm_benches);

@@ -222,7 +222,7 @@ def hbm_section(rounds):
             f"preconditioner: {nk['residuals']} residuals + {nk['jacobian_products']} J·v in "
             f"{nk['iterations']} Newton iterations)",
             "scipy `newton_krylov` (GMRES) + harmonic-block preconditioner"),
-        "duffing_h400_dense_newton": ("HBM Duffing H = 400, geardyn dense `Newton` (nalgebra LU)",
+        "duffing_h400_dense_newton": ("HBM Duffing H = 400, geardyn dense `Newton` (blocked LU, `DenseLu::Auto` from 300 unknowns)",
                                       "numpy dense Newton, exact AFT Jacobian, LAPACK solve"),
     }
     rows = []

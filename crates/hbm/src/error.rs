@@ -53,6 +53,19 @@ pub enum HbmError {
         /// Which matrix.
         what: &'static str,
     },
+    /// An LU factorisation ([`BlockedLu`](crate::BlockedLu)) found no non-zero pivot: the
+    /// matrix is singular (column `column`, from 0, depends on the columns before it).
+    #[error("singular matrix: no non-zero pivot in column {column} of the LU factorisation")]
+    SingularPivot {
+        /// The column (from 0) whose pivot search found only zeros.
+        column: usize,
+    },
+    /// A matrix to be factored has (or the elimination produced) a NaN or infinite entry.
+    #[error("non-finite entry in column {column} of the matrix to be LU-factored")]
+    NonFiniteMatrix {
+        /// The column (from 0) of the first non-finite entry found.
+        column: usize,
+    },
     /// The argmin executor failed for a reason other than an [`HbmError`].
     #[error("solver failure: {message}")]
     Solver {

@@ -29,6 +29,11 @@
 //! * **Solvers**: [`Newton`] with a backtracking line search (default) and [`Broyden`]
 //!   (inverse update, Liu's choice), both argmin 0.11 `Solver`s run by argmin's `Executor`;
 //!   non-convergence is returned in [`PeriodicSolution::converged`].
+//! * **Dense linear solves**: each dense Newton step factors `P J = L U`, by nalgebra's LU or,
+//!   from [`AUTO_BLOCKED_LU_UNKNOWNS`] unknowns, by [`BlockedLu`], a blocked right-looking LU
+//!   whose trailing updates `A22 −= L21 U12` are matrix products (`gemm`); the choice is
+//!   [`DenseLu`] ([`HbmProblem::set_dense_lu`], [`solve_equations_with`]). At 801 unknowns
+//!   the blocked LU is about 4× faster than nalgebra's.
 //! * **Large bases**: [`Method::NewtonKrylov`] never forms the Jacobian: each Newton step is a
 //!   restarted GMRES solve of `J δ = −r` with products `J v` by AFT
 //!   (`δh(t_m) = ∂g/∂q(t_m) δq(t_m) + ∂g/∂q'(t_m) δq'(t_m)`, exact for the discrete residual),
@@ -130,6 +135,7 @@ mod band;
 mod basis;
 mod error;
 mod krylov;
+pub mod lu;
 mod plans;
 mod problem;
 mod solution;
@@ -148,11 +154,12 @@ pub use nalgebra;
 pub use basis::{Basis, CoefficientKind};
 pub use error::HbmError;
 pub use krylov::{KrylovOptions, MAX_BAND_HARMONICS, Preconditioner};
+pub use lu::{AUTO_BLOCKED_LU_UNKNOWNS, BlockedLu, DEFAULT_LU_BLOCK, DenseLu};
 pub use problem::{Counters, HbmProblem};
 pub use solution::{HarmonicAmplitude, PeriodicSolution, TimeSeries, TruncationEstimate};
 pub use solve::{
     AUTO_KRYLOV_UNKNOWNS, Broyden, Method, Newton, NonlinearEquations, SolveReport, SolverOptions,
-    SolverState, solve_equations,
+    SolverState, solve_equations, solve_equations_with,
 };
 pub use stability::{STABILITY_TOLERANCE, Stability};
 pub use sweep::parallel_sweep;

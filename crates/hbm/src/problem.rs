@@ -33,6 +33,7 @@ pub struct HbmProblem<S> {
     c: DMatrix<f64>,
     k: DMatrix<f64>,
     ws: Workspace,
+    dense_lu: crate::DenseLu,
 }
 
 /// Work counters of an [`HbmProblem`] (see [`HbmProblem::counters`]).
@@ -204,6 +205,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
             c: DMatrix::zeros(n, n),
             k: DMatrix::zeros(n, n),
             ws: Workspace::new(n, n_grid, nc, 0),
+            dense_lu: crate::DenseLu::Auto,
         };
         p.mark_basis();
         p.refresh_matrices()?;
@@ -807,6 +809,18 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         self.ws.counters
     }
 
+    /// Which LU the dense [`Method::Newton`](crate::Method::Newton) solves of
+    /// [`solve`](Self::solve) use ([`DenseLu::Auto`](crate::DenseLu::Auto) unless set).
+    pub fn dense_lu(&self) -> crate::DenseLu {
+        self.dense_lu
+    }
+
+    /// Choose the LU of the dense Newton solves ([`DenseLu`](crate::DenseLu)); kept by
+    /// [`set_system`](Self::set_system) and clones.
+    pub fn set_dense_lu(&mut self, lu: crate::DenseLu) {
+        self.dense_lu = lu;
+    }
+
     /// Set the [`counters`](Self::counters) to zero.
     pub fn reset_counters(&mut self) {
         self.ws.counters = Counters::default();
@@ -835,6 +849,7 @@ impl<S: SecondOrderSystem + Clone> Clone for HbmProblem<S> {
                 in_basis: self.ws.in_basis.clone(),
                 ..Workspace::new(self.n, self.ws.n_grid, self.basis.n_coefficients(), 0)
             },
+            dense_lu: self.dense_lu,
         }
     }
 }

@@ -1,6 +1,6 @@
 //! Solving one periodic response, and what a solution can tell.
 
-use crate::solve::{NonlinearEquations, solve_equations};
+use crate::solve::{NonlinearEquations, solve_equations_with};
 use crate::{
     Basis, HbmError, HbmProblem, KrylovOptions, Method, SecondOrderSystem, SolverOptions, Stability,
 };
@@ -353,7 +353,8 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         if krylov {
             return self.solve_newton_krylov(z0, options, &KrylovOptions::default());
         }
-        let (report, _) = solve_equations(HbmEquations(self), z0.to_vec(), options)?;
+        let lu = self.dense_lu();
+        let (report, _) = solve_equations_with(HbmEquations(self), z0.to_vec(), options, lu)?;
         Ok(self.solution_of(
             report.x,
             report.converged,

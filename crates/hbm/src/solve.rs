@@ -1,6 +1,6 @@
 //! Newton (with backtracking line search) and Broyden as argmin solvers.
 
-use crate::HbmError;
+use crate::{BlockedLu, DenseLu, HbmError};
 use argmin::core::{
     Executor, IterState, KV, Problem, Solver, State, TerminationReason, TerminationStatus,
 };
@@ -139,6 +139,8 @@ pub struct Newton {
     jac: DMatrix<f64>,
     r: Vec<f64>,
     trial: Vec<f64>,
+    dense_lu: DenseLu,
+    blocked: BlockedLu,
 }
 
 impl Newton {
@@ -153,7 +155,16 @@ impl Newton {
             jac: DMatrix::zeros(0, 0),
             r: Vec::new(),
             trial: Vec::new(),
+            dense_lu: DenseLu::Auto,
+            blocked: BlockedLu::empty(),
         })
+    }
+
+    /// Factor the Jacobian with `lu` ([`DenseLu::Auto`] unless set).
+    #[must_use]
+    pub fn with_dense_lu(mut self, lu: DenseLu) -> Self {
+        self.dense_lu = lu;
+        self
     }
 }
 
@@ -281,8 +292,14 @@ impl<O: NonlinearEquations> Solver<O, SolverState> for Newton {
         o.residual_and_jacobian(&x, &mut self.r, &mut self.jac)?;
         let f0 = norm(&self.r);
         let mut dx = DVector::from_iterator(self.r.len(), self.r.iter().map(|v| -v));
-        let lu = self.jac.clone().lu();
-        if !lu.solve_mut(&mut dx) || dx.iter().any(|v| !v.is_finite()) {
+        let solved = if self.dense_lu.uses_blocked(dx.len()) {
+            // a singular or non-finite Jacobian stops the solve, as nalgebra's `false` does
+            self.blocked.refactor(&self.jac).is_ok()
+                && self.blocked.solve_mut(dx.as_mut_slice()).is_ok()
+        } else {
+            self.jac.clone().lu().solve_mut(&mut dx)
+        };
+        if !solved || dx.iter().any(|v| !v.is_finite()) {
             return Ok((stop_at(state, x, f0, "singular Jacobian"), None));
         }
         let mut r_new = vec![0.0; self.r.len()];
@@ -445,13 +462,30 @@ pub fn solve_equations<O: NonlinearEquations>(
     x0: Vec<f64>,
     options: &SolverOptions,
 ) -> Result<(SolveReport, O), HbmError> {
+    solve_equations_with(equations, x0, options, DenseLu::Auto)
+}
+
+/// [`solve_equations`] with the LU of the dense Newton steps chosen explicitly ([`DenseLu`];
+/// ignored by [`Method::Broyden`]).
+///
+/// # Errors
+/// As [`solve_equations`].
+pub fn solve_equations_with<O: NonlinearEquations>(
+    equations: O,
+    x0: Vec<f64>,
+    options: &SolverOptions,
+    dense_lu: DenseLu,
+) -> Result<(SolveReport, O), HbmError> {
     options.validate()?;
     let tol = options.tolerance;
     let max_iters = options.max_iters;
     let (mut problem, mut state) = match options.method {
-        Method::Newton | Method::NewtonKrylov | Method::Auto => {
-            run(equations, Newton::new(tol)?, x0, max_iters)?
-        }
+        Method::Newton | Method::NewtonKrylov | Method::Auto => run(
+            equations,
+            Newton::new(tol)?.with_dense_lu(dense_lu),
+            x0,
+            max_iters,
+        )?,
         Method::Broyden => run(equations, Broyden::new(tol)?, x0, max_iters)?,
     };
     let residual_norm = state.get_cost();

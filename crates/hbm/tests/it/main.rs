@@ -8,5 +8,6 @@ mod duffing;
 mod jacobian;
 mod krylov;
 mod linear;
+mod lu;
 mod solvers;
 mod tables;
