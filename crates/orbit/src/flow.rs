@@ -214,13 +214,28 @@ const BSTAR: [f64; 7] = [
 ];
 
 /// The vector field, its Jacobian and the event functions of one system.
+///
+/// The time-only parts are evaluated once per sample time and reused while `t` is the same
+/// (bit for bit): the forcing `f(t)` and the system's time table
+/// ([`SecondOrderSystem::fill_time_table`], e.g. Liu's `[F(τ), b̄(τ)]`), from which the force
+/// and its Jacobian are taken ([`SecondOrderSystem::nonlinear_force_tabulated`], which the
+/// trait requires to equal the direct evaluation). A Runge–Kutta stage evaluates the field and
+/// its Jacobian at the same `t`, Dormand–Prince's last two stages share `t + h`, and the first
+/// stage of a step is the last of the previous one: a step with its variational equation
+/// evaluates the time functions at 5 new times instead of 13 (table) and 7 (forcing). This
+/// drops repeated `sin`/`cos` without changing a bit: the same functions at the same arguments.
 pub(crate) struct Field<'a, S: ?Sized> {
     pub sys: &'a S,
     pub mats: &'a Matrices,
     pub impacts: Option<&'a dyn ImpactLaw>,
     n: usize,
     g: Vec<f64>,
+    /// `f(t)` at `f_at` (the bits of `t`; `None`: not yet evaluated).
     f: Vec<f64>,
+    f_at: Option<u64>,
+    /// The time table at `row_at` (empty when the system has none).
+    row: Vec<f64>,
+    row_at: Option<u64>,
     jq: Vec<f64>,
     jv: Vec<f64>,
     e: Vec<f64>,
@@ -236,6 +251,9 @@ impl<'a, S: SecondOrderSystem + ?Sized> Field<'a, S> {
             n,
             g: vec![0.0; n],
             f: vec![0.0; n],
+            f_at: None,
+            row: vec![0.0; sys.time_table_len()],
+            row_at: None,
             jq: vec![0.0; n * n],
             jv: vec![0.0; n * n],
             e: vec![0.0; sys.n_events()],
@@ -246,12 +264,25 @@ impl<'a, S: SecondOrderSystem + ?Sized> Field<'a, S> {
         self.e.len()
     }
 
+    /// The time table at `t` (kept while `t` is unchanged).
+    fn time_row(&mut self, t: f64) {
+        if !self.row.is_empty() && self.row_at != Some(t.to_bits()) {
+            self.sys.fill_time_table(t, &mut self.row);
+            self.row_at = Some(t.to_bits());
+        }
+    }
+
     /// `x' = (q', M⁻¹ (f − C q' − K q − g))`.
     pub fn rhs(&mut self, t: f64, x: &[f64], out: &mut [f64]) {
         let n = self.n;
         let (q, v) = x.split_at(n);
-        self.sys.nonlinear_force(t, q, v, &mut self.g);
-        self.sys.forcing(t, &mut self.f);
+        self.time_row(t);
+        self.sys
+            .nonlinear_force_tabulated(t, &self.row, q, v, &mut self.g);
+        if self.f_at != Some(t.to_bits()) {
+            self.sys.forcing(t, &mut self.f);
+            self.f_at = Some(t.to_bits());
+        }
         let m = self.mats;
         for i in 0..n {
             let mut r = self.f[i] - self.g[i];
@@ -274,7 +305,9 @@ impl<'a, S: SecondOrderSystem + ?Sized> Field<'a, S> {
     pub fn jacobian(&mut self, t: f64, x: &[f64], a: &mut DMatrix<f64>) {
         let n = self.n;
         let (q, v) = x.split_at(n);
-        self.sys.force_jacobian(t, q, v, &mut self.jq, &mut self.jv);
+        self.time_row(t);
+        self.sys
+            .force_jacobian_tabulated(t, &self.row, q, v, &mut self.jq, &mut self.jv);
         let m = self.mats;
         a.fill(0.0);
         for i in 0..n {
@@ -863,4 +896,120 @@ fn golden<S: SecondOrderSystem + ?Sized>(
         }
     }
     fc.max(fd)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cell::Cell;
+
+    /// A 1-DOF system `q'' + 0.1 q' + q + k(t) q³ = cos t` with the time table `[k(t)]`,
+    /// `k(t) = 1 + 0.5 sin 3t`, counting its time-function evaluations.
+    struct Counted {
+        tables: Cell<usize>,
+        forcings: Cell<usize>,
+    }
+
+    impl SecondOrderSystem for Counted {
+        fn n_dof(&self) -> usize {
+            1
+        }
+        fn mass(&self) -> DMatrix<f64> {
+            DMatrix::identity(1, 1)
+        }
+        fn damping(&self) -> DMatrix<f64> {
+            DMatrix::from_element(1, 1, 0.1)
+        }
+        fn stiffness(&self) -> DMatrix<f64> {
+            DMatrix::identity(1, 1)
+        }
+        fn nonlinear_force(&self, t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
+            g[0] = (1.0 + 0.5 * (3.0 * t).sin()) * q[0].powi(3);
+        }
+        fn forcing(&self, t: f64, f: &mut [f64]) {
+            self.forcings.set(self.forcings.get() + 1);
+            f[0] = t.cos();
+        }
+        fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], dq: &mut [f64], dv: &mut [f64]) {
+            dq[0] = 3.0 * (1.0 + 0.5 * (3.0 * t).sin()) * q[0] * q[0];
+            dv[0] = 0.0;
+        }
+        fn time_table_len(&self) -> usize {
+            1
+        }
+        fn fill_time_table(&self, t: f64, row: &mut [f64]) {
+            self.tables.set(self.tables.get() + 1);
+            row[0] = 1.0 + 0.5 * (3.0 * t).sin();
+        }
+        fn nonlinear_force_tabulated(
+            &self,
+            _t: f64,
+            row: &[f64],
+            q: &[f64],
+            _qd: &[f64],
+            g: &mut [f64],
+        ) {
+            g[0] = row[0] * q[0].powi(3);
+        }
+        fn force_jacobian_tabulated(
+            &self,
+            _t: f64,
+            row: &[f64],
+            q: &[f64],
+            _qd: &[f64],
+            dq: &mut [f64],
+            dv: &mut [f64],
+        ) {
+            dq[0] = 3.0 * row[0] * q[0] * q[0];
+            dv[0] = 0.0;
+        }
+    }
+
+    /// The cached time functions give the direct evaluation bit for bit, and a step with its
+    /// variational equation evaluates them once per distinct stage time, not once per call
+    /// (7 field evaluations and 6 Jacobians per step): the stage times `t + c h` with
+    /// `c = 0, 1/5, 3/10, 4/5, 8/9, 1, 1` are 6 distinct ones, and the first is the previous
+    /// step's last, so 5 new ones per step.
+    #[test]
+    fn time_functions_are_evaluated_once_per_stage_time_and_equal_the_direct_ones() {
+        let sys = Counted {
+            tables: Cell::new(0),
+            forcings: Cell::new(0),
+        };
+        let mats = Matrices::of(&sys).unwrap();
+        let mut st = Stepper::new(Field::new(&sys, &mats, None), 1e-9, 1e-12);
+        let (mut t, h) = (0.0, 0.05);
+        let mut x = vec![0.3, -0.2];
+        let mut x_new = vec![0.0; 2];
+        let mut phi = DMatrix::<f64>::identity(2, 2);
+        let steps = 10;
+        for _ in 0..steps {
+            st.step(t, &x, h, &mut x_new, Some(&mut phi), None);
+            x.copy_from_slice(&x_new);
+            t += h;
+        }
+        // before the cache: 7 forcings and 7 + 6 tables per step
+        assert_eq!(sys.forcings.get(), 1 + 5 * steps);
+        assert_eq!(sys.tables.get(), 1 + 5 * steps);
+
+        // against the direct evaluation at scattered times and states, both orders of calls
+        let mut direct = [0.0; 2];
+        let mut a_cached = DMatrix::zeros(2, 2);
+        for (i, &tt) in [0.0, 0.37, 0.37, 1.9, -2.5, 1e3].iter().enumerate() {
+            let y = [0.1 * i as f64 - 0.2, 0.05 * i as f64];
+            let mut out = [0.0; 2];
+            st.field.rhs(tt, &y, &mut out);
+            st.field.jacobian(tt, &y, &mut a_cached);
+            let mut g = [0.0];
+            sys.nonlinear_force(tt, &y[..1], &y[1..], &mut g);
+            direct[0] = y[1];
+            direct[1] = tt.cos() - 0.1 * y[1] - y[0] - g[0];
+            assert_eq!(out[0].to_bits(), direct[0].to_bits());
+            assert_eq!(out[1].to_bits(), direct[1].to_bits(), "t = {tt}");
+            let (mut dq, mut dv) = ([0.0], [0.0]);
+            sys.force_jacobian(tt, &y[..1], &y[1..], &mut dq, &mut dv);
+            assert_eq!(a_cached[(1, 0)].to_bits(), (-(1.0 + dq[0])).to_bits());
+            assert_eq!(a_cached[(1, 1)].to_bits(), (-(0.1 + dv[0])).to_bits());
+        }
+    }
 }
