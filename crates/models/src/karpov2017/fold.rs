@@ -75,12 +75,26 @@ impl Fold {
     }
 }
 
+/// `q` rounded to an integer: by adding and subtracting `1.5·2⁵²` below `2⁵¹` in magnitude
+/// (ties to even; `f64::round`, ties away from zero, is a library call on the baseline x86-64
+/// target), `f64::round` beyond and for NaN. `D_N` is `2π`-periodic in `x`, so any integer
+/// would do; this one is `round` except at exact ties.
+#[inline]
+fn round_int(q: f64) -> f64 {
+    const SHIFT: f64 = 6_755_399_441_055_744.0;
+    if q.abs() < 2_251_799_813_685_248.0 {
+        (q + SHIFT) - SHIFT
+    } else {
+        q.round()
+    }
+}
+
 /// `(sin(Nδ/2)/sin(δ/2), (N − 1)δ/2)` with `δ = x − 2π round(x/2π)`, `x = T(1 + σA)`: the
 /// modulus-and-phase form of `D_N(x)` (`(N, 0)` at `δ = 0`).
 #[inline]
 fn dirichlet(f: &Fold, big_a: f64, sigma: f64) -> (f64, f64) {
     let x = f.period * (1.0 + sigma * big_a);
-    let d = x - TAU * (x / TAU).round();
+    let d = x - TAU * round_int(x / TAU);
     if d == 0.0 {
         (f.n, 0.0)
     } else {
@@ -279,4 +293,42 @@ pub(super) fn integrate(
         u = if done { end } else { u + 2.0 * h };
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `round_int` is `f64::round` except at exact ties (to even there), and beyond `2⁵¹`;
+    /// `D_N` does not depend on which integer is taken (`x` and `x + 2π` give the same value).
+    #[test]
+    #[allow(clippy::float_cmp)]
+    fn round_int_rounds_and_the_dirichlet_kernel_is_periodic() {
+        for q in [
+            0.0, 0.3, -0.3, 0.7, -0.7, 1.49, -1.51, 12_345.678, -9.0e14, 3.0e15, 1e300,
+        ] {
+            // equal values (the sign of a zero may differ: −0.3 gives +0, `round` −0)
+            assert!(round_int(q) == q.round(), "{q}");
+        }
+        assert_eq!(round_int(2.5).to_bits(), 2.0f64.to_bits());
+        assert_eq!(round_int(-3.5).to_bits(), (-4.0f64).to_bits());
+        assert!(round_int(f64::NAN).is_nan());
+        let f = Fold::ending_at(62.83, 1e5).unwrap();
+        for big_a in [0.3, 1.0, 1.0 + 1e-3, 1.7] {
+            for sigma in [1.0, -1.0] {
+                let (r, h) = dirichlet(&f, big_a, sigma);
+                let d = Complex::from_polar(r, h);
+                // the geometric sum directly
+                let x = f.period * (1.0 + sigma * big_a);
+                let mut sum = Complex::new(0.0, 0.0);
+                for n in 0..f.n as u64 {
+                    sum += Complex::from_polar(1.0, n as f64 * x);
+                }
+                assert!(
+                    (d - sum).norm() <= 1e-9 * f.n,
+                    "{big_a} {sigma}: {d} vs {sum}"
+                );
+            }
+        }
+    }
 }

@@ -120,6 +120,8 @@ impl Karpov2017 {
         let (mut x0, mut v0) = x_at(t, c0, s0);
         let mut max_abs = x0.abs();
         let mut est = acc.dc.hypot(acc.ds);
+        // the largest remainder of the extremum searches (part of A's estimate)
+        let mut newton_rest = 0.0f64;
         while t < tau_end {
             // at most `LAST_CYCLE_PHASE` rad of phase per sample interval: `X' = 0` can then
             // hold at most one root between samples, however fast the forcing. The panels span
@@ -162,7 +164,9 @@ impl Karpov2017 {
                     if ((v0 > 0.0 && vb < 0.0) || (v0 < 0.0 && vb > 0.0))
                         && extremum_bound(tb - ta, (x0, v0), (xb, vb)) + DENSE_TOL > max_abs
                     {
-                        max_abs = max_abs.max(ker.extremum(tp, cp, sp, ta, tb));
+                        let (m, rest) = ker.extremum(tp, cp, sp, (ta, v0), (tb, vb));
+                        max_abs = max_abs.max(m);
+                        newton_rest = newton_rest.max(rest);
                     }
                     (ta, x0, v0) = (tb, xb, vb);
                 }
@@ -183,7 +187,7 @@ impl Karpov2017 {
             envelope,
             last_cycle_max: max_abs,
             amplitude,
-            error_estimate: est + stats.truncation + stats.rounding + acc.round,
+            error_estimate: est + newton_rest + stats.truncation + stats.rounding + acc.round,
             rounding_estimate: acc.round,
             phase_budget: theta,
             panels: acc.panels,
@@ -454,6 +458,11 @@ pub(super) const EMBED_PAIR: [[f64; 10]; 2] = {
     }
     r
 };
+
+/// Relative gain in `|X|` below which the extremum search of the last cycle stops
+/// ([`Kernel::extremum`]; the gain is added to the error estimate): from the secant start,
+/// usually after two or three Newton iterates instead of four or five.
+pub(super) const NEWTON_GAIN: f64 = 1e-13;
 
 /// Sample intervals per last-cycle panel (the run's `run` loop).
 pub(super) const DENSE: usize = 4;
@@ -811,11 +820,24 @@ impl Kernel {
         (st * c - ct * s, ct * c + st * s)
     }
 
-    /// `|X|` at the extremum in `(lo, hi)` where `X'` changes sign, given `C`, `S` at `t0 ≤ lo`
+    /// `|X|` at the extremum in `(lo, hi)` where `X'` changes sign (`v_lo`, `v_hi`: `X'` at the
+    /// ends, of opposite signs, the sign of `v_lo` certain), given `C`, `S` at `t0 ≤ lo`
     /// (`hi − t0` at most a panel): safeguarded Newton on `X'(τ) = cos τ C(τ) + sin τ S(τ)`
     /// with `X'' = sin Φ − X`, each iterate's `C`, `S` by one panel from `t0` (at most 60
-    /// steps; the bracket always holds a sign change).
-    pub(super) fn extremum(&self, t0: f64, c0: f64, s0: f64, lo: f64, hi: f64) -> f64 {
+    /// steps; the bracket always holds a sign change), from the secant root of the ends.
+    ///
+    /// Returns `(max |X| over the iterates, remainder)`: the search stops once the gain in
+    /// `|X|` the next Newton step could still make, `X'²/(2|X''|)` (the quadratic model at the
+    /// last iterate), is `≤ NEWTON_GAIN·|X|`; that gain is the remainder, added to the error
+    /// estimate of `A` (0 when it stopped on the step length or the bracket).
+    pub(super) fn extremum(
+        &self,
+        t0: f64,
+        c0: f64,
+        s0: f64,
+        (lo, v_lo): (f64, f64),
+        (hi, v_hi): (f64, f64),
+    ) -> (f64, f64) {
         let eval = |tau: f64| {
             let (dc, ds) = self.panel(t0, &self.rot(tau - t0));
             let (c, s) = (c0 + dc, s0 + ds);
@@ -828,9 +850,18 @@ impl Kernel {
             )
         };
         let (mut lo, mut hi) = (lo, hi);
-        let (_, v_lo, _) = eval(lo);
-        let mut tau = 0.5 * (lo + hi);
+        // the secant root of the ends (kept inside the bracket; the midpoint if it is not a
+        // number): X' is close to linear over a sample interval
+        let w = hi - lo;
+        let secant = lo + w * (v_lo / (v_lo - v_hi));
+        let mut tau = if secant.is_nan() {
+            0.5 * (lo + hi)
+        } else {
+            // max/min, not clamp: no panic whatever the bounds
+            secant.max(lo + 1e-3 * w).min(hi - 1e-3 * w)
+        };
         let mut best = 0.0f64;
+        let mut rest = 0.0;
         for _ in 0..60 {
             let (x, v, f) = eval(tau);
             best = best.max(x.abs());
@@ -840,6 +871,11 @@ impl Kernel {
                 hi = tau;
             }
             let d2 = f - x;
+            let gain = 0.5 * v * v / d2.abs();
+            rest = if gain.is_finite() { gain } else { 0.0 };
+            if gain <= NEWTON_GAIN * x.abs() {
+                break;
+            }
             let newton = tau - v / d2;
             let next = if d2 != 0.0 && newton > lo && newton < hi {
                 newton
@@ -847,11 +883,12 @@ impl Kernel {
                 0.5 * (lo + hi)
             };
             if (next - tau).abs() <= 1e-15 * (1.0 + tau.abs()) || hi - lo <= 1e-14 * (1.0 + tau) {
+                rest = 0.0;
                 break;
             }
             tau = next;
         }
-        best
+        (best, rest)
     }
 }
 
