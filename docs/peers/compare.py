@@ -15,6 +15,14 @@ the accuracy of each side and the times. With `--write`, the table replaces the 
 `<!-- peer-table:begin -->` and `<!-- peer-table:end -->` of the given file.
 """
 
+import os
+
+# Every peer single-threaded, as geardyn's solves: a multithreaded BLAS (numpy's LAPACK solve of
+# the dense Newton) would do part of its work on threads that the calling thread's CPU clock
+# (`time.thread_time`, below) does not count. Set before numpy is imported.
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "NUMBA_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
 import argparse
 import json
 import math
