@@ -9,6 +9,10 @@ use geardyn_system::problems::BenchDuffing as Duffing;
 use nalgebra::DMatrix;
 use std::hint::black_box;
 
+#[path = "../../crates/hbm/tests/it/common/random_matrix.rs"]
+mod random_matrix;
+use random_matrix::random_matrix;
+
 /// Liu-type 1-DOF rattle model: `q'' + 2ζq' + F(t) f(q) = F_m + F_e cos(Z2 ω t)` with
 /// `F(t) = 1 + ε_c cos ωt + ε_e cos Z2ωt` and a dead zone `f`.
 #[derive(Clone)]
@@ -137,19 +141,6 @@ fn benches(c: &mut Criterion) {
 
     // (the 150-point continuation bench moved with the continuation to `orbit`'s benches)
     group.finish();
-}
-
-/// A matrix with entries uniform in [−1, 1) (splitmix64, fixed seed).
-fn random_matrix(n: usize, seed: u64) -> DMatrix<f64> {
-    let mut s = seed;
-    DMatrix::from_fn(n, n, |_, _| {
-        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    })
 }
 
 /// nalgebra's LU against `BlockedLu` (factor + one solve, the matrix copied in both), n = 15 …

@@ -13,6 +13,10 @@
 use geardyn_hbm::{Basis, nalgebra::DMatrix};
 use geardyn_hbm::{BlockedLu, DenseLu, HbmProblem, SolverOptions};
 use std::hint::black_box;
+
+#[path = "../tests/it/common/random_matrix.rs"]
+mod random_matrix;
+use random_matrix::random_matrix;
 use system::problems::BenchDuffing as Duffing;
 
 fn on_cpu_ns() -> u64 {
@@ -36,19 +40,6 @@ fn cpu_per_call(mut f: impl FnMut()) -> f64 {
             return c as f64 * 1e-9 / calls as f64;
         }
     }
-}
-
-/// A random matrix with entries uniform in [−1, 1) (splitmix64, fixed seed).
-fn random(n: usize, seed: u64) -> DMatrix<f64> {
-    let mut s = seed;
-    DMatrix::from_fn(n, n, |_, _| {
-        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    })
 }
 
 fn median(v: &mut [f64]) -> f64 {
@@ -98,7 +89,7 @@ fn main() {
 
     if want("lu") {
         for n in [15usize, 31, 65, 131, 201, 401, 801] {
-            let a = random(n, n as u64);
+            let a = random_matrix(n, n as u64);
             let b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
             let mut t = vec![Vec::new(), Vec::new()];
             for _ in 0..rounds {
@@ -118,7 +109,7 @@ fn main() {
     }
     if want("nb") {
         for n in [131usize, 257, 401, 801] {
-            let a = random(n, 7);
+            let a = random_matrix(n, 7);
             let nbs = [16usize, 32, 48, 64, 96, 128];
             let mut t = vec![Vec::new(); nbs.len()];
             for _ in 0..rounds {

@@ -262,14 +262,7 @@ impl BlockedLu {
             factor_panel(&mut self.lu, j0, b, &mut self.piv)?;
             let data = self.lu.as_mut_slice();
             // the panel's interchanges in the columns left and right of it
-            for k in j0..j0 + b {
-                let p = self.piv[k];
-                if p != k {
-                    for c in (0..j0).chain(j0 + b..n) {
-                        data.swap(c * n + k, c * n + p);
-                    }
-                }
-            }
+            swap_rows(data, n, &self.piv, j0..j0 + b, (0..j0).chain(j0 + b..n));
             if j0 + b < n {
                 // U12 = L11⁻¹ A12
                 let (left, right) = data.split_at_mut((j0 + b) * n);
@@ -321,14 +314,7 @@ fn factor_panel(
     let (c1, c2) = (j0 + h, j0 + b);
     factor_panel(a, j0, h, piv)?;
     let data = a.as_mut_slice();
-    for k in j0..c1 {
-        let p = piv[k];
-        if p != k {
-            for c in c1..c2 {
-                data.swap(c * n + k, c * n + p);
-            }
-        }
-    }
+    swap_rows(data, n, piv, j0..c1, c1..c2);
     // U12 = L11⁻¹ A12 (rows j0..c1 of the right half)
     let (left, right) = data.split_at_mut(c1 * n);
     for col in right.chunks_exact_mut(n).take(c2 - c1) {
@@ -348,14 +334,7 @@ fn factor_panel(
     }
     factor_panel(a, c1, b - h, piv)?;
     let data = a.as_mut_slice();
-    for k in c1..c2 {
-        let p = piv[k];
-        if p != k {
-            for c in j0..c1 {
-                data.swap(c * n + k, c * n + p);
-            }
-        }
-    }
+    swap_rows(data, n, piv, c1..c2, j0..c1);
     Ok(())
 }
 
@@ -416,5 +395,24 @@ fn check_len(what: &'static str, expected: usize, got: usize) -> Result<(), HbmE
             expected,
             got,
         })
+    }
+}
+
+/// Apply the interchanges `piv[k]` (rows `k` and `piv[k]`, for `k` in `steps`, in order) to the
+/// columns `cols` of the column-major `data` with `n` rows.
+fn swap_rows(
+    data: &mut [f64],
+    n: usize,
+    piv: &[usize],
+    steps: std::ops::Range<usize>,
+    cols: impl Iterator<Item = usize> + Clone,
+) {
+    for k in steps {
+        let p = piv[k];
+        if p != k {
+            for c in cols.clone() {
+                data.swap(c * n + k, c * n + p);
+            }
+        }
     }
 }

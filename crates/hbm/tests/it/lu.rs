@@ -8,19 +8,7 @@ use geardyn_hbm::{
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 
-/// A matrix with entries uniform in [−1, 1) from a fixed seed (splitmix64): condition numbers
-/// of order `n`, and pivoting needed at almost every step.
-fn random(n: usize, seed: u64) -> DMatrix<f64> {
-    let mut s = seed;
-    DMatrix::from_fn(n, n, |_, _| {
-        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    })
-}
+use crate::common::random_matrix::random_matrix;
 
 /// `‖P A − L U‖_F / ‖A‖_F`.
 fn factor_error(a: &DMatrix<f64>, lu: &BlockedLu) -> f64 {
@@ -53,7 +41,7 @@ fn backward_error_at_n_eps() {
         (201, 64),
         (257, 48),
     ] {
-        let a = random(n, 1000 + n as u64);
+        let a = random_matrix(n, 1000 + n as u64);
         let lu = BlockedLu::with_block_size(a.clone(), nb).unwrap();
         assert_eq!(lu.dim(), n);
         assert_eq!(lu.block_size(), nb);
@@ -86,7 +74,7 @@ fn backward_error_at_n_eps() {
 #[test]
 fn block_width_changes_only_rounding() {
     let n = 150;
-    let a = random(n, 99);
+    let a = random_matrix(n, 99);
     let un = BlockedLu::with_block_size(a.clone(), n).unwrap();
     for nb in [1, 5, 32, 48, 149] {
         let lu = BlockedLu::with_block_size(a.clone(), nb).unwrap();
@@ -100,9 +88,9 @@ fn block_width_changes_only_rounding() {
 #[test]
 fn several_right_hand_sides() {
     let n = 70;
-    let a = random(n, 5);
+    let a = random_matrix(n, 5);
     let lu = BlockedLu::with_block_size(a.clone(), 16).unwrap();
-    let b = random(n, 6).columns(0, 3).into_owned();
+    let b = random_matrix(n, 6).columns(0, 3).into_owned();
     let mut x = b.clone();
     lu.solve_matrix_mut(&mut x).unwrap();
     for j in 0..3 {
@@ -173,7 +161,7 @@ fn typed_errors() {
         HbmError::SingularPivot { column: 2 }
     );
     // a zero column
-    let mut z = random(10, 3);
+    let mut z = random_matrix(10, 3);
     z.column_mut(6).fill(0.0);
     for nb in [1, 4, 48] {
         assert_eq!(
@@ -182,7 +170,7 @@ fn typed_errors() {
         );
     }
     // NaN and infinity
-    let mut a = random(9, 4);
+    let mut a = random_matrix(9, 4);
     a[(5, 3)] = f64::NAN;
     assert_eq!(
         BlockedLu::new(a.clone()).unwrap_err(),
@@ -216,7 +204,7 @@ fn typed_errors() {
     let mut e = BlockedLu::empty();
     assert_eq!(e.dim(), 0);
     e.solve_mut(&mut []).unwrap();
-    let a = random(20, 8);
+    let a = random_matrix(20, 8);
     e.refactor(&a).unwrap();
     assert!(factor_error(&a, &e) <= 20.0 * f64::EPSILON);
     assert!(e.refactor(&DMatrix::from_element(20, 20, 1.0)).is_err());
@@ -229,7 +217,7 @@ proptest! {
     /// Sizes 1..200, any seed and block width: backward errors at the `n ε` level.
     #[test]
     fn random_sizes_factor_and_solve(n in 1usize..200, nb in 1usize..100, seed in any::<u64>()) {
-        let a = random(n, seed);
+        let a = random_matrix(n, seed);
         let lu = BlockedLu::with_block_size(a.clone(), nb).unwrap();
         let eps = f64::EPSILON;
         let fe = factor_error(&a, &lu);

@@ -1,6 +1,8 @@
 //! Test systems with reference data, and a small RK4 integrator for long time integration.
 #![allow(dead_code)]
 
+pub mod random_matrix;
+
 use geardyn_hbm::SecondOrderSystem;
 use nalgebra::DMatrix;
 
