@@ -402,8 +402,9 @@ impl Karpov2017 {
     ///    geometric sum over the periods taken in closed form at each node
     ///    (`Σ_{n<N} e^{inx} = e^{i(N−1)δ/2} sin(Nδ/2)/sin(δ/2)`); the folded period, the head
     ///    before it and the last cycle by phase-bounded Gauss–Legendre pairs, at
-    ///    `θ = 8, 4, 2, 1` (printed) or `6, 3, 1.5, 0.75` (accumulated,
-    ///    [`Karpov2017::fold_phase_budget`]; the last cycle at most 4 rad per panel). The first
+    ///    `θ = 8, 4, 2, 1` (printed) or `6, 4, 2, 1` (accumulated,
+    ///    [`Karpov2017::fold_phase_budget`], then round 11's `PHASE_BUDGET`, /2, /4; the last
+    ///    cycle at most 4 rad per panel). The first
     ///    budget is accepted only when the whole estimate, rounding included, meets the
     ///    tolerance; the halved ones as before on the truncation part.
     /// 2. **Levin** in the bulk (see [`Karpov2017::duhamel_levin`]).
@@ -415,8 +416,17 @@ impl Karpov2017 {
         if fold::Fold::ending_at(TAU / (self.p.k * self.p.omega), t_w).is_none() {
             return self.duhamel_levin(rtol);
         }
-        let mut theta = self.fold_phase_budget();
-        for i in 0..4 {
+        // the larger first budget, then the ladder of round 11 (`PHASE_BUDGET`, /2, /4), so
+        // that every point the round-11 ladder accepted is still accepted by the fold (a
+        // point whose first budget is refused or misses must not fall through to the slow
+        // Levin rule: the fuzzer found `k = 4.3e9`, accumulated, where θ = 3 exceeded the
+        // panel budget that θ = 4 met)
+        let first = self.fold_phase_budget();
+        let ladder = [first, PHASE_BUDGET, 0.5 * PHASE_BUDGET, 0.25 * PHASE_BUDGET];
+        for (i, &theta) in ladder.iter().enumerate() {
+            if i > 0 && theta >= first {
+                continue; // the first budget is not above PHASE_BUDGET: already tried
+            }
             // a refused fold (panel budget) falls through to the other rules
             if let Ok(r) = self.run(theta, Bulk::Fold) {
                 // the first (largest) budget only with its whole estimate, rounding included,
@@ -426,7 +436,6 @@ impl Karpov2017 {
                     return Ok(r);
                 }
             }
-            theta *= 0.5;
         }
         self.duhamel_levin(rtol)
     }
@@ -1171,6 +1180,24 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Round 12 regression (found by `.ci/run`'s fuzzer): at `k = 2³² − 1` (accumulated
+    /// reading, `ξ ≈ 4`) the first budget misses the whole-estimate condition and θ = 3 would
+    /// exceed the panel budget; the ladder still holds round 11's θ = 4, which the fold meets,
+    /// so the point is folded (in milliseconds), not handed to the Levin rule (minutes).
+    #[test]
+    fn a_point_round_11_folded_is_still_folded() {
+        let m = Karpov2017::fig3()
+            .with(|p| {
+                p.xi = 4.0007447821496145;
+                p.k = 4.294967295e9;
+            })
+            .unwrap();
+        assert_eq!(m.p.excitation, Excitation::AccumulatedPhase);
+        let r = m.duhamel().unwrap();
+        assert_eq!(r.phase_budget.to_bits(), PHASE_BUDGET.to_bits(), "{r:?}");
+        assert!(r.amplitude.is_finite() && r.folded_periods > 0, "{r:?}");
     }
 
     proptest::proptest! {
