@@ -222,8 +222,12 @@ const BSTAR: [f64; 7] = [
 /// trait requires to equal the direct evaluation). A Runge–Kutta stage evaluates the field and
 /// its Jacobian at the same `t`, Dormand–Prince's last two stages share `t + h`, and the first
 /// stage of a step is the last of the previous one: a step with its variational equation
-/// evaluates the time functions at 5 new times instead of 13 (table) and 7 (forcing). This
-/// drops repeated `sin`/`cos` without changing a bit: the same functions at the same arguments.
+/// evaluates the time functions at 5 new times instead of 13 (table) and 7 (forcing). At a
+/// new time the forcing and the row come from one
+/// [`SecondOrderSystem::fill_time_functions`] (Liu's model takes each `sin`/`cos` of `τ` once
+/// there), and the events read the row ([`SecondOrderSystem::events_tabulated`]; a step's end
+/// is its last stage time, so the row is kept). This drops repeated `sin`/`cos` without
+/// changing a bit: the same functions at the same arguments.
 pub(crate) struct Field<'a, S: ?Sized> {
     pub sys: &'a S,
     pub mats: &'a Matrices,
@@ -272,17 +276,30 @@ impl<'a, S: SecondOrderSystem + ?Sized> Field<'a, S> {
         }
     }
 
+    /// The forcing and the time table at `t` (each kept while `t` is unchanged; both new at
+    /// once through [`SecondOrderSystem::fill_time_functions`], which shares their `sin`/`cos`).
+    fn time_functions(&mut self, t: f64) {
+        let at = Some(t.to_bits());
+        let new_row = !self.row.is_empty() && self.row_at != at;
+        let new_f = self.f_at != at;
+        if new_row && new_f {
+            self.sys.fill_time_functions(t, &mut self.f, &mut self.row);
+            (self.f_at, self.row_at) = (at, at);
+        } else if new_row {
+            self.time_row(t);
+        } else if new_f {
+            self.sys.forcing(t, &mut self.f);
+            self.f_at = at;
+        }
+    }
+
     /// `x' = (q', M⁻¹ (f − C q' − K q − g))`.
     pub fn rhs(&mut self, t: f64, x: &[f64], out: &mut [f64]) {
         let n = self.n;
         let (q, v) = x.split_at(n);
-        self.time_row(t);
+        self.time_functions(t);
         self.sys
             .nonlinear_force_tabulated(t, &self.row, q, v, &mut self.g);
-        if self.f_at != Some(t.to_bits()) {
-            self.sys.forcing(t, &mut self.f);
-            self.f_at = Some(t.to_bits());
-        }
         let m = self.mats;
         for i in 0..n {
             let mut r = self.f[i] - self.g[i];
@@ -324,10 +341,18 @@ impl<'a, S: SecondOrderSystem + ?Sized> Field<'a, S> {
         }
     }
 
+    /// The event functions at `(t, x)`; from the time table where the system has one (the
+    /// events of a step's end come at the time of its last stage, whose row is kept).
     pub fn events(&mut self, t: f64, x: &[f64]) -> &[f64] {
         let n = self.n;
         if !self.e.is_empty() {
-            self.sys.events(t, &x[..n], &x[n..], &mut self.e);
+            if self.row.is_empty() {
+                self.sys.events(t, &x[..n], &x[n..], &mut self.e);
+            } else {
+                self.time_row(t);
+                self.sys
+                    .events_tabulated(t, &self.row, &x[..n], &x[n..], &mut self.e);
+            }
         }
         &self.e
     }
@@ -908,6 +933,10 @@ mod tests {
     struct Counted {
         tables: Cell<usize>,
         forcings: Cell<usize>,
+        /// calls of `fill_time_functions` (both at once)
+        shared: Cell<usize>,
+        /// calls of `events_tabulated`
+        tabulated_events: Cell<usize>,
     }
 
     impl SecondOrderSystem for Counted {
@@ -940,6 +969,22 @@ mod tests {
         fn fill_time_table(&self, t: f64, row: &mut [f64]) {
             self.tables.set(self.tables.get() + 1);
             row[0] = 1.0 + 0.5 * (3.0 * t).sin();
+        }
+        fn fill_time_functions(&self, t: f64, f: &mut [f64], row: &mut [f64]) {
+            self.shared.set(self.shared.get() + 1);
+            self.forcing(t, f);
+            self.fill_time_table(t, row);
+        }
+        fn n_events(&self) -> usize {
+            1
+        }
+        /// `q = 0.5 k(t)`
+        fn events(&self, t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) {
+            e[0] = q[0] - 0.5 * (1.0 + 0.5 * (3.0 * t).sin());
+        }
+        fn events_tabulated(&self, _t: f64, row: &[f64], q: &[f64], _qd: &[f64], e: &mut [f64]) {
+            self.tabulated_events.set(self.tabulated_events.get() + 1);
+            e[0] = q[0] - 0.5 * row[0];
         }
         fn nonlinear_force_tabulated(
             &self,
@@ -975,6 +1020,8 @@ mod tests {
         let sys = Counted {
             tables: Cell::new(0),
             forcings: Cell::new(0),
+            shared: Cell::new(0),
+            tabulated_events: Cell::new(0),
         };
         let mats = Matrices::of(&sys).unwrap();
         let mut st = Stepper::new(Field::new(&sys, &mats, None), 1e-9, 1e-12);
@@ -991,6 +1038,27 @@ mod tests {
         // before the cache: 7 forcings and 7 + 6 tables per step
         assert_eq!(sys.forcings.get(), 1 + 5 * steps);
         assert_eq!(sys.tables.get(), 1 + 5 * steps);
+        // every new stage time needs both: one shared call each
+        assert_eq!(sys.shared.get(), 1 + 5 * steps);
+
+        // the events at the step's end read the kept row (no new table); at a new time one
+        // table, not the forcing; equal to the direct events bit for bit
+        let tables = sys.tables.get();
+        for (tt, new_table) in [(t, false), (t + 0.013, true), (t + 0.013, false)] {
+            let before = sys.tables.get();
+            let e = st.field.events(tt, &x).to_vec();
+            let mut direct = [0.0];
+            sys.events(tt, &x[..1], &x[1..], &mut direct);
+            assert_eq!(e[0].to_bits(), direct[0].to_bits(), "t = {tt}");
+            assert_eq!(
+                sys.tables.get() - before,
+                usize::from(new_table),
+                "t = {tt}"
+            );
+        }
+        assert_eq!(sys.tables.get(), tables + 1);
+        assert_eq!(sys.tabulated_events.get(), 3);
+        assert_eq!(sys.forcings.get(), 1 + 5 * steps);
 
         // against the direct evaluation at scattered times and states, both orders of calls
         let mut direct = [0.0; 2];

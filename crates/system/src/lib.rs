@@ -32,9 +32,13 @@
 //!   a time-varying backlash `b(t)`) may declare [`time_table_len`](SecondOrderSystem::time_table_len)
 //!   `> 0` values per time, fill them in [`fill_time_table`](SecondOrderSystem::fill_time_table),
 //!   and evaluate `g` from them in [`nonlinear_force_tabulated`](SecondOrderSystem::nonlinear_force_tabulated)
-//!   and [`force_jacobian_tabulated`](SecondOrderSystem::force_jacobian_tabulated). An engine
+//!   and [`force_jacobian_tabulated`](SecondOrderSystem::force_jacobian_tabulated) (and the
+//!   events in [`events_tabulated`](SecondOrderSystem::events_tabulated)). An engine
 //!   that samples the same times again and again (the AFT grid of harmonic balance) may then
-//!   tabulate them once. The defaults (length 0, untabulated evaluation) are always correct.
+//!   tabulate them once; one that needs the forcing and the row at each new time (the
+//!   orbit flow) takes both from [`fill_time_functions`](SecondOrderSystem::fill_time_functions),
+//!   which a system overrides when the two share `sin`/`cos`. The defaults (length 0,
+//!   untabulated evaluation) are always correct.
 //!
 //! ## Example
 //!
@@ -230,6 +234,14 @@ pub trait SecondOrderSystem {
     fn fill_time_table(&self, t: f64, row: &mut [f64]) {
         let _ = (t, row);
     }
+    /// The forcing `f(t)` and the time-table row at one `t` in one call: must write what
+    /// [`forcing`](Self::forcing) and [`fill_time_table`](Self::fill_time_table) write, bit for
+    /// bit. Default: calls the two. Override it when they share work (the same `sin`/`cos` of
+    /// `t`); an engine that needs both at a new time calls this instead of the two.
+    fn fill_time_functions(&self, t: f64, f: &mut [f64], row: &mut [f64]) {
+        self.forcing(t, f);
+        self.fill_time_table(t, row);
+    }
     /// `g(t, q, q')` from a row written by [`fill_time_table`](Self::fill_time_table) at the same
     /// `t`; must equal [`nonlinear_force`](Self::nonlinear_force). Default: ignores the row.
     fn nonlinear_force_tabulated(&self, t: f64, row: &[f64], q: &[f64], qd: &[f64], g: &mut [f64]) {
@@ -273,6 +285,13 @@ pub trait SecondOrderSystem {
     /// engine locates their zeros so that no step straddles a contact switch.
     fn events(&self, t: f64, q: &[f64], qd: &[f64], e: &mut [f64]) {
         let _ = (t, q, qd, e);
+    }
+    /// [`events`](Self::events) from a row written by [`fill_time_table`](Self::fill_time_table)
+    /// at the same `t` (e.g. the gap edges `q = ±b(t)` from a tabulated `b(t)`); must equal
+    /// [`events`](Self::events) bit for bit. Default: ignores the row.
+    fn events_tabulated(&self, t: f64, row: &[f64], q: &[f64], qd: &[f64], e: &mut [f64]) {
+        let _ = row;
+        self.events(t, q, qd, e);
     }
     /// Which crossings of event `index` matter (default both).
     fn event_direction(&self, index: usize) -> Direction {

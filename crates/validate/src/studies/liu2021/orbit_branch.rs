@@ -92,6 +92,36 @@ impl SecondOrderSystem for Liu {
     fn events(&self, t: f64, q: &[f64], qd: &[f64], e: &mut [f64]) {
         SecondOrderSystem::events(&self.m, t, q, qd, e);
     }
+    // the time table and the shared time functions of the model (the same values as the
+    // direct evaluations above, bit for bit: the trait's contract, tested in `liu2021`), so
+    // that the orbit flow takes each `sin`/`cos` of `τ` once per stage time; not the grid
+    // tabulation (`tabulate_grid`), whose quarter-circle form differs at rounding level
+    fn time_table_len(&self) -> usize {
+        SecondOrderSystem::time_table_len(&self.m)
+    }
+    fn fill_time_table(&self, t: f64, row: &mut [f64]) {
+        SecondOrderSystem::fill_time_table(&self.m, t, row);
+    }
+    fn fill_time_functions(&self, t: f64, f: &mut [f64], row: &mut [f64]) {
+        SecondOrderSystem::fill_time_functions(&self.m, t, f, row);
+    }
+    fn nonlinear_force_tabulated(&self, t: f64, row: &[f64], q: &[f64], qd: &[f64], g: &mut [f64]) {
+        SecondOrderSystem::nonlinear_force_tabulated(&self.m, t, row, q, qd, g);
+    }
+    fn force_jacobian_tabulated(
+        &self,
+        t: f64,
+        row: &[f64],
+        q: &[f64],
+        qd: &[f64],
+        dq: &mut [f64],
+        dv: &mut [f64],
+    ) {
+        SecondOrderSystem::force_jacobian_tabulated(&self.m, t, row, q, qd, dq, dv);
+    }
+    fn events_tabulated(&self, t: f64, row: &[f64], q: &[f64], qd: &[f64], e: &mut [f64]) {
+        SecondOrderSystem::events_tabulated(&self.m, t, row, q, qd, e);
+    }
     fn event_direction(&self, index: usize) -> system::Direction {
         SecondOrderSystem::event_direction(&self.m, index)
     }
