@@ -697,39 +697,29 @@ mod tests {
 
     #[test]
     fn grid_tabulation_equals_pointwise_for_every_reading() {
-        use super::super::params::{BaseRadius, ErrorTerm, RigidAcceleration, RigidSeries};
         use hbm::SecondOrderSystem;
-        for base_radius in [BaseRadius::TimeVarying, BaseRadius::Mean] {
-            for error_term in [ErrorTerm::Printed, ErrorTerm::Derived] {
-                for rigid_series in [RigidSeries::TwoTerms, RigidSeries::Exact] {
-                    for ra in [RigidAcceleration::Derived, RigidAcceleration::PrintedEq20] {
-                        let mut p = table1();
-                        p.readings.base_radius = base_radius;
-                        p.readings.error_term = error_term;
-                        p.readings.rigid_series = rigid_series;
-                        p.readings.rigid_acceleration = ra;
-                        let m = p.model().unwrap();
-                        let n = 1024;
-                        let (mut f, mut t) = (vec![0.0; n], vec![0.0; 2 * n]);
-                        let (mut fp, mut tp) = (vec![0.0; n], vec![0.0; 2 * n]);
-                        m.tabulate_grid(m.omega_c, n, &mut f, &mut t);
-                        system::tabulate_pointwise(&m, m.omega_c, n, &mut fp, &mut tp);
-                        // round-off of angles up to 2π Z₂ (~1e-13) times the forcing scale
-                        let fs = residual_scale(&m);
-                        for i in 0..n {
-                            assert!((f[i] - fp[i]).abs() < 1e-12 * fs, "{i}: {} {}", f[i], fp[i]);
-                        }
-                        for i in 0..2 * n {
-                            assert!((t[i] - tp[i]).abs() < 1e-12, "{i}: {} {}", t[i], tp[i]);
-                        }
-                        // another grid (not a multiple of 4) goes sample by sample: equal bits
-                        let (mut f3, mut t3) = (vec![0.0; 998], vec![0.0; 2 * 998]);
-                        m.tabulate_grid(m.omega_c, 998, &mut f3, &mut t3);
-                        system::tabulate_pointwise(&m, m.omega_c, 998, &mut fp, &mut tp);
-                        assert_eq!(f3[..], fp[..998]);
-                    }
-                }
+        for readings in super::super::params::Readings::all() {
+            let mut p = table1();
+            p.readings = readings;
+            let m = p.model().unwrap();
+            let n = 1024;
+            let (mut f, mut t) = (vec![0.0; n], vec![0.0; 2 * n]);
+            let (mut fp, mut tp) = (vec![0.0; n], vec![0.0; 2 * n]);
+            m.tabulate_grid(m.omega_c, n, &mut f, &mut t);
+            system::tabulate_pointwise(&m, m.omega_c, n, &mut fp, &mut tp);
+            // round-off of angles up to 2π Z₂ (~1e-13) times the forcing scale
+            let fs = residual_scale(&m);
+            for i in 0..n {
+                assert!((f[i] - fp[i]).abs() < 1e-12 * fs, "{i}: {} {}", f[i], fp[i]);
             }
+            for i in 0..2 * n {
+                assert!((t[i] - tp[i]).abs() < 1e-12, "{i}: {} {}", t[i], tp[i]);
+            }
+            // another grid (not a multiple of 4) goes sample by sample: equal bits
+            let (mut f3, mut t3) = (vec![0.0; 998], vec![0.0; 2 * 998]);
+            m.tabulate_grid(m.omega_c, 998, &mut f3, &mut t3);
+            system::tabulate_pointwise(&m, m.omega_c, 998, &mut fp, &mut tp);
+            assert_eq!(f3[..], fp[..998]);
         }
     }
 
@@ -738,39 +728,37 @@ mod tests {
     /// from them: a difference would move every shooting result).
     #[test]
     fn shared_time_functions_and_tabulated_events_equal_the_direct_ones_for_every_reading() {
-        use super::super::params::{BaseRadius, ErrorTerm, RigidAcceleration, RigidSeries};
         use hbm::SecondOrderSystem;
-        for base_radius in [BaseRadius::TimeVarying, BaseRadius::Mean] {
-            for error_term in [ErrorTerm::Printed, ErrorTerm::Derived] {
-                for rigid_series in [RigidSeries::TwoTerms, RigidSeries::Exact] {
-                    for ra in [RigidAcceleration::Derived, RigidAcceleration::PrintedEq20] {
-                        let mut p = table1();
-                        p.readings.base_radius = base_radius;
-                        p.readings.error_term = error_term;
-                        p.readings.rigid_series = rigid_series;
-                        p.readings.rigid_acceleration = ra;
-                        p.phase_error = 0.4;
-                        let m = p.model().unwrap();
-                        for i in 0..400 {
-                            // up to τ ≈ 3·10⁵ (about 2·10⁴ periods), past the transient
-                            // windows of the studies
-                            let t = 1.9 * f64::from(i) * f64::from(i) - 3.0;
-                            let (mut f, mut row) = ([0.0], [0.0; 2]);
-                            let (mut fs, mut rows) = ([1.0], [1.0; 2]);
-                            m.fill_time_functions(t, &mut fs, &mut rows);
-                            SecondOrderSystem::forcing(&m, t, &mut f);
-                            m.fill_time_table(t, &mut row);
-                            assert_eq!(fs[0].to_bits(), f[0].to_bits(), "forcing at {t}");
-                            assert_eq!(rows.map(f64::to_bits), row.map(f64::to_bits), "{t}");
-                            let b = m.backlash;
-                            for q in [-1.5 * b, -b, 0.3 * b, b, 2.0 * b] {
-                                let (mut e, mut et) = ([0.0; 2], [1.0; 2]);
-                                m.events(t, &[q], &[0.0], &mut e);
-                                m.events_tabulated(t, &row, &[q], &[0.0], &mut et);
-                                assert_eq!(e.map(f64::to_bits), et.map(f64::to_bits), "{t} {q}");
-                            }
-                        }
-                    }
+        for readings in super::super::params::Readings::all() {
+            let mut p = table1();
+            p.readings = readings;
+            p.phase_error = 0.4;
+            let m = p.model().unwrap();
+            for i in 0..400 {
+                // up to τ ≈ 3·10⁵ (about 2·10⁴ periods), past the transient windows of the
+                // studies
+                let t = 1.9 * f64::from(i) * f64::from(i) - 3.0;
+                let (mut f, mut row) = ([0.0], [0.0; 2]);
+                let (mut fs, mut rows) = ([1.0], [1.0; 2]);
+                m.fill_time_functions(t, &mut fs, &mut rows);
+                SecondOrderSystem::forcing(&m, t, &mut f);
+                m.fill_time_table(t, &mut row);
+                assert_eq!(
+                    fs[0].to_bits(),
+                    f[0].to_bits(),
+                    "{readings:?}: forcing at {t}"
+                );
+                assert_eq!(
+                    rows.map(f64::to_bits),
+                    row.map(f64::to_bits),
+                    "{readings:?}: {t}"
+                );
+                let b = m.backlash;
+                for q in [-1.5 * b, -b, 0.3 * b, b, 2.0 * b] {
+                    let (mut e, mut et) = ([0.0; 2], [1.0; 2]);
+                    m.events(t, &[q], &[0.0], &mut e);
+                    m.events_tabulated(t, &row, &[q], &[0.0], &mut et);
+                    assert_eq!(e.map(f64::to_bits), et.map(f64::to_bits), "{t} {q}");
                 }
             }
         }

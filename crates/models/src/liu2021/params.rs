@@ -71,6 +71,16 @@ pub struct Readings {
 }
 
 impl Readings {
+    /// Every combination of the four readings (2⁴ = 16), for checks that must hold in each.
+    pub fn all() -> [Self; 16] {
+        std::array::from_fn(|i| Self {
+            rigid_acceleration: [RigidAcceleration::Derived, RigidAcceleration::PrintedEq20][i & 1],
+            rigid_series: [RigidSeries::TwoTerms, RigidSeries::Exact][(i >> 1) & 1],
+            error_term: [ErrorTerm::Printed, ErrorTerm::Derived][(i >> 2) & 1],
+            base_radius: [BaseRadius::TimeVarying, BaseRadius::Mean][(i >> 3) & 1],
+        })
+    }
+
     /// Every reading as printed in the paper (Eq. 20, 21, constant b̄ and B₃, two Fourier terms).
     pub fn printed() -> Self {
         Self {
@@ -257,6 +267,14 @@ impl Parameters {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn all_readings_are_distinct() {
+        let all = Readings::all();
+        for (i, a) in all.iter().enumerate() {
+            assert!(all[..i].iter().all(|b| b != a), "{a:?} twice");
+        }
+    }
 
     #[test]
     fn table1_is_valid() {
