@@ -1,7 +1,7 @@
 """geardyn against its same-algorithm peers (issue 26), alternating runs over several rounds.
 
     python3 -m venv /tmp/venv-perf && /tmp/venv-perf/bin/pip install numpy scipy numba
-    /tmp/venv-perf/bin/python docs/peers/compare.py [--rounds 5] [--sections karpov,liu,hbm]
+    /tmp/venv-perf/bin/python docs/peers/compare.py [--rounds 5] [--sections karpov,liu,hbm,sweep]
                                                      [--write docs/performance.md]
 
 geardyn's side is `cargo run --release -p geardyn-models --example peer_bench -- <section>`
@@ -11,7 +11,9 @@ this process after one untimed warm-up (numba compilation, the Karpov resolution
 Each round runs geardyn then the peers (odd rounds) or the peers then geardyn (even rounds), and
 the ratio peer time / geardyn time is taken within the round, so that the load of a shared
 machine cancels as far as it can. Printed: per case the median and the range of the ratios,
-the accuracy of each side and the times. With `--write`, the table replaces the text between
+the accuracy of each side and the times. The `sweep` section times the `geardyn` CLI
+(`cargo build --release -p geardyn-cli`, one process per run, RUSAGE_CHILDREN CPU time) against
+the per-point fixed-step loop of `peer_bench sweep`. With `--write`, the table replaces the text between
 `<!-- peer-table:begin -->` and `<!-- peer-table:end -->` of the given file.
 """
 
@@ -24,13 +26,16 @@ for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "NUMB
     os.environ.setdefault(_var, "1")
 
 import argparse
+import csv
 import json
 import math
 import os
 import platform
+import resource
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
 import numba
@@ -275,6 +280,77 @@ def hbm_section(rounds):
     return rows
 
 
+STUDY = os.path.join(ROOT, "target", "release", "geardyn")
+SWEEP_TOML = """name = "liu-61-omega1"
+model = "liu2021"
+
+[sweep]
+parameter = "omega1"
+from = 100.0
+to = 250.0
+steps = 61
+
+[solver]
+method = "time-stepping"
+"""
+
+
+def study_cpu(path, out):
+    """On-CPU seconds (user + sys) of one `geardyn study` process, single-threaded."""
+    env = dict(os.environ, RAYON_NUM_THREADS="1")
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run([STUDY, "study", path, "--out", out], check=True, env=env,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def sweep_section(rounds):
+    """The sweep goal: `geardyn study` on a 61-point Liu ω₁ sweep (process start, models, CSV,
+    SVG and JSON output included) against the fixed-step DP5 loop on the same right-hand side,
+    point by point with as many steps as the study attempted there (`peer_bench sweep`)."""
+    work = tempfile.mkdtemp(prefix="geardyn-sweep-")
+    path = os.path.join(work, "liu61.toml")
+    with open(path, "w") as f:
+        f.write(SWEEP_TOML)
+    out = os.path.join(work, "out")
+    study_cpu(path, out)  # warm-up (page cache), and the study's own step counts
+    with open(os.path.join(out, "liu-61-omega1.csv")) as f:
+        rows = list(csv.DictReader(f))
+    steps = {round(float(r["omega1 [rad/s]"]), 6):
+             float(r["steps_accepted [1]"]) + float(r["steps_rejected [1]"]) for r in rows}
+    ratios, ours, floors = [], [], []
+    for r in range(rounds):
+        order = ("g", "p") if r % 2 == 0 else ("p", "g")
+        for side in order:
+            if side == "g":
+                ours.append(statistics.median(study_cpu(path, out) for _ in range(3)))
+            else:
+                doc = geardyn("sweep", 3)
+                floors.append(sum(steps[round(p["omega1"], 6)] * p["fixed_ns_per_step"] * 1e-9
+                                  for p in doc["points"]))
+        ratios.append(ours[-1] / floors[-1])
+        print(f"sweep round {r + 1}: study {ours[-1]:.3f} s, fixed-step loop {floors[-1]:.3f} s, "
+              f"{ratios[-1]:.2f}")
+    accepted = sum(float(r["steps_accepted [1]"]) for r in rows)
+    rejected = sum(float(r["steps_rejected [1]"]) for r in rows)
+    ns = [p["fixed_ns_per_step"] for p in doc["points"]]
+    return [{
+        "goal": "sweeps: a 61-point Liu ω₁ sweep through `geardyn study` within 1.3× of "
+                "(accepted + rejected steps) × the fixed-step loop cost",
+        "case": "Table 1, ω₁ = 100–250 rad/s in 61 points, `method = \"time-stepping\"` "
+                f"(default options: rtol 1e-8, events, 2 + 1 periods); {accepted:.0f} accepted + "
+                f"{rejected:.0f} rejected steps; `geardyn study`, one thread, the whole process",
+        "peer": "floor: the fixed-step DP5 loop in Rust on the same right-hand side "
+                "(`Trig::Kernel`), per point as many steps over the same span as the study "
+                f"attempted there, {min(ns):.0f}–{max(ns):.0f} ns per step (`peer_bench sweep`)",
+        "ours_acc": "—", "peer_acc": "—",
+        "ours_t": statistics.median(ours), "peer_t": statistics.median(floors),
+        "ratio": ratios, "target": None, "at_most": 1.3,
+        "cmd": CMD.format("sweep") + "`, `geardyn study",
+    }]
+
+
 def ms(t):
     return "—" if t is None else (f"{t * 1e3:.3f} ms" if t < 0.1 else f"{t * 1e3:.0f} ms")
 
@@ -309,6 +385,9 @@ def table(rows, rounds, started, ended, loads):
                                                 f"no (goal ≥ {r['target']:g})")
         if "note" in r:
             met = ("yes" if med <= 1.5 else "no") + f" ({r['note']})"
+        if "at_most" in r:
+            met = ("yes" if med <= r["at_most"] else "no") + \
+                f" (ratio = geardyn / floor (goal ≤ {r['at_most']:g}))"
         out.append(
             f"| {r['goal']} | {r['case']} | {r['peer']} | {r['ours_acc']} | {r['peer_acc']} "
             f"| {ms(r['ours_t'])} | {ms(r['peer_t'])} | {fmt_ratio(r['ratio'])} | {met} "
@@ -319,18 +398,22 @@ def table(rows, rounds, started, ended, loads):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--rounds", type=int, default=5)
-    ap.add_argument("--sections", default="karpov,liu,hbm")
+    ap.add_argument("--sections", default="karpov,liu,hbm,sweep")
     ap.add_argument("--write", default=None)
     ap.add_argument("--no-build", action="store_true")
     a = ap.parse_args()
     if not a.no_build:
         subprocess.run(["cargo", "build", "--quiet", "--release", "-p", "geardyn-models",
                         "--example", "peer_bench"], cwd=ROOT, check=True)
+        if "sweep" in a.sections:
+            subprocess.run(["cargo", "build", "--quiet", "--release", "-p", "geardyn-cli"],
+                           cwd=ROOT, check=True)
     started = time.strftime("%Y-%m-%d %H:%M", time.gmtime())
     load0 = os.getloadavg()[0]
     rows = []
     for s in a.sections.split(","):
-        rows += {"karpov": karpov_section, "liu": liu_section, "hbm": hbm_section}[s](a.rounds)
+        rows += {"karpov": karpov_section, "liu": liu_section, "hbm": hbm_section,
+                 "sweep": sweep_section}[s](a.rounds)
     ended = time.strftime("%H:%M", time.gmtime())
     text = table(rows, a.rounds, started, ended, (load0, os.getloadavg()[0]))
     print()

@@ -16,6 +16,10 @@
 //!   dense Newton, with the work counters; the Liu solve also re-solved along a sweep on one
 //!   prepared problem (`liu2021::PreparedHbm`, neighbouring speeds alternating).
 //!
+//! * `sweep`: the 61-point Liu ω₁ sweep of the sweep goal (100–250 rad/s, default
+//!   `IntegrationOptions`), per point the adaptive run and the fixed-step loop with as many
+//!   steps over the same span.
+//!
 //! `karpov` takes a third argument, `printed` or `accumulated`, to run one reading only.
 //!
 //! Times are the minimum over at least `reps` calls (and 0.2 s) after one warm-up (wall clock, seconds, `time_s`)
@@ -243,6 +247,47 @@ fn liu(reps: u32) -> Value {
     })
 }
 
+/// `sweep [reps]`: the 61-point ω₁ sweep of the `geardyn study` goal (Table 1, ω₁ = 100, 102.5,
+/// …, 250 rad/s, `liu2021::integrate` with the default `IntegrationOptions`: `Trig::Kernel`,
+/// rtol 1e-8, events, 2 + 1 periods). Per point: the adaptive run in process, and the
+/// fixed-step DP5 loop on the same right-hand side over the same span with as many steps as
+/// that point attempted (accepted + rejected) — the goal's denominator point by point instead
+/// of the 160 rad/s cost times the total.
+fn sweep(reps: u32) -> Value {
+    let opts = liu2021::IntegrationOptions::default();
+    let mut points = Vec::new();
+    let (mut adaptive_cpu, mut fixed_cpu) = (0.0, 0.0);
+    let (mut accepted, mut rejected) = (0u64, 0u64);
+    for i in 0..61u32 {
+        let mut p = liu2021::table1();
+        p.omega1 = 100.0 + 2.5 * f64::from(i);
+        let m = p.model().expect("Table 1 is valid");
+        let r = liu2021::integrate(&m, &opts).expect("integrates");
+        let steps = r.stats.n_accepted + r.stats.n_rejected;
+        best(reps, || liu2021::integrate(&m, &opts).expect("integrates"));
+        let ta = cpu();
+        let sys = liu2021::TimeSystem::with_trig(m, Trig::Kernel);
+        let span = (opts.transient_periods + opts.record_periods) * m.period();
+        let y0 = [m.static_position(0.0), 0.0];
+        best(reps, || dp5_fixed(&sys, y0, span, steps));
+        let tf = cpu();
+        adaptive_cpu += ta;
+        fixed_cpu += tf;
+        accepted += r.stats.n_accepted;
+        rejected += r.stats.n_rejected;
+        points.push(json!({
+            "omega1": p.omega1, "accepted": r.stats.n_accepted, "rejected": r.stats.n_rejected,
+            "adaptive_cpu_s": ta, "fixed_step_loop_cpu_s": tf,
+            "fixed_ns_per_step": tf * 1e9 / steps as f64,
+        }));
+    }
+    json!({
+        "section": "sweep", "accepted": accepted, "rejected": rejected,
+        "adaptive_cpu_s": adaptive_cpu, "fixed_step_loop_cpu_s": fixed_cpu,
+        "adaptive_over_fixed": adaptive_cpu / fixed_cpu, "points": points,
+    })
+}
+
 /// On-CPU time of the FFTs of a cold Liu solve: `residuals` × (complex inverse + real
 /// forward, size `n`), `jacobians` × complex forward (size `n`), one complex inverse of size
 /// `m` (the metrics' samples), on this thread's planned transforms.
@@ -383,8 +428,9 @@ fn main() {
         "liu" => liu(reps),
         "liu-profile" => liu_profile(reps, args.get(3).map_or("kernel", String::as_str)),
         "hbm" => hbm(reps),
+        "sweep" => sweep(reps),
         other => {
-            eprintln!("unknown section {other:?}: karpov | liu | hbm");
+            eprintln!("unknown section {other:?}: karpov | liu | hbm | sweep");
             std::process::exit(2);
         }
     };
