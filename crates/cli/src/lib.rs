@@ -246,6 +246,11 @@ pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Fa
         summary.studies, summary.seconds
     );
     println!("{}", summary.message);
+    println!(
+        "\ncost per study (validation/stats/{}; CPU s: exclusive thread CPU time):\n{}",
+        validate::COST_FILE,
+        summary.cost_table
+    );
     Ok(())
 }
 

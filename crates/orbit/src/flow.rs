@@ -479,6 +479,14 @@ impl<'a, S: SecondOrderSystem + ?Sized> Stepper<'a, S> {
     }
 }
 
+/// `err^(−1/5)` of the step-size controller, without the C math library's `pow`
+/// (`system::numeric::{log2_approx, exp2_approx}`: relative error below 1e-9, deterministic on
+/// every platform).
+#[inline]
+fn err_pow(err: f64) -> f64 {
+    system::numeric::exp2_approx(-0.2 * system::numeric::log2_approx(err))
+}
+
 fn all_finite(x: &[f64]) -> bool {
     x.iter().all(|v| v.is_finite())
 }
@@ -582,7 +590,7 @@ pub(crate) fn integrate<S: SecondOrderSystem + ?Sized>(
         if !err.is_finite() || !all_finite(&x_new) || err > 1.0 {
             flow.rejected += 1;
             let fac = if err.is_finite() {
-                (0.9 * err.powf(-0.2)).max(0.2)
+                (0.9 * err_pow(err)).max(0.2)
             } else {
                 0.25
             };
@@ -632,7 +640,7 @@ pub(crate) fn integrate<S: SecondOrderSystem + ?Sized>(
                 std::mem::swap(&mut phi, &mut phi_new);
                 e_now = e_end;
                 flow.steps += 1;
-                h = hh * (0.9 * err.max(1e-10).powf(-0.2)).min(5.0);
+                h = hh * (0.9 * err_pow(err.max(1e-10))).min(5.0);
             }
             Some((i, lo, hi)) => {
                 let dt = hi * hh;

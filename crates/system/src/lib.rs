@@ -71,6 +71,7 @@
 
 #![deny(missing_docs)]
 
+pub mod account;
 pub mod deadline;
 pub mod format;
 pub mod involute;

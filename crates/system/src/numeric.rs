@@ -1,5 +1,6 @@
 //! Small allocation-free numerical tools: Gauss–Legendre quadrature (fixed and adaptive), a
-//! periodic maximiser and a bracketing root finder.
+//! periodic maximiser, a bracketing root finder, and pow-free `log₂`/`2^x` kernels for step-size
+//! controllers ([`log2_approx`], [`exp2_approx`]).
 //!
 //! They serve the exact kinematic quantities of `geardyn-gear-geometry` (output angle by
 //! quadrature of the exact ratio, exact speed fluctuation, exact maximum acceleration, computed
@@ -287,9 +288,94 @@ pub fn bisect(
     })
 }
 
+/// `log₂ x` for every `x > 0` without the C math library (the step-size controllers of
+/// `geardyn-timestep` and `geardyn-orbit`: deterministic, pow-free), (clamped into the normal range first) to about `10⁻¹⁰` absolute.
+///
+/// `x = m·2ᵉ` with `m ∈ [√½, √2)`; `ln m = 2 atanh s`, `s = (m − 1)/(m + 1)`, `|s| ≤ 0.172`,
+/// by the odd series to `s¹³` (the first omitted term `2 s¹⁵/15 < 5·10⁻¹³`).
+#[inline]
+pub fn log2_approx(x: f64) -> f64 {
+    // 0, negatives and subnormals are clamped to the smallest normal, +inf to the largest
+    // finite number; NaN gives NaN
+    let x = x.clamp(f64::MIN_POSITIVE, f64::MAX);
+    let bits = x.to_bits();
+    let mut e = ((bits >> 52) as i64) - 1023;
+    let mut m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    if m >= std::f64::consts::SQRT_2 {
+        m *= 0.5;
+        e += 1;
+    }
+    let f = m - 1.0;
+    let s = f / (2.0 + f);
+    let z = s * s;
+    let p = 1.0 / 3.0
+        + z * (1.0 / 5.0 + z * (1.0 / 7.0 + z * (1.0 / 9.0 + z * (1.0 / 11.0 + z * (1.0 / 13.0)))));
+    let ln_m = 2.0 * s + 2.0 * s * z * p;
+    e as f64 + ln_m * std::f64::consts::LOG2_E
+}
+
+/// `2^x` without the C math library (as [`log2_approx`]), for `|x| ≤ 1000` (clamped beyond) to about `10⁻¹⁰` relative.
+///
+/// `x = n + r`, `n = round(x)`, `|r| ≤ ½`: `2^r = e^{r ln 2}` by its Taylor series to degree 10
+/// (`|r ln 2| ≤ 0.347`; the first omitted term `0.347¹¹/11! < 3·10⁻¹³`), times `2ⁿ` built from
+/// the exponent bits.
+#[inline]
+pub fn exp2_approx(x: f64) -> f64 {
+    let x = x.clamp(-1000.0, 1000.0);
+    let n = x.round();
+    let u = (x - n) * std::f64::consts::LN_2;
+    let mut p = 1.0 / 3_628_800.0;
+    for c in [
+        1.0 / 362_880.0,
+        1.0 / 40_320.0,
+        1.0 / 5_040.0,
+        1.0 / 720.0,
+        1.0 / 120.0,
+        1.0 / 24.0,
+        1.0 / 6.0,
+        0.5,
+        1.0,
+        1.0,
+    ] {
+        p = p * u + c;
+    }
+    // 2ⁿ for n in [−1000, 1000]: a normal number, exact
+    let scale = f64::from_bits(((n as i64 + 1023) as u64) << 52);
+    p * scale
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn log2_and_exp2_approx_agree_with_libm() {
+        let mut x = 1e-300_f64;
+        while x < 1e300 {
+            for y in [x, x * 1.37, x * 1.999_999, x * std::f64::consts::SQRT_2] {
+                let d = (log2_approx(y) - y.log2()).abs();
+                assert!(d < 1e-10, "log2({y}): {} vs {}", log2_approx(y), y.log2());
+            }
+            x *= 7.3;
+        }
+        let mut t = -999.5_f64;
+        while t < 999.5 {
+            let r = (exp2_approx(t) / t.exp2() - 1.0).abs();
+            assert!(
+                r < 1e-10,
+                "exp2_approx({t}): {} vs {}",
+                exp2_approx(t),
+                t.exp2()
+            );
+            t += 0.173;
+        }
+        assert_eq!(exp2_approx(0.0), 1.0);
+        assert_eq!(exp2_approx(3.0), 8.0);
+        // clamped inputs stay finite and ordered
+        assert!(log2_approx(0.0) < -1021.0 && log2_approx(0.0).is_finite());
+        assert!(exp2_approx(-5000.0) > 0.0 && exp2_approx(5000.0).is_finite());
+    }
+
     use std::f64::consts::PI;
 
     #[test]

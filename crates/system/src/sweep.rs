@@ -4,6 +4,9 @@
 //! result depends only on its own point (no parallel reduction), so the output is bit-identical
 //! for any number of threads. With the `parallel` feature the points run on the current rayon
 //! pool; without it they run serially, in order, with the same results.
+//!
+//! The [work account](crate::account) in force where a sweep is called is put in force around
+//! each of its points, on whichever thread runs it, and counts the points.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -23,8 +26,11 @@ where
 {
     let done = AtomicUsize::new(0);
     let total = points.len();
+    let account = crate::account::current();
+    crate::account::plan_points(account.as_ref(), total);
     let one = |p: &P| {
-        let r = f(p);
+        let r = crate::account::scope_opt(account.as_ref(), || f(p));
+        crate::account::point_done(account.as_ref());
         tick(&done, total, progress);
         r
     };
@@ -45,8 +51,11 @@ where
 {
     let done = AtomicUsize::new(0);
     let total = points.len();
+    let account = crate::account::current();
+    crate::account::plan_points(account.as_ref(), total);
     let one = |p: P| {
-        let r = f(p);
+        let r = crate::account::scope_opt(account.as_ref(), || f(p));
+        crate::account::point_done(account.as_ref());
         tick(&done, total, progress);
         r
     };

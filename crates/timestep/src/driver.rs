@@ -1,5 +1,6 @@
 //! The integration driver: step-size control, event location, step restart and output.
 
+use crate::control::PiController;
 use crate::error::{Error, Result, check_finite, check_finite_slice};
 use crate::options::{Method, Options};
 use crate::record::{EventMonitor, Recorder};
@@ -170,13 +171,8 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
     }
     .min(h_max);
 
-    // PI controller constants (Hairer's DOPRI5 defaults)
-    let beta = 0.04;
-    let expo1 = 0.2 - 0.75 * beta;
-    let safe = 0.9;
-    let facc1: f64 = 1.0 / 0.2;
-    let facc2: f64 = 1.0 / 10.0;
-    let mut facold: f64 = 1e-4;
+    // Hairer's DOPRI5 PI controller, without `pow` (crate::control)
+    let mut control = PiController::new(5.0, 0.04);
     let mut last_rejected = false;
     let mut n_bad = 0u32;
     let mut first_new = 0usize;
@@ -215,16 +211,14 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
         n_bad = 0;
         let mut h_new = h;
         if fixed_h.is_none() {
-            let fac11 = err.powf(expo1);
-            if err > 1.0 {
-                h /= facc1.min(fac11 / safe);
+            let (fac, accepted) = control.step(err);
+            if !accepted {
+                h /= fac;
                 stats.n_rejected += 1;
                 last_rejected = true;
                 continue;
             }
-            let fac = facc2.max(facc1.min(fac11 / facold.powf(beta) / safe));
             h_new = h / fac;
-            facold = err.max(1e-4);
             if last_rejected {
                 h_new = h_new.min(h);
             }
@@ -321,6 +315,7 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
         }
     }
     stats.n_rhs += st.n_rhs();
+    ::system::account::record_steps(stats.n_accepted, stats.n_rejected, stats.n_rhs);
     Solution {
         dim: n,
         t: rec.t,

@@ -89,6 +89,7 @@
 #![deny(missing_docs)]
 
 mod bifurcation;
+mod control;
 mod driver;
 mod error;
 mod metrics;

@@ -32,5 +32,9 @@ where
             value: threads as f64,
         })?;
     let f = &f;
-    Ok(pool.install(move || sweep(params, f, progress)))
+    // the pool's threads do not see this thread's work account: carry it over
+    let account = system::account::current();
+    Ok(pool.install(move || {
+        system::account::scope_opt(account.as_ref(), || sweep(params, f, progress))
+    }))
 }

@@ -350,6 +350,7 @@ mod tests {
         let result = |out: StudyOutput| StudyResult {
             study: study(),
             output: Ok(out),
+            cost: Default::default(),
         };
         let mut a = StudyOutput::new();
         a.compare(deviating().cause("c"));

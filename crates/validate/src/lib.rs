@@ -130,7 +130,9 @@ pub use audit::{Problem, audit, audit_output, output_files};
 pub use error::{Error, ResultExt};
 /// The step-statistic columns of a time-stepping record (from the model contract).
 pub use models::contract::STEP_STATISTICS;
-pub use output::{STATS_DIR, ValidationSummary, diff_against, run_validation, study_selected};
+pub use output::{
+    COST_FILE, STATS_DIR, ValidationSummary, diff_against, run_validation, study_selected,
+};
 pub use plot::{
     Cell, Column, Figure, OKABE_ITO, SIGNIFICANT_DIGITS, Series, Style, Table, committed_text,
     fmt_sig, fmt6, full_text, heatmap, step_path, unsettled,
@@ -140,8 +142,9 @@ pub use plot::{
 pub(crate) use plot::{figure, format, table};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
-    ReadingsIndex, STATS_DIGEST_FILE, StudyResult, comparisons_csv, comparisons_csv_full,
-    insta_snap, render_all, render_stats, report, run_studies, snapshot_body, stats_digest,
+    ReadingsIndex, STATS_DIGEST_FILE, StudyCost, StudyResult, comparisons_csv,
+    comparisons_csv_full, cost_csv, cost_text, insta_snap, render_all, render_stats, report,
+    run_studies, run_studies_with, snapshot_body, stats_digest,
 };
 pub use studies::all_studies;
 pub use study::{

@@ -34,6 +34,9 @@ pub struct ValidationSummary {
     pub warnings: Vec<String>,
     /// What was written or checked, one line.
     pub message: String,
+    /// The cost table of the run as aligned text ([`crate::cost_text`]; the same figures are
+    /// in `validation/stats/cost.csv`).
+    pub cost_table: String,
 }
 
 /// Whether a study id is selected by a filter: `=ID` selects exactly that study (`cargo xtask
@@ -102,6 +105,12 @@ pub fn run_validation(
     // solver statistics and full-precision data: written (also under --check, for inspection),
     // never compared byte for byte; their digest is in the committed stats-digest.txt
     write_stats(&vdir, &crate::render_stats(&results), filter.is_none())?;
+    // the cost table: beside the statistics, outside their digest (timings differ run to run)
+    let cost_path = vdir.join(STATS_DIR).join(COST_FILE);
+    write_atomic(
+        &cost_path,
+        crate::cost_csv(&results, elapsed.as_secs_f64()).as_bytes(),
+    )?;
 
     let mut warnings = Vec::new();
     let (mut p, mut d, mut i) = (0, 0, 0);
@@ -161,6 +170,7 @@ pub fn run_validation(
         seconds: elapsed.as_secs_f64(),
         warnings,
         message: String::new(),
+        cost_table: crate::cost_text(&results, elapsed.as_secs_f64()),
     };
     summary.message = if check {
         check_files(&vdir, &files)?
@@ -205,17 +215,16 @@ const AGGREGATES: &[&str] = &["REPORT.md", crate::VERDICTS_FILE, crate::STATS_DI
 /// The uncommitted statistics directory, relative to `validation/` (gitignored).
 pub const STATS_DIR: &str = "stats";
 
+/// The cost table of the last run under [`STATS_DIR`] ([`crate::cost_csv`]).
+pub const COST_FILE: &str = "cost.csv";
+
 fn write_stats(vdir: &Path, stats: &BTreeMap<String, Vec<u8>>, prune: bool) -> Result<(), Error> {
     let dir = vdir.join(STATS_DIR);
     if prune && dir.is_dir() {
         std::fs::remove_dir_all(&dir).map_err(io(&dir))?;
     }
     for (k, v) in stats {
-        let path = dir.join(k);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(io(parent))?;
-        }
-        std::fs::write(&path, v).map_err(io(&path))?;
+        write_atomic(&dir.join(k), v)?;
     }
     Ok(())
 }
@@ -301,10 +310,7 @@ fn write_files(
             // (a --filter run writes its studies' files but not a partial report)
             continue;
         }
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(io(parent))?;
-        }
-        std::fs::write(&path, v).map_err(io(&path))?;
+        write_atomic(&path, v)?;
         changed += 1;
     }
     let mut removed = 0;
@@ -321,6 +327,20 @@ fn write_files(
         "wrote validation/: {} files ({changed} changed, {removed} removed); review with `git diff validation/`",
         files.len()
     ))
+}
+
+/// Write `bytes` to `path` atomically: into a temporary file beside it, then renamed over it
+/// (a reader, or a run killed half-way, never sees a half-written file); the parent directory
+/// is created when missing.
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    if let Some(parent) = path.parent() {
+        std::fs::create_dir_all(parent).map_err(io(parent))?;
+    }
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    let tmp = std::path::PathBuf::from(tmp);
+    std::fs::write(&tmp, bytes).map_err(io(&tmp))?;
+    std::fs::rename(&tmp, path).map_err(io(path))
 }
 
 fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
@@ -417,6 +437,7 @@ mod tests {
         vec![StudyResult {
             study,
             output: Ok(out),
+            cost: Default::default(),
         }]
     }
 

@@ -15,29 +15,147 @@ pub struct StudyResult {
     pub study: Study,
     /// Its output, or why it failed.
     pub output: Result<StudyOutput, Error>,
+    /// What it cost (never part of an output file but `validation/stats/cost.csv`).
+    pub cost: StudyCost,
+}
+
+/// What one study cost: its work account ([`system::account`]) and its wall time.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StudyCost {
+    /// Points, integrator steps, right-hand-side calls and exclusive CPU seconds.
+    pub usage: system::account::Usage,
+    /// Wall seconds from the study's start to its end (other studies run meanwhile).
+    pub wall_seconds: f64,
 }
 
 /// Run studies in parallel (rayon), results in input order; `on_done` is called as each finishes
 /// (e.g. to advance a progress bar). Deterministic: each study runs on one task and the results
-/// are collected in order. With the environment variable `GEARDYN_STUDY_TIMES` set, each study's
-/// wall time is printed to stderr (to see which studies dominate a run; never in an output file).
+/// are collected in order; each study's work is counted in its own [`system::account::Account`]
+/// ([`StudyResult::cost`]).
 pub fn run_studies(studies: &[Study], on_done: impl Fn(&Study) + Sync) -> Vec<StudyResult> {
-    let times = std::env::var_os("GEARDYN_STUDY_TIMES").is_some();
+    let accounts: Vec<_> = studies
+        .iter()
+        .map(|s| system::account::Account::new(s.id))
+        .collect();
+    run_studies_with(studies, &accounts, on_done)
+}
+
+/// As [`run_studies`], counting each study's work in the given accounts (one per study, in the
+/// same order), which a caller may read while the run goes on (progress).
+pub fn run_studies_with(
+    studies: &[Study],
+    accounts: &[std::sync::Arc<system::account::Account>],
+    on_done: impl Fn(&Study) + Sync,
+) -> Vec<StudyResult> {
+    let jobs: Vec<(&Study, &std::sync::Arc<system::account::Account>)> =
+        studies.iter().zip(accounts).collect();
     timestep::sweep(
-        studies,
-        |s| {
+        &jobs,
+        |(s, acc)| {
             let t0 = std::time::Instant::now();
-            let output = s.execute();
-            if times {
-                eprintln!("study {}: {:.2} s", s.id, t0.elapsed().as_secs_f64());
-            }
+            let output = system::account::scope(acc, || s.execute());
+            let wall_seconds = t0.elapsed().as_secs_f64();
             on_done(s);
-            StudyResult { study: *s, output }
+            StudyResult {
+                study: **s,
+                output,
+                cost: StudyCost {
+                    usage: acc.usage(),
+                    wall_seconds,
+                },
+            }
         },
         None,
     )
     .into_iter()
     .collect()
+}
+
+/// The cost table of a run (`validation/stats/cost.csv`): per study its points, integrator
+/// steps (accepted, rejected), right-hand-side calls, integrations, exclusive CPU seconds and
+/// wall seconds, then a `total` row (sums; the wall column of the total is `run_wall_seconds`,
+/// the whole run's).
+pub fn cost_csv(results: &[StudyResult], run_wall_seconds: f64) -> String {
+    let mut s = String::from(
+        "study,points,steps_accepted,steps_rejected,rhs_calls,integrations,cpu_seconds,wall_seconds\n",
+    );
+    let mut total = system::account::Usage::default();
+    for r in results {
+        let u = &r.cost.usage;
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{:.3},{:.3}\n",
+            r.study.id,
+            u.points,
+            u.steps_accepted,
+            u.steps_rejected,
+            u.rhs_calls,
+            u.integrations,
+            u.cpu_seconds,
+            r.cost.wall_seconds
+        ));
+        total.points += u.points;
+        total.steps_accepted += u.steps_accepted;
+        total.steps_rejected += u.steps_rejected;
+        total.rhs_calls += u.rhs_calls;
+        total.integrations += u.integrations;
+        total.cpu_seconds += u.cpu_seconds;
+    }
+    s.push_str(&format!(
+        "total,{},{},{},{},{},{:.3},{:.3}\n",
+        total.points,
+        total.steps_accepted,
+        total.steps_rejected,
+        total.rhs_calls,
+        total.integrations,
+        total.cpu_seconds,
+        run_wall_seconds
+    ));
+    s
+}
+
+/// The cost table as aligned text for the terminal (most expensive study first by CPU).
+pub fn cost_text(results: &[StudyResult], run_wall_seconds: f64) -> String {
+    let mut rows: Vec<&StudyResult> = results.iter().collect();
+    rows.sort_by(|a, b| {
+        b.cost
+            .usage
+            .cpu_seconds
+            .total_cmp(&a.cost.usage.cpu_seconds)
+    });
+    let w = rows
+        .iter()
+        .map(|r| r.study.id.len())
+        .max()
+        .unwrap_or(5)
+        .max(5);
+    let mut s = format!(
+        "{:<w$} {:>8} {:>12} {:>10} {:>13} {:>9} {:>8}\n",
+        "study", "points", "steps", "rejected", "rhs calls", "CPU s", "wall s"
+    );
+    let (mut cpu, mut steps, mut rej, mut rhs, mut pts) = (0.0, 0, 0, 0, 0);
+    for r in rows {
+        let u = &r.cost.usage;
+        s.push_str(&format!(
+            "{:<w$} {:>8} {:>12} {:>10} {:>13} {:>9.1} {:>8.1}\n",
+            r.study.id,
+            u.points,
+            u.steps_accepted,
+            u.steps_rejected,
+            u.rhs_calls,
+            u.cpu_seconds,
+            r.cost.wall_seconds
+        ));
+        cpu += u.cpu_seconds;
+        steps += u.steps_accepted;
+        rej += u.steps_rejected;
+        rhs += u.rhs_calls;
+        pts += u.points;
+    }
+    s.push_str(&format!(
+        "{:<w$} {:>8} {:>12} {:>10} {:>13} {:>9.1} {:>8.1}\n",
+        "total", pts, steps, rej, rhs, cpu, run_wall_seconds
+    ));
+    s
 }
 
 /// Relative path (under `validation/`) of an output file of `study`.

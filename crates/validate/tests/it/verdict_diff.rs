@@ -165,6 +165,7 @@ fn results(run: fn() -> Result<StudyOutput, geardyn_validate::Error>) -> Vec<Stu
     vec![StudyResult {
         study: s,
         output: s.execute(),
+        cost: Default::default(),
     }]
 }
 
