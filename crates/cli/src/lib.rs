@@ -87,6 +87,87 @@ impl StderrProgress {
     }
 }
 
+/// The progress of `geardyn validate`: one bar over the whole run, in expected CPU seconds
+/// ([`validate::RunProgress`]: finished studies plus the finished points of the running ones),
+/// with studies and points done and an ETA; on a non-terminal a plain line at most every 10 %
+/// or 30 s, and at the end.
+struct WorkProgress {
+    bar: Option<ProgressBar>,
+    start: Instant,
+    last: Mutex<(Instant, f64)>,
+}
+
+/// Units of the bar per expected CPU second (the bar counts integers).
+const WORK_UNITS: f64 = 100.0;
+
+impl WorkProgress {
+    fn new(studies: usize) -> Self {
+        let bar = std::io::stderr().is_terminal().then(|| {
+            let pb = ProgressBar::new(1);
+            if let Ok(style) = ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {percent:>3}% (eta {eta}) {msg}",
+            ) {
+                pb.set_style(style.progress_chars("=> "));
+            }
+            pb
+        });
+        if bar.is_none() {
+            eprintln!("{studies} studies to run");
+        }
+        WorkProgress {
+            bar,
+            start: Instant::now(),
+            last: Mutex::new((Instant::now(), -1.0)),
+        }
+    }
+
+    fn update(&self, r: &validate::RunProgress) {
+        let msg = format!(
+            "{}/{} studies, {} points{}",
+            r.studies_done,
+            r.studies_total,
+            r.points_done,
+            r.last_finished
+                .map(|s| format!(", last: {s}"))
+                .unwrap_or_default()
+        );
+        if let Some(pb) = &self.bar {
+            pb.set_length((r.work_total * WORK_UNITS).round().max(1.0) as u64);
+            pb.set_position((r.work_done * WORK_UNITS).round() as u64);
+            pb.set_message(msg);
+            return;
+        }
+        let Ok(mut last) = self.last.lock() else {
+            return;
+        };
+        let frac = if r.work_total > 0.0 {
+            r.work_done / r.work_total
+        } else {
+            1.0
+        };
+        let end = r.studies_done == r.studies_total;
+        if (end && last.1 < 1.0)
+            || frac >= last.1 + 0.1
+            || last.0.elapsed() >= Duration::from_secs(30)
+        {
+            *last = (Instant::now(), if end { 1.0 } else { frac });
+            let spent = self.start.elapsed().as_secs_f64();
+            let eta = if frac > 0.0 && !end {
+                format!(", eta {:.0} s", spent * (1.0 - frac) / frac)
+            } else {
+                String::new()
+            };
+            eprintln!("{:3.0}% of the expected work{eta}: {msg}", 100.0 * frac);
+        }
+    }
+
+    fn end(&self) {
+        if let Some(pb) = &self.bar {
+            pb.finish_and_clear();
+        }
+    }
+}
+
 /// [`study::Progress`] for study files.
 struct StudyProgress(Mutex<StderrProgress>);
 
@@ -228,9 +309,8 @@ pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Fa
     } else {
         validate::all_studies().len()
     };
-    let mut p = StderrProgress::new("studies");
-    p.begin(total);
-    let cb = |s: &validate::Study, done: usize, total: usize| p.tick(done, total, s.id);
+    let p = WorkProgress::new(total);
+    let cb = |r: &validate::RunProgress| p.update(r);
     let result = validate::run_validation(root, check, filter, &cb);
     p.end();
     let summary = result?;

@@ -24,6 +24,7 @@ pub(crate) mod fastlog;
 
 pub mod karpov2017;
 pub mod liu2021;
+pub mod memo;
 pub mod motion;
 pub mod pair;
 pub mod response;

@@ -122,6 +122,7 @@ mod output;
 pub mod precision;
 mod published;
 mod render;
+mod schedule;
 mod studies;
 mod study;
 pub mod verdicts;
@@ -145,6 +146,9 @@ pub use render::{
     ReadingsIndex, STATS_DIGEST_FILE, StudyCost, StudyResult, comparisons_csv,
     comparisons_csv_full, cost_csv, cost_text, insta_snap, render_all, render_stats, report,
     run_studies, run_studies_with, snapshot_body, stats_digest,
+};
+pub use schedule::{
+    ProgressMeter, RunProgress, UNKNOWN_CPU_SECONDS, expected_cpu_seconds, longest_first,
 };
 pub use studies::all_studies;
 pub use study::{

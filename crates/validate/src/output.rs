@@ -63,7 +63,7 @@ pub fn run_validation(
     root: &Path,
     check: bool,
     filter: Option<&str>,
-    progress: &(dyn Fn(&Study, usize, usize) + Sync),
+    progress: &(dyn Fn(&crate::RunProgress) + Sync),
 ) -> Result<ValidationSummary, Error> {
     if check && filter.is_some() {
         return Err(Error::Study(
@@ -92,12 +92,12 @@ pub fn run_validation(
             )));
         }
     }
-    let total = studies.len();
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    let results = crate::run_studies(&studies, |s| {
-        let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-        progress(s, d, total);
-    });
+    // one in-run memo of the shared responses (models::memo): a study that needs a response
+    // another study computed gets the same bits without recomputing them
+    let memo = models::memo::Session::open(models::memo::DEFAULT_CAPACITY);
+    let results = run_with_progress(&studies, progress);
+    let memo_stats = models::memo::stats();
+    drop(memo);
     let elapsed = t0.elapsed();
 
     let idx = ReadingsIndex::scan(root)?;
@@ -170,7 +170,16 @@ pub fn run_validation(
         seconds: elapsed.as_secs_f64(),
         warnings,
         message: String::new(),
-        cost_table: crate::cost_text(&results, elapsed.as_secs_f64()),
+        cost_table: format!(
+            "{}{}",
+            crate::cost_text(&results, elapsed.as_secs_f64()),
+            memo_stats
+                .iter()
+                .map(|(f, hits, misses)| format!(
+                    "memo {f}: {hits} computations saved, {misses} computed\n"
+                ))
+                .collect::<String>()
+        ),
     };
     summary.message = if check {
         check_files(&vdir, &files)?
@@ -178,6 +187,50 @@ pub fn run_validation(
         write_files(&vdir, &files, filter.is_none())?
     };
     Ok(summary)
+}
+
+/// Run the studies ([`crate::run_studies_with`]) while a meter thread reports the progress every
+/// half second (and once at the end, at the total) through `progress`. The meter thread ends
+/// when the studies have (a flag set by a guard, also if a study panics).
+fn run_with_progress(
+    studies: &[Study],
+    progress: &(dyn Fn(&crate::RunProgress) + Sync),
+) -> Vec<crate::StudyResult> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let accounts: Vec<_> = studies
+        .iter()
+        .map(|s| system::account::Account::new(s.id))
+        .collect();
+    let meter = std::sync::Mutex::new(crate::ProgressMeter::new(studies));
+    let stop = AtomicBool::new(false);
+    let report = || {
+        if let Ok(mut m) = meter.lock() {
+            progress(&m.read(&accounts));
+        }
+    };
+    struct Stop<'a>(&'a AtomicBool);
+    impl Drop for Stop<'_> {
+        fn drop(&mut self) {
+            self.0.store(true, Ordering::Relaxed);
+        }
+    }
+    let results = std::thread::scope(|sc| {
+        sc.spawn(|| {
+            while !stop.load(Ordering::Relaxed) {
+                report();
+                std::thread::sleep(std::time::Duration::from_millis(500));
+            }
+        });
+        let _stop = Stop(&stop);
+        crate::run_studies_with(studies, &accounts, |s| {
+            if let (Ok(mut m), Some(i)) = (meter.lock(), studies.iter().position(|x| x.id == s.id))
+            {
+                m.finished(i, s.id);
+            }
+        })
+    });
+    report();
+    results
 }
 
 /// Committed generated files: relative path → contents.

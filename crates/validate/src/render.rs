@@ -42,33 +42,75 @@ pub fn run_studies(studies: &[Study], on_done: impl Fn(&Study) + Sync) -> Vec<St
 
 /// As [`run_studies`], counting each study's work in the given accounts (one per study, in the
 /// same order), which a caller may read while the run goes on (progress).
+///
+/// **Schedule: longest first.** The studies are started in the order of their expected CPU
+/// time ([`crate::expected_cpu_seconds`], largest first; ties in input order) on a FIFO rayon
+/// scope, so that the long studies (and their serial tails: neighbour continuation, threshold
+/// bisection) start at once and the short ones fill the cores around them, instead of a long
+/// study starting last and running alone. The schedule changes only when a study runs, never
+/// what it computes: results are collected by index, in input order.
 pub fn run_studies_with(
     studies: &[Study],
     accounts: &[std::sync::Arc<system::account::Account>],
     on_done: impl Fn(&Study) + Sync,
 ) -> Vec<StudyResult> {
-    let jobs: Vec<(&Study, &std::sync::Arc<system::account::Account>)> =
-        studies.iter().zip(accounts).collect();
-    timestep::sweep(
-        &jobs,
-        |(s, acc)| {
-            let t0 = std::time::Instant::now();
-            let output = system::account::scope(acc, || s.execute());
-            let wall_seconds = t0.elapsed().as_secs_f64();
-            on_done(s);
-            StudyResult {
-                study: **s,
-                output,
-                cost: StudyCost {
-                    usage: acc.usage(),
-                    wall_seconds,
+    let slots: Vec<std::sync::Mutex<Option<StudyResult>>> = studies
+        .iter()
+        .map(|_| std::sync::Mutex::new(None))
+        .collect();
+    let run_one = |i: usize| {
+        let s = &studies[i];
+        let t0 = std::time::Instant::now();
+        // a study that panics is one failed study, not a lost run
+        let guarded = || {
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| s.execute())).unwrap_or_else(
+                |p| {
+                    let what = p
+                        .downcast_ref::<&str>()
+                        .map(|m| (*m).to_owned())
+                        .or_else(|| p.downcast_ref::<String>().cloned())
+                        .unwrap_or_default();
+                    Err(Error::Study(format!("study {} panicked: {what}", s.id)))
                 },
-            }
-        },
-        None,
-    )
-    .into_iter()
-    .collect()
+            )
+        };
+        let output = system::account::scope_opt(accounts.get(i), guarded);
+        let wall_seconds = t0.elapsed().as_secs_f64();
+        let usage = accounts.get(i).map(|a| a.usage()).unwrap_or_default();
+        on_done(s);
+        let r = StudyResult {
+            study: *s,
+            output,
+            cost: StudyCost {
+                usage,
+                wall_seconds,
+            },
+        };
+        if let Ok(mut slot) = slots[i].lock() {
+            *slot = Some(r);
+        }
+    };
+    let order = crate::longest_first(studies);
+    rayon::scope_fifo(|scope| {
+        for &i in &order {
+            let run_one = &run_one;
+            scope.spawn_fifo(move |_| run_one(i));
+        }
+    });
+    slots
+        .into_iter()
+        .zip(studies)
+        .map(|(slot, s)| {
+            slot.into_inner()
+                .ok()
+                .flatten()
+                .unwrap_or_else(|| StudyResult {
+                    study: *s,
+                    output: Err(Error::Study(format!("study {} did not finish", s.id))),
+                    cost: StudyCost::default(),
+                })
+        })
+        .collect()
 }
 
 /// The cost table of a run (`validation/stats/cost.csv`): per study its points, integrator

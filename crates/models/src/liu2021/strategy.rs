@@ -360,8 +360,20 @@ pub fn time_reference(
     time_reference_runs(model, strategy).map(|(t, nominal, _)| (t, nominal))
 }
 
-/// [`time_reference`] with the recorded response of the refined run as well.
+/// [`time_reference`] with the recorded response of the refined run as well. Memoised while a
+/// [`crate::memo::Session`] is open (key: the model and the strategy).
 fn time_reference_runs(
+    model: &Model,
+    strategy: &SweepStrategy,
+) -> Result<(TimeReference, TimeResponse, TimeResponse), Error> {
+    crate::memo::cached(
+        "liu2021::time_reference",
+        || format!("{model:?}|{strategy:?}"),
+        || time_reference_runs_uncached(model, strategy),
+    )
+}
+
+fn time_reference_runs_uncached(
     model: &Model,
     strategy: &SweepStrategy,
 ) -> Result<(TimeReference, TimeResponse, TimeResponse), Error> {

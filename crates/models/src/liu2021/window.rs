@@ -232,7 +232,17 @@ fn record(
 /// to `settle_windows` windows that still hold the end of a transient
 /// ([`WindowStats::transient`]). The statistics ([`crate::response::window_stats`]) use the
 /// located gap-edge crossings, so a contact shorter than a sample step still counts.
+///
+/// Memoised while a [`crate::memo::Session`] is open (key: the model and the options).
 pub fn long_window(model: &Model, options: &LongWindowOptions) -> Result<Robust, Error> {
+    crate::memo::cached(
+        "liu2021::long_window",
+        || format!("{model:?}|{options:?}"),
+        || long_window_uncached(model, options),
+    )
+}
+
+fn long_window_uncached(model: &Model, options: &LongWindowOptions) -> Result<Robust, Error> {
     options.validate()?;
     let rest = (model.static_position(0.0), 0.0);
     let mut nominal = record(model, options, rest, options.rtol, 2)?;

@@ -1,0 +1,184 @@
+//! The order the studies start in, and the progress of a run in expected CPU seconds.
+//!
+//! Both rest on one table: each study's CPU seconds as measured by the cost table of a full run
+//! (`validation/stats/cost.csv`, [`crate::cost_csv`]). It changes *when* a study starts and what
+//! the progress bar shows, never what a study computes. A study missing from the table (a new
+//! one) counts [`UNKNOWN_CPU_SECONDS`]; refresh the table from a new cost table when the costs
+//! move (the test `schedule::tests::every_study_has_a_figure` lists the studies without one).
+
+use crate::study::Study;
+
+/// Expected CPU seconds of a study that is not in [`EXPECTED_CPU_SECONDS`].
+pub const UNKNOWN_CPU_SECONDS: f64 = 5.0;
+
+/// CPU seconds per study, from the cost table of a full `cargo xtask validate` on 2 cores
+/// (AMD EPYC), rounded; see the module docs.
+const EXPECTED_CPU_SECONDS: &[(&str, f64)] = &[];
+
+/// The expected CPU seconds of the study `id` (module docs).
+pub fn expected_cpu_seconds(id: &str) -> f64 {
+    EXPECTED_CPU_SECONDS
+        .iter()
+        .find(|(k, _)| *k == id)
+        .map_or(UNKNOWN_CPU_SECONDS, |&(_, v)| v)
+}
+
+/// Indices of `studies` in the order they start: the largest expected CPU time first, ties in
+/// input order (a stable sort, so the order is the same on every run and platform).
+pub fn longest_first(studies: &[Study]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..studies.len()).collect();
+    order.sort_by(|&a, &b| {
+        expected_cpu_seconds(studies[b].id).total_cmp(&expected_cpu_seconds(studies[a].id))
+    });
+    order
+}
+
+/// Where a run stands, for a progress bar.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunProgress {
+    /// Studies finished.
+    pub studies_done: usize,
+    /// Studies in the run.
+    pub studies_total: usize,
+    /// Work done, in expected CPU seconds: the expected seconds of the finished studies plus,
+    /// for each running one, its expected seconds times the fraction of its sweep points done
+    /// (at most 95 % until it finishes). Never decreases; equals [`RunProgress::work_total`]
+    /// exactly when every study has finished.
+    pub work_done: f64,
+    /// The expected CPU seconds of all the studies of the run.
+    pub work_total: f64,
+    /// Sweep points finished, over all studies.
+    pub points_done: u64,
+    /// The study that finished last, if any.
+    pub last_finished: Option<&'static str>,
+}
+
+/// Computes [`RunProgress`] from the studies' accounts (see [`RunProgress::work_done`]).
+#[derive(Debug)]
+pub struct ProgressMeter {
+    expected: Vec<f64>,
+    done: Vec<bool>,
+    high_water: f64,
+    last_finished: Option<&'static str>,
+}
+
+impl ProgressMeter {
+    /// A meter for `studies` (their accounts are passed to [`ProgressMeter::read`]).
+    pub fn new(studies: &[Study]) -> ProgressMeter {
+        ProgressMeter {
+            expected: studies.iter().map(|s| expected_cpu_seconds(s.id)).collect(),
+            done: vec![false; studies.len()],
+            high_water: 0.0,
+            last_finished: None,
+        }
+    }
+
+    /// Mark study `i` finished.
+    pub fn finished(&mut self, i: usize, id: &'static str) {
+        if let Some(d) = self.done.get_mut(i) {
+            *d = true;
+            self.last_finished = Some(id);
+        }
+    }
+
+    /// The progress now, from the accounts (one per study, in order).
+    pub fn read(&mut self, accounts: &[std::sync::Arc<system::account::Account>]) -> RunProgress {
+        let mut work = 0.0;
+        let mut points = 0;
+        for (i, e) in self.expected.iter().enumerate() {
+            let u = accounts.get(i).map(|a| a.usage()).unwrap_or_default();
+            points += u.points;
+            if self.done[i] {
+                work += e;
+            } else if u.points_planned > 0 {
+                work += e * (u.points as f64 / u.points_planned as f64).min(0.95);
+            }
+        }
+        let total: f64 = self.expected.iter().sum();
+        let studies_done = self.done.iter().filter(|d| **d).count();
+        self.high_water = if studies_done == self.done.len() {
+            total
+        } else {
+            self.high_water.max(work).min(total)
+        };
+        RunProgress {
+            studies_done,
+            studies_total: self.done.len(),
+            work_done: self.high_water,
+            work_total: total,
+            points_done: points,
+            last_finished: self.last_finished,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_study_has_a_figure() {
+        let missing: Vec<&str> = crate::all_studies()
+            .iter()
+            .map(|s| s.id)
+            .filter(|id| !EXPECTED_CPU_SECONDS.iter().any(|(k, _)| k == id))
+            .collect();
+        assert!(
+            missing.is_empty(),
+            "studies without an expected CPU time (schedule.rs): {missing:?}"
+        );
+        // no stale entries either
+        for (k, v) in EXPECTED_CPU_SECONDS {
+            assert!(
+                crate::all_studies().iter().any(|s| s.id == *k),
+                "stale: {k}"
+            );
+            assert!(v.is_finite() && *v > 0.0);
+        }
+    }
+
+    #[test]
+    fn longest_first_is_a_stable_permutation() {
+        let studies = crate::all_studies();
+        let order = longest_first(&studies);
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..studies.len()).collect::<Vec<_>>());
+        for w in order.windows(2) {
+            let (a, b) = (
+                expected_cpu_seconds(studies[w[0]].id),
+                expected_cpu_seconds(studies[w[1]].id),
+            );
+            assert!(a > b || (a == b && w[0] < w[1]));
+        }
+    }
+
+    #[test]
+    fn meter_is_monotone_and_ends_at_the_total() {
+        let studies: Vec<Study> = crate::all_studies().into_iter().take(3).collect();
+        let accounts: Vec<_> = studies
+            .iter()
+            .map(|s| system::account::Account::new(s.id))
+            .collect();
+        let mut m = ProgressMeter::new(&studies);
+        let p0 = m.read(&accounts);
+        assert_eq!((p0.studies_done, p0.work_done), (0, 0.0));
+        // some points of the first study: part of its expected time, below 95 %
+        system::account::scope(&accounts[0], || {
+            system::sweep::sweep(&[1, 2, 3, 4], |x| x + 1, None)
+        });
+        let p1 = m.read(&accounts);
+        assert!(p1.work_done > 0.0 && p1.work_done < p1.work_total);
+        assert_eq!(p1.points_done, 4);
+        let mut last = p1.work_done;
+        for (i, s) in studies.iter().enumerate() {
+            m.finished(i, s.id);
+            let p = m.read(&accounts);
+            assert!(p.work_done >= last);
+            last = p.work_done;
+        }
+        let end = m.read(&accounts);
+        assert_eq!(end.work_done, end.work_total);
+        assert_eq!(end.studies_done, 3);
+    }
+}
