@@ -4,7 +4,8 @@
 //!   snapshots, `REPORT.md`).
 //! * `cargo xtask validate --only STUDY` — run one study (exact id) and write its outputs.
 //! * `cargo xtask validate --check` — regenerate in memory and fail if any committed output or
-//!   snapshot would change (CI); a changed verdict is listed first.
+//!   snapshot would change (CI); a changed verdict is listed first. `--check --shard I/N`: only
+//!   the studies of shard I of N (the parallel CI jobs).
 //! * `cargo xtask validate --diff [REV]` — markdown summary of what changed in meaning between
 //!   `validation/verdicts.csv` at REV (default: merge base with `main`) and the working tree.
 //! * `cargo xtask study <file.toml>` — run a user study (format in `docs/studies.md`).
@@ -37,6 +38,10 @@ enum Cmd {
         /// Only studies whose id contains this text (never with --check).
         #[arg(long)]
         filter: Option<String>,
+        /// With --check: only shard I of N (each study in exactly one shard; the CI splits the
+        /// check this way). The cross-study aggregates are left to the full --check.
+        #[arg(long, value_name = "I/N", requires = "check", conflicts_with_all = ["filter", "only"])]
+        shard: Option<String>,
         /// Only the study with exactly this id (never with --check); an unknown id lists the
         /// studies. The fast loop for one study: `cargo xtask validate --only liu2021-table2-amplitude-ratio`.
         #[arg(long, value_name = "STUDY", conflicts_with_all = ["check", "filter"])]
@@ -134,10 +139,11 @@ fn main() -> ExitCode {
             check,
             filter,
             only,
+            shard,
             ..
         } => {
             let filter = only.map(|id| format!("={id}")).or(filter);
-            cli::validate(&repo_root(), check, filter.as_deref())
+            cli::validate(&repo_root(), check, filter.as_deref(), shard.as_deref())
         }
         Cmd::Study { file, out, shard } => match shard {
             Some(s) => cli::study_shard(&file, out.as_deref(), &s),

@@ -299,9 +299,19 @@ pub fn merge(file: &Path, out: Option<&Path>, parts: &[std::path::PathBuf]) -> R
     Ok(())
 }
 
-/// `geardyn validate [--check] [--filter F]` under the repository `root`.
-pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Failure> {
-    let total = if let Some(f) = filter {
+/// `geardyn validate [--check [--shard I/N]] [--filter F]` under the repository `root`.
+pub fn validate(
+    root: &Path,
+    check: bool,
+    filter: Option<&str>,
+    shard: Option<&str>,
+) -> Result<(), Failure> {
+    let shard: Option<validate::Shard> = shard.map(str::parse).transpose()?;
+    let total = if let Some(sh) = shard {
+        (0..validate::all_studies().len())
+            .filter(|&i| sh.holds(i))
+            .count()
+    } else if let Some(f) = filter {
         validate::all_studies()
             .iter()
             .filter(|s| validate::study_selected(s.id, f))
@@ -311,7 +321,7 @@ pub fn validate(root: &Path, check: bool, filter: Option<&str>) -> Result<(), Fa
     };
     let p = WorkProgress::new(total);
     let cb = |r: &validate::RunProgress| p.update(r);
-    let result = validate::run_validation(root, check, filter, &cb);
+    let result = validate::run_validation_sharded(root, check, filter, shard, &cb);
     p.end();
     let summary = result?;
     for w in &summary.warnings {

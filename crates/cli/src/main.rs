@@ -73,6 +73,10 @@ enum Cmd {
         /// Only studies whose id contains this text (never with --check).
         #[arg(long)]
         filter: Option<String>,
+        /// With --check: only shard I of N (each study in exactly one shard; the CI splits the
+        /// check this way). The cross-study aggregates are left to the full --check.
+        #[arg(long, value_name = "I/N", requires = "check")]
+        shard: Option<String>,
         /// Do not run: print the verdict diff (markdown) between validation/verdicts.csv at REV
         /// (default: the merge base with `main`) and the working tree.
         #[arg(long, value_name = "REV", num_args = 0..=1, default_missing_value = "",
@@ -132,9 +136,10 @@ fn main() -> ExitCode {
         Cmd::Validate {
             check,
             filter,
+            shard,
             root,
             ..
-        } => geardyn_cli::validate(&root, check, filter.as_deref()),
+        } => geardyn_cli::validate(&root, check, filter.as_deref(), shard.as_deref()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

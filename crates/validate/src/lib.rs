@@ -132,7 +132,8 @@ pub use error::{Error, ResultExt};
 /// The step-statistic columns of a time-stepping record (from the model contract).
 pub use models::contract::STEP_STATISTICS;
 pub use output::{
-    COST_FILE, STATS_DIR, ValidationSummary, diff_against, run_validation, study_selected,
+    COST_FILE, STATS_DIR, Shard, ValidationSummary, diff_against, run_validation,
+    run_validation_sharded, study_selected,
 };
 pub use plot::{
     Cell, Column, Figure, OKABE_ITO, SIGNIFICANT_DIGITS, Series, Style, Table, committed_text,

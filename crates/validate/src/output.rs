@@ -65,9 +65,68 @@ pub fn run_validation(
     filter: Option<&str>,
     progress: &(dyn Fn(&crate::RunProgress) + Sync),
 ) -> Result<ValidationSummary, Error> {
+    run_validation_sharded(root, check, filter, None, progress)
+}
+
+/// One shard of `--check`: shard `index` of `count` (`1 ≤ index ≤ count`) holds the studies
+/// whose position in [`crate::all_studies`] is `index − 1` modulo `count`, so that every study
+/// is in exactly one shard.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// 1-based index of the shard.
+    pub index: usize,
+    /// Number of shards.
+    pub count: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = Error;
+    /// `I/N` with `1 ≤ I ≤ N ≤ 1000`.
+    fn from_str(s: &str) -> Result<Shard, Error> {
+        let bad = || {
+            Error::Study(format!(
+                "--shard {s:?}: expected I/N with 1 <= I <= N <= 1000"
+            ))
+        };
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count): (usize, usize) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if index == 0 || index > count || count > 1000 {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+impl Shard {
+    /// Whether the study at position `i` of [`crate::all_studies`] is in this shard.
+    pub fn holds(&self, i: usize) -> bool {
+        i % self.count == self.index - 1
+    }
+}
+
+/// [`run_validation`] restricted to one [`Shard`] (only with `check`): the shard's studies are
+/// run, and their files, snapshots and rows of `verdicts.csv` are compared with the committed
+/// ones; the other aggregates (`REPORT.md`, `stats-digest.txt`) and the rule that a study's
+/// reproduction is counted once across studies need every study and are checked by the full
+/// `--check`.
+pub fn run_validation_sharded(
+    root: &Path,
+    check: bool,
+    filter: Option<&str>,
+    shard: Option<Shard>,
+    progress: &(dyn Fn(&crate::RunProgress) + Sync),
+) -> Result<ValidationSummary, Error> {
     if check && filter.is_some() {
         return Err(Error::Study(
             "--filter cannot be combined with --check".to_owned(),
+        ));
+    }
+    if shard.is_some() && (!check || filter.is_some()) {
+        return Err(Error::Study(
+            "--shard needs --check and no --filter/--only".to_owned(),
         ));
     }
     let vdir = root.join("validation");
@@ -79,6 +138,14 @@ pub fn run_validation(
     }
     let t0 = Instant::now();
     let mut studies = crate::all_studies();
+    if let Some(sh) = shard {
+        studies = studies
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| sh.holds(*i))
+            .map(|(_, s)| s)
+            .collect();
+    }
     if let Some(f) = filter {
         studies.retain(|s| study_selected(s.id, f));
         if studies.is_empty() {
@@ -104,7 +171,8 @@ pub fn run_validation(
     let files = crate::render_all(&results, &idx);
     // solver statistics and full-precision data: written (also under --check, for inspection),
     // never compared byte for byte; their digest is in the committed stats-digest.txt
-    write_stats(&vdir, &crate::render_stats(&results), filter.is_none())?;
+    let whole = filter.is_none() && shard.is_none();
+    write_stats(&vdir, &crate::render_stats(&results), whole)?;
     // the cost table: beside the statistics, outside their digest (timings differ run to run)
     let cost_path = vdir.join(STATS_DIR).join(COST_FILE);
     write_atomic(
@@ -181,7 +249,10 @@ pub fn run_validation(
                 .collect::<String>()
         ),
     };
-    summary.message = if check {
+    summary.message = if let (true, Some(sh)) = (check, shard) {
+        let ids: BTreeSet<&str> = studies.iter().map(|s| s.id).collect();
+        check_shard_files(&vdir, &files, &ids, sh)?
+    } else if check {
         check_files(&vdir, &files)?
     } else {
         write_files(&vdir, &files, filter.is_none())?
@@ -280,6 +351,79 @@ fn write_stats(vdir: &Path, stats: &BTreeMap<String, Vec<u8>>, prune: bool) -> R
         write_atomic(&dir.join(k), v)?;
     }
     Ok(())
+}
+
+/// `--check --shard`: the shard's generated files against the committed ones (no stale-file
+/// check: the other shards' files are not generated here), and its studies' rows of
+/// `verdicts.csv`; the other aggregates are skipped (see [`run_validation_sharded`]).
+fn check_shard_files(
+    vdir: &Path,
+    files: &BTreeMap<String, Vec<u8>>,
+    ids: &BTreeSet<&str>,
+    shard: Shard,
+) -> Result<String, Error> {
+    let old = committed(vdir)?;
+    let mut problems = Vec::new();
+    let mut checked = 0;
+    for (k, v) in files {
+        if AGGREGATES.contains(&k.as_str()) {
+            continue;
+        }
+        checked += 1;
+        match old.get(k) {
+            None => problems.push(format!("new file:  validation/{k}")),
+            Some(o) if o != v => {
+                problems.push(format!("changed:   validation/{k}{}", first_diff(o, v)))
+            }
+            Some(_) => {}
+        }
+    }
+    // the shard's rows of verdicts.csv, in order (the first column is the study id)
+    let rows = |bytes: Option<&Vec<u8>>| -> Vec<String> {
+        bytes
+            .map(|b| String::from_utf8_lossy(b).into_owned())
+            .unwrap_or_default()
+            .lines()
+            .skip(1)
+            .filter(|l| l.split(',').next().is_some_and(|id| ids.contains(id)))
+            .map(str::to_owned)
+            .collect()
+    };
+    let (o, n) = (
+        rows(old.get(crate::VERDICTS_FILE)),
+        rows(files.get(crate::VERDICTS_FILE)),
+    );
+    if o != n {
+        let first = o
+            .iter()
+            .zip(&n)
+            .find(|(a, b)| a != b)
+            .map(|(a, b)| format!("\n  was: {a}\n  now: {b}"))
+            .unwrap_or_else(|| format!(" ({} rows committed, {} generated)", o.len(), n.len()));
+        problems.push(format!(
+            "changed:   validation/{} (rows of this shard){first}",
+            crate::VERDICTS_FILE
+        ));
+    }
+    if problems.is_empty() {
+        Ok(format!(
+            "validate --check --shard {}/{}: {} studies, {checked} generated files and {} verdict \
+             rows match the committed ones",
+            shard.index,
+            shard.count,
+            ids.len(),
+            n.len()
+        ))
+    } else {
+        Err(Error::Study(format!(
+            "validate --check --shard {}/{}: {} file(s) differ from the committed ones \
+             (run `cargo xtask validate` and review `git diff validation/`):\n{}",
+            shard.index,
+            shard.count,
+            problems.len(),
+            problems.join("\n")
+        )))
+    }
 }
 
 fn check_files(vdir: &Path, files: &BTreeMap<String, Vec<u8>>) -> Result<String, Error> {
@@ -465,6 +609,148 @@ pub fn diff_against(root: &Path, rev: Option<&str>) -> Result<String, Error> {
 mod tests {
     use super::*;
     use crate::{Comparison, Cost, Paper, Reference, StudyOutput, StudyResult, Tolerance};
+
+    /// The integrations of [`costly`]: a damped oscillator at three forcing frequencies.
+    fn oscillators() -> Vec<timestep::Solution> {
+        let omegas = [0.5, 1.0, 1.5];
+        timestep::sweep(
+            &omegas,
+            |&omega| {
+                let sys = timestep::FirstOrder(timestep::LinearOscillator {
+                    omega0: 1.0,
+                    zeta: 0.1,
+                    force: 1.0,
+                    omega,
+                });
+                timestep::integrate(&sys, 0.0, &[1.0, 0.0], 30.0, &timestep::Options::default())
+                    .expect("valid integration")
+            },
+            None,
+        )
+    }
+
+    fn costly() -> Result<StudyOutput, Error> {
+        assert_eq!(oscillators().len(), 3);
+        Ok(StudyOutput::new())
+    }
+
+    fn idle() -> Result<StudyOutput, Error> {
+        Ok(StudyOutput::new())
+    }
+
+    fn broken() -> Result<StudyOutput, Error> {
+        panic!("a bug in a study")
+    }
+
+    fn synthetic(id: &'static str, run: fn() -> Result<StudyOutput, Error>) -> Study {
+        Study {
+            id,
+            paper: Paper::Liu2021,
+            source: "p. 1",
+            title: "t",
+            description: "",
+            cost: Cost::Fast,
+            run,
+        }
+    }
+
+    /// The cost table agrees with the run: per study the points of its sweep, the steps and
+    /// right-hand-side calls of its integrations (counted again here), nothing for a study
+    /// that integrates nothing; the total row sums the rows; a panicking study is one failed
+    /// study. And the progress reported during the run never decreases and ends at its total.
+    #[test]
+    fn cost_table_and_progress_agree_with_the_run() {
+        let studies = [
+            synthetic("liu2021-cost-idle", idle),
+            synthetic("liu2021-cost-costly", costly),
+            synthetic("liu2021-cost-broken", broken),
+        ];
+        let seen = std::sync::Mutex::new(Vec::<crate::RunProgress>::new());
+        let record = |p: &crate::RunProgress| seen.lock().unwrap().push(p.clone());
+        let results = run_with_progress(&studies, &record);
+        // results in input order
+        let ids: Vec<&str> = results.iter().map(|r| r.study.id).collect();
+        assert_eq!(
+            ids,
+            [
+                "liu2021-cost-idle",
+                "liu2021-cost-costly",
+                "liu2021-cost-broken"
+            ]
+        );
+        assert!(results[0].output.is_ok() && results[1].output.is_ok());
+        let err = results[2].output.as_ref().unwrap_err().to_string();
+        assert!(
+            err.contains("panicked") && err.contains("a bug in a study"),
+            "{err}"
+        );
+
+        let want = oscillators();
+        let u = results[1].cost.usage;
+        assert_eq!(u.points, 3);
+        assert_eq!(u.integrations, 3);
+        assert_eq!(
+            u.steps_accepted,
+            want.iter().map(|s| s.stats.n_accepted).sum::<u64>()
+        );
+        assert_eq!(
+            u.steps_rejected,
+            want.iter().map(|s| s.stats.n_rejected).sum::<u64>()
+        );
+        assert_eq!(u.rhs_calls, want.iter().map(|s| s.stats.n_rhs).sum::<u64>());
+        assert!(u.steps_accepted > 10 && u.cpu_seconds >= 0.0);
+        let idle = results[0].cost.usage;
+        assert_eq!(
+            (idle.points, idle.steps_accepted, idle.rhs_calls),
+            (0, 0, 0)
+        );
+        for r in &results {
+            assert!(r.cost.wall_seconds >= 0.0);
+        }
+
+        let csv = crate::cost_csv(&results, 1.5);
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(lines.len(), 1 + 3 + 1);
+        assert!(lines[2].starts_with(&format!(
+            "liu2021-cost-costly,3,{},{},{},3,",
+            u.steps_accepted, u.steps_rejected, u.rhs_calls
+        )));
+        assert!(lines[4].starts_with(&format!(
+            "total,3,{},{},{},3,",
+            u.steps_accepted, u.steps_rejected, u.rhs_calls
+        )));
+        assert!(lines[4].ends_with(",1.500"));
+        let text = crate::cost_text(&results, 1.5);
+        assert!(text.contains("liu2021-cost-costly") && text.contains("total"));
+
+        let seen = seen.into_inner().unwrap();
+        assert!(!seen.is_empty());
+        for w in seen.windows(2) {
+            assert!(w[1].work_done >= w[0].work_done);
+        }
+        let last = seen.last().unwrap();
+        assert_eq!(last.studies_done, 3);
+        assert_eq!(last.work_done, last.work_total);
+        assert!(last.work_total > 0.0);
+    }
+
+    #[test]
+    fn shards_partition_the_studies() {
+        assert!("0/3".parse::<Shard>().is_err());
+        assert!("4/3".parse::<Shard>().is_err());
+        assert!("1/0".parse::<Shard>().is_err());
+        assert!("x/2".parse::<Shard>().is_err());
+        assert!("1-2".parse::<Shard>().is_err());
+        let n = crate::all_studies().len();
+        for count in [1, 2, 4, 7] {
+            let shards: Vec<Shard> = (1..=count)
+                .map(|i| format!("{i}/{count}").parse().unwrap())
+                .collect();
+            for i in 0..n {
+                assert_eq!(shards.iter().filter(|s| s.holds(i)).count(), 1);
+            }
+        }
+    }
 
     fn run_with(model: f64) -> Vec<StudyResult> {
         fn pass() -> Result<StudyOutput, Error> {
