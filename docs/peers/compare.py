@@ -50,8 +50,32 @@ import hbm_peers  # noqa: E402
 import karpov_fold_numba  # noqa: E402
 import liu_dp5_events_numba  # noqa: E402
 
-BIN = os.path.join(ROOT, "target", "release", "examples", "peer_bench")
 CMD = "cargo run --release -p geardyn-models --example peer_bench -- {}"
+
+
+def target_dir():
+    """cargo's target directory (honours CARGO_TARGET_DIR and .cargo/config.toml)."""
+    out = subprocess.run(["cargo", "metadata", "--format-version", "1", "--no-deps"], cwd=ROOT,
+                         check=True, capture_output=True, text=True).stdout
+    return json.loads(out)["target_directory"]
+
+
+def build(args, name):
+    """`cargo build --release ARGS` and the path of the executable NAME it produced, as cargo
+    reports it (so that CARGO_TARGET_DIR or a configured target-dir is followed)."""
+    out = subprocess.run(["cargo", "build", "--quiet", "--release", "--message-format=json"]
+                         + args, cwd=ROOT, check=True, capture_output=True, text=True).stdout
+    for line in out.splitlines():
+        msg = json.loads(line)
+        if (msg.get("reason") == "compiler-artifact" and msg.get("executable")
+                and msg["target"]["name"] == name):
+            return msg["executable"]
+    raise SystemExit(f"cargo build {' '.join(args)} produced no executable {name}")
+
+
+EXE = ".exe" if os.name == "nt" else ""
+# filled by main(): from cargo's build output, or (with --no-build) from cargo's target directory
+BIN = None
 
 
 def geardyn(section, reps):
@@ -280,7 +304,7 @@ def hbm_section(rounds):
     return rows
 
 
-STUDY = os.path.join(ROOT, "target", "release", "geardyn")
+STUDY = None  # the `geardyn` executable, set by main()
 SWEEP_TOML = """name = "liu-61-omega1"
 model = "liu2021"
 
@@ -402,12 +426,15 @@ def main():
     ap.add_argument("--write", default=None)
     ap.add_argument("--no-build", action="store_true")
     a = ap.parse_args()
+    global BIN, STUDY
     if not a.no_build:
-        subprocess.run(["cargo", "build", "--quiet", "--release", "-p", "geardyn-models",
-                        "--example", "peer_bench"], cwd=ROOT, check=True)
+        BIN = build(["-p", "geardyn-models", "--example", "peer_bench"], "peer_bench")
         if "sweep" in a.sections:
-            subprocess.run(["cargo", "build", "--quiet", "--release", "-p", "geardyn-cli"],
-                           cwd=ROOT, check=True)
+            STUDY = build(["-p", "geardyn-cli"], "geardyn")
+    else:
+        release = os.path.join(target_dir(), "release")
+        BIN = os.path.join(release, "examples", "peer_bench" + EXE)
+        STUDY = os.path.join(release, "geardyn" + EXE)
     started = time.strftime("%Y-%m-%d %H:%M", time.gmtime())
     load0 = os.getloadavg()[0]
     rows = []

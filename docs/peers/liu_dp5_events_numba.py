@@ -5,7 +5,11 @@ The algorithm of `timestep::integrate` with `liu2021::TimeSystem`, step for step
 * DP5(4) (Hairer's tableau), FSAL, error norm sqrt(mean((e_i/sk_i)^2)),
   sk_i = atol + rtol max(|y_i|, |ynew_i|);
 * Hairer's DOPRI5 PI controller (beta 0.04, safety 0.9, factor bounds 1/5 ... 10, no growth
-  after a rejection, facold >= 1e-4), Hairer's starting step, the last step stretched to t_end
+  after a rejection, facold >= 1e-4) computed as geardyn's `timestep::control::PiController`
+  does, without pow: q = 2^(alpha log2 err - beta log2 err_old) with the same short log2 and 2^x
+  kernels (`system::numeric::{log2_approx, exp2_approx}`, here `log2_approx`/`exp2_approx`
+  through math.frexp/ldexp, which are exact) and the clamped ends decided on the exponent;
+  Hairer's starting step, the last step stretched to t_end
   when t + 1.01 h >= t_end, h <= h_max;
 * the gap edges q -+ b as event functions, checked at every accepted step end; a sign change
   is located on the step's dense output (Hairer's contd5) by Illinois regula falsi to 1e-12 in
@@ -35,6 +39,38 @@ P3 = 2.022_266_248_795_950_6e-21
 ROUND = 6_755_399_441_055_744.0
 LIMIT = 524_288.0
 FRAC_2_PI = 2.0 / math.pi
+
+
+@numba.njit(cache=True)
+def log2_approx(x):
+    """`system::numeric::log2_approx`: the same operations in the same order."""
+    x = min(max(x, 2.2250738585072014e-308), 1.7976931348623157e308)
+    m, e = math.frexp(x)  # x = m 2^e, m in [0.5, 1): exact
+    m *= 2.0
+    e -= 1
+    if m >= 1.4142135623730951:
+        m *= 0.5
+        e += 1
+    f = m - 1.0
+    s = f / (2.0 + f)
+    z = s * s
+    p = 1.0 / 3.0 + z * (1.0 / 5.0 + z * (1.0 / 7.0 + z * (1.0 / 9.0 + z * (1.0 / 11.0
+                                                                           + z * (1.0 / 13.0)))))
+    ln_m = 2.0 * s + 2.0 * s * z * p
+    return float(e) + ln_m * 1.4426950408889634
+
+
+@numba.njit(cache=True)
+def exp2_approx(x):
+    """`system::numeric::exp2_approx`: the same operations in the same order."""
+    x = min(max(x, -1000.0), 1000.0)
+    n = math.copysign(math.floor(abs(x) + 0.5), x)  # Rust f64::round: half away from zero
+    u = (x - n) * 0.6931471805599453
+    p = 1.0 / 3628800.0
+    for c in (1.0 / 362880.0, 1.0 / 40320.0, 1.0 / 5040.0, 1.0 / 720.0, 1.0 / 120.0,
+              1.0 / 24.0, 1.0 / 6.0, 0.5, 1.0, 1.0):
+        p = p * u + c
+    return p * math.ldexp(1.0, int(n))
 
 
 @numba.njit(cache=True, inline="always")
@@ -184,7 +220,8 @@ def make(model, kernel):
         nrhs += 2
         beta_, safe, facc1, facc2 = 0.04, 0.9, 1.0 / 0.2, 1.0 / 10.0
         expo1 = 0.2 - 0.75 * beta_
-        facold = 1e-4
+        l_old = log2_approx(1e-4)
+        lo, hi = log2_approx(safe / 10.0), log2_approx(safe * 5.0)
         last_rej = False
         nacc, nrej, nev = 0, 0, 0
         h_new, err, fac11, theta_star, hh = h, 0.0, 0.0, 1.0, h
@@ -224,12 +261,20 @@ def make(model, kernel):
                     sq = atol + rtol * max(abs(q), abs(nq))
                     sv = atol + rtol * max(abs(v), abs(nv))
                     err = math.sqrt(((eq / sq) * (eq / sq) + (ev / sv) * (ev / sv)) / 2.0)
-                    fac11 = err ** expo1
+                    lerr = log2_approx(err)
                     if err > 1.0:
+                        la = expo1 * lerr
+                        fac11 = facc1 if la >= hi else exp2_approx(la) / safe
                         break
-                    fac = max(facc2, min(facc1, fac11 / facold ** beta_ / safe))
+                    lq = expo1 * lerr - beta_ * l_old
+                    if lq <= lo:
+                        fac = facc2
+                    elif lq >= hi:
+                        fac = facc1
+                    else:
+                        fac = exp2_approx(lq) / safe
                     h_new = h / fac
-                    facold = max(err, 1e-4)
+                    l_old = max(lerr, log2_approx(1e-4))
                     if last_rej:
                         h_new = min(h_new, h)
                     last_rej = False
@@ -301,7 +346,7 @@ def make(model, kernel):
                 last = False
                 passes += 1
             if passes == 0 and err > 1.0:
-                h /= min(facc1, fac11 / safe)
+                h /= fac11
                 nrej += 1
                 last_rej = True
                 continue

@@ -220,7 +220,12 @@ impl From<study::Error> for Failure {
 /// [`EXIT_ALL_FAILED`] when every point failed (the files are written all the same).
 pub fn study(file: &Path, out: Option<&Path>) -> Result<(), Failure> {
     let progress = StudyProgress(Mutex::new(StderrProgress::new("points")));
-    let (output, written) = study::run_study_file(file, out, &progress)?;
+    let account = system::account::Account::new("study");
+    let t0 = Instant::now();
+    let (output, written) = system::account::scope(&account, || {
+        study::run_study_file(file, out, &progress)
+    })?;
+    eprintln!("{}", cost_line(&account.usage(), t0.elapsed().as_secs_f64()));
     for f in &written.files {
         println!("wrote {}", f.display());
     }
@@ -251,6 +256,15 @@ pub fn study(file: &Path, out: Option<&Path>) -> Result<(), Failure> {
         );
     }
     Ok(())
+}
+
+/// One line of what a run cost (its work account, [`system::account`]).
+pub fn cost_line(u: &system::account::Usage, wall_seconds: f64) -> String {
+    format!(
+        "cost: {} points, {} integrator steps (+{} rejected), {} RHS calls, {:.2} CPU s, \
+         {wall_seconds:.2} s wall",
+        u.points, u.steps_accepted, u.steps_rejected, u.rhs_calls, u.cpu_seconds
+    )
 }
 
 /// `geardyn study FILE --shard i/n`: compute one shard and write its partial result (under
