@@ -1,6 +1,7 @@
 //! geardyn-math against the standard library (agreement to a few ulp), on special values, and
 //! against a table of exact bit patterns (which catches any change of algorithm).
 #![allow(clippy::disallowed_methods)] // the standard library's functions are the reference here
+#![allow(clippy::float_cmp)] // special values are exact
 
 use geardyn_math as m;
 use geardyn_math::DetMath;

@@ -3,6 +3,7 @@
 
 use crate::error::{OrbitError, Result, check};
 use crate::impact::ImpactLaw;
+use math::DetMath;
 use nalgebra::DMatrix;
 use system::{Direction, SecondOrderSystem};
 
@@ -582,7 +583,7 @@ pub(crate) fn integrate<S: SecondOrderSystem + ?Sized>(
         if !err.is_finite() || !all_finite(&x_new) || err > 1.0 {
             flow.rejected += 1;
             let fac = if err.is_finite() {
-                (0.9 * err.powf(-0.2)).max(0.2)
+                (0.9 * err.dpowf(-0.2)).max(0.2)
             } else {
                 0.25
             };
@@ -632,7 +633,7 @@ pub(crate) fn integrate<S: SecondOrderSystem + ?Sized>(
                 std::mem::swap(&mut phi, &mut phi_new);
                 e_now = e_end;
                 flow.steps += 1;
-                h = hh * (0.9 * err.max(1e-10).powf(-0.2)).min(5.0);
+                h = hh * (0.9 * err.max(1e-10).dpowf(-0.2)).min(5.0);
             }
             Some((i, lo, hi)) => {
                 let dt = hi * hh;
@@ -953,14 +954,14 @@ mod tests {
             DMatrix::identity(1, 1)
         }
         fn nonlinear_force(&self, t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
-            g[0] = (1.0 + 0.5 * (3.0 * t).sin()) * q[0].powi(3);
+            g[0] = (1.0 + 0.5 * (3.0 * t).dsin()) * q[0].powi(3);
         }
         fn forcing(&self, t: f64, f: &mut [f64]) {
             self.forcings.set(self.forcings.get() + 1);
-            f[0] = t.cos();
+            f[0] = t.dcos();
         }
         fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], dq: &mut [f64], dv: &mut [f64]) {
-            dq[0] = 3.0 * (1.0 + 0.5 * (3.0 * t).sin()) * q[0] * q[0];
+            dq[0] = 3.0 * (1.0 + 0.5 * (3.0 * t).dsin()) * q[0] * q[0];
             dv[0] = 0.0;
         }
         fn time_table_len(&self) -> usize {
@@ -968,7 +969,7 @@ mod tests {
         }
         fn fill_time_table(&self, t: f64, row: &mut [f64]) {
             self.tables.set(self.tables.get() + 1);
-            row[0] = 1.0 + 0.5 * (3.0 * t).sin();
+            row[0] = 1.0 + 0.5 * (3.0 * t).dsin();
         }
         fn fill_time_functions(&self, t: f64, f: &mut [f64], row: &mut [f64]) {
             self.shared.set(self.shared.get() + 1);
@@ -980,7 +981,7 @@ mod tests {
         }
         /// `q = 0.5 k(t)`
         fn events(&self, t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) {
-            e[0] = q[0] - 0.5 * (1.0 + 0.5 * (3.0 * t).sin());
+            e[0] = q[0] - 0.5 * (1.0 + 0.5 * (3.0 * t).dsin());
         }
         fn events_tabulated(&self, _t: f64, row: &[f64], q: &[f64], _qd: &[f64], e: &mut [f64]) {
             self.tabulated_events.set(self.tabulated_events.get() + 1);
@@ -1071,7 +1072,7 @@ mod tests {
             let mut g = [0.0];
             sys.nonlinear_force(tt, &y[..1], &y[1..], &mut g);
             direct[0] = y[1];
-            direct[1] = tt.cos() - 0.1 * y[1] - y[0] - g[0];
+            direct[1] = tt.dcos() - 0.1 * y[1] - y[0] - g[0];
             assert_eq!(out[0].to_bits(), direct[0].to_bits());
             assert_eq!(out[1].to_bits(), direct[1].to_bits(), "t = {tt}");
             let (mut dq, mut dv) = ([0.0], [0.0]);

@@ -6,6 +6,7 @@ use crate::record::{EventMonitor, Recorder};
 use crate::solution::{Solution, Stats, Status};
 use crate::stepper::{ClassicRk4, DormandPrince, Stepper};
 use crate::system::{EventAction, OdeSystem};
+use math::DetMath;
 
 /// Integrates `y' = F(t, y)` from `(t0, y0)` to `t_end` (`t_end >= t0`) with event location.
 ///
@@ -126,7 +127,7 @@ pub(crate) fn initial_step<S: OdeSystem + ?Sized>(
     let h1 = if der12 <= 1e-15 {
         1e-6_f64.max(h * 1e-3)
     } else {
-        (0.01 / der12).powf(1.0 / order)
+        (0.01 / der12).dpowf(1.0 / order)
     };
     (100.0 * h).min(h1).min(h_max)
 }
@@ -215,14 +216,14 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
         n_bad = 0;
         let mut h_new = h;
         if fixed_h.is_none() {
-            let fac11 = err.powf(expo1);
+            let fac11 = err.dpowf(expo1);
             if err > 1.0 {
                 h /= facc1.min(fac11 / safe);
                 stats.n_rejected += 1;
                 last_rejected = true;
                 continue;
             }
-            let fac = facc2.max(facc1.min(fac11 / facold.powf(beta) / safe));
+            let fac = facc2.max(facc1.min(fac11 / facold.dpowf(beta) / safe));
             h_new = h / fac;
             facold = err.max(1e-4);
             if last_rejected {
