@@ -1,6 +1,7 @@
 //! Criterion benches of the hot paths: f(x; b), B(t) and b_s.
 #![allow(missing_docs)]
 
+use math::DetMath;
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -53,7 +54,7 @@ fn bench_dynamic(c: &mut Criterion) {
     let disp: Vec<CentreDisplacement> = (0..1024)
         .map(|i| {
             let t = f64::from(i) * 0.01;
-            CentreDisplacement::new(1e-6 * t.sin(), 2e-6 * t.cos(), -1e-6 * t.cos(), 0.5e-6)
+            CentreDisplacement::new(1e-6 * t.dsin(), 2e-6 * t.dcos(), -1e-6 * t.dcos(), 0.5e-6)
         })
         .collect();
     for (name, form, law) in [

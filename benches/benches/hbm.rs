@@ -6,6 +6,7 @@ use geardyn_hbm::{
     Basis, BlockedLu, DenseLu, HbmProblem, Method, SecondOrderSystem, SolverOptions, SystemError,
 };
 use geardyn_system::problems::BenchDuffing as Duffing;
+use math::DetMath;
 use nalgebra::DMatrix;
 use std::hint::black_box;
 
@@ -32,7 +33,7 @@ impl SecondOrderSystem for Rattle {
         DMatrix::from_element(1, 1, 0.1)
     }
     fn nonlinear_force(&self, t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
-        let k = 1.0 + 0.1 * (self.omega * t).cos() + 0.2 * (self.z2 * self.omega * t).cos();
+        let k = 1.0 + 0.1 * (self.omega * t).dcos() + 0.2 * (self.z2 * self.omega * t).dcos();
         let f = if q[0] > 1.0 {
             q[0] - 1.0
         } else if q[0] < -1.0 {
@@ -43,12 +44,12 @@ impl SecondOrderSystem for Rattle {
         g[0] = k * f;
     }
     fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], a: &mut [f64], b: &mut [f64]) {
-        let k = 1.0 + 0.1 * (self.omega * t).cos() + 0.2 * (self.z2 * self.omega * t).cos();
+        let k = 1.0 + 0.1 * (self.omega * t).dcos() + 0.2 * (self.z2 * self.omega * t).dcos();
         a[0] = if q[0].abs() > 1.0 { k } else { 0.0 };
         b[0] = 0.0;
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = 0.5 + 0.1 * (self.z2 * self.omega * t).cos();
+        f[0] = 0.5 + 0.1 * (self.z2 * self.omega * t).dcos();
     }
     fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
         self.omega = omega;
@@ -150,7 +151,7 @@ fn dense_lu(c: &mut Criterion) {
     group.sample_size(10);
     for n in [15usize, 31, 65, 131, 201, 401, 801] {
         let a = random_matrix(n, n as u64);
-        let rhs = nalgebra::DVector::from_fn(n, |i, _| (i as f64).sin());
+        let rhs = nalgebra::DVector::from_fn(n, |i, _| (i as f64).dsin());
         group.bench_function(format!("nalgebra/{n}"), |b| {
             b.iter(|| {
                 let lu = black_box(a.clone()).lu();

@@ -8,6 +8,7 @@ use geardyn_models::liu2021::{
     self, BaseRadius, BranchStability, HbmOptions, HbmStart, IntegrationOptions,
     SpeedContinuationOptions,
 };
+use math::DetMath;
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
@@ -131,7 +132,7 @@ fn bench_timestep(c: &mut Criterion) {
                 let x = f64::from(i) / 1024.0;
                 (
                     t3 * x,
-                    [m.backlash * 3.0 * (7.0 * x).sin(), 0.01 * (3.0 * x).cos()],
+                    [m.backlash * 3.0 * (7.0 * x).dsin(), 0.01 * (3.0 * x).dcos()],
                 )
             })
             .collect();

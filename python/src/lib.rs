@@ -409,6 +409,8 @@ fn merge_study(py: Python<'_>, text: &str, parts: Vec<String>, out_dir: &str) ->
 /// The Rust side of the `geardyn` Python package.
 #[pymodule]
 fn _geardyn(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // keep geardyn-math's C math symbols in the link
+    math::c_symbols::link();
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add(
         "PRESETS",

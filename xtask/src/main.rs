@@ -130,6 +130,9 @@ fn heavy_tests(args: &[String]) -> ExitCode {
 }
 
 fn main() -> ExitCode {
+    // keep geardyn-math's C math symbols in the link (deterministic sin, pow, … for the
+    // dependencies too)
+    math::c_symbols::link();
     let cli = Cli::parse();
     let result = match cli.cmd {
         Cmd::Validate {

@@ -261,6 +261,7 @@ impl<F: Fn(f64) -> f64> HalfGap for GapFn<F> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use math::DetMath;
 
     #[test]
     #[allow(clippy::float_cmp)] // exact arithmetic on small integers is the point
@@ -299,7 +300,7 @@ mod tests {
     fn checked_and_gap_forms() {
         assert!(try_dead_zone(f64::NAN, 1.0).is_err());
         assert!(try_dead_zone(1.0, -1e-5).is_err());
-        let g = GapFn(|t: f64| 1.0 + 0.5 * t.sin());
+        let g = GapFn(|t: f64| 1.0 + 0.5 * t.dsin());
         let e = DeadZone::EXACT.eval_at(2.0, 0.0, &g);
         assert!((e.f - 1.0).abs() < 1e-15);
         let c = DeadZone::default().eval_at(2.0, 5.0, &0.5_f64);

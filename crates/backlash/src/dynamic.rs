@@ -1,6 +1,7 @@
 //! Dynamic backlash from gear-centre motion, Yu Eq. (6)–(11).
 
 use crate::error::{Error, finite};
+use math::DetMath;
 pub use system::involute::{Beta0, CentreDisplacement, PairGeometry};
 pub use system::{CentreDistanceForm, PressureAngleLaw};
 
@@ -166,11 +167,11 @@ impl DynamicBacklash {
                 let cb = g.base_sum();
                 // inv α_0 by the same operations as inv α' below, so that Δb = 0 exactly at rest
                 let a0 = g.a0();
-                let inv0 = ((a0 - cb) * (a0 + cb)).sqrt() / cb - (cb / a0).acos();
+                let inv0 = ((a0 - cb) * (a0 + cb)).sqrt() / cb - (cb / a0).dacos();
                 if a > cb {
                     // tan α' = √(a² − c²)/c, sin α' = √(a² − c²)/a: one sqrt, one acos
                     let s = ((a - cb) * (a + cb)).sqrt();
-                    let alpha = (cb / a).acos();
+                    let alpha = (cb / a).dacos();
                     out.alpha = alpha;
                     out.b_dy = cb * (s / cb - alpha - inv0);
                     s / a
@@ -181,7 +182,7 @@ impl DynamicBacklash {
             }
             DynamicForm::LineOfAction => {
                 let (alpha, dalpha) = g.pressure_angle(a, self.law);
-                let (sa, ca) = alpha.sin_cos();
+                let (sa, ca) = alpha.dsin_cos();
                 out.alpha = alpha;
                 out.b_dy = delta_a * sa;
                 sa + delta_a * ca * dalpha
@@ -278,7 +279,7 @@ mod tests {
         let e = clamp.eval(&CentreDisplacement::default()).unwrap();
         assert!(e.radicand_negative && e.b_dy.abs() < 1e-300 && e.b.is_finite());
         // Δp at rest = −(R_pb/2) tan²20° = −5.85 mm
-        let expect = -0.5 * 0.094 * 20f64.to_radians().cos() * 20f64.to_radians().tan().powi(2);
+        let expect = -0.5 * 0.094 * 20f64.to_radians().dcos() * 20f64.to_radians().dtan().powi(2);
         assert!((e.delta_p - expect).abs() < 1e-12);
     }
 
@@ -289,7 +290,7 @@ mod tests {
         let da = 1e-6;
         let e = d.eval(&CentreDisplacement::new(da, 0.0, 0.0, 0.0)).unwrap();
         // half gap: half the textbook change 2 sin α_0 Δa of the normal backlash
-        let lin = g.alpha0.sin() * da;
+        let lin = g.alpha0.dsin() * da;
         assert!((e.b_dy - lin).abs() < 1e-4 * lin, "{} vs {}", e.b_dy, lin);
         // moving the centres together reduces the backlash
         let e = d.eval(&CentreDisplacement::new(0.0, 0.0, da, 0.0)).unwrap();

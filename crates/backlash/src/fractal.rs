@@ -1,6 +1,7 @@
 //! Fractal backlash: the Weierstrass–Mandelbrot profile (Yu Eq. 2), Chen's fractal backlash
 //! (Yu Eq. 3), the effective mean asperity height b_i (Eq. 4) and the constant part b_s (Eq. 5).
 
+use math::DetMath;
 use std::f64::consts::PI;
 
 use crate::error::{Error, finite, non_negative, positive};
@@ -75,10 +76,10 @@ impl WmProfile {
         let gamma = check_gamma(gamma)?;
         positive("l_a", l_a)?;
         positive("l_s", l_s)?;
-        let ln_g = gamma.ln();
+        let ln_g = gamma.dln();
         // small tolerance so that l_a = λ^{-k} exactly gives k, not k+1
-        let k_min = ((1.0 / l_a).ln() / ln_g - 1e-9).ceil();
-        let n_max = ((1.0 / l_s).ln() / ln_g + 1e-9).floor();
+        let k_min = ((1.0 / l_a).dln() / ln_g - 1e-9).ceil();
+        let n_max = ((1.0 / l_s).dln() / ln_g + 1e-9).floor();
         if !(k_min.abs() < 1e6 && n_max.abs() < 1e6) || n_max < k_min {
             return Err(Error::Inconsistent {
                 what: "l_a, l_s, λ",
@@ -127,22 +128,22 @@ impl WmProfile {
     }
     /// The prefactor G^{D−1} (m^{D−1}).
     pub fn prefactor(&self) -> f64 {
-        self.surface.g.powf(self.surface.d - 1.0)
+        self.surface.g.dpowf(self.surface.d - 1.0)
     }
 
     /// (amplitude, angular wavenumber) of every kept term, without the prefactor.
     fn terms(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
-        let ln_g = self.gamma.ln();
+        let ln_g = self.gamma.dln();
         let e = self.surface.d - 2.0;
         (self.k_min..=self.n_max).map(move |k| {
             let kf = f64::from(k);
-            ((e * kf * ln_g).exp(), 2.0 * PI * (kf * ln_g).exp())
+            ((e * kf * ln_g).dexp(), 2.0 * PI * (kf * ln_g).dexp())
         })
     }
 
     /// z(l) of Eq. (2), truncated (m). `l` in m.
     pub fn height(&self, l: f64) -> f64 {
-        self.prefactor() * self.terms().map(|(a, w)| a * (w * l).cos()).sum::<f64>()
+        self.prefactor() * self.terms().map(|(a, w)| a * (w * l).dcos()).sum::<f64>()
     }
 
     /// Upper bound of |z(l)| for the truncated profile: G^{D−1} Σ λ^{(D−2)k} (m).
@@ -153,7 +154,7 @@ impl WmProfile {
     /// Uniform bound of the neglected tail of Eq. (2) (m):
     /// G^{D−1} λ^{(D−2)(n_max+1)} / (1 − λ^{D−2}).
     pub fn truncation_bound(&self) -> f64 {
-        let r = self.gamma.powf(self.surface.d - 2.0);
+        let r = self.gamma.dpowf(self.surface.d - 2.0);
         self.prefactor() * r.powi(self.n_max + 1) / (1.0 - r)
     }
 }
@@ -216,11 +217,11 @@ fn mean_abs_series(terms: &[(f64, f64)], l_len: f64, n: usize) -> (f64, f64) {
         let z = &mut buf[..len];
         z.iter_mut().for_each(|v| *v = 0.0);
         for &(a, w) in terms {
-            let (s1, c1) = (w * h).sin_cos();
+            let (s1, c1) = (w * h).dsin_cos();
             let mut j = 0;
             while j < len {
                 let l0 = (start + j) as f64 * h + 0.5 * h;
-                let (mut s, mut c) = (w * l0).sin_cos();
+                let (mut s, mut c) = (w * l0).dsin_cos();
                 let end = (j + RESYNC).min(len);
                 for v in &mut z[j..end] {
                     *v += a * c;
@@ -385,16 +386,16 @@ impl ConstantBacklashParams {
 }
 
 fn printed_eq11_mean(prof: &WmProfile, l_len: f64) -> MeanHeight {
-    let ln_g = prof.gamma.ln();
+    let ln_g = prof.gamma.dln();
     let e = prof.surface.d - 2.0;
     let p = prof.prefactor();
     let mut sum = 0.0;
     for k in 0..=prof.n_max.max(0) {
         let kf = f64::from(k);
-        let x = 2.0 * PI * (kf * ln_g).exp() * l_len;
-        sum += (e * kf * ln_g).exp() * x.sin() / x;
+        let x = 2.0 * PI * (kf * ln_g).dexp() * l_len;
+        sum += (e * kf * ln_g).dexp() * x.dsin() / x;
     }
-    let r = prof.gamma.powf(e);
+    let r = prof.gamma.dpowf(e);
     let tail = r.powi(prof.n_max.max(0) + 1)
         / (1.0 - r)
         / (2.0 * PI * l_len * prof.gamma.powi(prof.n_max.max(0) + 1));
@@ -468,7 +469,7 @@ pub fn constant_part_grid(
         let mut rs = Vec::with_capacity(g_values.len());
         let mut re = Vec::with_capacity(g_values.len());
         for &g in g_values {
-            let p = g.powf(d - 1.0);
+            let p = g.dpowf(d - 1.0);
             let bi = unit.value * p;
             ri.push(bi);
             rs.push(params.b0 - 2.0 * bi);
@@ -517,7 +518,7 @@ impl ChenFractal {
             });
         }
         // Every evaluation sums n_terms terms: bound the work, and keep λ^n finite.
-        if n_terms > CHEN_MAX_TERMS || f64::from(n_terms) * gamma.ln() > 700.0 {
+        if n_terms > CHEN_MAX_TERMS || f64::from(n_terms) * gamma.dln() > 700.0 {
             return Err(Error::InvalidParameter {
                 name: "n_terms",
                 bound: "<= 1e6 and with λ^n_terms < e^700",
@@ -532,9 +533,9 @@ impl ChenFractal {
         check_d(d)?;
         check_gamma(gamma)?;
         positive("tol", tol)?;
-        let r = gamma.powf(d - 2.0);
+        let r = gamma.dpowf(d - 2.0);
         // r^n / (1 − r) ≤ tol  ⇔  n ≥ ln(tol (1 − r)) / ln r
-        let n = ((tol * (1.0 - r)).ln() / r.ln()).ceil().max(1.0);
+        let n = ((tol * (1.0 - r)).dln() / r.dln()).ceil().max(1.0);
         if n > 1e6 {
             return Err(Error::ResolutionTooFine {
                 what: "Chen fractal backlash (Yu Eq. 3)",
@@ -548,10 +549,10 @@ impl ChenFractal {
     /// z(t), truncated. `t` must be finite (non-finite gives NaN, use [`Self::try_value`]).
     /// At most [`CHEN_MAX_TERMS`] terms are summed even if the public field says more.
     pub fn value(&self, t: f64) -> f64 {
-        let r = self.gamma.powf(self.d - 2.0);
+        let r = self.gamma.dpowf(self.d - 2.0);
         let (mut a, mut w, mut s) = (1.0, 1.0, 0.0);
         for _ in 0..self.n_terms.min(CHEN_MAX_TERMS) {
-            s += a * (w * t).sin();
+            s += a * (w * t).dsin();
             a *= r;
             w *= self.gamma;
         }
@@ -560,10 +561,10 @@ impl ChenFractal {
 
     /// `(z(t), z'(t))`, `z'(t) = Σ λ^{(D−1)k} cos(λ^k t)`, truncated as [`Self::value`].
     pub fn value_and_derivative(&self, t: f64) -> (f64, f64) {
-        let r = self.gamma.powf(self.d - 2.0);
+        let r = self.gamma.dpowf(self.d - 2.0);
         let (mut a, mut w, mut s, mut ds) = (1.0, 1.0, 0.0, 0.0);
         for _ in 0..self.n_terms.min(CHEN_MAX_TERMS) {
-            let (sn, cs) = (w * t).sin_cos();
+            let (sn, cs) = (w * t).dsin_cos();
             s += a * sn;
             ds += a * w * cs;
             a *= r;
@@ -579,7 +580,7 @@ impl ChenFractal {
 
     /// Uniform bound of the neglected tail: λ^{(D−2)n} / (1 − λ^{D−2}).
     pub fn truncation_bound(&self) -> f64 {
-        let r = self.gamma.powf(self.d - 2.0);
+        let r = self.gamma.dpowf(self.d - 2.0);
         r.powi(self.n_terms as i32) / (1.0 - r)
     }
 }

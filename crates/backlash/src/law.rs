@@ -24,6 +24,7 @@ use crate::deadzone::{DeadZone, Regularisation};
 use crate::dynamic::{CentreDisplacement, DynamicBacklash};
 use crate::error::{Error, finite, non_negative};
 use crate::fractal::{ChenFractal, ConstantPart};
+use math::DetMath;
 
 /// A half gap and its derivatives at one instant and centre displacement.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -222,7 +223,7 @@ impl RadiusModulatedBacklash {
     /// `r(t)/L = 1 + β cos(ω t)`.
     #[inline]
     pub fn radius_ratio(&self, t: f64) -> f64 {
-        1.0 + self.beta * (self.omega * t).cos()
+        1.0 + self.beta * (self.omega * t).dcos()
     }
 
     /// `b̄ = b/(1 + β c)` from `c = cos(ω t)`: the half gap of
@@ -238,7 +239,7 @@ impl BacklashLaw for RadiusModulatedBacklash {
     #[inline]
     fn half_gap(&self, t: f64, _c: &CentreDisplacement) -> Result<GapEval, Error> {
         let t = finite_time(t)?;
-        let (s, c) = (self.omega * t).sin_cos();
+        let (s, c) = (self.omega * t).dsin_cos();
         let r = 1.0 + self.beta * c;
         let b = self.half_gap_at_phase(c);
         Ok(GapEval {

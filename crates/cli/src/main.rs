@@ -89,6 +89,9 @@ enum Cmd {
 }
 
 fn main() -> ExitCode {
+    // keep geardyn-math's C math symbols in the link (deterministic sin, pow, … for the
+    // dependencies too)
+    math::c_symbols::link();
     let cli = Cli::parse();
     let result = match cli.cmd {
         Cmd::Study {

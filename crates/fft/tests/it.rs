@@ -4,6 +4,7 @@
 //! Bluestein).
 
 use geardyn_fft::{Complex, FftPlanner, RealFftPlanner};
+use math::DetMath;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -15,8 +16,8 @@ fn signal(n: usize) -> Vec<Complex<f64>> {
         .map(|j| {
             let t = j as f64;
             Complex::new(
-                (0.37 * t).sin() + 0.1 * t / (n as f64),
-                (1.3 * t).cos() - 0.25,
+                (0.37 * t).dsin() + 0.1 * t / (n as f64),
+                (1.3 * t).dcos() - 0.25,
             )
         })
         .collect()

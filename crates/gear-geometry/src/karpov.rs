@@ -1,6 +1,7 @@
 //! Slightly non-circular gear pair of Karpov et al. 2017 (Eq. 1–7, Section 4). The paper's
 //! Table 1 pair lives with the model, `geardyn_models::karpov2017::pair_table1`.
 
+use math::DetMath;
 use std::f64::consts::TAU;
 
 use crate::Error;
@@ -95,14 +96,14 @@ impl CentrodeDeviation {
     /// `g(θ) = B√(ξ²−1) sin θ/(ξ + cos θ)`.
     #[inline]
     pub fn value(&self, theta: f64) -> f64 {
-        let (s, c) = theta.sin_cos();
+        let (s, c) = theta.dsin_cos();
         self.b * self.s_over_xi * s / (1.0 + c * self.inv_xi)
     }
 
     /// `dg/dθ = B√(ξ²−1)(1 + ξ cos θ)/(ξ + cos θ)²`.
     #[inline]
     pub fn derivative(&self, theta: f64) -> f64 {
-        let c = theta.cos();
+        let c = theta.dcos();
         let den = 1.0 + c * self.inv_xi;
         self.b * self.s_over_xi * (self.inv_xi + c) / (den * den)
     }
@@ -111,13 +112,13 @@ impl CentrodeDeviation {
     /// the sinusoidal limit). Always `≥ 0`, periodic with period `2π`.
     #[inline]
     pub fn integral(&self, theta: f64) -> f64 {
-        let c = theta.cos();
+        let c = theta.dcos();
         if self.inv_xi == 0.0 {
             return self.b * (1.0 - c);
         }
         // ξ·ln(1 + (cos θ − 1)/(ξ + 1)), written with ln_1p so that large ξ loses nothing.
         let x = (c - 1.0) * self.inv_xi / (1.0 + self.inv_xi);
-        -self.b * self.s_over_xi * x.ln_1p() / self.inv_xi
+        -self.b * self.s_over_xi * x.dln_1p() / self.inv_xi
     }
 
     /// Mesh-frequency factor of Eq. (7): `ω_m/(z1 ω1) = r1/r = 1 + g(θ)`.
@@ -418,13 +419,13 @@ impl KarpovPair {
             let alpha = a * self.dev.inv_xi * self.dev.inv_xi / den;
             let beta = -b * self.dev.inv_xi / den;
             let gamma = b * b / den; // γ/ξ
-            let (s, c) = theta.sin_cos();
+            let (s, c) = theta.dsin_cos();
             let d = a * (1.0 + c * self.dev.inv_xi) - b * s;
             let d0 = a * (1.0 + self.dev.inv_xi);
             let k = self.dev.s_over_xi * ((a - bb) * (a + bb)).sqrt(); // K/ξ
             // ∫ dθ/(D/ξ) with P = A, Q = A/ξ, R = −b/ξ.
             let phi = int_inverse_trig(theta, a, a * self.dev.inv_xi, -b, k);
-            alpha * theta + beta * (d / d0).ln() + gamma * phi
+            alpha * theta + beta * (d / d0).dln() + gamma * phi
         };
         (-theta + (a + 1.0) * h_int) / f64::from(self.j)
     }
@@ -584,7 +585,7 @@ impl KarpovPair {
 fn int_inverse_trig(theta: f64, p: f64, q: f64, r: f64, k: f64) -> f64 {
     let n = (theta / TAU).round();
     let tr = theta - n * TAU;
-    let g = |t: f64| 2.0 / k * (((p - q) * (0.5 * t).tan() + r) / k).atan();
+    let g = |t: f64| 2.0 / k * (((p - q) * (0.5 * t).dtan() + r) / k).datan();
     n * TAU / k + g(tr) - g(0.0)
 }
 

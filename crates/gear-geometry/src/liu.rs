@@ -2,6 +2,7 @@
 //! paper's parameter sets and its test rig (Table 1, Section 3.8, Table 2) live with the model,
 //! `geardyn_models::liu2021`.
 
+use math::DetMath;
 use std::f64::consts::{PI, TAU};
 
 use crate::Error;
@@ -107,14 +108,14 @@ impl NfgPair {
 
     /// Pinion base radius `r_b1 = r1 cos α`, m.
     pub fn pinion_base_radius(&self) -> f64 {
-        self.pinion_pitch_radius() * self.p.pressure_angle.cos()
+        self.pinion_pitch_radius() * self.p.pressure_angle.dcos()
     }
 
     /// Transmission ratio `i12(θc)` of Eq. (18), `θc = ωc t` (rad).
     #[inline]
     pub fn ratio(&self, theta_c: f64) -> f64 {
         let e = self.p.eccentricity;
-        self.p.ratio * (1.0 + 2.0 * e * theta_c.cos() + e * e) / (1.0 - e * e)
+        self.p.ratio * (1.0 + 2.0 * e * theta_c.dcos() + e * e) / (1.0 - e * e)
     }
 
     /// The same ratio as a function of the NFG polar angle `φ2` (Eq. 1, `r2(φ2)`), derived by
@@ -122,7 +123,7 @@ impl NfgPair {
     #[inline]
     pub fn ratio_at_nfg_angle(&self, phi2: f64) -> f64 {
         let e = self.p.eccentricity;
-        self.p.ratio * (1.0 - e * e) / (1.0 - 2.0 * e * phi2.cos() + e * e)
+        self.p.ratio * (1.0 - e * e) / (1.0 - 2.0 * e * phi2.dcos() + e * e)
     }
 
     /// NFG rigid angle `φ2(θc) = 2 atan(((1 − ε)/(1 + ε)) tan(θc/2))`, continuous (one NFG
@@ -131,7 +132,7 @@ impl NfgPair {
         let e = self.p.eccentricity;
         let n = (theta_c / TAU).round();
         let t = theta_c - n * TAU;
-        n * TAU + 2.0 * ((1.0 - e) / (1.0 + e) * (0.5 * t).tan()).atan()
+        n * TAU + 2.0 * ((1.0 - e) / (1.0 + e) * (0.5 * t).dtan()).datan()
     }
 
     /// NFG pitch radius `r2 = r1 i12` (Eq. 1), m.
@@ -162,7 +163,7 @@ impl NfgPair {
     /// it equals [`NfgPair::base_radius`] identically (tested).
     #[inline]
     pub fn base_radius_eq8(&self, theta_c: f64) -> f64 {
-        self.base_radius_mean() * (1.0 + self.base_radius_variation() * theta_c.cos())
+        self.base_radius_mean() * (1.0 + self.base_radius_variation() * theta_c.dcos())
     }
 
     /// Time mean of `r_b2²`, `L²(1 + β²/2)`, the factor in `ωn` of Eq. (10), m².
@@ -208,7 +209,7 @@ impl NfgPair {
     #[inline]
     pub fn rigid_acceleration(&self, form: RigidAccelerationForm, wc_bar: f64, tau: f64) -> f64 {
         let e = self.p.eccentricity;
-        let (s, c) = (wc_bar * tau).sin_cos();
+        let (s, c) = (wc_bar * tau).dsin_cos();
         let den = 1.0 + 2.0 * e * c + e * e;
         match form {
             RigidAccelerationForm::Derived => {
@@ -259,7 +260,7 @@ impl NfgPair {
             } else {
                 self.rigid_acceleration(form, wc_bar, theta / wc_bar)
             };
-            s += v * (f64::from(n) * theta).sin();
+            s += v * (f64::from(n) * theta).dsin();
         }
         2.0 * s / m as f64
     }

@@ -1,6 +1,7 @@
 //! Spur pair geometry of Yu, Sun, Li, Wu 2021 (Section 2.2, Eq. 7–9, 16). The paper's pairs
 //! (Tables 1–2) live with the model, `geardyn_models::yu2021`.
 
+use math::DetMath;
 use system::{
     CentreDisplacement, CentreDistanceForm, GeometryField, PairGeometry, PressureAngleLaw,
 };
@@ -158,7 +159,7 @@ impl SpurPair {
 /// after Eq. 7), rad.
 #[inline]
 pub fn roll_angle(pressure_angle: f64) -> f64 {
-    pressure_angle.tan()
+    pressure_angle.dtan()
 }
 
 /// Arc length of an involute of base radius `r_b` between roll angles `β0` and `βc` (Yu Eq. 7):

@@ -12,6 +12,7 @@
 
 use geardyn_hbm::{Basis, nalgebra::DMatrix};
 use geardyn_hbm::{BlockedLu, DenseLu, HbmProblem, SolverOptions};
+use math::DetMath;
 use std::hint::black_box;
 
 #[path = "../tests/it/common/random_matrix.rs"]
@@ -90,7 +91,7 @@ fn main() {
     if want("lu") {
         for n in [15usize, 31, 65, 131, 201, 401, 801] {
             let a = random_matrix(n, n as u64);
-            let b: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+            let b: Vec<f64> = (0..n).map(|i| (i as f64).dsin()).collect();
             let mut t = vec![Vec::new(), Vec::new()];
             for _ in 0..rounds {
                 t[0].push(cpu_per_call(|| {

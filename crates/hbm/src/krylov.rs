@@ -27,6 +27,7 @@ use crate::band::BandLu;
 use crate::solution::HbmEquations;
 use crate::solve::{line_search, norm};
 use crate::{HbmError, HbmProblem, SecondOrderSystem, SolverOptions};
+use math::DetMath;
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
 /// Bounds of the inner GMRES solve of [`HbmProblem::solve_newton_krylov`].
@@ -318,7 +319,7 @@ fn gmres(
                 h[i + 1][j] = -sn[i] * h[i][j] + cs[i] * h[i + 1][j];
                 h[i][j] = t;
             }
-            let d = h[j][j].hypot(h[j + 1][j]);
+            let d = h[j][j].dhypot(h[j + 1][j]);
             if d == 0.0 {
                 break;
             }

@@ -4,6 +4,7 @@ use crate::solve::{NonlinearEquations, solve_equations_with};
 use crate::{
     Basis, HbmError, HbmProblem, KrylovOptions, Method, SecondOrderSystem, SolverOptions, Stability,
 };
+use math::DetMath;
 use nalgebra::DMatrix;
 use num_complex::Complex;
 use std::f64::consts::PI;
@@ -245,7 +246,7 @@ impl PeriodicSolution {
             out.push(HarmonicAmplitude {
                 harmonic: k,
                 frequency: k as f64 * self.omega,
-                amplitude: a.hypot(b),
+                amplitude: a.dhypot(b),
             });
         }
         out
@@ -322,7 +323,7 @@ pub(crate) fn eval_state(
     }
     for (j, &k) in basis.harmonics().iter().enumerate() {
         let kw = k as f64 * omega;
-        let (s, c) = (kw * t).sin_cos();
+        let (s, c) = (kw * t).dsin_cos();
         for i in 0..n {
             let a = at((2 * j + 1) * n + i);
             let b = at((2 * j + 2) * n + i);

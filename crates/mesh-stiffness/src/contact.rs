@@ -1,6 +1,7 @@
 //! Contact stiffness of the tooth pair: the fractal rough-surface stiffness of Yu 2021 Eq. (18)
 //! and a Hertzian line contact of the same pair for comparison.
 
+use math::DetMath;
 use std::f64::consts::PI;
 
 use crate::error::{Error, Result, positive};
@@ -144,13 +145,13 @@ impl FractalContact {
         self.validate()?;
         let base = || {
             let r = self.equivalent_radius();
-            (3.0 * self.load * r / (4.0 * self.elastic_modulus)).cbrt()
+            (3.0 * self.load * r / (4.0 * self.elastic_modulus)).dcbrt()
                 / (2.0 * PI * (self.radius_pinion + self.radius_gear))
         };
         let v = match self.curvature_coefficient {
             CurvatureCoefficient::Value(v) => v,
-            CurvatureCoefficient::FromLoad { exponent } => base().powf(exponent),
-            CurvatureCoefficient::Printed => base().powf(2.0 / self.equivalent_radius()),
+            CurvatureCoefficient::FromLoad { exponent } => base().dpowf(exponent),
+            CurvatureCoefficient::Printed => base().dpowf(2.0 / self.equivalent_radius()),
         };
         if v.is_finite() && v > 0.0 {
             Ok(v)
@@ -179,22 +180,22 @@ impl FractalContact {
         let e = d - d * d + 1.0;
         let (la, ls) = (self.largest_asperity, self.smallest_asperity);
         // (l_a^e − l_s^e)/e, stable through e = 0 where it tends to ln(l_a/l_s)
-        let ln_r = (la / ls).ln();
+        let ln_r = (la / ls).dln();
         let scale_term = if e.abs() < 1e-12 {
             ln_r
         } else {
-            ls.powf(e) * (e * ln_r).exp_m1() / e
+            ls.dpowf(e) * (e * ln_r).dexp_m1() / e
         };
         let sign = match form {
             FractalForm::Consistent => 1.0,
             FractalForm::Printed => -1.0,
         };
-        let k = sign * 2f64.powf(d) * d * self.fractal_roughness.powf((d - 1.0).powi(2))
+        let k = sign * 2f64.dpowf(d) * d * self.fractal_roughness.dpowf((d - 1.0).powi(2))
             / (d - 1.0)
             * self.elastic_modulus
             * lambda_c
-            * self.largest_contact_area.powf(0.5 * d)
-            / (PI.powf(0.5 * (2.0 - d)) * (self.phi() * self.q()).powf(d - 1.0))
+            * self.largest_contact_area.dpowf(0.5 * d)
+            / (PI.dpowf(0.5 * (2.0 - d)) * (self.phi() * self.q()).dpowf(d - 1.0))
             * scale_term;
         if k.is_finite() {
             Ok(k)
@@ -346,8 +347,8 @@ impl HertzLineContact {
         let p = load / self.face_width;
         let (c1, c2) = self.compliances();
         Ok(p / PI
-            * (c1 * (2.0 * (4.0 * self.radius_1 / a).ln() - 1.0)
-                + c2 * (2.0 * (4.0 * self.radius_2 / a).ln() - 1.0)))
+            * (c1 * (2.0 * (4.0 * self.radius_1 / a).dln() - 1.0)
+                + c2 * (2.0 * (4.0 * self.radius_2 / a).dln() - 1.0)))
     }
 
     /// Tangent stiffness `dF/dδ` \[N/m\] at load `F` \[N\] (from Johnson Eq. 5.36). Errors if the
@@ -355,8 +356,8 @@ impl HertzLineContact {
     pub fn tangent_stiffness(&self, load: f64) -> Result<f64> {
         let a = self.half_width(load)?;
         let (c1, c2) = self.compliances();
-        let dd = (c1 * (2.0 * (4.0 * self.radius_1 / a).ln() - 2.0)
-            + c2 * (2.0 * (4.0 * self.radius_2 / a).ln() - 2.0))
+        let dd = (c1 * (2.0 * (4.0 * self.radius_1 / a).dln() - 2.0)
+            + c2 * (2.0 * (4.0 * self.radius_2 / a).dln() - 2.0))
             / PI;
         if dd > 0.0 && dd.is_finite() {
             Ok(self.face_width / dd)

@@ -2,6 +2,7 @@
 //! Yu 2021 Eq. 17).
 
 use crate::error::{Error, Result, finite, non_negative, positive};
+use math::DetMath;
 
 /// Which trigonometric function carries the phase in the single-harmonic form.
 ///
@@ -169,7 +170,7 @@ impl FourierStiffness {
             return self.k0.abs();
         }
         match (self.cos.get(n - 1), self.sin.get(n - 1)) {
-            (Some(a), Some(b)) => a.hypot(*b),
+            (Some(a), Some(b)) => a.dhypot(*b),
             _ => 0.0,
         }
     }
@@ -183,8 +184,8 @@ impl FourierStiffness {
         }
         match (self.cos.get(n - 1), self.sin.get(n - 1)) {
             (Some(&a), Some(&b)) => match waveform {
-                Waveform::Sine => a.atan2(b),
-                Waveform::Cosine => (-b).atan2(a),
+                Waveform::Sine => a.datan2(b),
+                Waveform::Cosine => (-b).datan2(a),
             },
             _ => 0.0,
         }
@@ -220,7 +221,7 @@ impl FourierStiffness {
     /// rounding error grows like `n ε`, i.e. about 1e-15 relative for ten harmonics.
     #[inline]
     pub fn eval_with_derivative(&self, t: f64) -> (f64, f64) {
-        let (s1, c1) = (self.omega_e * t).sin_cos();
+        let (s1, c1) = (self.omega_e * t).dsin_cos();
         let (mut s, mut c) = (s1, c1);
         let mut k = self.k0;
         let mut dk = 0.0;
@@ -327,7 +328,7 @@ impl SingleHarmonicStiffness {
     /// `(k_m(t), dk_m/dt)` for one `sin_cos`.
     #[inline]
     pub fn eval_with_derivative(&self, t: f64) -> (f64, f64) {
-        let (s, c) = (self.omega_e * t + self.phi_m).sin_cos();
+        let (s, c) = (self.omega_e * t + self.phi_m).dsin_cos();
         let rate = match self.waveform {
             Waveform::Sine => self.k_r * self.omega_e * c,
             Waveform::Cosine => -self.k_r * self.omega_e * s,
@@ -351,7 +352,7 @@ impl SingleHarmonicStiffness {
     /// The same curve as a one-harmonic [`FourierStiffness`] (Liu Eq. 6 coefficients
     /// `k1 = k_r sin φ_m`, `k2 = k_r cos φ_m` for the sine form).
     pub fn to_series(&self) -> Result<FourierStiffness> {
-        let (s, c) = self.phi_m.sin_cos();
+        let (s, c) = self.phi_m.dsin_cos();
         let (a, b) = match self.waveform {
             Waveform::Sine => (self.k_r * s, self.k_r * c),
             Waveform::Cosine => (self.k_r * c, -self.k_r * s),
@@ -384,7 +385,7 @@ mod tests {
             let mut k = 3.0;
             for n in 1..=10 {
                 let th = n as f64 * 7.0 * t;
-                k += cos[n - 1] * th.cos() + sin[n - 1] * th.sin();
+                k += cos[n - 1] * th.dcos() + sin[n - 1] * th.dsin();
             }
             assert_relative_eq!(s.eval(t), k, epsilon = 1e-13);
         }

@@ -1,6 +1,7 @@
 //! Alternating single/double tooth-pair mesh stiffness (shape of Liu 2021 Fig. 7) and its
 //! noncircular-face-gear (NFG) variant whose per-period curve changes around the pitch curve.
 
+use math::DetMath;
 use std::f64::consts::{FRAC_PI_4, PI, TAU};
 
 use crate::error::{Error, Result, non_negative, positive};
@@ -16,7 +17,7 @@ fn smooth_step(x: f64, s: f64) -> f64 {
     } else if x < -h {
         0.0
     } else if s > 0.0 {
-        0.5 * (1.0 + (PI * x / s).sin())
+        0.5 * (1.0 + (PI * x / s).dsin())
     } else {
         0.5
     }
@@ -26,7 +27,7 @@ fn smooth_step(x: f64, s: f64) -> f64 {
 #[inline]
 fn smooth_step_rate(x: f64, s: f64) -> f64 {
     if s > 0.0 && x.abs() < 0.5 * s {
-        0.5 * PI / s * (PI * x / s).cos()
+        0.5 * PI / s * (PI * x / s).dcos()
     } else {
         0.0
     }
@@ -158,9 +159,9 @@ impl ToothPairStiffness {
             let h = if (1.0 - x * x).abs() < 1e-9 {
                 FRAC_PI_4
             } else {
-                (0.5 * PI * x).cos() / (1.0 - x * x)
+                (0.5 * PI * x).dcos() / (1.0 - x * x)
             };
-            let (s, c) = (TAU * nf * w).sin_cos();
+            let (s, c) = (TAU * nf * w).dsin_cos();
             cos.push(d * s / (PI * nf) * h);
             sin.push(d * (1.0 - c) / (PI * nf) * h);
         }
@@ -269,7 +270,7 @@ impl NfgToothPairStiffness {
     /// Normalised pitch radius `ρ(θ) = (1 + 2e cos θ + e²)/(1 + e²)` (Liu Eq. 18 over its mean).
     pub fn normalized_radius(&self, theta: f64) -> f64 {
         let e = self.eccentricity;
-        (1.0 + 2.0 * e * theta.cos() + e * e) / (1.0 + e * e)
+        (1.0 + 2.0 * e * theta.dcos() + e * e) / (1.0 + e * e)
     }
 
     /// The rectangular-wave curve of mesh period `j` (taken modulo `Z₂`), at centre angle
@@ -337,7 +338,7 @@ mod tests {
         assert_relative_eq!(s.value_at_phase(0.3), 3.5e8);
         assert_relative_eq!(
             s.value_at_phase(0.98),
-            2.0e8 + 1.5e8 * 0.5 * (1.0 + (PI * -0.2).sin())
+            2.0e8 + 1.5e8 * 0.5 * (1.0 + (PI * -0.2).dsin())
         );
     }
 

@@ -29,6 +29,7 @@
 use geardyn_models::karpov2017::{Excitation, Karpov2017};
 use geardyn_models::liu2021::{self, BaseRadius, HbmOptions, Trig};
 use hbm::{Basis, HbmProblem, Method, SolverOptions};
+use math::DetMath;
 use serde_json::{Value, json};
 use std::hint::black_box;
 use std::time::Instant;
@@ -107,7 +108,7 @@ fn karpov(reps: u32, only: Option<&str>) -> Value {
                 "panels": r.panels, "folded_periods": r.folded_periods,
                 "x_ref": reference.x, "v_ref": reference.v,
                 "ref_error_estimate": reference.error_estimate,
-                "error": (r.x - reference.x).hypot(r.v - reference.v),
+                "error": (r.x - reference.x).dhypot(r.v - reference.v),
                 "time_s": t, "cpu_s": t_cpu,
             }));
         }

@@ -8,6 +8,7 @@
 //! (absolute for `|ln y| ≲ 1`, relative beyond) — tested against the platform's `ln`. For
 //! `y` not normal and positive (0, subnormal, negative, NaN, +∞) it falls back to [`f64::ln`].
 
+use math::DetMath;
 /// `ln 2` to 33 bits (`e·L1` is exact for `|e| < 2²⁰`).
 const L1: f64 = 0.693_147_180_485_539_1;
 /// `ln 2 − L1`.
@@ -17,7 +18,7 @@ const L2: f64 = 7.440_617_110_012_397e-11;
 #[inline]
 pub(crate) fn ln(y: f64) -> f64 {
     if !(f64::MIN_POSITIVE..f64::INFINITY).contains(&y) {
-        return y.ln();
+        return y.dln();
     }
     // y = m·2^e, m in [1, 2) from the bits of the (normal, positive) y, then in [√½, √2)
     let bits = y.to_bits();
@@ -59,14 +60,14 @@ mod tests {
     #[test]
     fn agrees_with_libm_to_rounding_level() {
         let mut ys: Vec<f64> = (1..40_000).map(|i| 2.0 * f64::from(i) / 40_000.0).collect();
-        ys.extend((1..400).map(|i| 10f64.powf(-f64::from(i) / 25.0)));
-        ys.extend((1..400).map(|i| 1.0 + 10f64.powf(-f64::from(i) / 25.0)));
-        ys.extend((1..400).map(|i| 1.0 - 10f64.powf(-f64::from(i) / 25.0)));
+        ys.extend((1..400).map(|i| 10f64.dpowf(-f64::from(i) / 25.0)));
+        ys.extend((1..400).map(|i| 1.0 + 10f64.dpowf(-f64::from(i) / 25.0)));
+        ys.extend((1..400).map(|i| 1.0 - 10f64.dpowf(-f64::from(i) / 25.0)));
         ys.extend((0..20_000).map(|i| 1e3 * f64::from(i) / 20_000.0 + 1e-3));
         ys.extend([1.0, f64::MIN_POSITIVE, 1e300, f64::MAX]);
         let mut worst = 0.0f64;
         for &y in &ys {
-            let (a, b) = (ln(y), y.ln());
+            let (a, b) = (ln(y), y.dln());
             worst = worst.max((a - b).abs() / b.abs().max(1.0));
         }
         assert!(worst <= 4e-16, "worst difference {worst:e}");
@@ -80,7 +81,7 @@ mod tests {
             f64::INFINITY,
             f64::NEG_INFINITY,
         ] {
-            let (a, b) = (ln(y), y.ln());
+            let (a, b) = (ln(y), y.dln());
             assert!(
                 a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
                 "{y}: {a} vs {b}"

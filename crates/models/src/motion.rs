@@ -78,12 +78,13 @@ pub fn classify_record(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use math::DetMath;
 
     fn wave(periods: usize, n: usize, sub: bool) -> Vec<f64> {
         (0..periods * n)
             .map(|i| {
                 let t = i as f64 / n as f64 * std::f64::consts::TAU;
-                t.sin() + if sub { 0.3 * (0.5 * t).cos() } else { 0.0 }
+                t.dsin() + if sub { 0.3 * (0.5 * t).dcos() } else { 0.0 }
             })
             .collect()
     }
@@ -97,7 +98,7 @@ mod tests {
         // incommensurate component: non-periodic
         let q: Vec<f64> = (0..8 * 16)
             .map(|i| {
-                (i as f64 / 16.0 * std::f64::consts::TAU).sin() + 0.1 * (0.37 * i as f64).sin()
+                (i as f64 / 16.0 * std::f64::consts::TAU).dsin() + 0.1 * (0.37 * i as f64).dsin()
             })
             .collect();
         assert_eq!(classify_record(&[&q], 16, 1e-6, 1.0), Motion::NonPeriodic);

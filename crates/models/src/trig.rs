@@ -10,6 +10,7 @@
 //! against the platform's `sin`/`cos`): rounding level, at a fraction of the cost of two libm
 //! calls. Beyond `|x| = 2¹⁹` (and for NaN, ±∞) it falls back to [`f64::sin_cos`].
 
+use math::DetMath;
 /// `π/2` to 33 bits.
 const P1: f64 = 1.570_796_326_734_125_6;
 /// The next 33 bits of `π/2`.
@@ -26,7 +27,7 @@ const LIMIT: f64 = 524_288.0;
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     // NaN and ±∞ go to the fallback
     if x.is_nan() || x.abs() > LIMIT {
-        return x.sin_cos();
+        return x.dsin_cos();
     }
     let k = (x * std::f64::consts::FRAC_2_PI + ROUND) - ROUND;
     let r = ((x - k * P1) - k * P2) - k * P3;
@@ -82,13 +83,13 @@ mod tests {
         xs.extend([0.0, -0.0, 1e-300, 5e5, -5e5, LIMIT, -LIMIT]);
         for &x in &xs {
             let (s, c) = sin_cos(x);
-            let (s0, c0) = x.sin_cos();
+            let (s0, c0) = x.dsin_cos();
             worst = worst.max((s - s0).abs()).max((c - c0).abs());
             assert!(s * s + c * c - 1.0 < 1e-15);
         }
         assert!(worst <= 3e-16, "worst difference {worst:e}");
         for x in [LIMIT * 1.5, -1e12, 1e300] {
-            assert_eq!(sin_cos(x), x.sin_cos());
+            assert_eq!(sin_cos(x), x.dsin_cos());
         }
         let (s, c) = sin_cos(f64::NAN);
         assert!(s.is_nan() && c.is_nan());

@@ -3,6 +3,7 @@
 
 use crate::error::{OrbitError, Result, check};
 use crate::impact::ImpactLaw;
+use math::DetMath;
 use nalgebra::DMatrix;
 use system::{Direction, SecondOrderSystem};
 
@@ -961,14 +962,14 @@ mod tests {
             DMatrix::identity(1, 1)
         }
         fn nonlinear_force(&self, t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
-            g[0] = (1.0 + 0.5 * (3.0 * t).sin()) * q[0].powi(3);
+            g[0] = (1.0 + 0.5 * (3.0 * t).dsin()) * q[0].powi(3);
         }
         fn forcing(&self, t: f64, f: &mut [f64]) {
             self.forcings.set(self.forcings.get() + 1);
-            f[0] = t.cos();
+            f[0] = t.dcos();
         }
         fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], dq: &mut [f64], dv: &mut [f64]) {
-            dq[0] = 3.0 * (1.0 + 0.5 * (3.0 * t).sin()) * q[0] * q[0];
+            dq[0] = 3.0 * (1.0 + 0.5 * (3.0 * t).dsin()) * q[0] * q[0];
             dv[0] = 0.0;
         }
         fn time_table_len(&self) -> usize {
@@ -976,7 +977,7 @@ mod tests {
         }
         fn fill_time_table(&self, t: f64, row: &mut [f64]) {
             self.tables.set(self.tables.get() + 1);
-            row[0] = 1.0 + 0.5 * (3.0 * t).sin();
+            row[0] = 1.0 + 0.5 * (3.0 * t).dsin();
         }
         fn fill_time_functions(&self, t: f64, f: &mut [f64], row: &mut [f64]) {
             self.shared.set(self.shared.get() + 1);
@@ -988,7 +989,7 @@ mod tests {
         }
         /// `q = 0.5 k(t)`
         fn events(&self, t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) {
-            e[0] = q[0] - 0.5 * (1.0 + 0.5 * (3.0 * t).sin());
+            e[0] = q[0] - 0.5 * (1.0 + 0.5 * (3.0 * t).dsin());
         }
         fn events_tabulated(&self, _t: f64, row: &[f64], q: &[f64], _qd: &[f64], e: &mut [f64]) {
             self.tabulated_events.set(self.tabulated_events.get() + 1);
@@ -1079,7 +1080,7 @@ mod tests {
             let mut g = [0.0];
             sys.nonlinear_force(tt, &y[..1], &y[1..], &mut g);
             direct[0] = y[1];
-            direct[1] = tt.cos() - 0.1 * y[1] - y[0] - g[0];
+            direct[1] = tt.dcos() - 0.1 * y[1] - y[0] - g[0];
             assert_eq!(out[0].to_bits(), direct[0].to_bits());
             assert_eq!(out[1].to_bits(), direct[1].to_bits(), "t = {tt}");
             let (mut dq, mut dv) = ([0.0], [0.0]);

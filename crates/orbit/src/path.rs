@@ -792,6 +792,7 @@ pub fn fill_from_neighbours<T, E>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use math::DetMath;
 
     /// The unit circle `F(z, μ) = z² + μ² − 1 = 0`: folds at `μ = ±1` (where `z = 0`), exact
     /// Newton on the bordered system.
@@ -920,8 +921,8 @@ mod tests {
         // angle by exactly asin(Δs) (predictor along the tangent, corrector normal to it), from
         // θ = acos(−0.5) (μ = −0.5, z > 0) round the fold to the first point past μ = −0.9
         // (θ = −acos(−0.9)).
-        let arc = (-0.5_f64).acos() + (-0.9_f64).acos();
-        let dtheta = 0.05_f64.asin();
+        let arc = (-0.5_f64).dacos() + (-0.9_f64).dacos();
+        let dtheta = 0.05_f64.dasin();
         let steps = (b.points.len() - 1) as f64;
         assert!(
             steps * dtheta >= arc && steps * dtheta < arc + dtheta,

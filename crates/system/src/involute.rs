@@ -24,6 +24,7 @@
 //! a = √((a0 + s(x_p − x_g))² + (y_p − y_g)²),   Δa = a − a0 = (dx(2a0 + dx) + y²)/(a + a0)
 //! ```
 
+use math::DetMath;
 /// Law of the operating pressure angle `α(a)` of a spur pair (reading `R-YU-EQ16`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -47,7 +48,7 @@ impl PressureAngleLaw {
     #[inline]
     pub fn cosine_numerator(self, a0: f64, alpha0: f64) -> f64 {
         match self {
-            PressureAngleLaw::Involute | PressureAngleLaw::Constant => a0 * alpha0.cos(),
+            PressureAngleLaw::Involute | PressureAngleLaw::Constant => a0 * alpha0.dcos(),
             PressureAngleLaw::PrintedEq16 => a0,
         }
     }
@@ -63,7 +64,7 @@ impl PressureAngleLaw {
         }
         let c = self.cosine_numerator(a0, alpha0);
         if a > c {
-            let alpha = (c / a).acos();
+            let alpha = (c / a).dacos();
             (alpha, c / (a * (a * a - c * c).sqrt()))
         } else {
             (0.0, 0.0)
@@ -101,7 +102,7 @@ impl CentreDistanceForm {
     pub fn centre_distance(self, a0: f64, dx: f64, dy: f64) -> (f64, f64, [f64; 4]) {
         let dx = self.sign() * dx;
         let x = a0 + dx;
-        let a = x.hypot(dy);
+        let a = x.dhypot(dy);
         let delta_a = (dx * (2.0 * a0 + dx) + dy * dy) / (a + a0);
         let (ux, uy) = if a > 0.0 {
             (self.sign() * x / a, dy / a)
@@ -169,7 +170,7 @@ impl PairGeometry {
     /// Base radii `(R_p cos α_0, R_g cos α_0)` (m).
     #[inline]
     pub fn base_radii(&self) -> (f64, f64) {
-        let c = self.alpha0.cos();
+        let c = self.alpha0.dcos();
         (self.r_p * c, self.r_g * c)
     }
 
@@ -182,13 +183,13 @@ impl PairGeometry {
     /// Pinion base radius R_pb = R_p cos α_0 (m) (Yu Eq. 7).
     #[inline]
     pub fn r_pb(&self) -> f64 {
-        self.r_p * self.alpha0.cos()
+        self.r_p * self.alpha0.dcos()
     }
 
     /// Sum of base radii R_pb + R_gb = a_0 cos α_0 (m).
     #[inline]
     pub fn base_sum(&self) -> f64 {
-        self.a0() * self.alpha0.cos()
+        self.a0() * self.alpha0.dcos()
     }
 
     /// Actual centre distance a (Yu Eq. 8, printed sign) and Δa = a − a_0 (Eq. 9), with
@@ -244,8 +245,8 @@ impl PairGeometry {
         let c = self.law_constant(law);
         let r_pb = self.r_pb();
         let t0 = match beta0 {
-            Beta0::Nominal => self.alpha0.tan(),
-            Beta0::LawAtRest => self.pressure_angle(self.a0(), law).0.tan(),
+            Beta0::Nominal => self.alpha0.dtan(),
+            Beta0::LawAtRest => self.pressure_angle(self.a0(), law).0.dtan(),
         };
         let (beta_c_sq, d) = if a > c {
             (a * a / (c * c) - 1.0, 2.0 * a / (c * c))
@@ -322,7 +323,7 @@ mod tests {
         assert!((a - al0).abs() < 1e-15);
         for da in [-0.005, 1e-4, 0.01] {
             let (al, d) = PressureAngleLaw::Involute.angle(a0 + da, a0, al0);
-            assert!(((a0 + da) * al.cos() - a0 * al0.cos()).abs() < 1e-15);
+            assert!(((a0 + da) * al.dcos() - a0 * al0.dcos()).abs() < 1e-15);
             // dα/da by central differences
             let h = 1e-7;
             let fd = (PressureAngleLaw::Involute.angle(a0 + da + h, a0, al0).0

@@ -71,6 +71,7 @@
 
 #![deny(missing_docs)]
 
+use math::DetMath;
 pub mod account;
 pub mod deadline;
 pub mod format;
@@ -135,7 +136,7 @@ impl Stability {
 pub fn max_modulus(multipliers: &[[f64; 2]]) -> f64 {
     multipliers
         .iter()
-        .map(|z| z[0].hypot(z[1]))
+        .map(|z| z[0].dhypot(z[1]))
         .fold(0.0, f64::max)
 }
 

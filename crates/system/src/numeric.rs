@@ -7,6 +7,7 @@
 //! independently of the closed forms they are tested against) and the quadrature engines of the
 //! models (Karpov's Duhamel integral).
 
+use math::DetMath;
 use std::sync::OnceLock;
 
 /// A [`bisect`] that did not find its root: not bracketed, or not converged in its halvings.
@@ -42,7 +43,7 @@ impl<const N: usize> GaussLegendre<N> {
         let n = N as f64;
         for i in 0..N.div_ceil(2) {
             // Tricomi initial guess for the i-th largest root.
-            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n + 0.5)).cos();
+            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n + 0.5)).dcos();
             let mut dp = 1.0;
             for _ in 0..100 {
                 let (p, d) = legendre(N, x);
@@ -396,7 +397,7 @@ mod tests {
         for xi in [1.0001, 1.01, 2.0, 50.0] {
             let exact = 2.0 * PI / ((xi - 1.0) * (xi + 1.0f64)).sqrt();
             // ξ + cos t written as (ξ − 1) + 2cos²(t/2): no cancellation near t = π.
-            let c = |t: f64| (0.5 * t).cos();
+            let c = |t: f64| (0.5 * t).dcos();
             let q = integrate(
                 |t| 1.0 / ((xi - 1.0) + 2.0 * c(t) * c(t)),
                 0.0,
@@ -414,7 +415,7 @@ mod tests {
 
     #[test]
     fn maximiser_and_bisection() {
-        let (x, v) = maximize_periodic(|t: f64| (t - 1.0).cos(), 2.0 * PI, 64);
+        let (x, v) = maximize_periodic(|t: f64| (t - 1.0).dcos(), 2.0 * PI, 64);
         assert!((x - 1.0).abs() < 1e-7 && (v - 1.0).abs() < 1e-15);
         let r = bisect(|x| x * x - 2.0, 0.0, 2.0, 1e-15).unwrap();
         assert!((r - 2f64.sqrt()).abs() < 1e-15);

@@ -1,6 +1,7 @@
 //! Shared reference problems of the workspace, written once against [`SecondOrderSystem`] so
 //! that benches, examples and peer comparisons of different crates solve the same equations.
 
+use math::DetMath;
 use nalgebra::DMatrix;
 
 use crate::{SecondOrderSystem, SystemError};
@@ -65,7 +66,7 @@ impl SecondOrderSystem for Duffing {
         b[0] = 0.0;
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = self.force * (self.omega * t).cos();
+        f[0] = self.force * (self.omega * t).dcos();
     }
     fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
         self.omega = omega;
@@ -122,7 +123,7 @@ impl SecondOrderSystem for BenchDuffing {
         b[0] = 0.0;
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = 0.3 * (self.omega * t).cos();
+        f[0] = 0.3 * (self.omega * t).dcos();
     }
     fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
         self.omega = omega;

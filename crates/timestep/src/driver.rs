@@ -7,6 +7,7 @@ use crate::record::{EventMonitor, Recorder};
 use crate::solution::{Solution, Stats, Status};
 use crate::stepper::{ClassicRk4, DormandPrince, Stepper};
 use crate::system::{EventAction, OdeSystem};
+use math::DetMath;
 
 /// Integrates `y' = F(t, y)` from `(t0, y0)` to `t_end` (`t_end >= t0`) with event location.
 ///
@@ -127,7 +128,7 @@ pub(crate) fn initial_step<S: OdeSystem + ?Sized>(
     let h1 = if der12 <= 1e-15 {
         1e-6_f64.max(h * 1e-3)
     } else {
-        (0.01 / der12).powf(1.0 / order)
+        (0.01 / der12).dpowf(1.0 / order)
     };
     (100.0 * h).min(h1).min(h_max)
 }

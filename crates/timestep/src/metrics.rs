@@ -3,6 +3,7 @@
 //! harmonics — are in `geardyn_models::response`.)
 
 use crate::error::{Error, Result, check_finite, check_finite_slice};
+use math::DetMath;
 
 fn nonempty(name: &'static str, x: &[f64]) -> Result<()> {
     if x.is_empty() {
@@ -63,7 +64,7 @@ pub fn fourier_projection_at(
     for (j, &k) in harmonics.iter().enumerate() {
         let (mut a, mut b) = (0.0, 0.0);
         for (ti, xi) in t.iter().zip(x) {
-            let (s, co) = (k as f64 * omega * ti).sin_cos();
+            let (s, co) = (k as f64 * omega * ti).dsin_cos();
             a += xi * co;
             b += xi * s;
         }
@@ -79,7 +80,7 @@ pub fn harmonic_amplitudes_of_projection(coefficients: &[f64]) -> Vec<f64> {
         .get(1..)
         .unwrap_or(&[])
         .chunks_exact(2)
-        .map(|ab| ab[0].hypot(ab[1]))
+        .map(|ab| ab[0].dhypot(ab[1]))
         .collect()
 }
 
@@ -101,7 +102,7 @@ mod tests {
         let t: Vec<f64> = (0..2 * n).map(|i| i as f64 * period / n as f64).collect();
         let x: Vec<f64> = t
             .iter()
-            .map(|&ti| 0.3 + 1.2 * (w * ti).cos() - 0.4 * (3.0 * w * ti).sin())
+            .map(|&ti| 0.3 + 1.2 * (w * ti).dcos() - 0.4 * (3.0 * w * ti).dsin())
             .collect();
         let c = fourier_projection(&t, &x, w, 3).unwrap();
         let want = [0.3, 1.2, 0.0, 0.0, 0.0, 0.0, -0.4];

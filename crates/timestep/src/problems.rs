@@ -3,6 +3,7 @@
 
 use crate::system::{Direction, EventAction, ExplicitSecondOrder, gap_edges};
 use crate::{Event, FirstOrder};
+use math::DetMath;
 
 /// Linear oscillator `x'' + 2 ζ ω0 x' + ω0² x = F cos(Ω t)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,7 +23,7 @@ impl LinearOscillator {
     /// Exact free response of the undamped, unforced oscillator from `(x0, v0)` at time `t`.
     pub fn free_undamped(&self, x0: f64, v0: f64, t: f64) -> (f64, f64) {
         let w = self.omega0;
-        let (s, c) = (w * t).sin_cos();
+        let (s, c) = (w * t).dsin_cos();
         (x0 * c + v0 / w * s, -x0 * w * s + v0 * c)
     }
 
@@ -38,7 +39,7 @@ impl ExplicitSecondOrder for LinearOscillator {
     }
     fn acceleration(&self, t: f64, q: &[f64], v: &[f64], acc: &mut [f64]) {
         let w = self.omega0;
-        acc[0] = self.force * (self.omega * t).cos() - 2.0 * self.zeta * w * v[0] - w * w * q[0];
+        acc[0] = self.force * (self.omega * t).dcos() - 2.0 * self.zeta * w * v[0] - w * w * q[0];
     }
 }
 
@@ -86,7 +87,7 @@ impl ExplicitSecondOrder for Duffing {
     }
     fn acceleration(&self, t: f64, q: &[f64], v: &[f64], acc: &mut [f64]) {
         let x = q[0];
-        acc[0] = self.gamma * (self.omega * t).cos()
+        acc[0] = self.gamma * (self.omega * t).dcos()
             - self.delta * v[0]
             - self.alpha * x
             - self.beta * x * x * x;
@@ -159,7 +160,7 @@ impl ExplicitSecondOrder for DeadZoneOscillator {
         1
     }
     fn acceleration(&self, t: f64, q: &[f64], v: &[f64], acc: &mut [f64]) {
-        let c = (self.omega * t).cos();
+        let c = (self.omega * t).dcos();
         acc[0] = self.f_mean + self.f_amp * c
             - 2.0 * self.zeta * v[0]
             - (1.0 + self.kappa * c) * self.dead_zone(q[0]);

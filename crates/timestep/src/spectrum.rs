@@ -123,6 +123,7 @@ pub fn harmonic_amplitudes(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use math::DetMath;
     use std::f64::consts::PI;
 
     #[test]
@@ -132,8 +133,8 @@ mod tests {
         let f = 1.0 / (n as f64 * dt) * 5.0; // exactly bin 5
         let x: Vec<f64> = (0..n)
             .map(|i| {
-                0.7 + 1.3 * (2.0 * PI * f * i as f64 * dt).sin()
-                    + 0.2 * (2.0 * PI * 3.0 * f * i as f64 * dt).cos()
+                0.7 + 1.3 * (2.0 * PI * f * i as f64 * dt).dsin()
+                    + 0.2 * (2.0 * PI * 3.0 * f * i as f64 * dt).dcos()
             })
             .collect();
         let sp = amplitude_spectrum(&x, dt).unwrap();
@@ -153,7 +154,7 @@ mod tests {
         let sp = amplitude_spectrum(&x, 1.0).unwrap();
         assert!((sp.amplitude[4] - 0.5).abs() < 1e-12);
         let x: Vec<f64> = (0..9)
-            .map(|i| (2.0 * PI * 2.0 * i as f64 / 9.0).cos())
+            .map(|i| (2.0 * PI * 2.0 * i as f64 / 9.0).dcos())
             .collect();
         let sp = amplitude_spectrum(&x, 1.0).unwrap();
         assert!((sp.amplitude[2] - 1.0).abs() < 1e-12);
@@ -166,7 +167,7 @@ mod tests {
         let x: Vec<f64> = (0..np * spp)
             .map(|i| {
                 let th = 2.0 * PI * i as f64 / spp as f64;
-                2.0 * th.cos() + 0.5 * (2.0 * th).sin()
+                2.0 * th.dcos() + 0.5 * (2.0 * th).dsin()
             })
             .collect();
         let h = harmonic_amplitudes(&x, np, 3).unwrap();

@@ -1,5 +1,6 @@
 //! Steady state, Poincaré sections, largest Lyapunov exponent and motion classification.
 
+use math::DetMath;
 use std::cell::RefCell;
 
 use crate::driver::integrate;
@@ -494,7 +495,7 @@ pub fn largest_lyapunov<S: OdeSystem + ?Sized>(
         if !(d.is_finite() && d > 0.0) {
             break;
         }
-        sum += (d / lo.d0).ln();
+        sum += (d / lo.d0).dln();
         for (p, r) in yp.iter_mut().zip(&yr) {
             *p = r + (*p - r) * lo.d0 / d;
         }

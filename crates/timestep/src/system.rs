@@ -312,6 +312,7 @@ impl<S: ::system::SecondOrderSystem> ExplicitSecondOrder for Mechanical<S> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use math::DetMath;
     use nalgebra::DMatrix;
 
     /// `M q'' + C q' + K q + g = f` with full 2 × 2 matrices and a cubic `g`.
@@ -334,7 +335,7 @@ mod tests {
             g[1] = 0.0;
         }
         fn forcing(&self, t: f64, f: &mut [f64]) {
-            f[0] = t.cos();
+            f[0] = t.dcos();
             f[1] = 0.5;
         }
         fn n_events(&self) -> usize {
@@ -361,7 +362,7 @@ mod tests {
         let r = &mm * nalgebra::DVector::from_row_slice(&a)
             + &c * nalgebra::DVector::from_row_slice(&v)
             + &k * nalgebra::DVector::from_row_slice(&q);
-        let expected = [t.cos() - q[0].powi(3), 0.5];
+        let expected = [t.dcos() - q[0].powi(3), 0.5];
         for i in 0..2 {
             assert!((r[i] - expected[i]).abs() < 1e-14, "row {i}: {}", r[i]);
         }

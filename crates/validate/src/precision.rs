@@ -15,6 +15,7 @@
 
 use crate::format::fmt6;
 use crate::table::{Cell, Table};
+use math::DetMath;
 
 /// A compared model value is written to a power of ten no larger than 1/`BAND_FRACTION` of its
 /// row's scale (band half-width, or the distance to the paper value when larger).
@@ -38,7 +39,7 @@ pub fn step_exponent(scale: f64, divisions: f64) -> Option<i32> {
     if !(s.is_finite() && s > 0.0) {
         return None;
     }
-    let mut e = s.log10().floor() as i32;
+    let mut e = s.dlog10().floor() as i32;
     // guard the floor against log10 rounding at exact powers of ten
     if 10f64.powi(e + 1) <= s {
         e += 1;

@@ -4,6 +4,7 @@
 use crate::common::{Duffing, Linear};
 use geardyn_hbm::nalgebra::DMatrix;
 use geardyn_hbm::{Basis, HbmProblem, SecondOrderSystem, SolverOptions};
+use math::DetMath;
 
 #[test]
 fn linear_system_with_forcing_in_the_basis_has_zero_truncation() {
@@ -72,7 +73,7 @@ impl SecondOrderSystem for Stop {
         g[0] = self.k_c * (q[0] - self.b).max(0.0);
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = 0.5 * t.cos();
+        f[0] = 0.5 * t.dcos();
     }
 }
 
@@ -89,9 +90,9 @@ fn hard_impact_on_a_short_basis_has_large_truncation_equal_to_a_direct_dft() {
         let (mut re, mut im) = (0.0, 0.0);
         for m in 0..n {
             let th = 2.0 * std::f64::consts::PI * m as f64 / n as f64;
-            let h = stop.k_c * (th.cos() - stop.b).max(0.0) - 0.5 * th.cos();
-            re += h * (k as f64 * th).cos();
-            im -= h * (k as f64 * th).sin();
+            let h = stop.k_c * (th.dcos() - stop.b).max(0.0) - 0.5 * th.dcos();
+            re += h * (k as f64 * th).dcos();
+            im -= h * (k as f64 * th).dsin();
         }
         let pw = re * re + im * im;
         if k <= 3 {

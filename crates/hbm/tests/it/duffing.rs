@@ -4,6 +4,7 @@
 
 use crate::common::{Duffing, rk4};
 use geardyn_hbm::{Basis, HbmProblem, SecondOrderSystem, SolverOptions};
+use math::DetMath;
 
 /// The reference case (`system::problems::Duffing::hardening`) and its coefficients.
 const REFERENCE: Duffing = Duffing::hardening(1.0);
@@ -24,7 +25,7 @@ fn one_harmonic_matches_closed_form() {
         z0[1] = guess;
         let sol = p.solve(&z0, &SolverOptions::default()).unwrap();
         assert!(sol.converged);
-        let a = sol.coefficients[1].hypot(sol.coefficients[2]);
+        let a = sol.coefficients[1].dhypot(sol.coefficients[2]);
         let lhs = ((1.0 - omega * omega + 0.75 * GAMMA * a * a).powi(2)
             + (2.0 * ZETA * omega).powi(2))
             * a

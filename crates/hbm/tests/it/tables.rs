@@ -1,6 +1,7 @@
 //! Cached time functions and FFT time series: the fast paths give the results of the direct ones.
 
 use geardyn_hbm::{Basis, HbmProblem, SecondOrderSystem, SolverOptions};
+use math::DetMath;
 use nalgebra::DMatrix;
 
 /// Parametric oscillator with a dead zone: `q'' + 0.1 q' + k(t) f(q; b(t)) = cos(ωt)`,
@@ -13,10 +14,10 @@ struct Parametric {
 
 impl Parametric {
     fn k(&self, t: f64) -> f64 {
-        1.0 + 0.3 * (self.omega * t).sin()
+        1.0 + 0.3 * (self.omega * t).dsin()
     }
     fn b(&self, t: f64) -> f64 {
-        0.2 + 0.05 * (2.0 * self.omega * t).cos()
+        0.2 + 0.05 * (2.0 * self.omega * t).dcos()
     }
 }
 
@@ -44,7 +45,7 @@ impl SecondOrderSystem for Parametric {
         g[0] = self.k(t) * dead(q[0], self.b(t)).0;
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = (self.omega * t).cos();
+        f[0] = (self.omega * t).dcos();
     }
     fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], a: &mut [f64], b: &mut [f64]) {
         a[0] = self.k(t) * dead(q[0], self.b(t)).1;
@@ -91,7 +92,7 @@ fn tabulated_residual_and_jacobian_are_bit_identical_and_follow_omega() {
     let basis = Basis::full(6).unwrap();
     let mut z = vec![0.0; basis.n_coefficients()];
     for (i, v) in z.iter_mut().enumerate() {
-        *v = 0.3 * ((i as f64) * 1.7).sin();
+        *v = 0.3 * ((i as f64) * 1.7).dsin();
     }
     for omega in [0.7, 1.3] {
         let mk = |tabulate| {
@@ -139,7 +140,7 @@ fn fft_time_series_matches_direct_summation() {
     // convergence does not matter here: any coefficients will do
     let mut sol = p.solve(&p.zero_guess(), &SolverOptions::default()).unwrap();
     for (i, c) in sol.coefficients.iter_mut().enumerate() {
-        *c = 1.0 / (1.0 + i as f64) * (0.9 * i as f64).cos();
+        *c = 1.0 / (1.0 + i as f64) * (0.9 * i as f64).dcos();
     }
     for n_points in [19, 20, 64, 1000] {
         let ts = sol.time_series(n_points);

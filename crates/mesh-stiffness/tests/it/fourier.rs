@@ -6,6 +6,7 @@ use geardyn_mesh_stiffness::{
     FourierFitter, FourierStiffness, NfgToothPairStiffness, SingleHarmonicStiffness,
     ToothPairStiffness, Waveform, fit_fourier, fit_single_harmonic,
 };
+use math::DetMath;
 use proptest::prelude::*;
 
 fn band_limited(h: usize) -> FourierStiffness {
@@ -77,7 +78,7 @@ fn rectangular_wave_analytic_coefficients() {
         let mp = (m / periods) as f64; // samples per period
         for n in 1..=h {
             let half = std::f64::consts::PI * n as f64 / mp;
-            let factor = half / half.tan();
+            let factor = half / half.dtan();
             let (a, b) = (fit.series.cos()[n - 1], fit.series.sin()[n - 1]);
             let (ea, eb) = (exact.cos()[n - 1], exact.sin()[n - 1]);
             // exact identity, to rounding (1.6e8 is the jump)
@@ -127,7 +128,7 @@ fn curve_to_liu_eq19() {
     let samples = wave.sample(2048, 2);
     let sh = fit_single_harmonic(&samples, 2, 2880.0, Waveform::Sine).unwrap();
     let d = 1.6e8;
-    let kr = 2.0 * d * (std::f64::consts::PI * 0.625).sin() / std::f64::consts::PI;
+    let kr = 2.0 * d * (std::f64::consts::PI * 0.625).dsin() / std::f64::consts::PI;
     assert_relative_eq!(sh.k0, 2.0e8 + 0.625 * d, max_relative = 1e-13);
     assert_relative_eq!(sh.k_r, kr, max_relative = 1e-5);
     // φ = atan2(a, b) with a ∝ sin 2πw, b ∝ 1 − cos 2πw: φ = π/2 − πw

@@ -2,6 +2,7 @@
 //! solve ([`shoot_on`]) on the event-located flow of any [`system::SecondOrderSystem`].
 
 use super::{Kind, PointError, Record, SettingDef, Settings};
+use math::DetMath;
 
 /// The solver settings of the shooting method (after the model's `transient_periods`).
 pub(crate) const SHOOT_SOLVER: [SettingDef; 4] = [
@@ -105,7 +106,7 @@ pub(crate) fn shoot_on<S: system::SecondOrderSystem>(
         .shoot(guess, &opts)
         .map_err(|e| PointError::Compute(format!("{what} shooting: {e}")))?;
     let mut mu = o.floquet.multipliers.clone();
-    mu.sort_by(|x, y| y[0].hypot(y[1]).total_cmp(&x[0].hypot(x[1])));
+    mu.sort_by(|x, y| y[0].dhypot(y[1]).total_cmp(&x[0].dhypot(x[1])));
     let m = |i: usize, j: usize| mu.get(i).map_or(f64::NAN, |c| c[j]);
     let mut r = Record::new();
     r.push("events_per_period", "1", o.events.len() as f64)

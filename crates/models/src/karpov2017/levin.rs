@@ -16,6 +16,7 @@
 //! slowly varying `p` exists and the residual is large: the caller shrinks the panel or falls
 //! back to Gauss–Legendre.
 
+use math::DetMath;
 use std::f64::consts::PI;
 
 use nalgebra::Complex;
@@ -55,8 +56,8 @@ pub(super) struct Chirp {
 impl Levin {
     pub(super) fn new() -> Self {
         let nn = (N - 1) as f64;
-        let x: [f64; N] = std::array::from_fn(|j| (PI * j as f64 / nn).cos());
-        let y: [f64; M] = std::array::from_fn(|j| (PI * (j as f64 + 0.5) / nn).cos());
+        let x: [f64; N] = std::array::from_fn(|j| (PI * j as f64 / nn).dcos());
+        let y: [f64; M] = std::array::from_fn(|j| (PI * (j as f64 + 0.5) / nn).dcos());
         let c = |j: usize| if j == 0 || j == N - 1 { 2.0 } else { 1.0 };
         let sign = |j: usize| if j % 2 == 0 { 1.0 } else { -1.0 };
         let mut d = [[0.0; N]; N];
@@ -243,7 +244,10 @@ mod tests {
             let len = b - a;
             let dpsi = [kappa; N];
             let dpsi_y = [kappa; M];
-            let e = |s: f64| C::new(0.0, kappa * s).exp();
+            let e = |s: f64| {
+                let (s_, c_) = (kappa * s).dsin_cos();
+                C::new(c_, s_)
+            };
             let r = lv.chirp(len, &dpsi, &dpsi_y, e(a), e(b)).unwrap();
             let exact = (e(b) - e(a)) / C::new(0.0, kappa);
             assert!(
@@ -265,7 +269,10 @@ mod tests {
             let mid = 0.5 * (a + b);
             let dpsi: [f64; N] = std::array::from_fn(|j| mid + 0.5 * len * lv.x[j]);
             let dpsi_y: [f64; M] = std::array::from_fn(|j| mid + 0.5 * len * lv.y[j]);
-            let e = |s: f64| C::new(0.0, 0.5 * s * s).exp();
+            let e = |s: f64| {
+                let (s_, c_) = (0.5 * s * s).dsin_cos();
+                C::new(c_, s_)
+            };
             let r = lv.chirp(len, &dpsi, &dpsi_y, e(a), e(b)).unwrap();
             let n = 200_000;
             let h = len / n as f64;

@@ -77,6 +77,7 @@
 //! ([`Karpov2017::time_stepping`] wraps it for the `timestep` engine, states `[X, X']`) so the same
 //! response can be integrated step by step; the two agree to ~1e-8 (tests).
 
+use math::DetMath;
 use std::f64::consts::TAU;
 
 use gear_geometry::{CentrodeDeviation, KarpovPair};
@@ -378,7 +379,7 @@ impl Karpov2017 {
     /// Right-hand side forcing `sin Φ(τ)`.
     #[inline]
     pub fn forcing(&self, tau: f64) -> f64 {
-        self.phase(tau).sin()
+        self.phase(tau).dsin()
     }
 
     /// Length of the last cycle over which [`AmplitudeMeasure::LastCycleMax`] looks.
@@ -552,17 +553,17 @@ impl Karpov2017 {
         let (mut re, mut im) = (0.0, 0.0);
         for i in 0..n {
             let th = TAU * i as f64 / n as f64;
-            let (s, c) = (self.dev.integral(th) / self.p.k).sin_cos();
+            let (s, c) = (self.dev.integral(th) / self.p.k).dsin_cos();
             re += c;
             im += s;
         }
-        0.5 * re.hypot(im) / n as f64
+        0.5 * re.dhypot(im) / n as f64
     }
 
     /// Classical resonance (`B = 0`, `ω = 1`) exact solution `X = (sin τ − τ cos τ)/2`,
     /// `X' = τ sin τ/2`: amplitude grows like `τ/2`.
     pub fn resonance_solution(tau: f64) -> (f64, f64) {
-        let (s, c) = tau.sin_cos();
+        let (s, c) = tau.dsin_cos();
         (0.5 * (s - tau * c), 0.5 * tau * s)
     }
 }
@@ -677,16 +678,16 @@ mod tests {
             let (re, im): (f64, f64) = (0..10)
                 .map(|i| {
                     (
-                        row[i] * (2.0 * gl.nodes[i]).cos(),
-                        row[i] * (2.0 * gl.nodes[i]).sin(),
+                        row[i] * (2.0 * gl.nodes[i]).dcos(),
+                        row[i] * (2.0 * gl.nodes[i]).dsin(),
                     )
                 })
                 .fold((0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1));
             let (ere, eim) = (
-                ((2.0 * y).sin() + 2.0f64.sin()) / 2.0,
-                (2.0f64.cos() - (2.0 * y).cos()) / 2.0,
+                ((2.0 * y).dsin() + 2.0f64.dsin()) / 2.0,
+                (2.0f64.dcos() - (2.0 * y).dcos()) / 2.0,
             );
-            assert!((re - ere).hypot(im - eim) < 5e-8, "k {k}");
+            assert!((re - ere).dhypot(im - eim) < 5e-8, "k {k}");
         }
     }
 
@@ -715,7 +716,7 @@ mod tests {
                 let n = ((400.0 / (1.0 - eps)) as usize).clamp(4096, 1 << 20);
                 let (mut g1, mut g2) = (0.0f64, 0.0f64);
                 for i in 0..n {
-                    let (s, co) = (TAU * i as f64 / n as f64).sin_cos();
+                    let (s, co) = (TAU * i as f64 / n as f64).dsin_cos();
                     let den = 1.0 + eps * co;
                     g1 = g1.max(((eps + co) / (den * den)).abs());
                     g2 = g2.max((s * (2.0 * eps * eps - 1.0 + eps * co) / (den * den * den)).abs());
@@ -960,8 +961,8 @@ mod tests {
                 let levin = m.duhamel_levin(DUHAMEL_RTOL).unwrap();
                 assert!(levin.levin_panels > 0, "{levin:?}");
                 let d = 1.0 - omega * omega;
-                let x = ((omega * tau).sin() - omega * tau.sin()) / d;
-                let v = omega * ((omega * tau).cos() - tau.cos()) / d;
+                let x = ((omega * tau).dsin() - omega * tau.dsin()) / d;
+                let v = omega * ((omega * tau).dcos() - tau.dcos()) / d;
                 // Rounding floor: the rules agree with each other to a few 1e-12 but share a
                 // distance to the closed form of up to ~6e-11 at τ ≤ 2·10⁴ (probed over
                 // τ = 1250 … 20000), of the order of the phase rounding 1e-14·τ·(1 + ω).
@@ -1075,7 +1076,7 @@ mod tests {
             for k in 0..=10 {
                 let ta = -h * f64::from(k) / 10.0;
                 let tb = ta + h;
-                let b = extremum_bound(h, (ta.cos(), -ta.sin()), (tb.cos(), -tb.sin()));
+                let b = extremum_bound(h, (ta.dcos(), -ta.dsin()), (tb.dcos(), -tb.dsin()));
                 assert!(b >= 1.0, "h={h} ta={ta}: {b}");
             }
         }

@@ -5,6 +5,7 @@
 //! accumulators with their error estimate, and the panel-count estimate. The model (`super`)
 //! holds the parameters, the phase and the public entry points (`duhamel*`).
 
+use math::DetMath;
 use std::cell::OnceCell;
 use std::f64::consts::TAU;
 use std::sync::OnceLock;
@@ -119,7 +120,7 @@ impl Karpov2017 {
         let (mut c0, mut s0) = (acc.c.value(), acc.s.value());
         let (mut x0, mut v0) = x_at(t, c0, s0);
         let mut max_abs = x0.abs();
-        let mut est = acc.dc.hypot(acc.ds);
+        let mut est = acc.dc.dhypot(acc.ds);
         // the largest remainder of the extremum searches (part of A's estimate)
         let mut newton_rest = 0.0f64;
         while t < tau_end {
@@ -172,11 +173,11 @@ impl Karpov2017 {
                 }
             }
             (c0, s0) = (acc.c.value(), acc.s.value());
-            est = est.max(acc.dc.hypot(acc.ds));
+            est = est.max(acc.dc.dhypot(acc.ds));
             t = t_next;
         }
         let (x, v) = x_at(tau_end, acc.c.value(), acc.s.value());
-        let envelope = x.hypot(v);
+        let envelope = x.dhypot(v);
         let amplitude = match self.p.measure {
             AmplitudeMeasure::LastCycleMax => max_abs,
             AmplitudeMeasure::Envelope => envelope,
@@ -333,7 +334,7 @@ impl Karpov2017 {
                 lv.chirp(len, &dp, &dy, s_a * phi_a.conj(), s_b * phi_b.conj())
             };
             // the tolerance scales with the running envelope |C + iS| (≥ 1)
-            let tol = set.eps * acc.c.value().hypot(acc.s.value()).max(1.0) * len / t_w;
+            let tol = set.eps * acc.c.value().dhypot(acc.s.value()).max(1.0) * len / t_w;
             let (ok, ratio) = match (&plus, &minus) {
                 (Some(p), Some(m)) => {
                     let tr = 0.5 * (p.truncation + m.truncation);
@@ -343,7 +344,7 @@ impl Karpov2017 {
             };
             // next trial length from the estimate, as a step-size controller would (the
             // estimate falls roughly like L^8 or faster); NaN-safe clamps
-            let factor = 0.9 * ratio.powf(-0.125);
+            let factor = 0.9 * ratio.dpowf(-0.125);
             let factor = if factor.is_nan() { 0.25 } else { factor };
             if let (Some(tr), Some(p), Some(m)) = (ok, plus, minus) {
                 // (I₊ − I₋)/(2i)
@@ -397,14 +398,14 @@ pub(super) fn simpson_weight(i: usize, n: usize) -> f64 {
 
 /// Length of the fine panels of level `j`: `2θ·2^(−j/LEVELS_PER_OCTAVE)`.
 pub(super) fn level_length(theta: f64, j: usize) -> f64 {
-    2.0 * theta * (-(j as f64) / f64::from(LEVELS_PER_OCTAVE)).exp2()
+    2.0 * theta * (-(j as f64) / f64::from(LEVELS_PER_OCTAVE)).dexp2()
 }
 
 /// The node rotations of a panel of length `≤ h`, `h` rounded down to the tabulated level
 /// lengths [`level_length`] (each level computed when first used; beyond the last level, the
 /// exact `h` computed directly).
 pub(super) fn level_rot(ker: &Kernel, table: &[OnceCell<Rot>], theta: f64, h: f64) -> Rot {
-    let j = (f64::from(LEVELS_PER_OCTAVE) * (2.0 * theta / h).log2()).ceil();
+    let j = (f64::from(LEVELS_PER_OCTAVE) * (2.0 * theta / h).dlog2()).ceil();
     let j = if j.is_finite() {
         j.max(f64::from(LEVELS_PER_OCTAVE))
     } else {
@@ -907,7 +908,7 @@ pub(super) fn shape_bounds(xi: f64) -> [f64; 2] {
     let eps = if xi.is_infinite() { 0.0 } else { 1.0 / xi };
     let n = ((400.0 / (1.0 - eps)) as usize).clamp(4096, 1 << 20);
     grid_max(n, |i| {
-        let (s, co) = (TAU * i as f64 / n as f64).sin_cos();
+        let (s, co) = (TAU * i as f64 / n as f64).dsin_cos();
         let den = 1.0 + eps * co;
         [
             ((eps + co) / (den * den)).abs(),

@@ -2,6 +2,7 @@
 //! pair's kinematics (`karpov2017-kinematics`) and the oscillator with variable mesh frequency
 //! (`karpov2017`).
 
+use math::DetMath;
 use std::collections::BTreeMap;
 
 use crate::contract::{
@@ -318,7 +319,7 @@ impl contract::Model for Karpov {
                             }
                             let (x, v) = (sol.y_final[0], sol.y_final[1]);
                             let mut rec = Record::new();
-                            rec.push("envelope", "1", x.hypot(v))
+                            rec.push("envelope", "1", x.dhypot(v))
                                 .push("x_final", "1", x);
                             Ok((rec, sol.stats))
                         })

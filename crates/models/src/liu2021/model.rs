@@ -1,5 +1,6 @@
 //! The dimensionless NFG model of Eq. (9)–(12) and (22), built from [`Parameters`] in one place.
 
+use math::DetMath;
 use mesh_stiffness::StiffnessLaw;
 use serde::{Deserialize, Serialize};
 
@@ -155,7 +156,7 @@ impl Model {
     /// Base radius ratio `r_b2(τ)/L = 1 + β cos(ω̄_c τ)` (Eq. 8).
     #[inline]
     pub fn radius_ratio(&self, tau: f64) -> f64 {
-        1.0 + self.beta * (self.omega_c * tau).cos()
+        1.0 + self.beta * (self.omega_c * tau).dcos()
     }
 
     /// Combined parametric function `F(τ) = (k_m/k₀)(r_b2/L)²/(1 + β²/2)` (Eq. 9–10 with 8, 19).
@@ -163,7 +164,7 @@ impl Model {
     #[inline]
     pub fn stiffness(&self, tau: f64) -> f64 {
         let km = self.mesh_stiffness_law().stiffness(tau);
-        self.parametric(km, (self.omega_c * tau).cos())
+        self.parametric(km, (self.omega_c * tau).dcos())
     }
 
     /// `F = (k_m/k₀)(r_b2/L)²/(1 + β²/2)` from `k_m/k₀` and `cos(ω̄_c τ)` (`r_b2/L = 1 + β cos`,
@@ -203,8 +204,8 @@ impl Model {
     pub fn rigid_acceleration(&self, tau: f64) -> f64 {
         let x = self.omega_c * tau;
         match self.readings.rigid_series {
-            RigidSeries::TwoTerms => self.rigid_acceleration_trig(x.sin(), 0.0, (2.0 * x).sin()),
-            RigidSeries::Exact => self.rigid_acceleration_trig(x.sin(), x.cos(), 0.0),
+            RigidSeries::TwoTerms => self.rigid_acceleration_trig(x.dsin(), 0.0, (2.0 * x).dsin()),
+            RigidSeries::Exact => self.rigid_acceleration_trig(x.dsin(), x.dcos(), 0.0),
         }
     }
 
@@ -232,12 +233,12 @@ impl Model {
         let ph = self.omega_e * tau + self.phase_error;
         let x = self.omega_c * tau;
         match (self.readings.error_term, self.readings.base_radius) {
-            (_, BaseRadius::Mean) => self.error_acceleration_trig(ph.sin(), 0.0, 0.0, 0.0),
+            (_, BaseRadius::Mean) => self.error_acceleration_trig(ph.dsin(), 0.0, 0.0, 0.0),
             (ErrorTerm::Printed, BaseRadius::TimeVarying) => {
-                self.error_acceleration_trig(ph.sin(), 0.0, 0.0, x.cos())
+                self.error_acceleration_trig(ph.dsin(), 0.0, 0.0, x.dcos())
             }
             (ErrorTerm::Derived, BaseRadius::TimeVarying) => {
-                self.error_acceleration_trig(ph.sin(), ph.cos(), x.sin(), x.cos())
+                self.error_acceleration_trig(ph.dsin(), ph.dcos(), x.dsin(), x.dcos())
             }
         }
     }
@@ -275,21 +276,21 @@ impl Model {
     /// of the time stepping ([`super::TimeSystem`] with [`super::Trig::Libm`]).
     pub fn time_functions(&self, tau: f64) -> [f64; 3] {
         let x = self.omega_c * tau;
-        let (sx, cx) = x.sin_cos();
+        let (sx, cx) = x.dsin_cos();
         let s2x = match self.readings.rigid_series {
-            RigidSeries::TwoTerms => (2.0 * x).sin(),
+            RigidSeries::TwoTerms => (2.0 * x).dsin(),
             RigidSeries::Exact => 0.0,
         };
         let ph = self.omega_e * tau + self.phase_error;
         let (sph, cph) = match (self.readings.error_term, self.readings.base_radius) {
-            (ErrorTerm::Derived, BaseRadius::TimeVarying) => ph.sin_cos(),
-            _ => (ph.sin(), 0.0),
+            (ErrorTerm::Derived, BaseRadius::TimeVarying) => ph.dsin_cos(),
+            _ => (ph.dsin(), 0.0),
         };
         self.time_functions_of(&TimeTrig {
             sx,
             cx,
             s2x,
-            sin_stiffness: (self.omega_e * tau + self.phase_stiffness).sin(),
+            sin_stiffness: (self.omega_e * tau + self.phase_stiffness).dsin(),
             sph,
             cph,
         })
@@ -341,14 +342,14 @@ impl Model {
         let quarter = n_grid / 4;
         let mut circle = vec![(0.0, 0.0); n_grid];
         for r in 0..quarter {
-            let (s, c) = (2.0 * std::f64::consts::PI * r as f64 / n_grid as f64).sin_cos();
+            let (s, c) = (2.0 * std::f64::consts::PI * r as f64 / n_grid as f64).dsin_cos();
             circle[r] = (s, c);
             circle[r + quarter] = (c, -s);
             circle[r + 2 * quarter] = (-s, -c);
             circle[r + 3 * quarter] = (-c, s);
         }
-        let (spm, cpm) = self.phase_stiffness.sin_cos();
-        let (spe, cpe) = self.phase_error.sin_cos();
+        let (spm, cpm) = self.phase_stiffness.dsin_cos();
+        let (spe, cpe) = self.phase_error.dsin_cos();
         let z2 = self.z2 as usize;
         for (m, (f, row)) in forcing
             .iter_mut()
@@ -531,7 +532,7 @@ mod tests {
         (0..n)
             .map(|i| {
                 let x = two_pi * i as f64 / n as f64;
-                f(x) * (k as f64 * x).sin()
+                f(x) * (k as f64 * x).dsin()
             })
             .sum::<f64>()
             * 2.0
@@ -577,7 +578,7 @@ mod tests {
         let p = table1();
         let m = p.model().unwrap();
         let ebar =
-            |tau: f64| m.error * (m.omega_e * tau + m.phase_error).sin() / m.radius_ratio(tau);
+            |tau: f64| m.error * (m.omega_e * tau + m.phase_error).dsin() / m.radius_ratio(tau);
         for tau in [1.0, 77.0, 401.0] {
             let h = 1e-3;
             let fd = (ebar(tau + h) - 2.0 * ebar(tau) + ebar(tau - h)) / (h * h);
@@ -644,7 +645,7 @@ mod tests {
             // no rattle, unilateral, bilateral, and a NaN sample
             for (mean, amp) in [(-3.0 * b, 0.5 * b), (-b, 0.5 * b), (0.0, 2.0 * b)] {
                 let mut q: Vec<f64> = (0..256)
-                    .map(|i| mean + amp * (0.3 * f64::from(i)).sin())
+                    .map(|i| mean + amp * (0.3 * f64::from(i)).dsin())
                     .collect();
                 for extra in [None, Some(f64::NAN)] {
                     if let Some(x) = extra {

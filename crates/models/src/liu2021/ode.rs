@@ -1,5 +1,6 @@
 //! Eq. (9) as a first-order system for the `timestep` engine, written lean.
 
+use math::DetMath;
 use std::cell::Cell;
 
 use serde::{Deserialize, Serialize};
@@ -60,8 +61,8 @@ impl TimeSystem {
 
     /// The system of `model` with the given evaluation of the sines and cosines.
     pub fn with_trig(model: Model, trig: Trig) -> Self {
-        let (spm, cpm) = model.phase_stiffness.sin_cos();
-        let (spe, cpe) = model.phase_error.sin_cos();
+        let (spm, cpm) = model.phase_stiffness.dsin_cos();
+        let (spe, cpe) = model.phase_error.dsin_cos();
         Self {
             model,
             trig,

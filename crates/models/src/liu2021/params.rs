@@ -267,6 +267,7 @@ impl Parameters {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use math::DetMath;
 
     #[test]
     fn all_readings_are_distinct() {
@@ -291,7 +292,7 @@ mod tests {
         let wn = (p.k0 * l * l * (1.0 + 0.5 * beta * beta) / p.inertia).sqrt();
         assert!((p.omega_n().unwrap() / wn - 1.0).abs() < 1e-12);
         // L = r1 i_j cos(alpha) (1+e^2)/(1-e^2) = 0.0225 * 3.5 * cos 20deg * 1.04/0.96
-        let l_ref = 0.0225 * 3.5 * 20f64.to_radians().cos() * 1.04 / 0.96;
+        let l_ref = 0.0225 * 3.5 * 20f64.to_radians().dcos() * 1.04 / 0.96;
         assert!((l / l_ref - 1.0).abs() < 1e-12);
     }
 }

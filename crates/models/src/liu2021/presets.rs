@@ -156,6 +156,7 @@ mod tests {
     use super::{Rig, TABLE2_THEORETICAL};
     use crate::pair::test_support::{accel, close};
     use crate::pair::{GearPair, PairParams};
+    use math::DetMath;
 
     /// Format to one decimal the way the paper prints it.
     fn one_decimal(x: f64) -> String {
@@ -231,8 +232,8 @@ mod tests {
             (7.7, 0.0001, -0.02),
             (40.0, 0.003, 0.0),
         ] {
-            let e = er * (w * tau + phi).cos();
-            let e_rate = -er * w * (w * tau + phi).sin();
+            let e = er * (w * tau + phi).dcos();
+            let e_rate = -er * w * (w * tau + phi).dsin();
             let u_dd = accel(&pair, tau, &[q + e], &[v + e_rate])[0];
             let got = u_dd + w * w * e;
             let want = m.acceleration(tau, q, v);

@@ -11,6 +11,7 @@
 //! ```
 
 use backlash::{CentreDisplacement, CentreDistanceForm, PairGeometry, PressureAngleLaw};
+use math::DetMath;
 
 /// The line of action of a pair with displaced centres.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -47,7 +48,7 @@ pub fn line_of_action(
 /// The static transmission error `(e, e') = (e_r cos ψ, −e_r ω sin ψ)`, `ψ = ω t + φ`.
 #[inline]
 pub fn static_error(amplitude: f64, omega: f64, phase: f64, t: f64) -> (f64, f64) {
-    let (s, c) = (omega * t + phase).sin_cos();
+    let (s, c) = (omega * t + phase).dsin_cos();
     (amplitude * c, -amplitude * omega * s)
 }
 
@@ -64,7 +65,7 @@ pub fn transmission_error(
 ) -> (f64, f64) {
     let (dx, dy) = (centres[0] - centres[2], centres[1] - centres[3]);
     let (dvx, dvy) = (velocities[0] - velocities[2], velocities[1] - velocities[3]);
-    let (sa, ca) = line.alpha.sin_cos();
+    let (sa, ca) = line.alpha.dsin_cos();
     (
         dx * sa + dy * ca + u - e,
         dvx * sa + dvy * ca + line.alpha_rate * (dx * ca - dy * sa) + u_rate - e_rate,

@@ -43,6 +43,7 @@
 //! * **Karpov 2017** (`X'' + X = F(τ)`, no gap) is a linear oscillator with variable mesh
 //!   frequency, not a pair with backlash: not a preset.
 
+use math::DetMath;
 use mesh_stiffness::{Stiffness, StiffnessLaw};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -374,7 +375,7 @@ impl<S: StiffnessLaw, B: BacklashLaw> GearPair<S, B> {
             .map_or(0.0, |g| g.b.max(0.0));
         let k = self.stiffness.stiffness(0.0);
         let sign = if self.static_force < 0.0 { -1.0 } else { 1.0 };
-        q[0] = sign * b + self.static_force / k + self.ste.0 * self.ste.1.cos();
+        q[0] = sign * b + self.static_force / k + self.ste.0 * self.ste.1.dcos();
         q
     }
 
@@ -601,7 +602,7 @@ impl<S: StiffnessLaw + Retime, B: BacklashLaw + Retime> system::SecondOrderSyste
         let m = self.mesh(t, q, qd);
         g[0] = m.force;
         if self.dofs == Dofs::TransverseTorsional {
-            let (sa, ca) = m.alpha.sin_cos();
+            let (sa, ca) = m.alpha.dsin_cos();
             g[1] = m.force * sa;
             g[2] = m.force * ca;
             g[3] = -m.force * sa;
@@ -766,8 +767,8 @@ mod tests {
         let den = dr * dr + di * di;
         let (ur, ui) = ((nr * dr + ni * di) / den, (ni * dr - nr * di) / den);
         let (zr, zi) = (
-            ur * phi.cos() - ui * phi.sin(),
-            ur * phi.sin() + ui * phi.cos(),
+            ur * phi.dcos() - ui * phi.dsin(),
+            ur * phi.dsin() + ui * phi.dcos(),
         );
         // u = c0 + a1 cos ωt + b1 sin ωt, a1 = Re Z, b1 = −Im Z
         let exact = [p.static_force / k, zr, -zi];
@@ -791,7 +792,7 @@ mod tests {
         let u: Vec<f64> =
             r.t.iter()
                 .zip(&r.delta)
-                .map(|(t, d)| d + er * (w * t + phi).cos())
+                .map(|(t, d)| d + er * (w * t + phi).dcos())
                 .collect();
         let cf = timestep::fourier_projection(&r.t, &u, w, 1).unwrap();
         // transient decays as e^{−ζ ω_n t}, ζ = 0.05: e^{−0.05·60·2π/0.7} ≈ 2e-12; rtol 1e-9

@@ -2,6 +2,7 @@
 //! [`PairParams::example_spur`](crate::pair::PairParams::example_spur) in SI units, by time
 //! stepping, harmonic balance or shooting.
 
+use math::DetMath;
 use std::sync::Arc;
 
 use crate::contract::shoot::{SHOOT_OUT, shoot_any, shoot_settings, shoot_transient};
@@ -273,7 +274,7 @@ fn harmonic_balance(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                 let c = &sol.coefficients;
                 let mut rec = Record::new();
                 rec.push("mean_u", "m", c[0])
-                    .push("first_harmonic_amplitude", "m", c[n].hypot(c[2 * n]))
+                    .push("first_harmonic_amplitude", "m", c[n].dhypot(c[2 * n]))
                     .push("converged", "1", if sol.converged { 1.0 } else { 0.0 })
                     .push("residual_norm", "N", sol.residual_norm)
                     .push("truncation", "1", sol.truncation);

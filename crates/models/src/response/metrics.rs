@@ -5,6 +5,7 @@
 //! projection) stay there.
 
 use crate::error::Error;
+use math::DetMath;
 
 fn invalid(field: &str, bound: &str, value: f64) -> Error {
     Error::InvalidParameter {
@@ -154,7 +155,7 @@ pub fn rms_of_harmonics(amplitudes: &[f64]) -> Result<f64, Error> {
 /// with every integrator retune only to its order of magnitude).
 pub fn order_of_magnitude(x: f64) -> String {
     if x.is_finite() && x > 0.0 {
-        format!("1e{}", x.log10().floor() as i32)
+        format!("1e{}", x.dlog10().floor() as i32)
     } else if x == 0.0 {
         "0".to_owned()
     } else {

@@ -1,5 +1,6 @@
 //! Long-window rattle statistics of one record, and their spread over several records.
 
+use math::DetMath;
 use serde::{Deserialize, Serialize};
 
 use super::metrics::RattleState;
@@ -281,9 +282,9 @@ pub fn window_stats(
             let exact = p != last_period || !same_step;
             for j in 0..2 {
                 if exact {
-                    let (sn, cs) = (ks[j] * omega * (t[i] - t0)).sin_cos();
+                    let (sn, cs) = (ks[j] * omega * (t[i] - t0)).dsin_cos();
                     cur[j] = (cs, -sn);
-                    let (rs, rc) = (ks[j] * omega * step).sin_cos();
+                    let (rs, rc) = (ks[j] * omega * step).dsin_cos();
                     rot[j] = (rc, -rs);
                 } else {
                     let (a, b2) = cur[j];
@@ -375,9 +376,9 @@ pub fn window_stats(
         for p in 0..periods {
             re += line_re[p][j];
             im += line_im[p][j];
-            inc += line_re[p][j].hypot(line_im[p][j]);
+            inc += line_re[p][j].dhypot(line_im[p][j]);
         }
-        line_coherent[j] = re.hypot(im) / periods as f64;
+        line_coherent[j] = re.dhypot(im) / periods as f64;
         line_incoherent[j] = inc / periods as f64;
     }
     // stroboscopic section: the first sample at or after each period start (to 1e-9 T; one
@@ -465,8 +466,8 @@ pub fn zero_one_test(phi: &[f64]) -> f64 {
         let (mut ps, mut qs) = (0.0, 0.0);
         for (i, &x) in phi.iter().enumerate() {
             let a = c * (i + 1) as f64;
-            ps += (x - mean) * a.cos();
-            qs += (x - mean) * a.sin();
+            ps += (x - mean) * a.dcos();
+            qs += (x - mean) * a.dsin();
             p.push(ps);
             qq.push(qs);
         }
@@ -478,7 +479,7 @@ pub fn zero_one_test(phi: &[f64]) -> f64 {
                     .sum::<f64>()
                     / m as f64;
                 // regularised: subtract the oscillatory term of a regular series
-                msd - var * (1.0 - (k as f64 * c).cos()) / (1.0 - c.cos())
+                msd - var * (1.0 - (k as f64 * c).dcos()) / (1.0 - c.dcos())
             })
             .collect();
         let xs: Vec<f64> = (1..=ncut).map(|k| k as f64).collect();
@@ -773,8 +774,8 @@ mod tests {
         // 20 periods: enough for the section test, so that the equal samples are periodic
         let t = grid(20, 40, period);
         let stats = |a: f64| {
-            let q: Vec<f64> = t.iter().map(|&x| a * (om * x).sin()).collect();
-            let v: Vec<f64> = t.iter().map(|&x| a * om * (om * x).cos()).collect();
+            let q: Vec<f64> = t.iter().map(|&x| a * (om * x).dsin()).collect();
+            let v: Vec<f64> = t.iter().map(|&x| a * om * (om * x).dcos()).collect();
             window_stats(&t, &q, &v, |_| 10.0, &[], &WindowOptions::new(period)).unwrap()
         };
         let r = Robust {
@@ -803,8 +804,8 @@ mod tests {
         // not known to be periodic: settled, but not a reproducible value, and no column commits
         let short = {
             let t = grid(4, 40, period);
-            let q: Vec<f64> = t.iter().map(|&x| (om * x).sin()).collect();
-            let v: Vec<f64> = t.iter().map(|&x| om * (om * x).cos()).collect();
+            let q: Vec<f64> = t.iter().map(|&x| (om * x).dsin()).collect();
+            let v: Vec<f64> = t.iter().map(|&x| om * (om * x).dcos()).collect();
             window_stats(&t, &q, &v, |_| 10.0, &[], &WindowOptions::new(period)).unwrap()
         };
         let unknown = Robust {
@@ -855,7 +856,7 @@ mod tests {
         let run = |amp: &dyn Fn(f64) -> f64| {
             let q: Vec<f64> = t
                 .iter()
-                .map(|&x| amp(x) * (om * x).cos() + 0.1 * (63.0 * om * x).sin())
+                .map(|&x| amp(x) * (om * x).dcos() + 0.1 * (63.0 * om * x).dsin())
                 .collect();
             // q' is not used by the section; the impact speeds need only be finite here
             let v = vec![0.0; t.len()];
@@ -866,7 +867,7 @@ mod tests {
         assert!(periodic.regular() && periodic.tail_regular && !periodic.transient());
         // decay over 3 periods: 0.2·e^{-25/3} ≈ 5e-5 at mid-window, inside the section
         // tolerance (1e-4 of ppv + gap ≈ 3e-4); 0.2 at the start, far outside it
-        let decaying = run(&|x| 0.5 + 0.2 * (-x / (3.0 * period)).exp());
+        let decaying = run(&|x| 0.5 + 0.2 * (-x / (3.0 * period)).dexp());
         assert!(!decaying.regular() && decaying.tail_regular && decaying.transient());
         // amplitude from the logistic map, one value per period: no repeat anywhere
         let mut a = vec![0.3f64];
@@ -886,8 +887,8 @@ mod tests {
         let om = std::f64::consts::TAU / period;
         let t = grid(60, 400, period);
         let (a, m, b) = (1.5, -0.2, 1.0);
-        let q: Vec<f64> = t.iter().map(|&x| m + a * (om * x).sin()).collect();
-        let v: Vec<f64> = t.iter().map(|&x| a * om * (om * x).cos()).collect();
+        let q: Vec<f64> = t.iter().map(|&x| m + a * (om * x).dsin()).collect();
+        let v: Vec<f64> = t.iter().map(|&x| a * om * (om * x).dcos()).collect();
         let w = window_stats(&t, &q, &v, |_| b, &[], &WindowOptions::new(period)).unwrap();
         assert_eq!(w.periods, 60);
         assert_eq!(w.state, RattleState::Bilateral);
@@ -933,7 +934,7 @@ mod tests {
         };
         let q: Vec<f64> = t
             .iter()
-            .map(|&x| -1.5 + amp(x) * (1.0 - (om * x).cos()))
+            .map(|&x| -1.5 + amp(x) * (1.0 - (om * x).dcos()))
             .collect();
         let v = vec![0.0; t.len()];
         let w = window_stats(&t, &q, &v, |_| b, &[], &WindowOptions::new(period)).unwrap();
@@ -975,7 +976,7 @@ mod tests {
         let k = zero_one_test(&periodic);
         assert!(k < 0.2, "period 3: K = {k}");
         let quasi: Vec<f64> = (0..2000)
-            .map(|i| (i as f64 * 0.7).sin() + (i as f64 * 0.7 * 2f64.sqrt()).cos())
+            .map(|i| (i as f64 * 0.7).dsin() + (i as f64 * 0.7 * 2f64.sqrt()).dcos())
             .collect();
         let k = zero_one_test(&quasi);
         assert!(k < 0.3, "quasi-periodic: K = {k}");

@@ -104,6 +104,7 @@ pub fn fractal_contact_stiffness(c: &FractalContact, form: FractalForm) -> Resul
 #[cfg(test)]
 mod tests {
     use super::*;
+    use math::DetMath;
 
     fn surface(d: f64, g: f64) -> FractalSurface {
         FractalSurface {
@@ -157,11 +158,11 @@ mod tests {
             // the closed form of the printed Eq. (18), evaluated independently
             let e3 = d - d * d + 1.0;
             let (phi, q): (f64, f64) = (6e9 / 2.06e11, 0.454 + 0.41 * 0.3);
-            let want = 2f64.powf(d) * d * 1e-11f64.powf(1.0 + d * d - 2.0 * d) / (e3 * (1.0 - d))
+            let want = 2f64.dpowf(d) * d * 1e-11f64.dpowf(1.0 + d * d - 2.0 * d) / (e3 * (1.0 - d))
                 * 2.06e11
-                * 1e-8f64.powf(d / 2.0)
-                / (std::f64::consts::PI.powf((2.0 - d) / 2.0) * (phi * q).powf(d - 1.0))
-                * (1e-4f64.powf(e3) - 1e-7f64.powf(e3));
+                * 1e-8f64.dpowf(d / 2.0)
+                / (std::f64::consts::PI.dpowf((2.0 - d) / 2.0) * (phi * q).dpowf(d - 1.0))
+                * (1e-4f64.dpowf(e3) - 1e-7f64.dpowf(e3));
             assert!(
                 (printed - want).abs() <= 1e-9 * want.abs(),
                 "D = {d}: {printed} vs {want}"

@@ -28,6 +28,7 @@
 //! engine's finite-difference fallback (the dynamic backlash of Eq. 10 has a square root whose
 //! derivative is unbounded where `Δa² = Δp²`, so no analytic form is offered).
 
+use math::DetMath;
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
@@ -90,7 +91,7 @@ impl HbmSolution {
         let mut v = c0;
         for j in 1..=(c.len() - 1) / 2 {
             let ph = j as f64 * omega * tau;
-            v += c[2 * j - 1] * ph.cos() + c[2 * j] * ph.sin();
+            v += c[2 * j - 1] * ph.dcos() + c[2 * j] * ph.dsin();
         }
         v
     }
@@ -170,7 +171,7 @@ impl system::SecondOrderSystem for Yu2021Torsional {
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
         let p = &self.model.params;
-        let e = p.ste * self.phase(t).cos();
+        let e = p.ste * self.phase(t).dcos();
         f[0] = p.load
             + match self.model.options.form {
                 EquationForm::Consistent => self.omega * self.omega * e,

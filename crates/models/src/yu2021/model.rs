@@ -1,6 +1,7 @@
 //! Dimensionless Yu 2021 models, their right-hand sides and the closed-loop time integration.
 
 use backlash::BacklashLaw;
+use math::DetMath;
 use mesh_stiffness::StiffnessLaw;
 use serde::{Deserialize, Serialize};
 
@@ -214,7 +215,7 @@ impl Yu2021Dimensionless {
             kappa,
             zeta_bearing,
             centre_distance: (p.radius_p + p.radius_g) / b_n,
-            base_radius_p: p.radius_p * p.pressure_angle.cos() / b_n,
+            base_radius_p: p.radius_p * p.pressure_angle.dcos() / b_n,
             alpha0: p.pressure_angle,
             backlash: p.backlash.constant_part()? / b_n,
             chen_amplitude: p.chen_amplitude / b_n,
@@ -413,7 +414,7 @@ impl Yu2021Model {
     /// `leaf_and_model_dynamic_backlash_are_the_same_number`).
     pub fn dynamic_backlash_law(&self) -> backlash::DynamicBacklash {
         let p = &self.params;
-        let r_p = p.base_radius_p / p.alpha0.cos();
+        let r_p = p.base_radius_p / p.alpha0.dcos();
         backlash::DynamicBacklash {
             geometry: backlash::PairGeometry {
                 r_p,
@@ -550,11 +551,11 @@ impl Yu2021Model {
         let consistent = self.options.form == EquationForm::Consistent;
         d[5] = match (self.options.kind, consistent) {
             (ModelKind::Yu, true) => p.load - force,
-            (_, true) => p.load + w * w * p.ste * ph.cos() - force,
-            (_, false) => p.load + p.ste * ph.cos() - force,
+            (_, true) => p.load + w * w * p.ste * ph.dcos() - force,
+            (_, false) => p.load + p.ste * ph.dcos() - force,
         };
         if self.six_dof() {
-            let (sa, ca) = g.alpha.sin_cos();
+            let (sa, ca) = g.alpha.dsin_cos();
             let dirs = [sa, ca, -sa, -ca];
             let mu = [
                 p.mass_ratio[0],
@@ -814,7 +815,7 @@ mod tests {
                 .eval(&backlash::CentreDisplacement::new(0.0, 0.0, x, 0.0))
                 .unwrap();
             assert!((g.centre_change - x).abs() < 1e-9 * x.abs());
-            let lin = x * m.params.alpha0.sin();
+            let lin = x * m.params.alpha0.dsin();
             // second-order terms: Δa² cos α_0 α'(a_0) (line of action) and half of it (exact
             // involute), α'(a_0) = cot α_0 / a_0, so cos²α_0/sin α_0 = 2.58 at 20°; plus rounding
             let a0 = m.params.centre_distance;
@@ -857,7 +858,7 @@ mod tests {
             .collect();
         let dte: Vec<f64> = tau
             .iter()
-            .map(|t| 0.5 + 0.2 * (w * t).cos() + 0.1 * (2.0 * w * t).sin())
+            .map(|t| 0.5 + 0.2 * (w * t).dcos() + 0.1 * (2.0 * w * t).dsin())
             .collect();
         let force: Vec<f64> = dte.iter().map(|d| 2.0 * d).collect();
         let r = Response {

@@ -5,6 +5,7 @@
 //! paper's preset lives in its own folder.
 
 use gear_geometry::{SpurPair, SpurPairParams};
+use math::DetMath;
 use mesh_stiffness::Stiffness;
 
 use super::Yu2021Params;
@@ -26,7 +27,7 @@ use crate::pair::{Dofs, PairParams};
 /// - `a_L = π l_a²/4`: the base area of the largest asperity, an upper bound for its contact.
 /// - `λ_c = 1`: no curvature correction (the printed definition is unit-dependent).
 pub fn fractal_contact_default() -> mesh_stiffness::FractalContact {
-    let r = 0.094 * 20f64.to_radians().sin();
+    let r = 0.094 * 20f64.to_radians().dsin();
     let la = 1e-4;
     mesh_stiffness::FractalContact {
         fractal_dimension: 1.5,
@@ -66,7 +67,7 @@ pub fn fig4_backlash_params() -> backlash::ConstantBacklashParams {
 pub fn fig4() -> Result<backlash::ConstantPartGrid, backlash::Error> {
     let d: Vec<f64> = (0..7).map(|i| 1.2 + 0.1 * f64::from(i)).collect();
     let g: Vec<f64> = (0..5)
-        .map(|j| 10f64.powf(-12.0 + 0.25 * f64::from(j)))
+        .map(|j| 10f64.dpowf(-12.0 + 0.25 * f64::from(j)))
         .collect();
     backlash::constant_part_grid(fig4_backlash_params(), &d, &g)
 }
@@ -205,6 +206,7 @@ impl PairParams {
 
 #[cfg(test)]
 mod tests {
+    use math::DetMath;
 
     /// The Fig. 4 set is the one R-YU-FIG4 states, and its grid reproduces the table of
     /// `docs/readings/backlash.md` (b_s in µm, printed to 2 decimals, so within 0.005 µm) and
@@ -215,7 +217,7 @@ mod tests {
     #[allow(clippy::float_cmp)] // exact: the stated literals
     fn fractal_contact_is_the_documented_one() {
         let c = super::fractal_contact_default();
-        let r = 0.094 * 20f64.to_radians().sin();
+        let r = 0.094 * 20f64.to_radians().dsin();
         assert_eq!((c.fractal_dimension, c.fractal_roughness), (1.5, 1e-11));
         assert_eq!(
             (c.elastic_modulus, c.hardness, c.poisson_ratio),
@@ -337,8 +339,8 @@ mod tests {
             assert_eq!(pair.dofs(), Dofs::Torsional);
             for (tau, d, v) in [(0.3, 1.4, 0.2), (2.1, 0.4, -0.1), (5.0, -1.3, 0.05)] {
                 let ph = 0.8 * tau + p.phase;
-                let e = p.ste * ph.cos();
-                let e_rate = -p.ste * 0.8 * ph.sin();
+                let e = p.ste * ph.dcos();
+                let e_rate = -p.ste * 0.8 * ph.dsin();
                 let mut s = [0.0; STATE_LEN];
                 s[0] = d;
                 s[5] = v;
@@ -359,7 +361,7 @@ mod tests {
         p.l_s = 1e-5;
         let d: Vec<f64> = (0..7).map(|i| 1.2 + 0.1 * f64::from(i)).collect();
         let g: Vec<f64> = (0..5)
-            .map(|j| 10f64.powf(-12.0 + 0.25 * f64::from(j)))
+            .map(|j| 10f64.dpowf(-12.0 + 0.25 * f64::from(j)))
             .collect();
         let data = backlash::constant_part_grid(p, &d, &g).unwrap();
         let c = super::fig4_claims(&data).unwrap();

@@ -22,6 +22,7 @@
 //!
 //! [`ReferenceRun::flag`] says why a point cannot carry a verdict.
 
+use math::DetMath;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
@@ -226,7 +227,7 @@ impl Yu2021Model {
             // samples then differ, the metrics are compared, not the samples
             _ => (
                 RunSettings {
-                    steps_per_period: (response.steps_per_period as f64 * f.powf(0.25)).ceil()
+                    steps_per_period: (response.steps_per_period as f64 * f.dpowf(0.25)).ceil()
                         as usize,
                     ..*settings
                 },
@@ -279,9 +280,9 @@ impl Yu2021Model {
         let p = &self.params;
         let mut s = base;
         let mut alpha = p.alpha0;
-        let k0 = 1.0 + p.epsilon * p.phase.sin();
+        let k0 = 1.0 + p.epsilon * p.phase.dsin();
         for _ in 0..6 {
-            let (sa, ca) = alpha.sin_cos();
+            let (sa, ca) = alpha.dsin_cos();
             let dirs = [sa, ca, -sa, -ca];
             for i in 0..4 {
                 let mu = p.mass_ratio[i / 2];
@@ -291,9 +292,9 @@ impl Yu2021Model {
             alpha = g.alpha;
             let delta = g.backlash + p.load / k0;
             s[0] = if self.options.form == EquationForm::Consistent {
-                let (sa, ca) = alpha.sin_cos();
+                let (sa, ca) = alpha.dsin_cos();
                 let (dx, dy) = (s[1] - s[3], s[2] - s[4]);
-                delta - dx * sa - dy * ca + p.ste * p.phase.cos()
+                delta - dx * sa - dy * ca + p.ste * p.phase.dcos()
             } else {
                 delta
             };
@@ -466,7 +467,7 @@ mod tests {
             omega: 1.0,
             steps_per_period: 628,
             load: 1.0,
-            dte: tau.iter().map(|t| t.sin()).collect(),
+            dte: tau.iter().map(|t| t.dsin()).collect(),
             force: vec![0.0; n],
             backlash: vec![0.0; n],
             alpha: vec![0.0; n],
@@ -476,7 +477,7 @@ mod tests {
         };
         let v = r.dte_rate();
         for i in 1..n - 1 {
-            assert!((v[i] - tau[i].cos()).abs() < 2e-5, "{i}");
+            assert!((v[i] - tau[i].dcos()).abs() < 2e-5, "{i}");
         }
         assert!((v[0] - 1.0).abs() < 1e-2);
     }

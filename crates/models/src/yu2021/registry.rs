@@ -2,6 +2,7 @@
 //! harmonic balance and shooting of the 6-DOF spur pair with dynamic backlash and its
 //! reference variants.
 
+use math::DetMath;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -586,7 +587,7 @@ fn harmonic_balance(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                     .context("yu2021 harmonic balance")?;
                 let c = &s.coefficients;
                 let a1 = if c.len() >= 3 {
-                    c[1].hypot(c[2])
+                    c[1].dhypot(c[2])
                 } else {
                     f64::NAN
                 };

@@ -16,6 +16,7 @@
 //! with `(D_ref, G_ref)` the fractal parameters of [`FractalMeshStiffness::contact`] and every
 //! other input of Eq. (18) (E, H, ν, radii, load, `l_a`, `l_s`, `a_L`, `λ_c`) held fixed.
 
+use math::DetMath;
 use serde::{Deserialize, Serialize};
 
 use crate::Error;
@@ -45,8 +46,8 @@ fn composite_modulus(c: &FractalContact) -> f64 {
 /// `a_c = G² (2E*/H)^{2/(D−1)}` (spots larger than `a_c` are elastic, smaller plastic).
 fn ln_critical_area(c: &FractalContact) -> f64 {
     let d = c.fractal_dimension;
-    2.0 * c.fractal_roughness.ln()
-        + 2.0 / (d - 1.0) * (2.0 * composite_modulus(c) / c.hardness).ln()
+    2.0 * c.fractal_roughness.dln()
+        + 2.0 / (d - 1.0) * (2.0 * composite_modulus(c) / c.hardness).dln()
 }
 
 /// Total load `P(a_L)` (N) carried by a fractal contact whose largest spot has area
@@ -66,7 +67,7 @@ pub fn majumdar_bhushan_load(c: &FractalContact, ln_al: f64) -> f64 {
     let h = c.hardness;
     let ln_ac = ln_critical_area(c);
     if ln_al <= ln_ac {
-        return h * d / (2.0 - d) * ln_al.exp();
+        return h * d / (2.0 - d) * ln_al.dexp();
     }
     let m = 0.5 * (3.0 - 2.0 * d);
     // ∫_{a_c}^{a_L} a^{m−1} da = a_c^m (exp(m ln(a_L/a_c)) − 1)/m, → ln(a_L/a_c) as m → 0
@@ -74,16 +75,16 @@ pub fn majumdar_bhushan_load(c: &FractalContact, ln_al: f64) -> f64 {
     let integral = if m.abs() < 1e-12 {
         r
     } else {
-        (m * ln_ac).exp() * (m * r).exp_m1() / m
+        (m * ln_ac).dexp() * (m * r).dexp_m1() / m
     };
     let elastic = 4.0 * std::f64::consts::PI.sqrt() / 3.0
         * composite_modulus(c)
-        * c.fractal_roughness.powf(d - 1.0)
+        * c.fractal_roughness.dpowf(d - 1.0)
         * 0.5
         * d
-        * (0.5 * d * ln_al).exp()
+        * (0.5 * d * ln_al).dexp()
         * integral;
-    let plastic = h * d / (2.0 - d) * (0.5 * d * ln_al + 0.5 * (2.0 - d) * ln_ac).exp();
+    let plastic = h * d / (2.0 - d) * (0.5 * d * ln_al + 0.5 * (2.0 - d) * ln_ac).dexp();
     elastic + plastic
 }
 
@@ -100,7 +101,7 @@ pub fn majumdar_bhushan_area(c: &FractalContact) -> Result<f64, Error> {
         context: "yu2021 Majumdar–Bhushan load balance",
         source,
     })?;
-    let (mut lo, mut hi) = (AREA_BRACKET.0.ln(), AREA_BRACKET.1.ln());
+    let (mut lo, mut hi) = (AREA_BRACKET.0.dln(), AREA_BRACKET.1.dln());
     let f = c.load;
     let (p_lo, p_hi) = (majumdar_bhushan_load(c, lo), majumdar_bhushan_load(c, hi));
     if !(p_lo < f && f < p_hi) {
@@ -118,7 +119,7 @@ pub fn majumdar_bhushan_area(c: &FractalContact) -> Result<f64, Error> {
             hi = mid;
         }
     }
-    Ok((0.5 * (lo + hi)).exp())
+    Ok((0.5 * (lo + hi)).dexp())
 }
 
 impl ContactAreaLaw {
@@ -160,11 +161,11 @@ impl FractalMeshStiffness {
     /// `c_γ = 20 N/(mm·µm)` times the 20 mm face width).
     pub fn table2() -> Self {
         let p = Yu2021Params::table2();
-        let r = p.radius_p * p.pressure_angle.sin();
+        let r = p.radius_p * p.pressure_angle.dsin();
         FractalMeshStiffness {
             contact: FractalContact {
                 radius_pinion: r,
-                radius_gear: p.radius_g * p.pressure_angle.sin(),
+                radius_gear: p.radius_g * p.pressure_angle.dsin(),
                 load: p.static_force(),
                 ..crate::yu2021::fractal_contact_default()
             },
@@ -295,7 +296,7 @@ mod tests {
             fractal_dimension: 1.2,
             ..FractalMeshStiffness::table2().contact
         };
-        assert!(ln_critical_area(&c) > (1e-3f64).ln());
+        assert!(ln_critical_area(&c) > (1e-3f64).dln());
         let a = majumdar_bhushan_area(&c).unwrap();
         let want = c.load * 0.8 / (c.hardness * 1.2);
         assert!((a / want - 1.0).abs() < 1e-12, "{a} vs {want}");
@@ -322,7 +323,7 @@ mod tests {
                 prev = p;
             }
             let a = majumdar_bhushan_area(&c).unwrap();
-            let p = majumdar_bhushan_load(&c, a.ln());
+            let p = majumdar_bhushan_load(&c, a.dln());
             assert!((p / c.load - 1.0).abs() < 1e-12, "D = {d}: {p}");
         }
         let near = |d: f64| {

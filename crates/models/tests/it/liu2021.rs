@@ -6,6 +6,7 @@ use geardyn_models::liu2021::{
     RattleState, Readings, SpeedContinuationOptions, solve_hbm, solve_hbm_from_time_response,
     solve_hbm_with,
 };
+use math::DetMath;
 
 /// Table 1 with the constant-b̄ reading (`R-LIU-EQ11`, the one the paper's figures follow).
 fn paper(omega1: f64) -> Parameters {
@@ -91,7 +92,7 @@ fn validation_names_the_field() {
 fn table1_dimensionless_numbers() {
     // Hand values: L = 0.0225*3.5*cos20°*1.04/0.96, β = 0.4/1.04, ω_n from Eq. (10).
     let m = paper(160.0).model().unwrap();
-    let l = 0.0225 * 3.5 * 20f64.to_radians().cos() * 1.04 / 0.96;
+    let l = 0.0225 * 3.5 * 20f64.to_radians().dcos() * 1.04 / 0.96;
     let beta = 0.4 / 1.04;
     let wn = (3.1e8 * l * l * (1.0 + beta * beta / 2.0) / 0.014_f64).sqrt();
     assert!((m.omega_n / wn - 1.0).abs() < 1e-12);
@@ -248,8 +249,8 @@ proptest::proptest! {
             let a = m.rigid_acceleration(tau);
             f_mean += m.stiffness(tau) / n as f64;
             a_mean += a / n as f64;
-            s1 += 2.0 * a * x.sin() / n as f64;
-            s2 += 2.0 * a * (2.0 * x).sin() / n as f64;
+            s1 += 2.0 * a * x.dsin() / n as f64;
+            s2 += 2.0 * a * (2.0 * x).dsin() / n as f64;
         }
         let scale = m.omega_c * m.omega_c;
         proptest::prop_assert!((f_mean - 1.0).abs() < 1e-9);
@@ -518,7 +519,7 @@ fn shooting_multipliers_match_the_finite_difference_period_map() {
         // variational equation's own global error (it is outside the step-size control, which
         // sees the state only; steps ≤ 0.05 in τ: measured ≤ 8e-7 relative here)
         let det = map.monodromy.determinant();
-        let exact = (-2.0 * m.zeta * m.period()).exp();
+        let exact = (-2.0 * m.zeta * m.period()).dexp();
         println!("  det Φ / exp(−2ζT) − 1 = {:.1e}", det / exact - 1.0);
         assert!(
             (det / exact - 1.0).abs() < 1e-5,
@@ -555,7 +556,7 @@ fn shooting_monodromy_is_exact_for_a_linear_mesh() {
     );
     let (z, t) = (m.zeta, m.period());
     let wd = (1.0 - z * z).sqrt();
-    let (s, c, e) = ((wd * t).sin(), (wd * t).cos(), (-z * t).exp());
+    let (s, c, e) = ((wd * t).dsin(), (wd * t).dcos(), (-z * t).dexp());
     // exp(AT) = e^{−ζT} [cos(ω_d T) I + sin(ω_d T)/ω_d (A + ζ I)]
     let exact = nalgebra::DMatrix::from_row_slice(
         2,
@@ -581,7 +582,7 @@ fn shooting_monodromy_is_exact_for_a_linear_mesh() {
     );
     for mu in &map.floquet.multipliers {
         assert!(
-            (mu[0].hypot(mu[1]) / e - 1.0).abs() < 1e-5,
+            (mu[0].dhypot(mu[1]) / e - 1.0).abs() < 1e-5,
             "{mu:?} vs |μ| {e}"
         );
     }

@@ -4,6 +4,7 @@
 //! continuation; natural against pseudo-arclength steps; HBM branch against shooting branch;
 //! branch multipliers against the closed-form Floquet multipliers of the linear oscillator.
 
+use math::DetMath;
 use std::f64::consts::PI;
 
 use crate::common::Duffing;
@@ -235,7 +236,7 @@ fn natural_stops_at_the_fold_that_arclength_goes_round() {
     let br = continue_hbm(&mut p, Parameter::BaseFrequency, &z0, 0.5, 2.5, &arc).unwrap();
     assert_eq!(br.stop, StopReason::ReachedEnd);
     assert_eq!(br.folds.len(), 2);
-    let amp = |s: &PeriodicSolution| s.coefficients[1].hypot(s.coefficients[2]);
+    let amp = |s: &PeriodicSolution| s.coefficients[1].dhypot(s.coefficients[2]);
     let w = nat.points[nat.points.len() / 2].parameter;
     let a_nat = amp(&nat.points[nat.points.len() / 2].orbit);
     let k = br
@@ -358,8 +359,8 @@ fn branch_multipliers_match_closed_form_floquet_of_the_linear_oscillator() {
     let check = |w: f64, st: &system::Stability, tol: f64| {
         let t = 2.0 * PI / w;
         let wd = (1.0 - ZETA * ZETA).sqrt();
-        let modulus = (-ZETA * t).exp();
-        let (re, im) = (modulus * (wd * t).cos(), modulus * (wd * t).sin().abs());
+        let modulus = (-ZETA * t).dexp();
+        let (re, im) = (modulus * (wd * t).dcos(), modulus * (wd * t).dsin().abs());
         assert_eq!(st.multipliers.len(), 2);
         for m in &st.multipliers {
             assert!(

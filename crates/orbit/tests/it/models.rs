@@ -4,6 +4,7 @@
 //! independent engine (the `timestep` integrator's period map; the `hbm` orbit and its own
 //! period-map multipliers).
 
+use math::DetMath;
 use models::pair::{GearPair, PairParams, TimeSettings};
 use models::yu2021::{Options, Yu2021Model, Yu2021Params};
 use nalgebra::DMatrix;
@@ -170,9 +171,9 @@ fn yu_six_dof_orbit_and_multipliers_match_harmonic_balance() {
         .floquet
         .multipliers
         .iter()
-        .map(|m| m[0].hypot(m[1]))
+        .map(|m| m[0].dhypot(m[1]))
         .collect();
-    let mut b: Vec<f64> = st.multipliers.iter().map(|m| m[0].hypot(m[1])).collect();
+    let mut b: Vec<f64> = st.multipliers.iter().map(|m| m[0].dhypot(m[1])).collect();
     a.sort_by(f64::total_cmp);
     b.sort_by(f64::total_cmp);
     assert_eq!(a.len(), 10);

@@ -3,6 +3,7 @@
 //! time integration and in closed form.
 
 use crate::common::{Duffing, Rattle};
+use math::DetMath;
 use orbit::{
     ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingCorrection, ShootingOptions,
     SpecialKind,
@@ -147,7 +148,7 @@ impl Dist for orbit::SpecialPoint<orbit::ShootingPoint> {
             .floquet
             .multipliers
             .iter()
-            .map(|m| (m[0] - 1.0).hypot(m[1]))
+            .map(|m| (m[0] - 1.0).dhypot(m[1]))
             .fold(f64::INFINITY, f64::min)
     }
 }

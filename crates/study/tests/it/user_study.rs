@@ -5,6 +5,7 @@
 #![allow(clippy::float_cmp)]
 
 use geardyn_study::{RunOptions, UserStudy, UserStudyOutput, run_study_from_str, run_user_study};
+use math::DetMath;
 
 fn run(text: &str) -> UserStudyOutput {
     run_study_from_str(text, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}\n{text}"))
@@ -449,7 +450,7 @@ fn generic_pair_example_runs_and_columns_match_library() {
     assert_eq!(col(&out, "converged")[0], 1.0);
     assert_eq!(
         col(&out, "first_harmonic_amplitude")[0],
-        sol.coefficients[1].hypot(sol.coefficients[2])
+        sol.coefficients[1].dhypot(sol.coefficients[2])
     );
     assert_eq!(col(&out, "residual_norm")[0], sol.residual_norm);
     assert_eq!(col(&out, "truncation")[0], sol.truncation);
@@ -736,7 +737,7 @@ fn liu_shooting_columns_match_the_orbit_crate() {
     assert!(o.events.len() >= 2);
     let ext = prob.event_extrema(&o.x0, 1).unwrap();
     assert_eq!(drive[1], ext[1][1] / m.backlash);
-    let mu: f64 = col(&out, "mu1_re")[1].hypot(col(&out, "mu1_im")[1]);
+    let mu: f64 = col(&out, "mu1_re")[1].dhypot(col(&out, "mu1_im")[1]);
     assert_eq!(mu, o.floquet.max_modulus);
     // bad settings name the entry and its bound; other models refuse the method
     for (setting, needle) in [

@@ -2,6 +2,7 @@
 //! and chaotic cases, continuation with hysteresis, failed points, thread-count determinism.
 
 use geardyn_timestep::*;
+use math::DetMath;
 
 fn opts() -> Options {
     Options::default().with_tol(1e-9, 1e-11)
@@ -174,7 +175,7 @@ fn continuation_up_and_down_shows_hysteresis() {
     let amp = |p: &Result<BifurcationPoint>| {
         let p = p.as_ref().unwrap();
         assert_eq!(p.motion, Motion::Periodic(1));
-        p.final_state[0].hypot(p.final_state[1])
+        p.final_state[0].dhypot(p.final_state[1])
     };
     let up = run(Start::ContinueUp);
     let down = run(Start::ContinueDown);

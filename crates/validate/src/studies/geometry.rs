@@ -2,6 +2,7 @@
 //! Eq. (16). All closed forms or small quadratures: [`Cost::Fast`].
 
 use gear_geometry::{KarpovPair, KarpovPairParams, PressureAngleLaw};
+use math::DetMath;
 use models::karpov2017::{pair_params_table1, pair_table1};
 use models::liu2021::Rig;
 use models::yu2021::Yu2021Params;
@@ -317,28 +318,28 @@ fn karpov_table1() -> Result<StudyOutput, Error> {
             .class(Evidence::Consistency),
     );
     // Consistency of the printed helical-gear data.
-    let r_from_module = mn * z1 / (2.0 * beta.cos());
+    let r_from_module = mn * z1 / (2.0 * beta.dcos());
     out.compare(
         Comparison::published(paper.value("table1.r")?, r_from_module)?
             .note("r = m_n z1/(2 cos β) from the printed module, z1 and helix angle")
             .class(Evidence::Consistency),
     );
     out.compare(
-        Comparison::published(paper.value("table1.ur")?, mn * z2 / (2.0 * beta.cos()))?
+        Comparison::published(paper.value("table1.ur")?, mn * z2 / (2.0 * beta.dcos()))?
             .note("ur = m_n z2/(2 cos β)")
             .class(Evidence::Consistency),
     );
     out.compare(
         Comparison::published(
             paper.value("table1.centre-distance")?,
-            mn * (z1 + z2) / (2.0 * beta.cos()),
+            mn * (z1 + z2) / (2.0 * beta.dcos()),
         )?
         .note("a = m_n (z1 + z2)/(2 cos β)")
         .reading("R-KARPOV-TABLE1")
         .class(Evidence::Consistency),
     );
     let a = v("table1.centre-distance")?;
-    let beta_implied = (mn * (z1 + z2) / (2.0 * a)).acos().to_degrees();
+    let beta_implied = (mn * (z1 + z2) / (2.0 * a)).dacos().to_degrees();
     out.compare(
         Comparison::published(paper.value("table1.helix-angle")?, beta_implied)?
             .note(

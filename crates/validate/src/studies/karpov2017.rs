@@ -8,6 +8,7 @@
 //! measure), by the model's error-controlled Duhamel quadrature (relative tolerance 1e-7 on `A`;
 //! every table carries the quadrature's error estimate of `A`).
 
+use math::DetMath;
 use models::karpov2017::{Excitation, Karpov2017, Karpov2017Params};
 
 use super::step_cells;
@@ -146,7 +147,7 @@ fn b_grid() -> Vec<f64> {
             if i == 4 {
                 0.01
             } else {
-                0.001 * 10f64.powf(f64::from(i) / 4.0)
+                0.001 * 10f64.dpowf(f64::from(i) / 4.0)
             }
         })
         .collect()
@@ -284,7 +285,7 @@ fn fig3() -> Result<StudyOutput, Error> {
                 let env = (0..sol.len())
                     .map(|i| {
                         let y = sol.state(i);
-                        (sol.t[i], y[0].hypot(y[1]))
+                        (sol.t[i], y[0].dhypot(y[1]))
                     })
                     .collect();
                 Ok((env, sol.stats))

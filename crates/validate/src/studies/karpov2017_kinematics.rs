@@ -2,6 +2,7 @@
 //! balancing statement of Sect. 4), the ξ-shapes of Fig. 2, and the Sect. 4 recommendation of
 //! sinusoid-like centrodes with j = 2.
 
+use math::DetMath;
 use std::f64::consts::TAU;
 
 use gear_geometry::{CentreDistance, KarpovPair, KarpovPairParams};
@@ -84,10 +85,10 @@ fn centroid(curve: &[(f64, f64, f64)]) -> f64 {
     let (mut a, mut x, mut y) = (0.0, 0.0, 0.0);
     for &(rho, phi, dphi) in curve {
         a += 0.5 * rho * rho * dphi;
-        x += rho.powi(3) * phi.cos() * dphi / 3.0;
-        y += rho.powi(3) * phi.sin() * dphi / 3.0;
+        x += rho.powi(3) * phi.dcos() * dphi / 3.0;
+        y += rho.powi(3) * phi.dsin() * dphi / 3.0;
     }
-    x.hypot(y) / a
+    x.dhypot(y) / a
 }
 
 fn fig1() -> Result<StudyOutput, Error> {
@@ -158,7 +159,7 @@ fn fig1() -> Result<StudyOutput, Error> {
             input
                 .iter()
                 .step_by(stride)
-                .map(|&(r, f, _)| (r * f.cos(), r * f.sin()))
+                .map(|&(r, f, _)| (r * f.dcos(), r * f.dsin()))
                 .collect(),
         ));
         shapes.push(Series::line(
@@ -166,7 +167,7 @@ fn fig1() -> Result<StudyOutput, Error> {
             output
                 .iter()
                 .step_by(stride)
-                .map(|&(r, f, _)| (a - r * f.cos(), r * f.sin()))
+                .map(|&(r, f, _)| (a - r * f.dcos(), r * f.dsin()))
                 .collect(),
         ));
     }
@@ -210,15 +211,15 @@ fn shape(p: &KarpovPair) -> (f64, f64) {
     let (mut c, mut s) = (0.0, 0.0);
     for (k, v) in is.iter().enumerate() {
         let f = k as f64 * dt;
-        c += (v - mean) * f.cos();
-        s += (v - mean) * f.sin();
+        c += (v - mean) * f.dcos();
+        s += (v - mean) * f.dsin();
     }
     let (c, s) = (2.0 * c / N as f64, 2.0 * s / N as f64);
     let (mut res, mut tot) = (0.0, 0.0);
     for (k, v) in is.iter().enumerate() {
         let f = k as f64 * dt;
         let d = v - mean;
-        let r = d - c * f.cos() - s * f.sin();
+        let r = d - c * f.dcos() - s * f.dsin();
         res += r * r;
         tot += d * d;
     }
@@ -314,8 +315,8 @@ fn sect4() -> Result<StudyOutput, Error> {
     let dev = (0..N)
         .map(|k| {
             let f = TAU * k as f64 / N as f64;
-            let e1 = (ps.r1(f) - (1.0 + b * (2.0 * f).sin())).abs();
-            let e2 = (ps.r2(f) - (u - b * (2.0 * f).sin())).abs();
+            let e1 = (ps.r1(f) - (1.0 + b * (2.0 * f).dsin())).abs();
+            let e2 = (ps.r2(f) - (u - b * (2.0 * f).dsin())).abs();
             e1.max(e2)
         })
         .fold(0.0, f64::max);
@@ -371,6 +372,8 @@ fn sect4() -> Result<StudyOutput, Error> {
 
 #[cfg(test)]
 mod tests {
+    use math::DetMath;
+
     #[test]
     fn centroid_of_a_circle_is_zero_and_of_a_shifted_circle_is_its_offset() {
         let n = 2048;
@@ -383,7 +386,11 @@ mod tests {
         let shifted: Vec<_> = (0..n)
             .map(|k| {
                 let f = k as f64 * dt;
-                (e * f.cos() + (1.0 - e * e * f.sin().powi(2)).sqrt(), f, dt)
+                (
+                    e * f.dcos() + (1.0 - e * e * f.dsin().powi(2)).sqrt(),
+                    f,
+                    dt,
+                )
             })
             .collect();
         assert!((super::centroid(&shifted) - e).abs() < 1e-9);

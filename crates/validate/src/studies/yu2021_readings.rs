@@ -21,6 +21,7 @@
 //! periodicity of gear centre motion". The other three readings are shown as
 //! `Evidence::ReadingVariant`.
 
+use math::DetMath;
 use mesh_stiffness::StiffnessLaw;
 use models::yu2021::{
     BacklashUpdate, ContactAreaLaw, DynamicBacklashLaw, Engine, EquationForm, FractalContact,
@@ -1166,7 +1167,7 @@ fn equation_rows(out: &mut StudyOutput) -> Result<(), Error> {
     let worst = (0..64)
         .map(|i| {
             let tau = 0.37 * f64::from(i);
-            let want = 1.0 + eps * (W * tau + m.params.phase).sin();
+            let want = 1.0 + eps * (W * tau + m.params.phase).dsin();
             (m.mesh_stiffness_law(W).stiffness(tau) - want).abs()
         })
         .fold(0.0, f64::max);

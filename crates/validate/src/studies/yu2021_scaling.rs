@@ -12,6 +12,7 @@
 //! Every run: `Engine::timestep()` (Dormand–Prince 5(4), rtol 1e-8, atol 1e-10, contact switches
 //! as events), state-dependent backlash, 200 transient + 20 recorded mesh periods.
 
+use math::DetMath;
 use models::yu2021::{
     FractalContact, FractalForm, FractalMeshStiffness, Options, ReferenceRun, Response,
     Yu2021Params, fractal_contact_stiffness,
@@ -234,7 +235,7 @@ fn fig10_scaling() -> Result<StudyOutput, Error> {
         let want = tstars[0][i] / tstars[0][i + 1];
         let have = eq18(d1)? / eq18(d0)?;
         // k_c ∝ a_L^{D/2}: the ratio scales with a_L^{(d1 − d0)/2}
-        let a_l = base.largest_contact_area * (want / have).powf(2.0 / (d1 - d0));
+        let a_l = base.largest_contact_area * (want / have).dpowf(2.0 / (d1 - d0));
         worst_al = worst_al.max(a_l);
         s.push_nums(&[d0, d1, want, have, a_l, base.largest_contact_area])?;
     }

@@ -9,6 +9,7 @@
 //! non-periodic run) is inconclusive. Engine: `timestep` (Dormand–Prince 5(4), rtol 1e-8,
 //! atol 1e-10, contact switches as events), 200 transient + 20 recorded mesh periods.
 
+use math::DetMath;
 use models::motion::Motion;
 use models::yu2021::{DynamicBacklashLaw, Options, ReferenceRun, Response};
 
@@ -457,7 +458,7 @@ pub(super) fn shape_distance(a: &Portrait, b: &Portrait) -> f64 {
     let (na, nb) = (norm(&a.orbit), norm(&b.orbit));
     na.iter()
         .zip(&nb)
-        .map(|(p, q)| (p.0 - q.0).hypot(p.1 - q.1))
+        .map(|(p, q)| (p.0 - q.0).dhypot(p.1 - q.1))
         .fold(0.0, f64::max)
 }
 
@@ -498,7 +499,7 @@ fn section_spread(p: &Portrait, size: f64) -> f64 {
     let first = p.section.first().copied().unwrap_or((0.0, 0.0));
     p.section
         .iter()
-        .map(|q| (q.0 - first.0).hypot(q.1 - first.1))
+        .map(|q| (q.0 - first.0).dhypot(q.1 - first.1))
         .fold(0.0, f64::max)
         / size.max(f64::MIN_POSITIVE)
 }

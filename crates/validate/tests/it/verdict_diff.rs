@@ -3,6 +3,7 @@
 //! moved values listed; a change that flips a verdict is at the top of `--diff` and fails the
 //! `--check` verdict comparison.
 
+use math::DetMath;
 use std::collections::BTreeMap;
 
 use geardyn_validate::{
@@ -114,7 +115,7 @@ fn output(k: &Knobs) -> Result<StudyOutput, geardyn_validate::Error> {
             (0..50)
                 .map(|i| {
                     let x = 100.0 + i as f64;
-                    (x, (x / 10.0).sin() * (1.0 + k.curve_eps))
+                    (x, (x / 10.0).dsin() * (1.0 + k.curve_eps))
                 })
                 .collect(),
         )),
@@ -130,7 +131,7 @@ fn output(k: &Knobs) -> Result<StudyOutput, geardyn_validate::Error> {
         .with(Series::line(
             "time integration",
             (0..40)
-                .map(|i| (i as f64, (i as f64 * k.chaotic_sample).sin()))
+                .map(|i| (i as f64, (i as f64 * k.chaotic_sample).dsin()))
                 .collect(),
         ))
         .non_periodic_record(true),

@@ -1,6 +1,7 @@
 //! Test systems with reference data, and a small RK4 integrator for long time integration.
 #![allow(dead_code)]
 
+use math::DetMath;
 pub mod random_matrix;
 
 use geardyn_hbm::SecondOrderSystem;
@@ -43,7 +44,8 @@ impl SecondOrderSystem for Linear {
         b[0] = 0.0;
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = self.f0 + self.f1 * (self.omega * t).cos() + self.f2 * (2.0 * self.omega * t).sin();
+        f[0] =
+            self.f0 + self.f1 * (self.omega * t).dcos() + self.f2 * (2.0 * self.omega * t).dsin();
     }
 }
 
@@ -94,7 +96,7 @@ impl SecondOrderSystem for DeadZone {
         b[0] = 0.0;
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = self.f0 + self.f1 * (self.omega * t).cos();
+        f[0] = self.f0 + self.f1 * (self.omega * t).dcos();
     }
 }
 
@@ -124,7 +126,7 @@ impl SecondOrderSystem for TwoDof {
         DMatrix::from_row_slice(2, 2, &[2.0, -1.0, -1.0, 1.5])
     }
     fn nonlinear_force(&self, t: f64, q: &[f64], qd: &[f64], g: &mut [f64]) {
-        let kt = 0.3 * (self.omega * t).cos() + 0.1 * (3.0 * self.omega * t).sin();
+        let kt = 0.3 * (self.omega * t).dcos() + 0.1 * (3.0 * self.omega * t).dsin();
         let d = q[0] - q[1];
         g[0] = kt * q[0] + 0.5 * d.powi(3) + 0.2 * q[0] * q[0] * qd[0];
         g[1] = -0.5 * d.powi(3) + 0.1 * qd[1].powi(3);
@@ -134,14 +136,14 @@ impl SecondOrderSystem for TwoDof {
             geardyn_hbm::finite_difference_force_jacobian(self, t, q, qd, a, b);
             return;
         }
-        let kt = 0.3 * (self.omega * t).cos() + 0.1 * (3.0 * self.omega * t).sin();
+        let kt = 0.3 * (self.omega * t).dcos() + 0.1 * (3.0 * self.omega * t).dsin();
         let d = q[0] - q[1];
         let c = 1.5 * d * d;
         a.copy_from_slice(&[kt + c + 0.4 * q[0] * qd[0], -c, -c, c]);
         b.copy_from_slice(&[0.2 * q[0] * q[0], 0.0, 0.0, 0.3 * qd[1] * qd[1]]);
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = 0.2 * (self.omega * t).cos();
+        f[0] = 0.2 * (self.omega * t).dcos();
         f[1] = 0.05;
     }
 }

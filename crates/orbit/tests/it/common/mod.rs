@@ -1,6 +1,7 @@
 //! Reference systems of the integration tests.
 #![allow(dead_code)]
 
+use math::DetMath;
 use nalgebra::DMatrix;
 use system::{Direction, SecondOrderSystem, SystemError};
 
@@ -38,7 +39,7 @@ impl SecondOrderSystem for Bilinear {
         dv[0] = 0.0;
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = self.f0 + self.f * (self.omega * t).cos();
+        f[0] = self.f0 + self.f * (self.omega * t).dcos();
     }
     fn n_events(&self) -> usize {
         1
@@ -102,7 +103,7 @@ impl SecondOrderSystem for ImpactOscillator {
         dv[0] = 0.0;
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = (self.omega * t).cos();
+        f[0] = (self.omega * t).dcos();
     }
     fn n_events(&self) -> usize {
         1
@@ -158,7 +159,7 @@ impl SecondOrderSystem for Rattle {
         dv[0] = 0.0;
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = self.f0 + self.f * (self.omega * t).cos();
+        f[0] = self.f0 + self.f * (self.omega * t).dcos();
     }
     fn n_events(&self) -> usize {
         2
@@ -180,14 +181,14 @@ pub fn exp_oscillator(k: f64, c: f64, t: f64) -> DMatrix<f64> {
     // exp(At) = e^{at} [ (cosh/cos)(wt) I + (sinh/sin)(wt)/w (A − a I) ]
     let (ch, shw) = if disc > 0.0 {
         let w = disc.sqrt();
-        ((w * t).cosh(), (w * t).sinh() / w)
+        ((w * t).dcosh(), (w * t).dsinh() / w)
     } else if disc < 0.0 {
         let w = (-disc).sqrt();
-        ((w * t).cos(), (w * t).sin() / w)
+        ((w * t).dcos(), (w * t).dsin() / w)
     } else {
         (1.0, t)
     };
-    let e = (a * t).exp();
+    let e = (a * t).dexp();
     let am = DMatrix::from_row_slice(2, 2, &[-a, 1.0, -k, -c - a]);
     (DMatrix::identity(2, 2) * ch + am * shw) * e
 }

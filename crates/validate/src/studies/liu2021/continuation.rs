@@ -1,5 +1,6 @@
 //! Fig. 11 by continuation: branches of periodic responses over ω1, folds and stability.
 
+use math::DetMath;
 use models::liu2021::{
     self, BranchStability, HbmOptions, HbmStart, IntegrationOptions, RattleState, SpeedBranch,
     SpeedContinuationOptions,
@@ -331,7 +332,7 @@ fn resolved_multiplier(mu: f64) -> f64 {
         return mu;
     }
     let m = mu.max(MULTIPLIER_FLOOR);
-    let scale = 10f64.powi(2 - m.log10().floor() as i32);
+    let scale = 10f64.powi(2 - m.dlog10().floor() as i32);
     (m * scale).round() / scale
 }
 

@@ -2,6 +2,7 @@
 //! stability, the grazings that start rattle and the first period doubling located on the
 //! branch, drawn over the time-integration bifurcation diagram.
 
+use math::DetMath;
 use models::liu2021::{self, IntegrationOptions, Model, Parameters};
 use orbit::{
     ContinuationOptions, Extremum, OrbitProblem, Parameter, ShootingCorrection, ShootingOptions,
@@ -779,12 +780,12 @@ fn stability_bisection(
                 .multipliers
                 .iter()
                 .copied()
-                .max_by(|u, v| u[0].hypot(u[1]).total_cmp(&v[0].hypot(v[1])))
+                .max_by(|u, v| u[0].dhypot(u[1]).total_cmp(&v[0].dhypot(v[1])))
                 .unwrap_or([f64::NAN; 2]);
-            kind = if lead[1].abs() > 1e-9 * lead[0].hypot(lead[1]) {
+            kind = if lead[1].abs() > 1e-9 * lead[0].dhypot(lead[1]) {
                 format!(
                     "a complex pair leaves the unit circle (|μ| = {})",
-                    sig(lead[0].hypot(lead[1]))
+                    sig(lead[0].dhypot(lead[1]))
                 )
             } else if lead[0] < 0.0 {
                 format!("a real multiplier leaves through −1 (μ = {})", sig(lead[0]))

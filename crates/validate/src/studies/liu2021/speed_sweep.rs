@@ -5,6 +5,7 @@ use super::{
     refine, rise_claim, seeds_table, sig_u, speed_tolerance, sweep, sweep_figures, sweep_table,
 };
 use crate::{Claim, Comparison, Cost, Error, Paper, Study, StudyOutput, Verdict, published};
+use math::DetMath;
 
 pub(super) fn study() -> Study {
     Study {
@@ -145,7 +146,7 @@ fn run() -> Result<StudyOutput, Error> {
     let slope = |q: &[Point]| super::ppv_slope(q).unwrap_or((f64::NAN, f64::NAN));
     let ((s_before, se_before), (s_after, se_after)) = (slope(&pts[..onset]), slope(&pts[onset..]));
     // quicker: the difference of the fitted slopes exceeds twice its standard error
-    let quicker = s_after - s_before >= 2.0 * se_before.hypot(se_after);
+    let quicker = s_after - s_before >= 2.0 * se_before.dhypot(se_after);
     let (u_before, u_after) = (any_unsettled(&pts[..onset]), any_unsettled(&pts[onset..]));
     out.claim(
         Claim::new(
