@@ -222,10 +222,12 @@ pub fn study(file: &Path, out: Option<&Path>) -> Result<(), Failure> {
     let progress = StudyProgress(Mutex::new(StderrProgress::new("points")));
     let account = system::account::Account::new("study");
     let t0 = Instant::now();
-    let (output, written) = system::account::scope(&account, || {
-        study::run_study_file(file, out, &progress)
-    })?;
-    eprintln!("{}", cost_line(&account.usage(), t0.elapsed().as_secs_f64()));
+    let (output, written) =
+        system::account::scope(&account, || study::run_study_file(file, out, &progress))?;
+    eprintln!(
+        "{}",
+        cost_line(&account.usage(), t0.elapsed().as_secs_f64())
+    );
     for f in &written.files {
         println!("wrote {}", f.display());
     }

@@ -3,7 +3,6 @@
 
 use crate::error::{OrbitError, Result, check};
 use crate::impact::ImpactLaw;
-use math::DetMath;
 use nalgebra::DMatrix;
 use system::{Direction, SecondOrderSystem};
 
@@ -935,6 +934,7 @@ fn golden<S: SecondOrderSystem + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use math::DetMath;
     use std::cell::Cell;
 
     /// A 1-DOF system `q'' + 0.1 q' + q + k(t) q³ = cos t` with the time table `[k(t)]`,

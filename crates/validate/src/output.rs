@@ -730,7 +730,7 @@ mod tests {
         }
         let last = seen.last().unwrap();
         assert_eq!(last.studies_done, 3);
-        assert_eq!(last.work_done, last.work_total);
+        assert_eq!(last.work_done.to_bits(), last.work_total.to_bits());
         assert!(last.work_total > 0.0);
     }
 
