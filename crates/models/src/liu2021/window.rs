@@ -118,14 +118,14 @@ pub(crate) fn section_step(period: f64, sample_step: f64) -> f64 {
 }
 
 /// One record of `windows` consecutive windows after the transient, from `start`, at `rtol`;
-/// the statistics of each window.
+/// the statistics of each window and the number of windows discarded as transient.
 fn record(
     model: &Model,
     o: &LongWindowOptions,
     start: (f64, f64),
     rtol: f64,
     windows: usize,
-) -> Result<Vec<WindowStats>, Error> {
+) -> Result<(Vec<WindowStats>, usize, timestep::Stats), Error> {
     let period = model.period();
     let dt = section_step(period, o.sample_step);
     let mut io = super::IntegrationOptions {
@@ -148,6 +148,7 @@ fn record(
         min_depth: o.min_depth,
         lines: [1, model.z2],
     };
+    let mut work = warm.stats;
     let mut y = warm.y_final;
     let mut out = Vec::with_capacity(windows);
     let mut discarded = 0;
@@ -165,6 +166,7 @@ fn record(
             t1,
             base.clone().with_output(timestep::Output::Uniform { dt }),
         )?;
+        work.add(&rec.stats);
         let crossings: Vec<Crossing> = rec
             .events
             .iter()
@@ -215,7 +217,49 @@ fn record(
         }
         out.push(stats);
     }
-    Ok(out)
+    Ok((out, discarded, work))
+}
+
+/// The window kept by [`settled_window`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SettledWindow {
+    /// The kept window's statistics (its motion: [`crate::response::window_motion`]).
+    pub stats: WindowStats,
+    /// Periods integrated before the kept window: `transient_periods + discarded·periods`.
+    pub transient_periods: f64,
+    /// Work counters of the whole run (transient, discarded windows, kept window).
+    pub work: timestep::Stats,
+}
+
+/// The settled window of Eq. (9) at one point, without the variants of [`long_window`]: from
+/// `start` (default: the quasi-static contact position at rest), after `transient_periods`,
+/// windows of `periods` periods at `rtol`, each window that still holds the end of a transient
+/// ([`WindowStats::transient`]) discarded, up to `settle_windows` of them. Returns the kept
+/// window's statistics and the periods integrated before it
+/// (`transient_periods + discarded·periods`, at most
+/// `transient_periods + settle_windows·periods`). Its motion is
+/// [`crate::response::window_motion`]: periodic, quasi-periodic, chaotic, or unsettled (still a
+/// transient at the cap, or fewer than 20 periods). With the same options the window is the
+/// nominal window of [`long_window`] bit for bit.
+///
+/// # Errors
+/// Invalid options (as [`long_window`]) or a failed integration.
+pub fn settled_window(
+    model: &Model,
+    options: &LongWindowOptions,
+    start: Option<(f64, f64)>,
+) -> Result<SettledWindow, Error> {
+    options.validate()?;
+    let start = start.unwrap_or((model.static_position(0.0), 0.0));
+    let (mut w, discarded, work) = record(model, options, start, options.rtol, 1)?;
+    let stats = w
+        .pop()
+        .ok_or_else(|| Error::Solver("empty window".into()))?;
+    Ok(SettledWindow {
+        stats,
+        transient_periods: options.transient_periods + (discarded * options.periods) as f64,
+        work,
+    })
 }
 
 /// Long-window statistics of Eq. (9) at one point, with their spread over two tolerances, two
@@ -235,21 +279,21 @@ fn record(
 pub fn long_window(model: &Model, options: &LongWindowOptions) -> Result<Robust, Error> {
     options.validate()?;
     let rest = (model.static_position(0.0), 0.0);
-    let mut nominal = record(model, options, rest, options.rtol, 2)?;
+    let (mut nominal, _, _) = record(model, options, rest, options.rtol, 2)?;
     let window_b = nominal
         .pop()
         .ok_or_else(|| Error::Solver("empty window".into()))?;
     let nominal = nominal
         .pop()
         .ok_or_else(|| Error::Solver("empty window".into()))?;
-    let tight = record(
+    let (tight, _, _) = record(
         model,
         options,
         rest,
         options.rtol / options.refine_factor,
         1,
     )?;
-    let other = record(model, options, (0.0, 0.0), options.rtol, 1)?;
+    let (other, _, _) = record(model, options, (0.0, 0.0), options.rtol, 1)?;
     let mut variants = vec![("window B".to_owned(), window_b)];
     variants.extend(tight.into_iter().map(|w| ("rtol/refine".to_owned(), w)));
     variants.extend(other.into_iter().map(|w| ("other start".to_owned(), w)));
