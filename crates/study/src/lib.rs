@@ -56,7 +56,8 @@ pub use models::contract::{
 pub use plot::{Cell, Table};
 pub use user::{
     FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_SECONDS_BOUND, MAX_STEPS_BOUND,
-    MAX_SWEEP_VALUES, Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, StudyPlan,
+    MAX_SWEEP_VALUES, Method, OutputLock, Point, Prepared, Progress, Reliability, RunOptions, Solver,
+    StudyPlan,
     Sweep, TIME_LIMIT, UserStudy, UserStudyOutput, Value, Written, apply_overrides, apply_values,
     camel_to_kebab, check_study_name, choice, compute, compute_records, default_out_dir,
     display_name, field_names, kebab_to_camel, lock_output_dir, merge_from_str, merge_study_files,

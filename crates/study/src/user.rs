@@ -324,7 +324,10 @@ pub struct UserStudyOutput {
     pub failed: Vec<FailedPoint>,
     /// Number of points.
     pub points: usize,
-    /// JSON summary: the study as read, the output ranges (numbers), failed points.
+    /// How many points can be trusted (settled, chaotic, failed, …): also in `summary`.
+    pub reliability: Reliability,
+    /// JSON summary: the study as read, the output ranges (numbers), failed points, the
+    /// reliability counts and notes.
     pub summary: serde_json::Value,
 }
 
@@ -764,11 +767,13 @@ fn assemble(
     }
     let maps = heat_maps(study, outputs, xs, ys, &results);
     let points = results.len();
+    let reliability = Reliability::of(outputs, &results);
     let summary = serde_json::json!({
         "study": study,
         "points": points,
         "failed_points": failed,
         "outputs": ranges,
+        "reliability": reliability,
         "significant_digits": plot::SIGNIFICANT_DIGITS,
     });
     UserStudyOutput {
@@ -779,7 +784,90 @@ fn assemble(
         maps,
         failed,
         points,
+        reliability,
         summary,
+    }
+}
+
+/// How many points of a study can be trusted: the counts behind the CLI's one-line summary and
+/// the `reliability` object of the JSON summary. A count is `None` when the model has no such
+/// column (e.g. `settled` for harmonic balance).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Reliability {
+    /// Points of the study.
+    pub points: usize,
+    /// Points that failed (an error: NaN row).
+    pub failed: usize,
+    /// Points with `settled = 1` (time stepping: the kept window is classified).
+    pub settled: Option<usize>,
+    /// Points with `settled = 0`.
+    pub unsettled: Option<usize>,
+    /// Points with `motion = −1` (chaotic).
+    pub chaotic: Option<usize>,
+    /// Points with `converged = 0` (harmonic balance).
+    pub not_converged: Option<usize>,
+    /// Points with `stable = 0` (harmonic balance: Floquet).
+    pub unstable: Option<usize>,
+    /// Points with `robust = 0` (the spread over the variants exceeds the settled tolerance).
+    pub not_robust: Option<usize>,
+    /// What the output says about its own reliability where it cannot show it: e.g. that the
+    /// robustness spread was not computed (`robustness = "off"`: the columns `robust`,
+    /// `rsv_lo`, `rsv_hi`, `ppv_spread` are NaN).
+    pub notes: Vec<String>,
+}
+
+impl Reliability {
+    /// The counts over the rows `results` of the columns `outputs`.
+    pub fn of(outputs: &[(String, String)], results: &[Result<Vec<f64>, String>]) -> Self {
+        let ok: Vec<&Vec<f64>> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
+        let count = |name: &str, want: f64| {
+            let j = outputs.iter().position(|(n, _)| n == name)?;
+            #[allow(clippy::float_cmp)] // exact: flags and codes are small integers
+            let n = ok.iter().filter(|r| r.get(j) == Some(&want)).count();
+            Some(n)
+        };
+        let has = |name: &str| outputs.iter().any(|(n, _)| n == name);
+        let mut notes = Vec::new();
+        if has("settled") && !has("robust") {
+            notes.push(
+                "robustness spread not computed (robustness = \"off\"): no columns robust, \
+                 rsv_lo, rsv_hi, ppv_spread; set robustness = \"on\" for the spread over \
+                 rtol/100, a second window and a second start"
+                    .to_owned(),
+            );
+        }
+        if has("stable") && has("converged") && !has("confirmed_by_time_stepping") {
+            notes.push(
+                "time-stepping confirmation not computed (confirm = \"off\"): no column \
+                 confirmed_by_time_stepping"
+                    .to_owned(),
+            );
+        }
+        Reliability {
+            points: results.len(),
+            failed: results.len() - ok.len(),
+            settled: count("settled", 1.0),
+            unsettled: count("settled", 0.0),
+            chaotic: count("motion", -1.0),
+            not_converged: count("converged", 0.0),
+            unstable: count("stable", 0.0),
+            not_robust: count("robust", 0.0),
+            notes,
+        }
+    }
+
+    /// The one-line summary of a study: `points, settled, chaotic, failed`, then the other
+    /// counts that apply (`not converged`, `unstable`, `not robust`).
+    pub fn line(&self) -> String {
+        let mut parts = vec![format!("{} points", self.points)];
+        let opt = |n: Option<usize>, what: &str| n.map(|n| format!("{n} {what}"));
+        parts.extend(opt(self.settled, "settled"));
+        parts.extend(opt(self.chaotic, "chaotic"));
+        parts.push(format!("{} failed", self.failed));
+        parts.extend(opt(self.not_converged, "not converged"));
+        parts.extend(opt(self.unstable, "unstable"));
+        parts.extend(opt(self.not_robust, "not robust"));
+        parts.join(", ")
     }
 }
 

@@ -125,7 +125,7 @@ fn record(
     start: (f64, f64),
     rtol: f64,
     windows: usize,
-) -> Result<(Vec<WindowStats>, usize, timestep::Stats), Error> {
+) -> Result<(Vec<WindowStats>, f64, timestep::Stats), Error> {
     let period = model.period();
     let dt = section_step(period, o.sample_step);
     let mut io = super::IntegrationOptions {
@@ -152,6 +152,8 @@ fn record(
     let mut y = warm.y_final;
     let mut out = Vec::with_capacity(windows);
     let mut discarded = 0;
+    // periods integrated before the first kept window
+    let mut before = f64::NAN;
     // at most `windows + settle_windows` windows: each pass keeps one or spends one discard
     for w in 0..windows + o.settle_windows {
         if out.len() == windows {
@@ -215,9 +217,12 @@ fn record(
             discarded += 1;
             continue;
         }
+        if out.is_empty() {
+            before = o.transient_periods + (w * o.periods) as f64;
+        }
         out.push(stats);
     }
-    Ok((out, discarded, work))
+    Ok((out, before, work))
 }
 
 /// The window kept by [`settled_window`].
@@ -251,13 +256,13 @@ pub fn settled_window(
 ) -> Result<SettledWindow, Error> {
     options.validate()?;
     let start = start.unwrap_or((model.static_position(0.0), 0.0));
-    let (mut w, discarded, work) = record(model, options, start, options.rtol, 1)?;
+    let (mut w, before, work) = record(model, options, start, options.rtol, 1)?;
     let stats = w
         .pop()
         .ok_or_else(|| Error::Solver("empty window".into()))?;
     Ok(SettledWindow {
         stats,
-        transient_periods: options.transient_periods + (discarded * options.periods) as f64,
+        transient_periods: before,
         work,
     })
 }
@@ -277,27 +282,49 @@ pub fn settled_window(
 /// ([`WindowStats::transient`]). The statistics ([`crate::response::window_stats`]) use the
 /// located gap-edge crossings, so a contact shorter than a sample step still counts.
 pub fn long_window(model: &Model, options: &LongWindowOptions) -> Result<Robust, Error> {
+    Ok(robust_window(model, options, None)?.0)
+}
+
+/// [`long_window`] with the nominal runs (both windows and the `rtol/refine` variant) from
+/// `start` (default: the quasi-static contact position at rest; the `other start` variant
+/// starts from the middle of the gap at rest either way), and the nominal window as a
+/// [`SettledWindow`] whose `work` counts every run of the variants.
+///
+/// # Errors
+/// Invalid options or a failed integration.
+pub fn robust_window(
+    model: &Model,
+    options: &LongWindowOptions,
+    start: Option<(f64, f64)>,
+) -> Result<(Robust, SettledWindow), Error> {
     options.validate()?;
-    let rest = (model.static_position(0.0), 0.0);
-    let (mut nominal, _, _) = record(model, options, rest, options.rtol, 2)?;
+    let rest = start.unwrap_or((model.static_position(0.0), 0.0));
+    let (mut nominal, before, mut work) = record(model, options, rest, options.rtol, 2)?;
     let window_b = nominal
         .pop()
         .ok_or_else(|| Error::Solver("empty window".into()))?;
     let nominal = nominal
         .pop()
         .ok_or_else(|| Error::Solver("empty window".into()))?;
-    let (tight, _, _) = record(
+    let (tight, _, w_tight) = record(
         model,
         options,
         rest,
         options.rtol / options.refine_factor,
         1,
     )?;
-    let (other, _, _) = record(model, options, (0.0, 0.0), options.rtol, 1)?;
+    let (other, _, w_other) = record(model, options, (0.0, 0.0), options.rtol, 1)?;
+    work.add(&w_tight);
+    work.add(&w_other);
     let mut variants = vec![("window B".to_owned(), window_b)];
     variants.extend(tight.into_iter().map(|w| ("rtol/refine".to_owned(), w)));
     variants.extend(other.into_iter().map(|w| ("other start".to_owned(), w)));
-    Ok(Robust { nominal, variants })
+    let settled = SettledWindow {
+        stats: nominal,
+        transient_periods: before,
+        work,
+    };
+    Ok((Robust { nominal, variants }, settled))
 }
 
 #[cfg(test)]

@@ -100,7 +100,7 @@ fn run() -> Result<StudyOutput, Error> {
                         crate::unsettled(r.describe())
                     )
                 }),
-                models::response::window_unsettled(r, super::SETTLED),
+                models::response::window_unsettled(&r, super::SETTLED),
             ))
         },
         None,
