@@ -719,13 +719,21 @@ fn assemble(
         if let (Some(s), false) = (&study.sweep, bif) {
             let fname = format!("{}_{}", study.name, sanitize(name));
             let x_unit = axis_unit(study, &s.parameter);
-            let mut fig = Figure::new(
-                &fname,
-                &format!("{}: {name}", study.name),
-                (&s.parameter, &x_unit),
-                (name, unit),
-            );
-            for (iy, y) in ys.iter().enumerate() {
+            // a second sweep of many values: a few chosen curves (the CSV and the heat map
+            // hold every one)
+            let shown = chosen_curves(ys.len());
+            let title = if shown.len() < ys.len() {
+                format!(
+                    "{}: {name} ({} of {} curves; all in the CSV and the map)",
+                    study.name,
+                    shown.len(),
+                    ys.len()
+                )
+            } else {
+                format!("{}: {name}", study.name)
+            };
+            let mut fig = Figure::new(&fname, &title, (&s.parameter, &x_unit), (name, unit));
+            for (iy, y) in shown.iter().map(|&iy| (iy, &ys[iy])) {
                 let pts: Vec<(f64, f64)> = x_num
                     .iter()
                     .enumerate()
@@ -787,6 +795,25 @@ fn assemble(
         reliability,
         summary,
     }
+}
+
+/// Most curves of a line figure: a second sweep of more values is drawn as [`SHOWN_CURVES`]
+/// chosen curves (a figure of 400 curves is unreadable and tens of MB; the heat map shows all).
+pub const MAX_CURVES: usize = 12;
+
+/// Curves drawn when a second sweep has more than [`MAX_CURVES`] values: the first, the last
+/// and evenly spaced ones between.
+pub const SHOWN_CURVES: usize = 6;
+
+/// The indices of the curves of a line figure over `n` second-sweep values: all up to
+/// [`MAX_CURVES`], else [`SHOWN_CURVES`] evenly spaced from the first to the last.
+pub fn chosen_curves(n: usize) -> Vec<usize> {
+    if n <= MAX_CURVES {
+        return (0..n).collect();
+    }
+    (0..SHOWN_CURVES)
+        .map(|k| k * (n - 1) / (SHOWN_CURVES - 1))
+        .collect()
 }
 
 /// How many points of a study can be trusted: the counts behind the CLI's one-line summary and

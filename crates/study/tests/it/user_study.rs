@@ -869,7 +869,10 @@ fn a_forced_one_period_run_is_marked_unsettled() {
         assert!(out.column(c).is_none(), "{c}");
     }
     let r = &out.reliability;
-    assert_eq!((r.points, r.settled, r.unsettled, r.failed), (1, Some(0), Some(1), 0));
+    assert_eq!(
+        (r.points, r.settled, r.unsettled, r.failed),
+        (1, Some(0), Some(1), 0)
+    );
     assert!(r.notes[0].contains("robustness = \"off\""), "{:?}", r.notes);
     assert_eq!(r.line(), "1 points, 0 settled, 0 chaotic, 0 failed");
     assert_eq!(out.summary["reliability"]["unsettled"], 1);
@@ -885,10 +888,19 @@ fn settle_settings_are_checked() {
         )
     };
     for (settings, want) in [
-        ("window_periods = 10", "`window_periods` must be an integer in [20, 10000]"),
-        ("settle = \"long\"", "`settle` must be one of \"section\", \"fixed\""),
+        (
+            "window_periods = 10",
+            "`window_periods` must be an integer in [20, 10000]",
+        ),
+        (
+            "settle = \"long\"",
+            "`settle` must be one of \"section\", \"fixed\"",
+        ),
         ("robustness = 1", "`robustness` must be a name"),
-        ("max_transient_periods = 1e5", "`max_transient_periods` must be in [0e0, 1e4]"),
+        (
+            "max_transient_periods = 1e5",
+            "`max_transient_periods` must be in [0e0, 1e4]",
+        ),
         (
             "max_transient_periods = 5",
             "`max_transient_periods` = 5 must be ≥ transient_periods = 10",
@@ -897,7 +909,10 @@ fn settle_settings_are_checked() {
             "settle = \"fixed\"\nrecord_periods = 1.5",
             "`record_periods` must be a whole number ≥ 1 with settle = \"fixed\"",
         ),
-        ("long_window_periods = 50", "old spelling; write robustness = \"on\""),
+        (
+            "long_window_periods = 50",
+            "old spelling; write robustness = \"on\"",
+        ),
         (
             "settle = \"fixed\"\nrobustness = \"on\"",
             "robustness = \"on\" needs windows of ≥ 20 periods",
@@ -926,4 +941,26 @@ fn a_default_liu_sweep_gives_the_validation_long_window_states() {
     assert_eq!(col(&robust, "rsv_lo"), col(&robust, "rsv_hi"));
     assert_eq!(col(&robust, "rsv_window"), vec![1.0, 2.0, 2.0]);
     assert!(robust.reliability.notes.is_empty());
+}
+
+/// A second sweep of more than MAX_CURVES values draws SHOWN_CURVES chosen curves (first, last,
+/// evenly spaced), says so in the title, and keeps every value in the CSV; up to MAX_CURVES all
+/// are drawn.
+#[test]
+fn a_line_figure_over_many_curves_shows_a_few() {
+    use geardyn_study::{MAX_CURVES, SHOWN_CURVES, chosen_curves};
+    assert_eq!(chosen_curves(3), vec![0, 1, 2]);
+    assert_eq!(chosen_curves(MAX_CURVES).len(), MAX_CURVES);
+    assert_eq!(chosen_curves(400), vec![0, 79, 159, 239, 319, 399]);
+    let values: Vec<String> = (0..20).map(|j| format!("{}.0", 1 + j)).collect();
+    let out = run(&format!(
+        "name = \"k\"\nmodel = \"karpov2017-kinematics\"\n[sweep]\nparameter = \"b\"\n\
+         values = [0.01, 0.03]\n[sweep2]\nparameter = \"omega1\"\nvalues = [{}]\n\
+         [solver]\nmethod = \"kinematics\"\n",
+        values.join(", ")
+    ));
+    assert_eq!(out.table.rows.len(), 40);
+    let f = &out.figures[0];
+    assert_eq!(f.series.len(), SHOWN_CURVES);
+    assert!(f.title.contains("6 of 20 curves"), "{}", f.title);
 }
