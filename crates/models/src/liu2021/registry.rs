@@ -132,8 +132,8 @@ pub(crate) const LIU_TS: &[SettingDef] = &[
             default: USER_MAX_TRANSIENT,
         },
         doc: "cap on the periods integrated before the kept window with settle = \"section\" \
-              (≥ transient_periods; whole windows: ⌊(cap − transient_periods)/window_periods⌋ \
-              may be discarded)",
+              (whole windows: ⌊(cap − transient_periods)/window_periods⌋ may be discarded, none \
+              when transient_periods ≥ cap)",
     },
     SettingDef {
         name: "robustness",
@@ -621,14 +621,9 @@ fn ts_plan(s: &Settings, initial: Option<(f64, f64)>) -> Result<TsPlan, PointErr
         (r as usize, 0)
     } else {
         let w = s.u("window_periods").unwrap_or(50) as usize;
+        // whole windows between the transient and the cap (none when the transient reaches it)
         let cap = s.f("max_transient_periods");
-        if cap < transient {
-            return Err(PointError::Input(format!(
-                "setting `max_transient_periods` = {cap} must be ≥ transient_periods = \
-                 {transient}"
-            )));
-        }
-        (w, ((cap - transient) / w as f64).floor() as usize)
+        (w, ((cap - transient).max(0.0) / w as f64).floor() as usize)
     };
     let robust = s.name("robustness") == "on";
     if robust && periods < crate::response::MIN_CLASSIFIED_PERIODS {
@@ -762,9 +757,10 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
             };
             let steps = (opts.transient_periods + opts.record_periods + runs) * period / w.max_step;
             limits.need_steps("liu2021", steps)?;
-            Ok(Box::new(move || {
-                run_stepped(check, |factor| ts_point(&model, &plan, factor))
-            }) as Job)
+            Ok(
+                Box::new(move || run_stepped(check, |factor| ts_point(&model, &plan, factor)))
+                    as Job,
+            )
         }),
     })
 }
@@ -807,7 +803,12 @@ fn harmonic_balance(ctx: &Context<'_>) -> Result<Adapter, PointError> {
 /// The HBM columns: [`LIU_OUT`], [`LIU_HBM_OUT`], then [`LIU_HBM_CONFIRM_OUT`] when `confirm`.
 fn hbm_outputs(confirm: bool) -> Vec<(&'static str, &'static str)> {
     let more: &[(&str, &str)] = if confirm { LIU_HBM_CONFIRM_OUT } else { &[] };
-    LIU_OUT.iter().chain(LIU_HBM_OUT).chain(more).copied().collect()
+    LIU_OUT
+        .iter()
+        .chain(LIU_HBM_OUT)
+        .chain(more)
+        .copied()
+        .collect()
 }
 
 /// The columns of [`LIU_HBM_OUT`] for a harmonic-balance response.
@@ -821,8 +822,11 @@ fn hbm_reliability(
     if !r.converged() {
         rec.push("stable", "1", 0.0);
         if confirm {
-            rec.push("confirmed_by_time_stepping", "1", 0.0)
-                .push("ppv_time_stepping", "1", r.rattle.ppv);
+            rec.push("confirmed_by_time_stepping", "1", 0.0).push(
+                "ppv_time_stepping",
+                "1",
+                r.rattle.ppv,
+            );
         }
         return Ok(rec);
     }
@@ -837,8 +841,8 @@ fn hbm_reliability(
         };
         let w = liu2021::settled_window(model, &o, Some((q[0], v[0])))
             .context("liu2021 time-stepping confirmation")?;
-        let periodic = crate::response::window_motion(&w.stats)
-            .is_some_and(|m| m.period_multiple() >= 1);
+        let periodic =
+            crate::response::window_motion(&w.stats).is_some_and(|m| m.period_multiple() >= 1);
         let same = w.stats.state.rsv() == r.rattle.state.rsv();
         rec.push("confirmed_by_time_stepping", "1", flag(periodic && same))
             .push("ppv_time_stepping", "1", w.stats.ppv);

@@ -343,6 +343,7 @@ mod tests {
     /// Below the unilateral onset (Table 1, 120 rad/s) the gears stay in drive-flank contact
     /// in every period of every variant, with no back-flank impacts.
     #[test]
+    #[allow(clippy::float_cmp)] // exact: 3 periods given, 3 used
     fn no_rattle_point_is_robustly_no_rattle() {
         let o = LongWindowOptions {
             periods: 2,
@@ -351,6 +352,21 @@ mod tests {
         };
         let r = long_window(&model(120.0), &o).unwrap();
         assert_eq!(r.state(), Some(RattleState::NoRattle), "{}", r.describe());
+        // the settled window is the nominal window bit for bit, and the robust window's spread
+        // is long_window's; the work counts every run
+        let s = settled_window(&model(120.0), &o, None).unwrap();
+        // (Debug text: chaos_k is NaN below 20 periods, and NaN != NaN)
+        let text = |w: &WindowStats| format!("{w:?}");
+        assert_eq!(text(&s.stats), text(&r.nominal));
+        assert_eq!(s.transient_periods, 3.0);
+        let (rr, rs) = robust_window(&model(120.0), &o, None).unwrap();
+        assert_eq!(format!("{rr:?}"), format!("{r:?}"));
+        assert!(
+            rs.work.n_rhs > 3 * s.work.n_rhs,
+            "{:?} {:?}",
+            rs.work,
+            s.work
+        );
         assert_eq!(r.nominal.back.count, 0);
         assert_eq!(r.variants.len(), 3);
         assert!(r.ppv_spread() < 1e-3, "{}", r.describe());
