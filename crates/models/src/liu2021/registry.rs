@@ -693,19 +693,16 @@ fn ts_point_full(
         .push("transient_periods_used", "1", kept.transient_periods)
         .push("rsv_one_period", "1", f64::from(one.rattle.state.rsv()))
         .push("ppv_one_period", "1", one.rattle.ppv);
-    match &robust {
-        // the columns of LIU_TS_ROBUST_OUT, then the long-window columns
-        Some(r) => {
-            let (lo, hi) = r.rsv_interval();
-            rec.push("robust", "1", flag(!window_unsettled(r, SETTLED)))
-                .push("rsv_lo", "1", f64::from(lo))
-                .push("rsv_hi", "1", f64::from(hi))
-                .push("ppv_spread", "1", r.ppv_spread());
-            for ((name, unit), v) in Robust::COLUMNS.iter().zip(r.values()) {
-                rec.push(name, unit, v);
-            }
+    // the columns of LIU_TS_ROBUST_OUT, then the long-window columns
+    if let Some(r) = &robust {
+        let (lo, hi) = r.rsv_interval();
+        rec.push("robust", "1", flag(!window_unsettled(r, SETTLED)))
+            .push("rsv_lo", "1", f64::from(lo))
+            .push("rsv_hi", "1", f64::from(hi))
+            .push("ppv_spread", "1", r.ppv_spread());
+        for ((name, unit), v) in Robust::COLUMNS.iter().zip(r.values()) {
+            rec.push(name, unit, v);
         }
-        None => {}
     }
     let mut work = one.stats;
     work.add(&kept.work);

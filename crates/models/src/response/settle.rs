@@ -122,6 +122,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::float_cmp)] // exact: the codes are small integers
     fn windows_are_classified_or_unsettled() {
         let code = |w: &WindowStats| motion_code(w);
         assert_eq!(code(&stats(50, 0.0, true, 2)), 2.0);
