@@ -103,14 +103,16 @@ fn karpov_columns_match_library() {
     assert!(out.table.to_csv().contains("printed-phase"));
 }
 
-/// Liu: rsv, ppv, q_min, q_max against `integrate()`, with an initial state and a reading.
+/// Liu: the settled window's columns against `settled_window()` and the one-period columns
+/// against `integrate()`, with an initial state and a reading.
 #[test]
 fn liu_columns_match_library() {
     use models::liu2021;
     let out = run("name = \"l\"\nmodel = \"liu2021\"\ninitial = [0.1, 0.0]\n\
                    [overrides]\nomega1 = 150.0\nrigid_series = \"two-terms\"\n\
                    [solver]\nmethod = \"time-stepping\"\n[solver.settings]\n\
-                   transient_periods = 1.0\nrecord_periods = 1.0\n");
+                   transient_periods = 1.0\nrecord_periods = 1.0\nwindow_periods = 20\n\
+                   max_transient_periods = 41\n");
     let mut p = liu2021::table1();
     p.omega1 = 150.0;
     p.readings.rigid_series = liu2021::RigidSeries::TwoTerms;
@@ -122,11 +124,32 @@ fn liu_columns_match_library() {
         ..liu2021::IntegrationOptions::default()
     };
     let r = liu2021::integrate(&model, &opts).unwrap();
-    assert_eq!(col(&out, "rsv")[0], f64::from(r.rattle.state.rsv()));
-    assert_eq!(col(&out, "ppv")[0], r.rattle.ppv);
-    assert_eq!(col(&out, "q_min")[0], r.rattle.q_min);
-    assert_eq!(col(&out, "q_max")[0], r.rattle.q_max);
-    assert!(r.rattle.q_min < r.rattle.q_max);
+    assert_eq!(
+        col(&out, "rsv_one_period")[0],
+        f64::from(r.rattle.state.rsv())
+    );
+    assert_eq!(col(&out, "ppv_one_period")[0], r.rattle.ppv);
+    // windows of 20 periods after 1, at most 2 discarded (cap 41)
+    let wo = liu2021::LongWindowOptions {
+        transient_periods: 1.0,
+        periods: 20,
+        settle_windows: 2,
+        ..liu2021::LongWindowOptions::default()
+    };
+    let w = liu2021::settled_window(&model, &wo, Some((0.1, 0.0))).unwrap();
+    assert_eq!(col(&out, "rsv")[0], f64::from(w.stats.state.rsv()));
+    assert_eq!(col(&out, "ppv")[0], w.stats.ppv);
+    assert_eq!(col(&out, "q_min")[0], w.stats.q_min);
+    assert_eq!(col(&out, "q_max")[0], w.stats.q_max);
+    assert_eq!(
+        col(&out, "motion")[0],
+        models::response::motion_code(&w.stats)
+    );
+    assert_eq!(col(&out, "transient_periods_used")[0], w.transient_periods);
+    assert!(w.stats.q_min < w.stats.q_max);
+    let mut work = r.stats;
+    work.add(&w.work);
+    assert_stats(&out, 0, &work, "liu2021 settled window");
 }
 
 /// Yu: every time-stepping column against `simulate_with`, variant by name.
@@ -518,6 +541,8 @@ method = "time-stepping"
 [solver.settings]
 transient_periods = 2.0
 record_periods = 1.0
+window_periods = 20
+max_transient_periods = 2.0
 tolerance_check = "on"
 "#;
     let out = run(text);
@@ -531,23 +556,53 @@ tolerance_check = "on"
         record_periods: 1.0,
         ..liu2021::IntegrationOptions::default()
     };
+    // the study's values at rtol and rtol/100: the window (20 periods after 2, none discarded:
+    // the cap is the transient) and the one-period run
+    let wo = liu2021::LongWindowOptions {
+        transient_periods: 2.0,
+        periods: 20,
+        settle_windows: 0,
+        ..liu2021::LongWindowOptions::default()
+    };
     let metrics = |o: &liu2021::IntegrationOptions| {
         let r = liu2021::integrate(&m, o).unwrap();
-        [r.rattle.ppv, r.rattle.q_min, r.rattle.q_max]
+        let w =
+            liu2021::settled_window(&m, &liu2021::LongWindowOptions { rtol: o.rtol, ..wo }, None)
+                .unwrap();
+        let s = &w.stats;
+        let motion = models::response::motion_code(s);
+        let settled = if models::response::window_motion(s).is_some() {
+            1.0
+        } else {
+            0.0
+        };
+        let mut work = r.stats;
+        work.add(&w.work);
+        let v = [
+            f64::from(s.state.rsv()),
+            s.ppv,
+            s.q_min,
+            s.q_max,
+            motion,
+            settled,
+            w.transient_periods,
+            f64::from(r.rattle.state.rsv()),
+            r.rattle.ppv,
+        ];
+        (v, work)
     };
-    let a = metrics(&o);
-    let b = metrics(&liu2021::IntegrationOptions {
+    let (a, work) = metrics(&o);
+    let (b, _) = metrics(&liu2021::IntegrationOptions {
         rtol: o.rtol / 100.0,
         ..o
     });
-    assert_eq!(col(&out, "ppv")[0], a[0]);
-    // the step statistics follow the change and are the study tolerance's run
-    let r = liu2021::integrate(&m, &o).unwrap();
-    assert_eq!(r.stats.n_rhs, r.rhs_evaluations);
-    assert_stats(&out, 0, &r.stats, "liu2021 time stepping");
+    assert_eq!(col(&out, "ppv")[0], a[1]);
+    assert_eq!(col(&out, "ppv_one_period")[0], a[8]);
+    // the step statistics follow the change and are the study tolerance's runs
+    assert_stats(&out, 0, &work, "liu2021 time stepping");
     let names: Vec<&str> = out.outputs.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(
-        names[4..],
+        names[9..],
         [
             "change_100x_tighter",
             "steps_accepted",
@@ -556,14 +611,7 @@ tolerance_check = "on"
             "events"
         ]
     );
-    let want = a
-        .iter()
-        .zip(&b)
-        .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()))
-        .fold(0.0, f64::max);
-    assert_eq!(change[0], want);
-    // 2 transient periods at 150 rad/s (near the rattle onset) do not settle the response: the
-    // tolerance moves its metrics by a few per cent, which is what the column is for.
+    assert_eq!(change[0], models::contract::relative_change(&a, &b));
     assert!(change[0] > 0.0 && change[0].is_finite(), "{}", change[0]);
     // off by default: no column
     let plain = run(&text.replace("tolerance_check = \"on\"\n", ""));
