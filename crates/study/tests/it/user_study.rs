@@ -539,10 +539,9 @@ omega1 = 150.0
 [solver]
 method = "time-stepping"
 [solver.settings]
+settle = "fixed"
 transient_periods = 2.0
 record_periods = 1.0
-window_periods = 20
-max_transient_periods = 2.0
 tolerance_check = "on"
 "#;
     let out = run(text);
@@ -556,11 +555,11 @@ tolerance_check = "on"
         record_periods: 1.0,
         ..liu2021::IntegrationOptions::default()
     };
-    // the study's values at rtol and rtol/100: the window (20 periods after 2, none discarded:
-    // the cap is the transient) and the one-period run
+    // the study's values at rtol and rtol/100: the fixed window (1 period after 2, nothing
+    // discarded) and the one-period run
     let wo = liu2021::LongWindowOptions {
         transient_periods: 2.0,
-        periods: 20,
+        periods: 1,
         settle_windows: 0,
         ..liu2021::LongWindowOptions::default()
     };
