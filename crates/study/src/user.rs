@@ -863,6 +863,11 @@ impl Reliability {
                     .to_owned(),
             );
         }
+        if has("converged") && has("residual_norm") && !has("stable") {
+            notes.push(
+                "Floquet stability not computed (stability = \"off\"): no column stable".to_owned(),
+            );
+        }
         if has("stable") && has("converged") && !has("confirmed_by_time_stepping") {
             notes.push(
                 "time-stepping confirmation not computed (confirm = \"off\"): no column \

@@ -221,6 +221,15 @@ pub(crate) const LIU_HBM: &[SettingDef] = &[
         doc: "full basis with K = R·Z2 + 2 harmonics (absent: the paper's 15-unknown basis)",
     },
     SettingDef {
+        name: "stability",
+        kind: Kind::Name {
+            options: &["on", "off"],
+            default: "on",
+        },
+        doc: "\"on\": column stable, the Floquet verdict of the converged orbit (multipliers of \
+              its event-located period map); \"off\": no column (the study summary says so)",
+    },
+    SettingDef {
         name: "confirm",
         kind: Kind::Name {
             options: &["off", "on"],
@@ -462,7 +471,7 @@ impl contract::Model for Liu {
                 MethodInfo {
                     method: Method::Hbm,
                     settings: LIU_HBM.to_vec(),
-                    outputs: outs(&hbm_outputs(false)),
+                    outputs: outs(&hbm_outputs(true, false)),
                     initial: None,
                 },
                 MethodInfo {
@@ -768,8 +777,9 @@ fn harmonic_balance(ctx: &Context<'_>) -> Result<Adapter, PointError> {
     let (tol, max_iter) = (s.f("tol"), s.u("max_iter").unwrap_or(60));
     let (full_r, samples) = (s.u("full_r"), s.u("samples"));
     let confirm = s.name("confirm") == "on";
+    let stability = s.name("stability") == "on";
     Ok(Adapter {
-        outputs: outs(&hbm_outputs(confirm)),
+        outputs: outs(&hbm_outputs(stability, confirm)),
         prepare: Box::new(move |p: &Point| {
             let model = liu_model(p)?;
             let mut opts = match full_r {
@@ -790,34 +800,35 @@ fn harmonic_balance(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                     .push("converged", "1", if r.converged() { 1.0 } else { 0.0 })
                     .push("residual_norm", "1", r.solution.residual_norm)
                     .push("truncation", "1", r.solution.truncation);
-                rec.append(hbm_reliability(&model, &r, confirm)?);
+                rec.append(hbm_reliability(&model, &r, stability, confirm)?);
                 Ok(rec)
             }) as Job)
         }),
     })
 }
 
-/// The HBM columns: [`LIU_OUT`], [`LIU_HBM_OUT`], then [`LIU_HBM_CONFIRM_OUT`] when `confirm`.
-fn hbm_outputs(confirm: bool) -> Vec<(&'static str, &'static str)> {
+/// The HBM columns: [`LIU_OUT`], [`LIU_HBM_OUT`] when `stability`, then
+/// [`LIU_HBM_CONFIRM_OUT`] when `confirm`.
+fn hbm_outputs(stability: bool, confirm: bool) -> Vec<(&'static str, &'static str)> {
+    let st: &[(&str, &str)] = if stability { LIU_HBM_OUT } else { &[] };
     let more: &[(&str, &str)] = if confirm { LIU_HBM_CONFIRM_OUT } else { &[] };
-    LIU_OUT
-        .iter()
-        .chain(LIU_HBM_OUT)
-        .chain(more)
-        .copied()
-        .collect()
+    LIU_OUT.iter().chain(st).chain(more).copied().collect()
 }
 
-/// The columns of [`LIU_HBM_OUT`] for a harmonic-balance response.
+/// The columns of [`LIU_HBM_OUT`] (when `stability`) and [`LIU_HBM_CONFIRM_OUT`] (when
+/// `confirm`) for a harmonic-balance response.
 fn hbm_reliability(
     model: &liu2021::Model,
     r: &liu2021::HbmResponse,
+    stability: bool,
     confirm: bool,
 ) -> Result<Record, PointError> {
     let mut rec = Record::new();
     let flag = |b: bool| if b { 1.0 } else { 0.0 };
     if !r.converged() {
-        rec.push("stable", "1", 0.0);
+        if stability {
+            rec.push("stable", "1", 0.0);
+        }
         if confirm {
             rec.push("confirmed_by_time_stepping", "1", 0.0).push(
                 "ppv_time_stepping",
@@ -827,8 +838,10 @@ fn hbm_reliability(
         }
         return Ok(rec);
     }
-    let st = liu2021::shooting_stability(model, r).context("liu2021 Floquet stability")?;
-    rec.push("stable", "1", flag(st.stable));
+    if stability {
+        let st = liu2021::shooting_stability(model, r).context("liu2021 Floquet stability")?;
+        rec.push("stable", "1", flag(st.stable));
+    }
     if confirm {
         let (q, v) = r.solution.state_at(0.0);
         let o = liu2021::LongWindowOptions {
