@@ -975,11 +975,13 @@ fn settle_settings_are_checked() {
 #[ignore = "heavy: three settled Liu windows (and their variants) in the dev profile"]
 fn a_default_liu_sweep_gives_the_validation_long_window_states() {
     let out = liu_ts(&[162.5, 165.0, 190.0], "");
+    eprintln!("{}\n{}", out.table.to_csv(), out.reliability.line());
     assert_eq!(col(&out, "rsv"), vec![1.0, 2.0, 2.0]);
     assert_eq!(col(&out, "settled"), vec![1.0, 1.0, 1.0]);
     assert!(col(&out, "motion")[2] >= 1.0, "{:?}", col(&out, "motion"));
     assert_eq!(out.reliability.settled, Some(3));
     let robust = liu_ts(&[162.5, 165.0, 190.0], "robustness = \"on\"");
+    eprintln!("{}\n{}", robust.table.to_csv(), robust.reliability.line());
     assert_eq!(col(&robust, "rsv"), vec![1.0, 2.0, 2.0]);
     assert_eq!(col(&robust, "rsv_lo"), col(&robust, "rsv_hi"));
     assert_eq!(col(&robust, "rsv_window"), vec![1.0, 2.0, 2.0]);
