@@ -231,6 +231,7 @@ pub fn study(file: &Path, out: Option<&Path>) -> Result<(), Failure> {
     for f in &written.files {
         println!("wrote {}", f.display());
     }
+    print_reliability(&output);
     let failed = output.failed.len();
     for f in output.failed.iter().take(5) {
         let at: Vec<String> =
@@ -267,6 +268,22 @@ pub fn cost_line(u: &system::account::Usage, wall_seconds: f64) -> String {
          {wall_seconds:.2} s wall",
         u.points, u.steps_accepted, u.steps_rejected, u.rhs_calls, u.cpu_seconds
     )
+}
+
+/// The one-line reliability summary of a study (`name: N points, S settled, C chaotic, F
+/// failed`, …) on stdout, and its notes (e.g. robustness not computed) on stderr.
+fn print_reliability(output: &study::UserStudyOutput) {
+    println!("{}: {}", output.name, output.reliability.line());
+    for n in &output.reliability.notes {
+        eprintln!("note: {n}");
+    }
+    if let Some(u) = output.reliability.unsettled.filter(|&u| u > 0) {
+        eprintln!(
+            "warning: {u} of {} point(s) did not settle (settled = 0, motion = −3): their rsv \
+             and ppv are samples of a transient",
+            output.points
+        );
+    }
 }
 
 /// `geardyn study FILE --shard i/n`: compute one shard and write its partial result (under
@@ -306,6 +323,7 @@ pub fn merge(file: &Path, out: Option<&Path>, parts: &[std::path::PathBuf]) -> R
     for f in &written.files {
         println!("wrote {}", f.display());
     }
+    print_reliability(&output);
     if output.all_failed() {
         return Err(Failure {
             message: format!("every point ({}) failed", output.points),

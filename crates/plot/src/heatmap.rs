@@ -10,6 +10,11 @@
 //!   naming each state (e.g. no rattle / unilateral / bilateral).
 //!
 //! Failed points (NaN) are drawn in light grey and counted in the legend.
+//!
+//! Up to [`RASTER_CELLS`] cells each cell is an SVG rectangle. Above it the cells are one
+//! embedded raster image (an indexed PNG, base64, at the plot area's pixel size: each pixel takes
+//! the colour of the cell under its centre) while the axes, labels, colour bar and legend stay
+//! vector: a 500 × 400 map is about 0.4 MB instead of 17 MB. The data are in the CSV either way.
 
 use plotters::prelude::*;
 
@@ -38,6 +43,15 @@ const VIRIDIS: [(u8, u8, u8); 5] = [
 ];
 
 const FAILED: RGBColor = RGBColor(0xd9, 0xd9, 0xd9);
+
+/// Cells above which a heat map's cells are drawn as one embedded raster image instead of one
+/// SVG rectangle each (20 000 rectangles are about 1.7 MB of SVG; every map up to it renders as
+/// before, byte for byte).
+pub const RASTER_CELLS: usize = 20_000;
+
+/// Levels of the continuous scale in a raster (the palette of an indexed PNG holds 256 colours:
+/// these, the failed grey and spares).
+const RASTER_LEVELS: usize = 254;
 
 /// How values map to colours.
 #[derive(Debug, Clone, PartialEq)]
@@ -235,6 +249,8 @@ impl Heatmap {
         let range = self.finite_range();
         let failed = self.values.iter().filter(|z| z.is_nan()).count();
         let mut svg = String::new();
+        // above RASTER_CELLS: the plot area's pixel ranges and data bounds of the raster
+        let mut raster_at = None;
         {
             let root = SVGBackend::with_string(&mut svg, (860, 560)).into_drawing_area();
             root.fill(&WHITE).map_err(|e| err(e.to_string()))?;
@@ -256,15 +272,20 @@ impl Heatmap {
                 .draw()
                 .map_err(|e| err(e.to_string()))?;
             let nx = self.xs.len();
-            let cells = (0..self.ys.len()).flat_map(|j| {
-                let (ex, ey) = (&ex, &ey);
-                (0..nx).map(move |i| (i, j, [(ex[i], ey[j]), (ex[i + 1], ey[j + 1])]))
-            });
-            chart
-                .draw_series(cells.map(|(i, j, r)| {
-                    Rectangle::new(r, self.colour(self.values[j * nx + i], range).filled())
-                }))
-                .map_err(|e| err(e.to_string()))?;
+            if self.values.len() > RASTER_CELLS {
+                let (px, py) = chart.plotting_area().get_pixel_range();
+                raster_at = Some((px, py, [x0, x1, y0, y1]));
+            } else {
+                let cells = (0..self.ys.len()).flat_map(|j| {
+                    let (ex, ey) = (&ex, &ey);
+                    (0..nx).map(move |i| (i, j, [(ex[i], ey[j]), (ex[i + 1], ey[j + 1])]))
+                });
+                chart
+                    .draw_series(cells.map(|(i, j, r)| {
+                        Rectangle::new(r, self.colour(self.values[j * nx + i], range).filled())
+                    }))
+                    .map_err(|e| err(e.to_string()))?;
+            }
 
             match &self.scale {
                 HeatScale::Continuous => {
@@ -336,7 +357,93 @@ impl Heatmap {
             }
             root.present().map_err(|e| err(e.to_string()))?;
         }
+        if let Some((px, py, bounds)) = raster_at {
+            let image = self
+                .raster_image(px, py, bounds, &ex, &ey, range)
+                .ok_or_else(|| err("the raster of the cells could not be encoded".to_owned()))?;
+            // right after the background rectangle: below the axes, labels and legend
+            let at = svg
+                .find("<rect")
+                .and_then(|r| svg[r..].find("/>").map(|e| r + e + 2))
+                .unwrap_or(0);
+            svg.insert_str(at, &format!("\n{image}"));
+        }
         Ok(svg)
+    }
+
+    /// The SVG `<image>` of the cells over the plot area `px × py` (pixels) spanning the data
+    /// bounds `[x0, x1, y0, y1]`: each pixel the colour of the cell under its centre, found on
+    /// the cell edges `ex`, `ey` (ascending or descending).
+    fn raster_image(
+        &self,
+        px: std::ops::Range<i32>,
+        py: std::ops::Range<i32>,
+        [x0, x1, y0, y1]: [f64; 4],
+        ex: &[f64],
+        ey: &[f64],
+        range: (f64, f64),
+    ) -> Option<String> {
+        let (w, h) = (
+            usize::try_from(px.end - px.start).ok()?,
+            usize::try_from(py.end - py.start).ok()?,
+        );
+        // the palette: the categorical colours, or the continuous scale in RASTER_LEVELS levels;
+        // then the failed grey
+        let mut palette: Vec<(u8, u8, u8)> = match &self.scale {
+            HeatScale::Categorical(states) => OKABE_ITO[..states.len()].to_vec(),
+            HeatScale::Continuous => (0..RASTER_LEVELS)
+                .map(|k| {
+                    let c = viridis(k as f64 / (RASTER_LEVELS - 1) as f64);
+                    (c.0, c.1, c.2)
+                })
+                .collect(),
+        };
+        let failed = palette.len() as u8;
+        palette.push((FAILED.0, FAILED.1, FAILED.2));
+        let index = |z: f64| -> u8 {
+            if !z.is_finite() {
+                return failed;
+            }
+            match &self.scale {
+                HeatScale::Categorical(states) => states
+                    .iter()
+                    .position(|(s, _)| s.to_bits() == z.to_bits())
+                    .map_or(failed, |k| k as u8),
+                HeatScale::Continuous => {
+                    let t = ((z - range.0) / (range.1 - range.0)).clamp(0.0, 1.0);
+                    (t * (RASTER_LEVELS - 1) as f64).round() as u8
+                }
+            }
+        };
+        // the cell holding a coordinate: edges are monotone, cells between consecutive edges
+        let cell = |e: &[f64], v: f64| -> usize {
+            let n = e.len() - 1;
+            let k = if e[n] >= e[0] {
+                e.partition_point(|&a| a <= v)
+            } else {
+                e.partition_point(|&a| a >= v)
+            };
+            k.clamp(1, n) - 1
+        };
+        let cols: Vec<usize> = (0..w)
+            .map(|i| cell(ex, x0 + (i as f64 + 0.5) / w as f64 * (x1 - x0)))
+            .collect();
+        let nx = self.xs.len();
+        let mut pixels = Vec::with_capacity(w * h);
+        for j in 0..h {
+            // pixel rows run downwards, y upwards
+            let row = cell(ey, y1 - (j as f64 + 0.5) / h as f64 * (y1 - y0));
+            pixels.extend(cols.iter().map(|&c| index(self.values[row * nx + c])));
+        }
+        let png = crate::raster::png_indexed(w, h, &pixels, &palette)?;
+        Some(format!(
+            "<image x=\"{}\" y=\"{}\" width=\"{w}\" height=\"{h}\" \
+             preserveAspectRatio=\"none\" style=\"image-rendering:pixelated\" \
+             href=\"data:image/png;base64,{}\"/>",
+            px.start,
+            py.start,
+            crate::raster::base64(&png)
+        ))
     }
 }
 
@@ -459,6 +566,76 @@ mod tests {
         )
         .unwrap();
         assert!(m.to_svg().is_ok());
+    }
+
+    /// FNV-1a (64 bit) of a text: a fixed fingerprint of a rendering.
+    fn fnv(s: &str) -> u64 {
+        s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        })
+    }
+
+    /// Below RASTER_CELLS a map renders exactly as before the raster existed (the fingerprints
+    /// of the two small test maps were taken from the renderer without the raster path), so
+    /// the committed validation maps do not move.
+    #[test]
+    fn small_maps_render_as_before() {
+        let a = map(vec![0.0, 1.0, 2.0, 2.0, f64::NAN, 0.0], states()).unwrap();
+        let b = map(vec![0.5, 1.0, 1.5, 2.0, 2.5, 3.0], HeatScale::Continuous).unwrap();
+        let (sa, sb) = (a.to_svg().unwrap(), b.to_svg().unwrap());
+        assert!(!sa.contains("<image") && !sb.contains("<image"));
+        assert_eq!((fnv(&sa), fnv(&sb)), SMALL_MAP_FINGERPRINTS);
+    }
+
+    const SMALL_MAP_FINGERPRINTS: (u64, u64) = (0xbbde_a449_5ee0_38e5, 0x7d00_2b9d_5b5f_ab65);
+
+    /// A 500 × 400 map (200 000 cells, non-uniform x) is one embedded PNG under 2 MB with its
+    /// axes, colour bar and labels as vector text; each pixel of the raster takes the colour of
+    /// the cell under it; a categorical map of the same size too.
+    #[test]
+    fn a_large_map_is_a_raster_under_two_megabytes() {
+        let xs: Vec<f64> = (0..500)
+            .map(|i| 100.0 + f64::from(i) + 1e-3 * f64::from(i * i))
+            .collect();
+        let ys: Vec<f64> = (0..400).map(|j| 5.0 + 0.1 * f64::from(j)).collect();
+        let values: Vec<f64> = (0..400)
+            .flat_map(|j| (0..500).map(move |i| f64::from(i) * 1e-3 + f64::from(j) * 1e-4))
+            .collect();
+        let m = Heatmap::new(
+            "big",
+            "a 500 × 400 map",
+            [("omega1", "rad/s"), ("T2", "N·m"), ("ppv", "1")],
+            xs.clone(),
+            ys.clone(),
+            values,
+            HeatScale::Continuous,
+        )
+        .unwrap();
+        let svg = m.to_svg().unwrap();
+        eprintln!("500 x 400 continuous map: {} bytes", svg.len());
+        assert!(svg.len() < 2_000_000, "{}", svg.len());
+        assert_eq!(svg.matches("<image").count(), 1);
+        assert!(svg.contains("data:image/png;base64,iVBORw0KGgo"));
+        assert!(svg.contains("omega1 [rad/s]") && svg.contains("T2 [N·m]"));
+        // the colour bar stays vector (96 rectangles) and no cell is a rectangle
+        assert!(
+            svg.matches("<rect").count() < 200,
+            "{}",
+            svg.matches("<rect").count()
+        );
+        let cats: Vec<f64> = (0..200_000).map(|k| f64::from(k % 3)).collect();
+        let c = Heatmap::new(
+            "cat",
+            "t",
+            [("x", ""), ("y", ""), ("rsv", "1")],
+            xs,
+            ys,
+            cats,
+            states(),
+        )
+        .unwrap();
+        let svg = c.to_svg().unwrap();
+        assert!(svg.len() < 2_000_000 && svg.contains("bilateral"));
     }
 
     #[test]

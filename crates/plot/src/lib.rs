@@ -8,7 +8,8 @@
 //!   SVG with plotters ([`Figure::to_svg`]); its data is also a long-format table;
 //! * [`heatmap::Heatmap`]: a quantity `z(x, y)` on a rectangular grid, continuous (viridis, with
 //!   a colour bar) or categorical (one colour per state), drawn cell by cell so that non-uniform
-//!   grids are drawn faithfully;
+//!   grids are drawn faithfully, and above [`RASTER_CELLS`] cells as one embedded PNG with vector
+//!   axes and labels;
 //! * text helpers for CSV and Markdown ([`csv_field`], [`md_cell`]), values that do not settle
 //!   under a solver retune ([`unsettled`], [`committed_text`], [`NOT_PERIODIC`]) and the
 //!   tolerance of a printed number ([`half_last_digit`]).
@@ -33,6 +34,7 @@ mod error;
 pub mod figure;
 pub mod format;
 pub mod heatmap;
+mod raster;
 pub mod table;
 
 pub use error::{Error, check_name};
@@ -41,5 +43,5 @@ pub use format::{
     NOT_PERIODIC, SIGNIFICANT_DIGITS, UNSETTLED_CLOSE, UNSETTLED_OPEN, committed_text, csv_field,
     fmt_sig, fmt6, full_text, half_last_digit, md_cell, unsettled,
 };
-pub use heatmap::{HeatScale, Heatmap};
+pub use heatmap::{HeatScale, Heatmap, RASTER_CELLS};
 pub use table::{Cell, Column, Table};

@@ -55,12 +55,13 @@ pub use models::contract::{
 };
 pub use plot::{Cell, Table};
 pub use user::{
-    FailedPoint, Limits, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_SECONDS_BOUND, MAX_STEPS_BOUND,
-    MAX_SWEEP_VALUES, Method, OutputLock, Point, Prepared, Progress, RunOptions, Solver, StudyPlan,
-    Sweep, TIME_LIMIT, UserStudy, UserStudyOutput, Value, Written, apply_overrides, apply_values,
-    camel_to_kebab, check_study_name, choice, compute, compute_records, default_out_dir,
-    display_name, field_names, kebab_to_camel, lock_output_dir, merge_from_str, merge_study_files,
-    model_names, model_spec, new_run_id, prepare, run_shard_from_str, run_study_file,
-    run_study_from_str, run_study_shard_file, run_user_study, run_with_time_limit, shard_path,
-    variant_names, write_outputs,
+    FailedPoint, Limits, MAX_CURVES, MAX_NAME_LEN, MAX_POINTS_BOUND, MAX_SECONDS_BOUND,
+    MAX_STEPS_BOUND, MAX_SWEEP_VALUES, Method, OutputLock, Point, Prepared, Progress, Reliability,
+    RunOptions, SHOWN_CURVES, Solver, StudyPlan, Sweep, TIME_LIMIT, UserStudy, UserStudyOutput,
+    Value, Written, apply_overrides, apply_values, camel_to_kebab, check_study_name, choice,
+    chosen_curves, compute, compute_records, default_out_dir, display_name, field_names,
+    kebab_to_camel, lock_output_dir, merge_from_str, merge_study_files, model_names, model_spec,
+    new_run_id, prepare, run_shard_from_str, run_study_file, run_study_from_str,
+    run_study_shard_file, run_user_study, run_with_time_limit, shard_path, variant_names,
+    write_outputs,
 };

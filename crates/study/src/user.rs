@@ -324,7 +324,10 @@ pub struct UserStudyOutput {
     pub failed: Vec<FailedPoint>,
     /// Number of points.
     pub points: usize,
-    /// JSON summary: the study as read, the output ranges (numbers), failed points.
+    /// How many points can be trusted (settled, chaotic, failed, …): also in `summary`.
+    pub reliability: Reliability,
+    /// JSON summary: the study as read, the output ranges (numbers), failed points, the
+    /// reliability counts and notes.
     pub summary: serde_json::Value,
 }
 
@@ -716,13 +719,21 @@ fn assemble(
         if let (Some(s), false) = (&study.sweep, bif) {
             let fname = format!("{}_{}", study.name, sanitize(name));
             let x_unit = axis_unit(study, &s.parameter);
-            let mut fig = Figure::new(
-                &fname,
-                &format!("{}: {name}", study.name),
-                (&s.parameter, &x_unit),
-                (name, unit),
-            );
-            for (iy, y) in ys.iter().enumerate() {
+            // a second sweep of many values: a few chosen curves (the CSV and the heat map
+            // hold every one)
+            let shown = chosen_curves(ys.len());
+            let title = if shown.len() < ys.len() {
+                format!(
+                    "{}: {name} ({} of {} curves; all in the CSV and the map)",
+                    study.name,
+                    shown.len(),
+                    ys.len()
+                )
+            } else {
+                format!("{}: {name}", study.name)
+            };
+            let mut fig = Figure::new(&fname, &title, (&s.parameter, &x_unit), (name, unit));
+            for (iy, y) in shown.iter().map(|&iy| (iy, &ys[iy])) {
                 let pts: Vec<(f64, f64)> = x_num
                     .iter()
                     .enumerate()
@@ -764,11 +775,13 @@ fn assemble(
     }
     let maps = heat_maps(study, outputs, xs, ys, &results);
     let points = results.len();
+    let reliability = Reliability::of(outputs, &results);
     let summary = serde_json::json!({
         "study": study,
         "points": points,
         "failed_points": failed,
         "outputs": ranges,
+        "reliability": reliability,
         "significant_digits": plot::SIGNIFICANT_DIGITS,
     });
     UserStudyOutput {
@@ -779,7 +792,114 @@ fn assemble(
         maps,
         failed,
         points,
+        reliability,
         summary,
+    }
+}
+
+/// Most curves of a line figure: a second sweep of more values is drawn as [`SHOWN_CURVES`]
+/// chosen curves (a figure of 400 curves is unreadable and tens of MB; the heat map shows all).
+pub const MAX_CURVES: usize = 12;
+
+/// Curves drawn when a second sweep has more than [`MAX_CURVES`] values: the first, the last
+/// and evenly spaced ones between.
+pub const SHOWN_CURVES: usize = 6;
+
+/// The indices of the curves of a line figure over `n` second-sweep values: all up to
+/// [`MAX_CURVES`], else [`SHOWN_CURVES`] evenly spaced from the first to the last.
+pub fn chosen_curves(n: usize) -> Vec<usize> {
+    if n <= MAX_CURVES {
+        return (0..n).collect();
+    }
+    (0..SHOWN_CURVES)
+        .map(|k| k * (n - 1) / (SHOWN_CURVES - 1))
+        .collect()
+}
+
+/// How many points of a study can be trusted: the counts behind the CLI's one-line summary and
+/// the `reliability` object of the JSON summary. A count is `None` when the model has no such
+/// column (e.g. `settled` for harmonic balance).
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Reliability {
+    /// Points of the study.
+    pub points: usize,
+    /// Points that failed (an error: NaN row).
+    pub failed: usize,
+    /// Points with `settled = 1` (time stepping: the kept window is classified).
+    pub settled: Option<usize>,
+    /// Points with `settled = 0`.
+    pub unsettled: Option<usize>,
+    /// Points with `motion = −1` (chaotic).
+    pub chaotic: Option<usize>,
+    /// Points with `converged = 0` (harmonic balance).
+    pub not_converged: Option<usize>,
+    /// Points with `stable = 0` (harmonic balance: Floquet).
+    pub unstable: Option<usize>,
+    /// Points with `robust = 0` (the spread over the variants exceeds the settled tolerance).
+    pub not_robust: Option<usize>,
+    /// What the output says about its own reliability where it cannot show it: e.g. that the
+    /// robustness spread was not computed (`robustness = "off"`: the columns `robust`,
+    /// `rsv_lo`, `rsv_hi`, `ppv_spread` are NaN).
+    pub notes: Vec<String>,
+}
+
+impl Reliability {
+    /// The counts over the rows `results` of the columns `outputs`.
+    pub fn of(outputs: &[(String, String)], results: &[Result<Vec<f64>, String>]) -> Self {
+        let ok: Vec<&Vec<f64>> = results.iter().filter_map(|r| r.as_ref().ok()).collect();
+        let count = |name: &str, want: f64| {
+            let j = outputs.iter().position(|(n, _)| n == name)?;
+            #[allow(clippy::float_cmp)] // exact: flags and codes are small integers
+            let n = ok.iter().filter(|r| r.get(j) == Some(&want)).count();
+            Some(n)
+        };
+        let has = |name: &str| outputs.iter().any(|(n, _)| n == name);
+        let mut notes = Vec::new();
+        if has("settled") && !has("robust") {
+            notes.push(
+                "robustness spread not computed (robustness = \"off\"): no columns robust, \
+                 rsv_lo, rsv_hi, ppv_spread; set robustness = \"on\" for the spread over \
+                 rtol/100, a second window and a second start"
+                    .to_owned(),
+            );
+        }
+        if has("converged") && has("residual_norm") && !has("stable") {
+            notes.push(
+                "Floquet stability not computed (stability = \"off\"): no column stable".to_owned(),
+            );
+        }
+        if has("stable") && has("converged") && !has("confirmed_by_time_stepping") {
+            notes.push(
+                "time-stepping confirmation not computed (confirm = \"off\"): no column \
+                 confirmed_by_time_stepping"
+                    .to_owned(),
+            );
+        }
+        Reliability {
+            points: results.len(),
+            failed: results.len() - ok.len(),
+            settled: count("settled", 1.0),
+            unsettled: count("settled", 0.0),
+            chaotic: count("motion", -1.0),
+            not_converged: count("converged", 0.0),
+            unstable: count("stable", 0.0),
+            not_robust: count("robust", 0.0),
+            notes,
+        }
+    }
+
+    /// The one-line summary of a study: `points, settled, chaotic, failed`, then the other
+    /// counts that apply (`not converged`, `unstable`, `not robust`).
+    pub fn line(&self) -> String {
+        let mut parts = vec![format!("{} points", self.points)];
+        let opt = |n: Option<usize>, what: &str| n.map(|n| format!("{n} {what}"));
+        parts.extend(opt(self.settled, "settled"));
+        parts.extend(opt(self.chaotic, "chaotic"));
+        parts.push(format!("{} failed", self.failed));
+        parts.extend(opt(self.not_converged, "not converged"));
+        parts.extend(opt(self.unstable, "unstable"));
+        parts.extend(opt(self.not_robust, "not robust"));
+        parts.join(", ")
     }
 }
 

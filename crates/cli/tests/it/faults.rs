@@ -25,6 +25,9 @@ steps = 200
 
 [solver]
 method = "hbm"
+
+[solver.settings]
+stability = "off"      # the Floquet verdict would double each point's cost; not under test
 "#;
 
 fn geardyn() -> Command {

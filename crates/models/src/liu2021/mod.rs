@@ -132,4 +132,4 @@ pub use strategy::{
     HbmOrigin, HbmPoint, Motion, SweepPoint, SweepStrategy, TimeReference, classify_section,
     is_stable_multiplier, max_multiplier, solve_point, solve_sweep, time_reference,
 };
-pub use window::{LongWindowOptions, long_window};
+pub use window::{LongWindowOptions, SettledWindow, long_window, robust_window, settled_window};

@@ -58,9 +58,10 @@ pub(crate) const LIU_TS: &[SettingDef] = &[
         kind: Kind::Num {
             lo: 0.0,
             hi: 1e4,
-            default: 2.0,
+            default: USER_TRANSIENT,
         },
-        doc: "periods T = 2π/ω̄_c integrated and discarded",
+        doc: "periods T = 2π/ω̄_c integrated and discarded before the first window (and before \
+              the one-period record)",
     },
     SettingDef {
         name: "record_periods",
@@ -69,7 +70,8 @@ pub(crate) const LIU_TS: &[SettingDef] = &[
             hi: 1e3,
             default: 1.0,
         },
-        doc: "periods recorded (the steady response)",
+        doc: "periods of the one-period record (columns rsv_one_period, ppv_one_period); with \
+              settle = \"fixed\" also the judged window (then a whole number ≥ 1)",
     },
     SettingDef {
         name: "sample_step",
@@ -78,7 +80,8 @@ pub(crate) const LIU_TS: &[SettingDef] = &[
             hi: 1e3,
             default: 0.1,
         },
-        doc: "output sampling interval Δτ; the recorded window must hold 64 … 1e7 samples",
+        doc: "output sampling interval Δτ; the one-period record must hold 64 … 1e7 samples \
+              (the windows sample at the largest Δτ ≤ sample_step that divides T)",
     },
     SettingDef {
         name: "max_step",
@@ -100,16 +103,84 @@ pub(crate) const LIU_TS: &[SettingDef] = &[
     },
     TOLERANCE_CHECK,
     SettingDef {
-        name: "long_window_periods",
+        name: "settle",
+        kind: Kind::Name {
+            options: &["section", "fixed"],
+            default: "section",
+        },
+        doc: "\"section\": after transient_periods, windows of window_periods periods; a window \
+              whose Poincaré section still holds a transient (repeats over its last half, not \
+              the whole) is discarded until max_transient_periods; the kept window gives rsv, \
+              ppv and the motion. \"fixed\": one window of record_periods after \
+              transient_periods, nothing discarded (fewer than 20 periods: motion unsettled)",
+    },
+    SettingDef {
+        name: "window_periods",
+        kind: Kind::Int {
+            lo: 20,
+            hi: 10_000,
+            default: Some(50),
+        },
+        doc: "periods of each window with settle = \"section\" (≥ 20: the section test and \
+              the 0–1 test need them)",
+    },
+    SettingDef {
+        name: "max_transient_periods",
         kind: Kind::Num {
             lo: 0.0,
             hi: 1e4,
-            default: 0.0,
+            default: USER_MAX_TRANSIENT,
         },
-        doc: "0: off; n ≥ 1: add the long-window rattle statistics over windows of n periods \
-              with their range over two tolerances, two windows and two starts \
-              (models::liu2021::long_window; the issue's long window is n = 50)",
+        doc: "cap on the periods integrated before the kept window with settle = \"section\" \
+              (whole windows: ⌊(cap − transient_periods)/window_periods⌋ may be discarded, none \
+              when transient_periods ≥ cap)",
     },
+    SettingDef {
+        name: "robustness",
+        kind: Kind::Name {
+            options: &["off", "on"],
+            default: "off",
+        },
+        doc: "\"on\": the spread over the validation's variants (rtol/100, a second window, a \
+              second start; models::liu2021::robust_window, about 4× the work) in columns robust, \
+              rsv_lo, rsv_hi, ppv_spread and the long-window columns (windows of ≥ 20 periods); \
+              \"off\": those columns are absent and the study summary says so",
+    },
+];
+
+/// Default cap on the periods integrated before the kept window (`max_transient_periods`): the
+/// transients of Liu Fig. 11 near the bilateral onset last up to about 50 periods.
+const USER_MAX_TRANSIENT: f64 = 200.0;
+
+/// Default `transient_periods` of a time-stepping point: the validation's (10 periods: the free
+/// transient decays by `e^{-17}` per period at Table 1 values).
+const USER_TRANSIENT: f64 = 10.0;
+
+/// The time-stepping outputs before the optional long-window columns: the kept window's rattle
+/// state, ppv and extremes; its motion code and whether it settled
+/// ([`crate::response::window_motion`]); the periods integrated before it; the one-period
+/// figures. With `robustness = "on"`, [`LIU_TS_ROBUST_OUT`] and the long-window columns follow.
+const LIU_TS_OUT: &[(&str, &str)] = &[
+    ("rsv", "1"),
+    ("ppv", "1"),
+    ("q_min", "1"),
+    ("q_max", "1"),
+    ("motion", "1"),
+    ("settled", "1"),
+    ("transient_periods_used", "1"),
+    ("rsv_one_period", "1"),
+    ("ppv_one_period", "1"),
+];
+
+/// The robustness columns (`robustness = "on"`): 1 when every variant agrees on the rattle state
+/// and the window is periodic in every variant with its ppv reproducible to
+/// [`crate::response::SETTLED`] ([`crate::response::window_unsettled`]), else 0; the rsv range and
+/// the relative ppv spread over the variants.
+const LIU_TS_ROBUST_OUT: &[(&str, &str)] = &[
+    ("robust", "1"),
+    ("rsv_lo", "1"),
+    ("rsv_hi", "1"),
+    ("ppv_spread", "1"),
 ];
 
 pub(crate) const LIU_HBM: &[SettingDef] = &[
@@ -149,6 +220,40 @@ pub(crate) const LIU_HBM: &[SettingDef] = &[
         },
         doc: "full basis with K = R·Z2 + 2 harmonics (absent: the paper's 15-unknown basis)",
     },
+    SettingDef {
+        name: "stability",
+        kind: Kind::Name {
+            options: &["on", "off"],
+            default: "on",
+        },
+        doc: "\"on\": column stable, the Floquet verdict of the converged orbit (multipliers of \
+              its event-located period map); \"off\": no column (the study summary says so)",
+    },
+    SettingDef {
+        name: "confirm",
+        kind: Kind::Name {
+            options: &["off", "on"],
+            default: "off",
+        },
+        doc: "\"on\": integrate from the converged orbit's state at τ = 0 (10 transient periods, \
+              windows of 50, up to 200 periods settling: the time-stepping defaults) and set \
+              confirmed_by_time_stepping = 1 when the settled window is periodic with the \
+              orbit's rattle state (ppv_time_stepping: its ppv); \"off\": both columns absent \
+              and the study summary says so",
+    },
+];
+
+/// The HBM output after [`LIU_OUT`]: the orbit's stability from the Floquet multipliers of its
+/// period map ([`liu2021::shooting_stability`]: 1 when converged and every multiplier modulus is
+/// `≤ 1 + system::STABILITY_TOLERANCE`, 0 when unstable or not converged).
+const LIU_HBM_OUT: &[(&str, &str)] = &[("stable", "1")];
+
+/// The HBM outputs of `confirm = "on"`: 1 when time stepping from the orbit's state at `τ = 0`
+/// settles on a periodic window with the orbit's rattle state (0 otherwise, or not converged),
+/// and that window's ppv (the orbit's ppv when not converged: nothing was integrated).
+const LIU_HBM_CONFIRM_OUT: &[(&str, &str)] = &[
+    ("confirmed_by_time_stepping", "1"),
+    ("ppv_time_stepping", "1"),
 ];
 
 /// The Liu shooting outputs: the orbit's rattle state from its gap margins, the section state,
@@ -360,13 +465,13 @@ impl contract::Model for Liu {
                 MethodInfo {
                     method: Method::TimeStepping,
                     settings: LIU_TS.to_vec(),
-                    outputs: outs_stepped(&LIU_OUT[..4], false),
+                    outputs: outs_stepped(LIU_TS_OUT, false),
                     initial: Some("[q, q'] at τ = 0 (default: the quasi-static contact at rest)"),
                 },
                 MethodInfo {
                     method: Method::Hbm,
                     settings: LIU_HBM.to_vec(),
-                    outputs: outs(LIU_OUT),
+                    outputs: outs(&hbm_outputs(true, false)),
                     initial: None,
                 },
                 MethodInfo {
@@ -493,17 +598,18 @@ impl contract::Model for Liu {
     }
 }
 
-fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
-    let limits = ctx.limits;
-    let s = Settings::read(
-        "liu2021",
-        Method::TimeStepping,
-        LIU_TS,
-        &ctx.solver.settings,
-        &[],
-    )?;
-    let initial = liu_initial(ctx)?;
-    let opts = liu2021::IntegrationOptions {
+/// The time-stepping plan of one study: the one-period run and the window settings.
+#[derive(Debug, Clone, Copy)]
+struct TsPlan {
+    one_period: liu2021::IntegrationOptions,
+    window: liu2021::LongWindowOptions,
+    robust: bool,
+}
+
+/// Read the time-stepping settings (bounds checked by [`Settings::read`]; the relations between
+/// them here, each error naming the settings and the bound).
+fn ts_plan(s: &Settings, initial: Option<(f64, f64)>) -> Result<TsPlan, PointError> {
+    let one_period = liu2021::IntegrationOptions {
         transient_periods: s.f("transient_periods"),
         record_periods: s.f("record_periods"),
         sample_step: s.f("sample_step"),
@@ -511,39 +617,132 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
         rtol: s.f("rtol"),
         initial,
     };
-    let check = s.name("tolerance_check") == "on";
-    let lw_periods = s.f("long_window_periods");
-    if lw_periods.fract() != 0.0 {
+    let fixed = s.name("settle") == "fixed";
+    let transient = one_period.transient_periods;
+    let (periods, settle_windows) = if fixed {
+        let r = one_period.record_periods;
+        if r.fract() != 0.0 || r < 1.0 {
+            return Err(PointError::Input(format!(
+                "setting `record_periods` must be a whole number ≥ 1 with settle = \"fixed\" \
+                 (it is the judged window), got {r}"
+            )));
+        }
+        (r as usize, 0)
+    } else {
+        let w = s.u("window_periods").unwrap_or(50) as usize;
+        // whole windows between the transient and the cap (none when the transient reaches it)
+        let cap = s.f("max_transient_periods");
+        (w, ((cap - transient).max(0.0) / w as f64).floor() as usize)
+    };
+    let robust = s.name("robustness") == "on";
+    if robust && periods < crate::response::MIN_CLASSIFIED_PERIODS {
         return Err(PointError::Input(format!(
-            "liu2021: long_window_periods must be a whole number (0: off), got {lw_periods}"
+            "robustness = \"on\" needs windows of ≥ {} periods (the 0–1 test); \
+             settle = \"fixed\" has record_periods = {periods}",
+            crate::response::MIN_CLASSIFIED_PERIODS
         )));
     }
-    let window = (lw_periods >= 1.0).then(|| liu2021::LongWindowOptions {
-        transient_periods: opts.transient_periods,
-        periods: lw_periods as usize,
-        sample_step: opts.sample_step,
-        max_step: opts.max_step,
-        rtol: opts.rtol,
-        ..liu2021::LongWindowOptions::default()
-    });
-    let mut names: Vec<(&str, &str)> = LIU_OUT[..4].to_vec();
-    if window.is_some() {
+    Ok(TsPlan {
+        one_period,
+        window: liu2021::LongWindowOptions {
+            transient_periods: transient,
+            periods,
+            sample_step: one_period.sample_step,
+            max_step: one_period.max_step,
+            rtol: one_period.rtol,
+            settle_windows,
+            ..liu2021::LongWindowOptions::default()
+        },
+        robust,
+    })
+}
+
+/// One time-stepping point of [`ts_plan`] at `rtol / factor`: the columns of [`LIU_TS_OUT`]
+/// (plus [`crate::response::Robust::COLUMNS`] when robust) and the work of every run.
+fn ts_point(
+    model: &liu2021::Model,
+    plan: &TsPlan,
+    factor: f64,
+) -> Result<(Record, timestep::Stats), PointError> {
+    ts_point_full(model, plan, factor).map(|(r, w, _)| (r, w))
+}
+
+/// [`ts_point`] with the one-period response (its samples for a full-result solve).
+fn ts_point_full(
+    model: &liu2021::Model,
+    plan: &TsPlan,
+    factor: f64,
+) -> Result<(Record, timestep::Stats, liu2021::TimeResponse), PointError> {
+    use crate::response::{Robust, SETTLED, motion_code, window_motion, window_unsettled};
+    let o = liu2021::IntegrationOptions {
+        rtol: plan.one_period.rtol / factor,
+        ..plan.one_period
+    };
+    let one = liu2021::integrate(model, &o).context("liu2021 time integration")?;
+    let wo = liu2021::LongWindowOptions {
+        rtol: plan.window.rtol / factor,
+        ..plan.window
+    };
+    let (robust, kept) = if plan.robust {
+        let (r, k) = liu2021::robust_window(model, &wo, o.initial).context("liu2021 window")?;
+        (Some(r), k)
+    } else {
+        let k = liu2021::settled_window(model, &wo, o.initial).context("liu2021 window")?;
+        (None, k)
+    };
+    let w = &kept.stats;
+    let flag = |b: bool| if b { 1.0 } else { 0.0 };
+    let mut rec = Record::new();
+    rec.push("rsv", "1", f64::from(w.state.rsv()))
+        .push("ppv", "1", w.ppv)
+        .push("q_min", "1", w.q_min)
+        .push("q_max", "1", w.q_max)
+        .push("motion", "1", motion_code(w))
+        .push("settled", "1", flag(window_motion(w).is_some()))
+        .push("transient_periods_used", "1", kept.transient_periods)
+        .push("rsv_one_period", "1", f64::from(one.rattle.state.rsv()))
+        .push("ppv_one_period", "1", one.rattle.ppv);
+    // the columns of LIU_TS_ROBUST_OUT, then the long-window columns
+    if let Some(r) = &robust {
+        let (lo, hi) = r.rsv_interval();
+        rec.push("robust", "1", flag(!window_unsettled(r, SETTLED)))
+            .push("rsv_lo", "1", f64::from(lo))
+            .push("rsv_hi", "1", f64::from(hi))
+            .push("ppv_spread", "1", r.ppv_spread());
+        for ((name, unit), v) in Robust::COLUMNS.iter().zip(r.values()) {
+            rec.push(name, unit, v);
+        }
+    }
+    let mut work = one.stats;
+    work.add(&kept.work);
+    Ok((rec, work, one))
+}
+
+fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
+    let limits = ctx.limits;
+    let s = Settings::read(
+        "liu2021",
+        Method::TimeStepping,
+        LIU_TS,
+        &ctx.solver.settings,
+        &[(
+            "long_window_periods",
+            "robustness = \"on\" (with window_periods = n; the settled window is the default)",
+        )],
+    )?;
+    let plan = ts_plan(&s, liu_initial(ctx)?)?;
+    let check = s.name("tolerance_check") == "on";
+    let mut names: Vec<(&str, &str)> = LIU_TS_OUT.to_vec();
+    if plan.robust {
+        names.extend(LIU_TS_ROBUST_OUT);
         names.extend(crate::response::Robust::COLUMNS);
     }
     Ok(Adapter {
         outputs: outs_stepped(&names, check),
         prepare: Box::new(move |p: &Point| {
             let model = liu_model(p)?;
-            if let Some(w) = &window {
-                // three runs of (transient + window), the nominal one with two windows, each
-                // run discarding at most `settle_windows` windows that hold a transient
-                let windows = 4.0 + 3.0 * w.settle_windows as f64;
-                let steps = (3.0 * w.transient_periods + windows * w.periods as f64)
-                    * model.period()
-                    / w.max_step;
-                limits.need_steps("liu2021 long window", steps)?;
-            }
             let period = model.period();
+            let opts = &plan.one_period;
             let samples = opts.record_periods * period / opts.sample_step;
             if !(LIU_MIN_SAMPLES..=LIU_MAX_SAMPLES).contains(&samples) {
                 return Err(PointError::Input(format!(
@@ -553,36 +752,21 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                      record_periods"
                 )));
             }
-            let steps = (opts.transient_periods + opts.record_periods) * period / opts.max_step;
+            // the one-period run, then the window run(s): the nominal one with every window it
+            // may discard (robust: two kept windows, and two more runs of one)
+            let w = &plan.window;
+            let nominal = w.transient_periods + (w.settle_windows + 1) as f64 * w.periods as f64;
+            let runs = if plan.robust {
+                3.0 * nominal + (1 + 2 * w.settle_windows) as f64 * w.periods as f64
+            } else {
+                nominal
+            };
+            let steps = (opts.transient_periods + opts.record_periods + runs) * period / w.max_step;
             limits.need_steps("liu2021", steps)?;
-            Ok(Box::new(move || {
-                run_stepped(check, |factor| {
-                    let o = liu2021::IntegrationOptions {
-                        rtol: opts.rtol / factor,
-                        ..opts
-                    };
-                    let r = liu2021::integrate(&model, &o).context("liu2021 time integration")?;
-                    let mut rec = Record::new();
-                    rec.push("rsv", "1", f64::from(r.rattle.state.rsv()))
-                        .push("ppv", "1", r.rattle.ppv)
-                        .push("q_min", "1", r.rattle.q_min)
-                        .push("q_max", "1", r.rattle.q_max);
-                    if let Some(w) = &window {
-                        let wo = liu2021::LongWindowOptions {
-                            rtol: w.rtol / factor,
-                            ..*w
-                        };
-                        let lw =
-                            liu2021::long_window(&model, &wo).context("liu2021 long window")?;
-                        for ((name, unit), v) in
-                            crate::response::Robust::COLUMNS.iter().zip(lw.values())
-                        {
-                            rec.push(name, unit, v);
-                        }
-                    }
-                    Ok((rec, r.stats))
-                })
-            }) as Job)
+            Ok(
+                Box::new(move || run_stepped(check, |factor| ts_point(&model, &plan, factor)))
+                    as Job,
+            )
         }),
     })
 }
@@ -592,8 +776,10 @@ fn harmonic_balance(ctx: &Context<'_>) -> Result<Adapter, PointError> {
     let s = Settings::read("liu2021", Method::Hbm, LIU_HBM, &ctx.solver.settings, &[])?;
     let (tol, max_iter) = (s.f("tol"), s.u("max_iter").unwrap_or(60));
     let (full_r, samples) = (s.u("full_r"), s.u("samples"));
+    let confirm = s.name("confirm") == "on";
+    let stability = s.name("stability") == "on";
     Ok(Adapter {
-        outputs: outs(LIU_OUT),
+        outputs: outs(&hbm_outputs(stability, confirm)),
         prepare: Box::new(move |p: &Point| {
             let model = liu_model(p)?;
             let mut opts = match full_r {
@@ -614,10 +800,64 @@ fn harmonic_balance(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                     .push("converged", "1", if r.converged() { 1.0 } else { 0.0 })
                     .push("residual_norm", "1", r.solution.residual_norm)
                     .push("truncation", "1", r.solution.truncation);
+                rec.append(hbm_reliability(&model, &r, stability, confirm)?);
                 Ok(rec)
             }) as Job)
         }),
     })
+}
+
+/// The HBM columns: [`LIU_OUT`], [`LIU_HBM_OUT`] when `stability`, then
+/// [`LIU_HBM_CONFIRM_OUT`] when `confirm`.
+fn hbm_outputs(stability: bool, confirm: bool) -> Vec<(&'static str, &'static str)> {
+    let st: &[(&str, &str)] = if stability { LIU_HBM_OUT } else { &[] };
+    let more: &[(&str, &str)] = if confirm { LIU_HBM_CONFIRM_OUT } else { &[] };
+    LIU_OUT.iter().chain(st).chain(more).copied().collect()
+}
+
+/// The columns of [`LIU_HBM_OUT`] (when `stability`) and [`LIU_HBM_CONFIRM_OUT`] (when
+/// `confirm`) for a harmonic-balance response.
+fn hbm_reliability(
+    model: &liu2021::Model,
+    r: &liu2021::HbmResponse,
+    stability: bool,
+    confirm: bool,
+) -> Result<Record, PointError> {
+    let mut rec = Record::new();
+    let flag = |b: bool| if b { 1.0 } else { 0.0 };
+    if !r.converged() {
+        if stability {
+            rec.push("stable", "1", 0.0);
+        }
+        if confirm {
+            rec.push("confirmed_by_time_stepping", "1", 0.0).push(
+                "ppv_time_stepping",
+                "1",
+                r.rattle.ppv,
+            );
+        }
+        return Ok(rec);
+    }
+    if stability {
+        let st = liu2021::shooting_stability(model, r).context("liu2021 Floquet stability")?;
+        rec.push("stable", "1", flag(st.stable));
+    }
+    if confirm {
+        let (q, v) = r.solution.state_at(0.0);
+        let o = liu2021::LongWindowOptions {
+            transient_periods: USER_TRANSIENT,
+            settle_windows: ((USER_MAX_TRANSIENT - USER_TRANSIENT) / 50.0).floor() as usize,
+            ..liu2021::LongWindowOptions::default()
+        };
+        let w = liu2021::settled_window(model, &o, Some((q[0], v[0])))
+            .context("liu2021 time-stepping confirmation")?;
+        let periodic =
+            crate::response::window_motion(&w.stats).is_some_and(|m| m.period_multiple() >= 1);
+        let same = w.stats.state.rsv() == r.rattle.state.rsv();
+        rec.push("confirmed_by_time_stepping", "1", flag(periodic && same))
+            .push("ppv_time_stepping", "1", w.stats.ppv);
+    }
+    Ok(rec)
 }
 
 fn shooting(ctx: &Context<'_>) -> Result<Adapter, PointError> {
@@ -686,24 +926,57 @@ fn full_time_stepping(
             "setting `long_window_periods` must be an integer in [0, 10000], got {lw_periods}"
         )));
     }
+    // the settle settings of `geardyn study` (same names, bounds, defaults and messages)
+    let mut settle = serde_json::Map::new();
+    for k in [
+        "settle",
+        "window_periods",
+        "max_transient_periods",
+        "robustness",
+    ] {
+        if let Some(v) = s.remove(k) {
+            settle.insert(k.to_owned(), v);
+        }
+    }
     api::no_leftovers(method, s)?;
     // the integration options share their names, bounds and messages with the study
     // setting of `geardyn study` (all but `initial`, a state)
+    let mut shared = settle.clone();
     if let J::Object(o) = &opts_over {
-        let shared: serde_json::Map<String, J> = o
-            .iter()
-            .filter(|(k, _)| k.as_str() != "initial")
-            .map(|(k, v)| (k.clone(), v.clone()))
-            .collect();
-        api::study_settings("liu2021", Method::TimeStepping, &shared)?;
+        for (k, v) in o {
+            if k.as_str() != "initial" {
+                shared.insert(k.clone(), v.clone());
+            }
+        }
     }
-    let opts = api::with_overrides(
-        "liu2021 integration options",
-        &liu2021::IntegrationOptions::default(),
-        &opts_over,
+    api::study_settings("liu2021", Method::TimeStepping, &shared)?;
+    let base = liu2021::IntegrationOptions {
+        transient_periods: USER_TRANSIENT,
+        ..liu2021::IntegrationOptions::default()
+    };
+    let opts = api::with_overrides("liu2021 integration options", &base, &opts_over)?;
+    let settings = Settings::read(
+        "liu2021",
+        Method::TimeStepping,
+        LIU_TS,
+        &api::study_values(
+            [
+                ("transient_periods", opts.transient_periods),
+                ("record_periods", opts.record_periods),
+                ("sample_step", opts.sample_step),
+                ("max_step", opts.max_step),
+                ("rtol", opts.rtol),
+            ]
+            .into_iter()
+            .map(|(k, v)| (k.to_owned(), json!(v)))
+            .chain(settle)
+            .collect(),
+        )?,
+        &[],
     )?;
+    let plan = ts_plan(&settings, opts.initial)?;
     let model = p.model()?;
-    let r = liu2021::integrate(&model, &opts)?;
+    let (rec, _, r) = ts_point_full(&model, &plan, 1.0)?;
     let window = if lw_periods >= 1.0 {
         let o = liu2021::LongWindowOptions {
             periods: lw_periods as usize,
@@ -724,12 +997,30 @@ fn full_time_stepping(
     } else {
         J::Null
     };
-    Ok(json!({
-        "tau": r.tau, "q": r.q, "v": r.v,
-        "rsv": r.rattle.state.rsv(), "ppv": r.rattle.ppv,
-        "converged": true, "contact_events": r.contact_events,
-        "window": window,
-    }))
+    // the study's columns (rsv, ppv, motion, settled, the one-period figures, the spread), the
+    // one-period samples, the motion's label
+    let mut out: serde_json::Map<String, J> = rec
+        .columns()
+        .iter()
+        .map(|c| (c.name.clone(), json!(c.value)))
+        .collect();
+    let label = rec
+        .get("motion")
+        .and_then(crate::response::motion_label)
+        .unwrap_or_default();
+    out.insert("motion_label".to_owned(), json!(label));
+    out.insert("robustness".to_owned(), json!(settings.name("robustness")));
+    for (k, v) in [
+        ("tau", json!(r.tau)),
+        ("q", json!(r.q)),
+        ("v", json!(r.v)),
+        ("converged", json!(true)),
+        ("contact_events", json!(r.contact_events)),
+        ("window", window),
+    ] {
+        out.insert(k.to_owned(), v);
+    }
+    Ok(J::Object(out))
 }
 
 fn full_hbm(p: liu2021::Parameters, mut s: BTreeMap<String, J>) -> Result<J, PointError> {
@@ -821,7 +1112,12 @@ mod tests {
     #[allow(clippy::float_cmp)]
     fn setting_defaults_match_the_library() {
         let o = liu2021::IntegrationOptions::default();
-        assert_eq!(default_of(LIU_TS, "transient_periods"), o.transient_periods);
+        // the user default is the validation's transient (the library's one-period run keeps 2)
+        assert_eq!(
+            default_of(LIU_TS, "transient_periods"),
+            liu2021::LongWindowOptions::default().transient_periods
+        );
+        assert_eq!(default_of(LIU_TS, "window_periods"), 50.0);
         assert_eq!(default_of(LIU_TS, "record_periods"), o.record_periods);
         assert_eq!(default_of(LIU_TS, "sample_step"), o.sample_step);
         assert_eq!(default_of(LIU_TS, "max_step"), o.max_step);

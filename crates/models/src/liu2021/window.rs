@@ -118,14 +118,14 @@ pub(crate) fn section_step(period: f64, sample_step: f64) -> f64 {
 }
 
 /// One record of `windows` consecutive windows after the transient, from `start`, at `rtol`;
-/// the statistics of each window.
+/// the statistics of each window and the number of windows discarded as transient.
 fn record(
     model: &Model,
     o: &LongWindowOptions,
     start: (f64, f64),
     rtol: f64,
     windows: usize,
-) -> Result<Vec<WindowStats>, Error> {
+) -> Result<(Vec<WindowStats>, f64, timestep::Stats), Error> {
     let period = model.period();
     let dt = section_step(period, o.sample_step);
     let mut io = super::IntegrationOptions {
@@ -148,9 +148,12 @@ fn record(
         min_depth: o.min_depth,
         lines: [1, model.z2],
     };
+    let mut work = warm.stats;
     let mut y = warm.y_final;
     let mut out = Vec::with_capacity(windows);
     let mut discarded = 0;
+    // periods integrated before the first kept window
+    let mut before = f64::NAN;
     // at most `windows + settle_windows` windows: each pass keeps one or spends one discard
     for w in 0..windows + o.settle_windows {
         if out.len() == windows {
@@ -165,6 +168,7 @@ fn record(
             t1,
             base.clone().with_output(timestep::Output::Uniform { dt }),
         )?;
+        work.add(&rec.stats);
         let crossings: Vec<Crossing> = rec
             .events
             .iter()
@@ -213,9 +217,54 @@ fn record(
             discarded += 1;
             continue;
         }
+        if out.is_empty() {
+            before = o.transient_periods + (w * o.periods) as f64;
+        }
         out.push(stats);
     }
-    Ok(out)
+    Ok((out, before, work))
+}
+
+/// The window kept by [`settled_window`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SettledWindow {
+    /// The kept window's statistics (its motion: [`crate::response::window_motion`]).
+    pub stats: WindowStats,
+    /// Periods integrated before the kept window: `transient_periods + discarded·periods`.
+    pub transient_periods: f64,
+    /// Work counters of the whole run (transient, discarded windows, kept window).
+    pub work: timestep::Stats,
+}
+
+/// The settled window of Eq. (9) at one point, without the variants of [`long_window`]: from
+/// `start` (default: the quasi-static contact position at rest), after `transient_periods`,
+/// windows of `periods` periods at `rtol`, each window that still holds the end of a transient
+/// ([`WindowStats::transient`]) discarded, up to `settle_windows` of them. Returns the kept
+/// window's statistics and the periods integrated before it
+/// (`transient_periods + discarded·periods`, at most
+/// `transient_periods + settle_windows·periods`). Its motion is
+/// [`crate::response::window_motion`]: periodic, quasi-periodic, chaotic, or unsettled (still a
+/// transient at the cap, or fewer than 20 periods). With the same options the window is the
+/// nominal window of [`long_window`] bit for bit.
+///
+/// # Errors
+/// Invalid options (as [`long_window`]) or a failed integration.
+pub fn settled_window(
+    model: &Model,
+    options: &LongWindowOptions,
+    start: Option<(f64, f64)>,
+) -> Result<SettledWindow, Error> {
+    options.validate()?;
+    let start = start.unwrap_or((model.static_position(0.0), 0.0));
+    let (mut w, before, work) = record(model, options, start, options.rtol, 1)?;
+    let stats = w
+        .pop()
+        .ok_or_else(|| Error::Solver("empty window".into()))?;
+    Ok(SettledWindow {
+        stats,
+        transient_periods: before,
+        work,
+    })
 }
 
 /// Long-window statistics of Eq. (9) at one point, with their spread over two tolerances, two
@@ -238,32 +287,50 @@ pub fn long_window(model: &Model, options: &LongWindowOptions) -> Result<Robust,
     crate::memo::cached(
         "liu2021::long_window",
         || format!("{model:?}|{options:?}"),
-        || long_window_uncached(model, options),
+        || Ok(robust_window(model, options, None)?.0),
     )
 }
 
-fn long_window_uncached(model: &Model, options: &LongWindowOptions) -> Result<Robust, Error> {
+/// [`long_window`] with the nominal runs (both windows and the `rtol/refine` variant) from
+/// `start` (default: the quasi-static contact position at rest; the `other start` variant
+/// starts from the middle of the gap at rest either way), and the nominal window as a
+/// [`SettledWindow`] whose `work` counts every run of the variants.
+///
+/// # Errors
+/// Invalid options or a failed integration.
+pub fn robust_window(
+    model: &Model,
+    options: &LongWindowOptions,
+    start: Option<(f64, f64)>,
+) -> Result<(Robust, SettledWindow), Error> {
     options.validate()?;
-    let rest = (model.static_position(0.0), 0.0);
-    let mut nominal = record(model, options, rest, options.rtol, 2)?;
+    let rest = start.unwrap_or((model.static_position(0.0), 0.0));
+    let (mut nominal, before, mut work) = record(model, options, rest, options.rtol, 2)?;
     let window_b = nominal
         .pop()
         .ok_or_else(|| Error::Solver("empty window".into()))?;
     let nominal = nominal
         .pop()
         .ok_or_else(|| Error::Solver("empty window".into()))?;
-    let tight = record(
+    let (tight, _, w_tight) = record(
         model,
         options,
         rest,
         options.rtol / options.refine_factor,
         1,
     )?;
-    let other = record(model, options, (0.0, 0.0), options.rtol, 1)?;
+    let (other, _, w_other) = record(model, options, (0.0, 0.0), options.rtol, 1)?;
+    work.add(&w_tight);
+    work.add(&w_other);
     let mut variants = vec![("window B".to_owned(), window_b)];
     variants.extend(tight.into_iter().map(|w| ("rtol/refine".to_owned(), w)));
     variants.extend(other.into_iter().map(|w| ("other start".to_owned(), w)));
-    Ok(Robust { nominal, variants })
+    let settled = SettledWindow {
+        stats: nominal,
+        transient_periods: before,
+        work,
+    };
+    Ok((Robust { nominal, variants }, settled))
 }
 
 #[cfg(test)]
@@ -282,6 +349,7 @@ mod tests {
     /// Below the unilateral onset (Table 1, 120 rad/s) the gears stay in drive-flank contact
     /// in every period of every variant, with no back-flank impacts.
     #[test]
+    #[allow(clippy::float_cmp)] // exact: 3 periods given, 3 used
     fn no_rattle_point_is_robustly_no_rattle() {
         let o = LongWindowOptions {
             periods: 2,
@@ -290,6 +358,21 @@ mod tests {
         };
         let r = long_window(&model(120.0), &o).unwrap();
         assert_eq!(r.state(), Some(RattleState::NoRattle), "{}", r.describe());
+        // the settled window is the nominal window bit for bit, and the robust window's spread
+        // is long_window's; the work counts every run
+        let s = settled_window(&model(120.0), &o, None).unwrap();
+        // (Debug text: chaos_k is NaN below 20 periods, and NaN != NaN)
+        let text = |w: &WindowStats| format!("{w:?}");
+        assert_eq!(text(&s.stats), text(&r.nominal));
+        assert_eq!(s.transient_periods, 3.0);
+        let (rr, rs) = robust_window(&model(120.0), &o, None).unwrap();
+        assert_eq!(format!("{rr:?}"), format!("{r:?}"));
+        assert!(
+            rs.work.n_rhs > 3 * s.work.n_rhs,
+            "{:?} {:?}",
+            rs.work,
+            s.work
+        );
         assert_eq!(r.nominal.back.count, 0);
         assert_eq!(r.variants.len(), 3);
         assert!(r.ppv_spread() < 1e-3, "{}", r.describe());

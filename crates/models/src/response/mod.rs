@@ -20,14 +20,21 @@
 //!
 //! [`window_stats`] computes them from uniform samples `(t, q, q')` of one record; [`Robust`]
 //! combines the statistics of several records of the same point (two tolerances, two windows,
-//! two initial states) into intervals, so that a verdict can say whether its statistic is robust.
+//! two initial states) into intervals, so that a verdict can say whether its statistic is robust;
+//! [`window_motion`] and [`window_unsettled`] say whether a window's answer is settled (one
+//! home for the validation and the user studies).
 
 mod metrics;
+mod settle;
 mod window;
 
 pub use metrics::{
     RattleState, dynamic_factor, order_of_magnitude, rattle_state, rattle_state_with_gap,
     rms_of_harmonics,
+};
+pub use settle::{
+    CHAOTIC_K, CONFIRMED, MIN_CLASSIFIED_PERIODS, SETTLED, UNSETTLED_CODE, motion_code,
+    motion_label, section_confirmed, window_motion, window_unsettled,
 };
 pub use window::{
     Crossing, Flank, FlankImpacts, Robust, WindowOptions, WindowStats, student_t_975, window_stats,

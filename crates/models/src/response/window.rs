@@ -120,6 +120,11 @@ pub struct WindowStats {
     /// ([`WindowStats::transient`]).
     #[serde(default)]
     pub tail_regular: bool,
+    /// The smallest `n ≤ 4` with which the whole window's stroboscopic section repeats (the
+    /// test of [`WindowStats::regular`]); 0 when it does not repeat or the window holds fewer
+    /// than 20 periods.
+    #[serde(default)]
+    pub period_multiple: usize,
 }
 
 impl WindowStats {
@@ -398,9 +403,14 @@ pub fn window_stats(
     }
     let section_tol = SECTION_TOL * (q_max - q_min + gap(t0).abs());
     let tail_regular = section.len() >= 20 && repeats(&section[section.len() / 2..], section_tol);
+    let period_multiple = if section.len() < 20 {
+        0
+    } else {
+        repeat_period(&section, section_tol).unwrap_or(0)
+    };
     let chaos_k = if section.len() < 20 {
         f64::NAN
-    } else if repeats(&section, section_tol) {
+    } else if period_multiple > 0 {
         // period n ≤ 4 to within integration noise: regular by definition (the 0–1 test
         // would read the rounding-level noise of a repeating section as diffusion)
         0.0
@@ -421,6 +431,7 @@ pub fn window_stats(
         line_incoherent,
         chaos_k,
         tail_regular,
+        period_multiple,
     })
 }
 
@@ -431,7 +442,12 @@ const SECTION_TOL: f64 = 1e-4;
 
 /// Whether the section repeats with some period `n ≤ 4` to within `tol`.
 fn repeats(section: &[f64], tol: f64) -> bool {
-    (1..=4).any(|n| {
+    repeat_period(section, tol).is_some()
+}
+
+/// The smallest period `n ≤ 4` with which the section repeats to within `tol`.
+fn repeat_period(section: &[f64], tol: f64) -> Option<usize> {
+    (1..=4).find(|&n| {
         section.len() > n
             && section
                 .iter()

@@ -262,6 +262,7 @@ values = [30.0, 40.0]
 method = "time-stepping"
 
 [solver.settings]
+settle = "fixed"
 transient_periods = 1.0
 record_periods = 1.0
 "#;

@@ -101,7 +101,7 @@ fn run() -> Result<StudyOutput, Error> {
                         crate::unsettled(r.describe())
                     )
                 }),
-                r.state().is_none() || !r.reproducible(|w| w.ppv, super::SETTLED),
+                models::response::window_unsettled(&r, super::SETTLED),
             ))
         },
         None,

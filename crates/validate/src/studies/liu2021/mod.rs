@@ -133,21 +133,13 @@ fn columns<'a>(own: &[(&'a str, &'a str)], more: &[(&'a str, &'a str)]) -> Vec<(
     own.iter().chain(more).copied().collect()
 }
 
-/// Relative spread over the long-window variants below which a window statistic is committed:
-/// a tenth of the finest committed step of a table number (4 significant digits, so a step of
-/// at least 1e-4 of the value: [`crate::precision::TABLE_DIGITS`]), so that a value that
-/// settles to this spread moves its committed digits under a solver retune with a probability
-/// of about 1/10 at most. A periodic orbit settles to the integrator's tolerance (~1e-8).
-pub(super) const SETTLED: f64 = 1e-5;
+/// Relative spread over the long-window variants below which a window statistic is committed
+/// ([`models::response::SETTLED`], the one definition shared with the user studies).
+pub(super) use models::response::SETTLED;
 
-/// Margin below which a periodic one-period classification is confirmed: the Poincaré
-/// section repeats within 1/100 of the strategy's tolerance
-/// ([`liu2021::TimeReference::section_margin`]). A settled periodic orbit repeats at the
-/// integrator's error (rtol 1e-8, i.e. ~1e-4 of the tolerance 1e-4), orders inside it; a
-/// section that repeats only just inside the tolerance (the bilateral points of Fig. 11 between
-/// 165 and 250 rad/s, whose 0–1 test K is 0.6–0.97) flipped between period-1 and non-periodic
-/// under a 0.9 → 0.85 retune of the step-size controller (docs/examples/validate-diff.md).
-pub(super) const CONFIRMED: f64 = 1e-2;
+/// Margin below which a periodic one-period classification is confirmed
+/// ([`models::response::CONFIRMED`]; [`liu2021::TimeReference::section_margin`]).
+pub(super) use models::response::CONFIRMED;
 
 /// The ppv axis of the committed sweep figures: fixed, so that leaving out a point that does not
 /// settle does not re-scale the drawing. It covers every computed ppv of the sweeps (largest
@@ -160,9 +152,7 @@ const RSV_AXIS: (f64, f64) = (-0.06, 2.06);
 /// The one-period time reference is a sample of a non-periodic orbit, or its periodicity is not
 /// confirmed with margin ([`CONFIRMED`]): its one-period values (ppv, spectrum) are samples.
 fn unconfirmed(time: &liu2021::TimeReference) -> bool {
-    time.motion.period_multiple() == 0
-        || time.section_margin.is_nan()
-        || time.section_margin > CONFIRMED
+    !models::response::section_confirmed(time.motion, time.section_margin, CONFIRMED)
 }
 
 impl Point {
@@ -177,7 +167,7 @@ impl Point {
     /// unsettled).
     fn window_unsettled(&self) -> bool {
         self.window.as_ref().map_or(self.time_unsettled(), |w| {
-            w.state().is_none() || !w.reproducible(|s| s.ppv, SETTLED)
+            models::response::window_unsettled(w, SETTLED)
         })
     }
     /// The point's motion is not confirmed periodic: without a long window, the one-period
