@@ -137,6 +137,7 @@ def test_sweep_and_rattle_sweep_forms():
     assert df.attrs["units"]["omega1"] == "rad/s" and df.attrs["units"]["ppv"] == "1"
     ds = liu.sweep("omega1", speeds, "hbm", as_="xarray")
     assert ds["ppv"].dims == ("omega1",) and ds["omega1"].attrs["units"] == "rad/s"
+    assert ds["reason"].dtype.kind == "U" and (ds["reason"].values == "").all()
     np.testing.assert_array_equal(ds["ppv"].values, df["ppv"].to_numpy())
     arrays = liu.sweep("omega1", speeds, "hbm", as_="numpy")
     assert arrays["converged"].dtype == bool and arrays["converged"].all()

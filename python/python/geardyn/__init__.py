@@ -298,7 +298,7 @@ class Model:
             return out
         names, cols = _tables.point_columns(parameter, values, out)
         if as_ == "numpy":
-            return {k: _tables.column_array(cols[k]) for k in names}
+            return {k: _tables.column_array(cols[k], text=(k == "reason")) for k in names}
         return _tables.frame(names, cols, _tables.output_units(self.key, method),
                              {"model": self.key, "method": method}, as_)
 

@@ -108,10 +108,14 @@ def _is_num(x):
         x, (bool, np.bool_))
 
 
-def column_array(values):
+def column_array(values, text=False):
     """A column as a numpy array: bool if every value is a flag, int64 if every value is an
-    integer, float (``None`` → NaN) if every value is a number or missing, else an object
-    array of the values (``None`` where missing)."""
+    integer, float (``None`` → NaN) if every value is a number or missing, else (or with
+    ``text``) an object array of the values (``None`` where missing)."""
+    if text:
+        out = np.empty(len(values), dtype=object)
+        out[:] = [None if v is None else str(v) for v in values]
+        return out
     present = [v for v in values if v is not None and not (isinstance(v, float) and
                                                           math.isnan(v))]
     if present and all(isinstance(v, (bool, np.bool_)) for v in present):
@@ -242,7 +246,7 @@ def point_columns(parameter, values, results):
 def frame(names, cols, units, attrs, as_):
     """The columns as a DataFrame (``as_ == "pandas"``) or a Dataset over the first column
     (``"xarray"``), with units."""
-    arrays = {k: column_array(cols[k]) for k in names}
+    arrays = {k: column_array(cols[k], text=(k == "reason")) for k in names}
     unit_map = {k: units[k] for k in names if k in units}
     if as_ == "pandas":
         pd = require("pandas", "pandas", "as_='pandas'")
