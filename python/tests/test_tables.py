@@ -219,3 +219,15 @@ def test_readings_in_study_file_spelling():
     assert len(ppv) == 1
     assert geardyn.Liu2021(readings={"base_radius": "time_varying"}).params == \
         geardyn.Liu2021().params
+
+
+def test_a_sweep_over_names_is_a_string_coordinate():
+    s = geardyn.run_study_file(ROOT / "validation/examples/yu-df-vs-frequency.toml")
+    ds = s.to_xarray()
+    assert ds["df"].dims == ("omega", "variant")
+    assert ds["variant"].values.tolist() == ["yu", "kahraman-singh"]
+    assert ds.sizes["omega"] * ds.sizes["variant"] == len(s.rows)
+    # counts stay integers, the sweep picks the same rows as the table
+    assert ds["steps_accepted"].dtype == np.int64
+    row = s.rows[1 * ds.sizes["omega"] + 4]  # variant 1, the fifth ω*
+    assert ds["df"].sel(omega=row[0], variant=row[1]).item() == row[s.columns.index("df")]

@@ -324,13 +324,16 @@ def study_frame(result, as_):
         nx = n_rows // ny if ny else 0
         shape = [nx, ny]
     dim_names = [d for d, _ in dims]
+    if not dims and n_rows != 1:
+        # rows that are not a grid of the sweeps (never for a study file): one dimension
+        dim_names, shape = ["point"], [n_rows]
 
     def reshape(arr):
         if len(dims) == 2:
             # rows run over the first sweep fastest: row = iy * nx + ix
             return arr.reshape(shape[1], shape[0]).T
-        if not dims:
-            return arr.reshape(()) if arr.size == 1 else arr
+        if not dim_names:
+            return arr.reshape(())
         return arr
 
     coords = {}
@@ -351,7 +354,7 @@ def study_frame(result, as_):
             mask = np.zeros(n_rows, dtype=bool)
             mask[result.unsettled_cells[k]] = True
             a["unsettled_points"] = int(mask.sum())
-        data[k] = (tuple(dim_names) if dims and n_rows else (), reshape(arr), a)
+        data[k] = (tuple(dim_names) if dim_names and n_rows else (), reshape(arr), a)
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update(attrs)
     ds.attrs["summary_json"] = json.dumps(result.summary)
