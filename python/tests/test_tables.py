@@ -197,6 +197,8 @@ def test_reliability_warnings():
                                      ("omega1 = 180", {"settled": False}),
                                      ("omega1 = 190", {"settled": float("nan")})])
     assert n == 1
+    with pytest.warns(geardyn.ReliabilityWarning, match="not settled"):
+        _tables.warn_unreliable([("p", {"rsv": 1, "window": {"settled": False}})])
     with pytest.warns(geardyn.ReliabilityWarning, match="not stable"):
         _tables.warn_unreliable([("x", {"stable": 0.0}), ("y", {"stable": 1.0})])
     assert issubclass(geardyn.ReliabilityWarning, UserWarning)

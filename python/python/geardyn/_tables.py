@@ -154,13 +154,22 @@ def _false(v):
 
 def warn_unreliable(records, stacklevel=3):
     """Issue one :class:`ReliabilityWarning` per flag column (``settled``, ``converged``,
-    ``stable``) that is false at any point. ``records``: ``(label, mapping)`` pairs, the
+    ``stable``; at the top level of a record or in a nested dict of it) that is false at any
+    point. ``records``: ``(label, mapping)`` pairs, the
     label naming the point (``"omega1 = 180"``). Returns the number of points flagged."""
     flagged = set()
     n = len(records)
+
+    def says_no(rec, flag):
+        # the flag at the top level, or in a nested result (`window.settled`)
+        if not isinstance(rec, dict):
+            return False
+        if flag in rec and _false(rec[flag]):
+            return True
+        return any(isinstance(v, dict) and flag in v and _false(v[flag]) for v in rec.values())
+
     for flag, meaning in FLAGS.items():
-        bad = [label for label, rec in records
-               if isinstance(rec, dict) and flag in rec and _false(rec[flag])]
+        bad = [label for label, rec in records if says_no(rec, flag)]
         if not bad:
             continue
         flagged.update(bad)
