@@ -326,13 +326,28 @@ fn sweep(
     })
 }
 
-/// `run_study(toml_text)` → JSON `{name, columns: [{name, unit}], rows, summary}`.
+/// `run_study(toml_text)` → JSON `{name, columns: [{name, unit}], rows, summary, unsettled}`;
+/// `unsettled` lists the `[row, column]` of every cell the table marks as not settled
+/// (`Cell::Unsettled`: written as a number, judged as not periodic).
 #[pyfunction]
 fn run_study(py: Python<'_>, text: &str) -> String {
     py.detach(|| {
         envelope((|| {
             let study = study::UserStudy::parse(text)?;
             let out = study::run_user_study(&study, || {})?;
+            // the cells the table marks as not settled (`Cell::Unsettled`), as [row, column]
+            let unsettled: Vec<[usize; 2]> = out
+                .table
+                .rows
+                .iter()
+                .enumerate()
+                .flat_map(|(i, r)| {
+                    r.iter()
+                        .enumerate()
+                        .filter(|(_, c)| matches!(c, study::Cell::Unsettled(_)))
+                        .map(move |(j, _)| [i, j])
+                })
+                .collect();
             let rows: Vec<Vec<Value>> = out
                 .table
                 .rows
@@ -353,6 +368,7 @@ fn run_study(py: Python<'_>, text: &str) -> String {
                 "columns": out.table.columns,
                 "rows": rows,
                 "summary": out.summary,
+                "unsettled": unsettled,
             }))
         })())
     })

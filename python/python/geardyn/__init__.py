@@ -5,7 +5,11 @@ rattle), Karpov et al. 2017 (oscillator at the variable mesh frequency of non-ci
 and Yu et al. 2021 (6-DOF spur pair with fractal and dynamic backlash) — with their paper
 parameter sets ("presets") and readings, solved by harmonic balance or time stepping, and the
 user studies of ``geardyn study`` / ``cargo xtask study`` from TOML. Results come back as
-numpy arrays; errors as the typed exceptions of :mod:`geardyn.errors`.
+numpy arrays (or, on request, pandas DataFrames and xarray Datasets: ``StudyResult.to_pandas()``,
+``.to_xarray()``, ``sweep(..., as_="xarray")``); errors as the typed exceptions of
+:mod:`geardyn.errors`. A point that is not settled, converged or stable is returned marked (its
+``settled`` / ``converged`` / ``stable`` field) and reported by a
+:class:`~geardyn.errors.ReliabilityWarning`.
 
 >>> import geardyn
 >>> liu = geardyn.Liu2021().with_params(omega1=120.0)
@@ -13,24 +17,30 @@ numpy arrays; errors as the typed exceptions of :mod:`geardyn.errors`.
 >>> int(r["rsv"]), bool(r["converged"])
 (0, True)
 
-Parameters keep the Rust field names and SI units (``liu.params`` lists them).
+Parameters keep the Rust field names and SI units (``liu.params`` lists them); choices and
+readings are spelled as in a study file (``"printed-eq20"``, ``"two-terms"``,
+``"time-varying"``), and any spelling of a name is accepted on input.
 """
 
 import json
 import math
 import os
 import sys
+import warnings
 
 import numpy as np
 
 from . import _geardyn
-from .errors import GeardynError, ParameterError, SolverError, StudyError, _raise
+from . import _tables
+from .errors import (GeardynError, ParameterError, ReliabilityWarning, SolverError, StudyError,
+                     _raise)
 
 __version__ = _geardyn.__version__
 
 __all__ = [
     "GeardynError",
     "ParameterError",
+    "ReliabilityWarning",
     "SolverError",
     "StudyError",
     "Model",
@@ -209,15 +219,16 @@ class Model:
                 raise ParameterError(
                     f"unknown parameter `{k}` of {self.key}; known: {sorted(self._base_keys())}")
         _check_finite(params, "parameter")
-        return _plain(params)
+        return _tables.serde_spelled(_plain(params), _preset(self.key, self.default_preset))
 
     def _base_keys(self):
         return set(_preset(self.key, self.default_preset)) | set(self.extra_params)
 
     @property
     def params(self):
-        """The parameter set (Rust field names, SI units) as a dict."""
-        return json.loads(json.dumps(self._params))
+        """The parameter set (Rust field names, SI units) as a dict; choices and readings in
+        study-file spelling (``"printed-eq20"``, ``"two-terms"``)."""
+        return _tables.spelled(json.loads(json.dumps(self._params)))
 
     def with_params(self, **params):
         """A copy with some parameters replaced (nested dicts are merged)."""
@@ -241,9 +252,11 @@ class Model:
             raise TypeError(f"method must be a name, got {method!r}")
         text = _geardyn.solve(self.key, json.dumps(self._params), method,
                               self._settings(settings), _limits_json(limits))
-        return _arrays(_unwrap(text))
+        out = _arrays(_unwrap(text))
+        _tables.warn_unreliable([(f"{self.key} {method}", out)])
+        return out
 
-    def sweep(self, parameter, values, method=None, *, limits=None, **settings):
+    def sweep(self, parameter, values, method=None, *, limits=None, as_="list", **settings):
         """Solve every value of ``parameter`` (in parallel, results in input order).
 
         ``values`` must be 1-D (else :class:`ValueError`); their number is checked against
@@ -251,10 +264,17 @@ class Model:
         converted or computed (:class:`ParameterError`). ``limits["max_seconds_per_point"]``
         bounds each point's wall-clock time.
 
-        Returns a list with one result dict per value; a point that failed holds the
-        exception instance instead, whose message is the reason (a sweep is not aborted by one
-        bad point: a NaN value, a value out of range, a solver failure, the time limit).
+        Returns (``as_="list"``, the default) a list with one result dict per value; a point
+        that failed holds the exception instance instead, whose message is the reason (a sweep
+        is not aborted by one bad point: a NaN value, a value out of range, a solver failure,
+        the time limit). The other forms hold the scalar fields of every point (nested dicts
+        flattened, ``window.rsv_window``; waveforms left out) and a ``reason`` column:
+        ``as_="numpy"`` a dict of arrays, ``"pandas"`` a DataFrame (units in
+        ``df.attrs["units"]``), ``"xarray"`` a Dataset over the dimension ``parameter``
+        (units in each variable's ``attrs``). Points that are not settled, converged or stable
+        raise a :class:`ReliabilityWarning` in every form.
         """
+        _tables.check_form(as_)
         method = method or self.methods[0]
         if not isinstance(parameter, str):
             raise TypeError(f"parameter must be a name, got {parameter!r}")
@@ -272,10 +292,18 @@ class Model:
                     out.append(e)
             else:
                 out.append(_arrays(point["ok"]))
-        return out
+        _tables.warn_unreliable(
+            [(f"{parameter} = {_tables._fmt(v)}", r) for v, r in zip(values, out)])
+        if as_ == "list":
+            return out
+        names, cols = _tables.point_columns(parameter, values, out)
+        if as_ == "numpy":
+            return {k: _tables.column_array(cols[k], text=(k == "reason")) for k in names}
+        return _tables.frame(names, cols, _tables.output_units(self.key, method),
+                             {"model": self.key, "method": method}, as_)
 
     def __repr__(self):
-        return f"{type(self).__name__}({self._params!r})"
+        return f"{type(self).__name__}({self.params!r})"
 
 
 class Liu2021(Model):
@@ -316,17 +344,34 @@ class Liu2021(Model):
             readings = _preset("liu2021-readings", readings)
         return self.with_params(readings=readings)
 
-    def rattle_sweep(self, omega1, method="time-stepping", *, limits=None, **settings):
+    def rattle_sweep(self, omega1, method="time-stepping", *, limits=None, as_="numpy",
+                     **settings):
         """rsv and ppv against the pinion speed ``omega1`` [rad/s] as numpy arrays of the
         shape of ``omega1`` (any shape; the points are solved flat, in C order).
 
         ``rsv`` and ``ppv`` are NaN where a point failed or did not converge, and ``reason``
         (an object array of the same shape) says why: the error message, or "did not
-        converge"; ``None`` where the point is good. ``limits`` as in :meth:`sweep`.
+        converge"; ``None`` where the point is good. ``limits`` as in :meth:`sweep`. The other
+        scalar fields of the points (``converged``, ``contact_events``, and ``motion``,
+        ``settled`` where the method returns them, …) come as arrays of the same shape.
+
+        ``as_="pandas"`` returns a DataFrame with one row per speed, ``as_="xarray"`` a
+        Dataset over the dimension ``omega1`` (1-D ``omega1`` only), units in the attributes.
+        A point that is not settled, converged or stable raises a :class:`ReliabilityWarning`.
         """
+        if as_ not in ("numpy", "pandas", "xarray"):
+            raise ValueError(f"as_ must be 'numpy', 'pandas' or 'xarray', got {as_!r}")
         _unwrap(_geardyn.check_points(min(_size(omega1), sys.maxsize), _limits_json(limits)))
         omega1 = np.asarray(omega1, dtype=float)
-        res = self.sweep("omega1", omega1.ravel(), method, limits=limits, **settings)
+        if as_ == "xarray" and omega1.ndim != 1:
+            raise ValueError(f"as_='xarray' takes 1-D omega1, got shape {omega1.shape}")
+        flat = omega1.ravel()
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ReliabilityWarning)
+            res = self.sweep("omega1", flat, method, limits=limits, **settings)
+        for w in caught:  # re-issued from here, so that they point at the caller
+            warnings.warn(w.message, w.category, stacklevel=2)
+        names, cols = _tables.point_columns("omega1", flat, res)
         rsv = np.full(len(res), np.nan)
         ppv = np.full(len(res), np.nan)
         reason = np.empty(len(res), dtype=object)
@@ -337,8 +382,16 @@ class Liu2021(Model):
                 reason[k] = "did not converge"
             else:
                 rsv[k], ppv[k] = r["rsv"], r["ppv"]
-        return {"omega1": omega1, "rsv": rsv.reshape(omega1.shape),
-                "ppv": ppv.reshape(omega1.shape), "reason": reason.reshape(omega1.shape)}
+        cols["rsv"], cols["ppv"], cols["reason"] = list(rsv), list(ppv), list(reason)
+        if as_ != "numpy":
+            return _tables.frame(names, cols, _tables.output_units(self.key, method),
+                                 {"model": self.key, "method": method}, as_)
+        out = {"omega1": omega1, "rsv": rsv.reshape(omega1.shape),
+               "ppv": ppv.reshape(omega1.shape), "reason": reason.reshape(omega1.shape)}
+        for k in names:
+            if k not in out:
+                out[k] = _tables.column_array(cols[k]).reshape(omega1.shape)
+        return out
 
 
 class Karpov2017(Model):
@@ -379,7 +432,13 @@ class Yu2021(Model):
 
 class StudyResult:
     """The table of a study: ``columns`` (names), ``units``, ``data`` (2-D float array, text
-    cells as NaN), ``rows`` (as read), ``summary`` (dict)."""
+    cells as NaN), ``rows`` (as read), ``summary`` (dict), ``dims`` (the swept parameters and
+    their sizes, ``[(name, n)]``: the table's first columns), ``unsettled`` (bool array of the
+    shape of ``data``: the cells the study marks as not settled).
+
+    ``to_pandas()`` and ``to_xarray()`` give the table to pandas and xarray. Creating it
+    issues a :class:`ReliabilityWarning` when a row's ``settled``, ``converged`` or
+    ``stable`` column is false, or when cells are unsettled."""
 
     def __init__(self, reply):
         self.name = reply["name"]
@@ -387,11 +446,34 @@ class StudyResult:
         self.units = [c["unit"] for c in reply["columns"]]
         self.rows = reply["rows"]
         self.summary = reply["summary"]
+        self.dims = _tables.study_dims(self.summary, self.columns)
+        self.unsettled = np.zeros((len(self.rows), len(self.columns)), dtype=bool)
+        self.unsettled_cells = {}
+        for i, j in reply.get("unsettled", []):
+            self.unsettled[i, j] = True
+            self.unsettled_cells.setdefault(self.columns[j], []).append(i)
         self.data = np.array(
             [[x if isinstance(x, (int, float)) and not isinstance(x, bool) else np.nan
               for x in row] for row in self.rows],
             dtype=float,
         ).reshape(len(self.rows), len(self.columns))
+
+    def to_pandas(self):
+        """The table as a :class:`pandas.DataFrame`, one row per point and one column per
+        output (numbers as float, counts as int, names as str; a failed point's cells NaN).
+        ``df.attrs``: ``units`` (``{column: unit}``), ``dims`` (the swept parameters),
+        ``study``, ``points``, ``failed_points`` (count) and ``summary`` (the JSON summary).
+        Needs pandas (``pip install 'geardyn[pandas]'``)."""
+        return _tables.study_frame(self, "pandas")
+
+    def to_xarray(self):
+        """The study as an :class:`xarray.Dataset`: one dimension per swept parameter, named
+        after it, with its values as the coordinate (a 2-D map has the dimensions
+        ``(sweep, sweep2)``); every other column a data variable with ``attrs["units"]``. A
+        single-point study holds scalars. ``ds.attrs``: ``study``, ``points``,
+        ``failed_points``, ``summary_json``. ``ds.rsv.plot()`` and ``ds.to_netcdf(path)`` work
+        as for any Dataset. Needs xarray (``pip install 'geardyn[xarray]'``)."""
+        return _tables.study_frame(self, "xarray")
 
     def column(self, name):
         """One column as a float array (by name)."""
@@ -405,14 +487,25 @@ class StudyResult:
 
 
 def run_study(text):
-    """Run a study given as TOML text (format: ``docs/studies.md``)."""
-    return StudyResult(_unwrap(_geardyn.run_study(text)))
+    """Run a study given as TOML text (format: ``docs/studies.md``). Rows whose ``settled``,
+    ``converged`` or ``stable`` column is false, and unsettled cells, raise a
+    :class:`ReliabilityWarning`."""
+    res = StudyResult(_unwrap(_geardyn.run_study(text)))
+    _tables.warn_unreliable(_tables.study_records(res), stacklevel=3)
+    _tables.warn_unsettled_cells(int(res.unsettled.sum()), res.unsettled.size, stacklevel=3)
+    return res
 
 
 def run_study_file(path):
     """Run a study file."""
     with open(os.fspath(path), encoding="utf-8") as f:
-        return run_study(f.read())
+        text = f.read()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ReliabilityWarning)
+        res = run_study(text)
+    for w in caught:  # re-issued from here, so that they point at the caller
+        warnings.warn(w.message, w.category, stacklevel=2)
+    return res
 
 
 def write_study(text, out_dir):

@@ -8,6 +8,11 @@
   ``geardyn_models::Error::{Hbm, Timestep, Solver}``.
 * :class:`StudyError` — a study file could not be read or run (``geardyn_validate::Error``).
 
+* :class:`ReliabilityWarning` — not an error: a warning (``warnings.warn``) that a result holds
+  points that are not settled, not converged or not stable (the columns ``settled``,
+  ``converged``, ``stable`` say which). Turn it into an error with
+  ``warnings.simplefilter("error", geardyn.ReliabilityWarning)``.
+
 ``err.chain`` lists the messages of the Rust ``source()`` chain (leaf errors first-to-last).
 """
 
@@ -30,6 +35,11 @@ class SolverError(GeardynError, RuntimeError):
 
 class StudyError(GeardynError, ValueError):
     """A study could not be read or run."""
+
+
+class ReliabilityWarning(UserWarning):
+    """A returned point is not settled, not converged or not stable: its numbers are not what
+    the validation would judge. The point is still returned, marked by its flag column."""
 
 
 _KINDS = {
