@@ -12,8 +12,44 @@ use crate::study::Study;
 pub const UNKNOWN_CPU_SECONDS: f64 = 5.0;
 
 /// CPU seconds per study, from the cost table of a full `cargo xtask validate` on 2 cores
-/// (AMD EPYC), rounded; see the module docs.
-const EXPECTED_CPU_SECONDS: &[(&str, f64)] = &[];
+/// (AMD EPYC, 2026-11-28, before round 14's speed-ups), to 0.1 s (at least 0.1); see the module
+/// docs. Only the ratios matter (order and progress).
+const EXPECTED_CPU_SECONDS: &[(&str, f64)] = &[
+    ("liu2021-fig12-14-parameter-sweeps", 346.6),
+    ("liu2021-orbit-branch", 291.2),
+    ("liu2021-fig11-speed-sweep", 123.6),
+    ("liu2021-fig15-load-sweep", 70.1),
+    ("yu2021-df-rms-sweeps", 64.6),
+    ("liu2021-readings-speed-thresholds", 44.7),
+    ("liu2021-fig11-continuation", 38.6),
+    ("liu2021-table2-amplitude-ratio", 23.3),
+    ("yu2021-sensitivity", 19.2),
+    ("karpov2017-fig3-time-series", 13.2),
+    ("yu2021-fig14-rms", 10.4),
+    ("yu2021-fig13-df", 6.0),
+    ("yu2021-fig9-11-readings", 5.0),
+    ("liu2021-fig8-10-responses", 4.2),
+    ("yu2021-d-trends", 3.5),
+    ("yu2021-chen-amplitude", 2.7),
+    ("liu2021-fig17-spectrum", 1.3),
+    ("yu2021-fig12-phase", 1.0),
+    ("yu2021-fig10-dte", 0.6),
+    ("yu2021-fig10-scaling", 0.6),
+    ("yu2021-fig11-spectrum", 0.6),
+    ("yu2021-fig9-dynamic-backlash", 0.2),
+    ("karpov2017-eq4-speed-fluctuation", 0.1),
+    ("karpov2017-eq6-max-acceleration", 0.1),
+    ("karpov2017-table1", 0.1),
+    ("karpov2017-fig1-centrodes", 0.1),
+    ("karpov2017-fig2-ratio-shape", 0.1),
+    ("karpov2017-sect4-sinusoidal-j2", 0.1),
+    ("karpov2017-fig4-a-vs-omega", 0.1),
+    ("karpov2017-fig5-a-vs-b-k", 0.1),
+    ("karpov2017-fig6-a-vs-b-xi", 0.1),
+    ("liu2021-table2-frequencies", 0.1),
+    ("yu2021-eq16-pressure-angle", 0.1),
+    ("yu2021-fig4-constant-backlash", 0.1),
+];
 
 /// The expected CPU seconds of the study `id` (module docs).
 pub fn expected_cpu_seconds(id: &str) -> f64 {
