@@ -35,7 +35,11 @@ fn published_karpov_amplitudes_converge_under_halving() {
         (Excitation::AccumulatedPhase, TAU_END),
         (Excitation::PrintedPhase, TAU_END_PRINTED),
     ] {
-        points.extend(corners.iter().map(|&(w, b, xi, k)| (w, b, xi, k, ex, tau_end)));
+        points.extend(
+            corners
+                .iter()
+                .map(|&(w, b, xi, k)| (w, b, xi, k, ex, tau_end)),
+        );
         // Fig. 3: ω = 1, B = 0.01, ξ = 2, k = 1/10 at τ_end = 10⁵ in both readings
         points.push((1.0, 0.01, 2.0, 0.1, ex, TAU_END));
     }
@@ -61,7 +65,9 @@ fn published_karpov_amplitudes_converge_under_halving() {
             r.error_estimate
         );
         if r.folded_periods > 0 {
-            let h = m.duhamel_folded(0.5 * r.phase_budget).expect("halved panels");
+            let h = m
+                .duhamel_folded(0.5 * r.phase_budget)
+                .expect("halved panels");
             let dh = (h.amplitude - r.amplitude).abs();
             assert!(dh <= tol, "{at}: A moves by {dh:e} > {tol:e} under halving");
             folded += 1;
