@@ -177,7 +177,13 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
     let safe = 0.9;
     let facc1: f64 = 1.0 / 0.2;
     let facc2: f64 = 1.0 / 10.0;
-    let mut facold: f64 = 1e-4;
+    // The controller's powers err^expo1 and facold^beta (facold = max(err, 1e-4) of the last
+    // accepted step, 1e-4 at the start) as exp(e·ln x) with geardyn-math's `exp` and `ln`: a
+    // controller needs no correctly rounded `pow` (issue 29). ln(facold) is carried over as
+    // max(ln err, ln 1e-4) of the last accepted step, so a step costs one `ln` and two `exp`,
+    // fewer instructions than two `pow` of musl's or glibc's (crates/math/README.md).
+    let ln_floor = 1e-4f64.dln();
+    let mut ln_facold = ln_floor;
     let mut last_rejected = false;
     let mut n_bad = 0u32;
     let mut first_new = 0usize;
@@ -216,16 +222,17 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
         n_bad = 0;
         let mut h_new = h;
         if fixed_h.is_none() {
-            let fac11 = err.dpowf(expo1);
+            let ln_err = err.dln();
+            let fac11 = (expo1 * ln_err).dexp();
             if err > 1.0 {
                 h /= facc1.min(fac11 / safe);
                 stats.n_rejected += 1;
                 last_rejected = true;
                 continue;
             }
-            let fac = facc2.max(facc1.min(fac11 / facold.dpowf(beta) / safe));
+            let fac = facc2.max(facc1.min(fac11 / (beta * ln_facold).dexp() / safe));
             h_new = h / fac;
-            facold = err.max(1e-4);
+            ln_facold = ln_err.max(ln_floor);
             if last_rejected {
                 h_new = h_new.min(h);
             }
