@@ -23,7 +23,7 @@ const ROUND: f64 = 6_755_399_441_055_744.0;
 const LIMIT: f64 = 524_288.0;
 
 /// `(sin x, cos x)` to a few units of `10⁻¹⁶` (see the module docs).
-#[inline]
+#[inline(always)]
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     // NaN and ±∞ go to the fallback
     if x.is_nan() || x.abs() > LIMIT {
