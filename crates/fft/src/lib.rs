@@ -23,10 +23,21 @@
 //! [`RealFftPlanner`] and run the plans through the `dyn` traits [`Fft`], [`RealToComplex`] and
 //! [`ComplexToReal`] (re-exported here).
 //!
+//! ## One code path on every CPU
+//!
+//! rustfft's planner picks AVX, SSE or NEON algorithms at run time when its cargo features
+//! `avx`, `sse`, `neon` are on (its default); those sum in other orders than the scalar
+//! algorithms, so a result would depend on the CPU. The workspace builds rustfft and realfft
+//! without these features, so the planner has only the scalar algorithms
+//! (`rustfft::FftPlannerScalar`'s choices) on every CPU, and every FFT that reaches an output
+//! gives the same bits everywhere (tested: `plans_are_rustffts_scalar_algorithms`). Their
+//! twiddle factors come from `f64::sin`/`cos`, which the output binaries bind to
+//! `geardyn-math` (its `c-symbols` feature). What pinning costs is in the README.
+//!
 //! ## Same plans, same bytes
 //!
 //! The planners wrap rustfft's and realfft's one to one: a plan for a length is the plan rustfft
-//! chooses for it (on this CPU), so a result is the bytes it was before. rustfft's planner
+//! chooses for it, so a result is the bytes rustfft gives. rustfft's planner
 //! reuses, for a new length, plans it already holds for the lengths of the steps of the new plan;
 //! a planner kept between calls (as `geardyn-hbm` keeps one per thread) can therefore choose a
 //! different decomposition than a fresh one. Whoever held a fresh `rustfft::FftPlanner` per call
@@ -42,8 +53,8 @@ pub use num_complex::Complex;
 pub use realfft::{ComplexToReal, FftError, RealToComplex};
 pub use rustfft::{Fft, FftDirection, Length};
 
-/// Planner of complex `f64` FFTs (rustfft's `FftPlanner<f64>`, which picks the AVX, SSE, NEON or
-/// scalar algorithms at run time).
+/// Planner of complex `f64` FFTs (rustfft's `FftPlanner<f64>`, built without its SIMD features:
+/// the scalar algorithms on every CPU).
 ///
 /// Plans are cached by the planner: planning the same length twice returns the same plan.
 pub struct FftPlanner {

@@ -136,3 +136,22 @@ fn a_planner_returns_its_cached_plan() {
     assert_eq!(format!("{planner:?}"), "FftPlanner { .. }");
     assert_eq!(format!("{real:?}"), "RealFftPlanner { .. }");
 }
+
+/// One code path on every CPU: the planner's plans give the bits of rustfft's scalar planner
+/// (rustfft is built without its `avx`, `sse` and `neon` features, so that its dispatching
+/// planner has nothing else to choose).
+#[test]
+fn plans_are_rustffts_scalar_algorithms() {
+    let mut ours = FftPlanner::new();
+    let mut scalar = rustfft::FftPlannerScalar::<f64>::new();
+    for n in [1, 2, 3, 8, 12, 64, 97, 120, 256, 1000, 4096] {
+        let mut a = signal(n);
+        let mut b = a.clone();
+        ours.plan_forward(n).process(&mut a);
+        scalar.plan_fft_forward(n).process(&mut b);
+        let bits = |v: &[Complex<f64>]| -> Vec<(u64, u64)> {
+            v.iter().map(|c| (c.re.to_bits(), c.im.to_bits())).collect()
+        };
+        assert_eq!(bits(&a), bits(&b), "n = {n}");
+    }
+}

@@ -7,6 +7,15 @@
 //! done by nalgebra's `gemm` (which calls `matrixmultiply::dgemm`, cache-blocked and
 //! vectorised, for every factor larger than 5).
 //!
+//! `matrixmultiply` picks its kernel by CPU at run time (AVX-512, FMA + AVX2, AVX, SSE2,
+//! NEON), and the kernels round differently (fused multiply-adds, other blockings), so the
+//! factors of [`BlockedLu`] agree to rounding, not bit for bit, across machines. The path is
+//! taken for at least [`AUTO_BLOCKED_LU_UNKNOWNS`] unknowns under [`DenseLu::Auto`]; no
+//! committed output of `validation/` comes near it (the largest HBM systems there are the
+//! Liu 2021 full basis with `R = 2`, 2·128 + 1 = 257 unknowns, and `R = 1`, 131), so those
+//! are the same bits on every platform. The rest of the engines multiplies dynamic matrices in
+//! a fixed order of their own (`geardyn-hbm`'s stability, `geardyn-orbit`'s variational flow).
+//!
 //! ## Algorithm
 //! `P A = L U` with `P` a permutation, `L` unit lower triangular, `U` upper triangular, all
 //! stored in one column-major `n × n` matrix (`L` below the diagonal, `U` on and above it) and

@@ -408,3 +408,8 @@ impl DetMath for f32 {
         libm::cbrtf(self)
     }
 }
+
+/// The README's example, compiled and run as a doctest so that it cannot rot.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -18,7 +18,7 @@ const L2: f64 = 7.440_617_110_012_397e-11;
 #[inline]
 pub(crate) fn ln(y: f64) -> f64 {
     if !(f64::MIN_POSITIVE..f64::INFINITY).contains(&y) {
-        return y.dln();
+        return fallback(y);
     }
     // y = m·2^e, m in [1, 2) from the bits of the (normal, positive) y, then in [√½, √2)
     let bits = y.to_bits();
@@ -41,6 +41,14 @@ pub(crate) fn ln(y: f64) -> f64 {
     let ln_m = 2.0 * s + 2.0 * s * z * p;
     let e = e as f64;
     e * L1 + (e * L2 + ln_m)
+}
+
+/// The fallback outside the normal positive numbers: `geardyn-math`'s `ln`, out of line and
+/// cold, so that its code does not keep [`ln`] from being inlined into the loops that call it.
+#[cold]
+#[inline(never)]
+fn fallback(y: f64) -> f64 {
+    y.dln()
 }
 
 #[cfg(test)]

@@ -23,11 +23,11 @@ const ROUND: f64 = 6_755_399_441_055_744.0;
 const LIMIT: f64 = 524_288.0;
 
 /// `(sin x, cos x)` to a few units of `10⁻¹⁶` (see the module docs).
-#[inline]
+#[inline(always)]
 pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     // NaN and ±∞ go to the fallback
     if x.is_nan() || x.abs() > LIMIT {
-        return x.dsin_cos();
+        return fallback(x);
     }
     let k = (x * std::f64::consts::FRAC_2_PI + ROUND) - ROUND;
     let r = ((x - k * P1) - k * P2) - k * P3;
@@ -52,6 +52,14 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     let sin = f64::from_bits(a.to_bits() ^ ((q & 2) << 62));
     let cos = f64::from_bits(b.to_bits() ^ ((q.wrapping_add(1) & 2) << 62));
     (sin, cos)
+}
+
+/// The fallback beyond the reduced range: `geardyn-math`'s `sin_cos`, out of line and cold, so
+/// that its code does not keep [`sin_cos`] from being inlined into the loops that call it.
+#[cold]
+#[inline(never)]
+fn fallback(x: f64) -> (f64, f64) {
+    x.dsin_cos()
 }
 
 #[cfg(test)]
