@@ -316,6 +316,10 @@ steps = 61
 
 [solver]
 method = "time-stepping"
+# the explicit fixed run the goal was set on (2 + 1 periods); the default settles (issue 41)
+settle = "fixed"
+transient_periods = 2.0
+record_periods = 1.0
 """
 
 
