@@ -1,5 +1,6 @@
 //! The integration driver: step-size control, event location, step restart and output.
 
+use crate::dop853::Dop853;
 use crate::error::{Error, Result, check_finite, check_finite_slice};
 use crate::options::{Method, Options};
 use crate::record::{EventMonitor, Recorder};
@@ -79,6 +80,11 @@ pub fn integrate<S: OdeSystem + ?Sized>(
                 DormandPrince::<Vec<f64>>::new(n),
                 None,
             ),
+        }),
+        Method::Dop853 => Ok(match n {
+            2 => run(sys, t0, y0, t_end, opts, Dop853::<[f64; 2]>::new(n), None),
+            4 => run(sys, t0, y0, t_end, opts, Dop853::<[f64; 4]>::new(n), None),
+            _ => run(sys, t0, y0, t_end, opts, Dop853::<Vec<f64>>::new(n), None),
         }),
         Method::Rk4 { h } => Ok(run(sys, t0, y0, t_end, opts, ClassicRk4::new(n), Some(h))),
         Method::OdeSolversDopri5 | Method::OdeSolversDop853 => {
@@ -163,19 +169,16 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
             let mut f0 = vec![0.0; n];
             let mut f1 = vec![0.0; n];
             sys.rhs(t, &y, &mut f0);
-            let h0 = initial_step(sys, t, &y, &f0, 5.0, opts, h_max, &mut ybuf, &mut f1);
+            let h0 = initial_step(sys, t, &y, &f0, St::ORDER, opts, h_max, &mut ybuf, &mut f1);
             stats.n_rhs += 2;
             h0
         }
     }
     .min(h_max);
 
-    // PI controller constants (Hairer's DOPRI5 defaults)
-    let beta = 0.04;
-    let expo1 = 0.2 - 0.75 * beta;
+    // step-size controller (Hairer's): safety factor, clamps and exponents from the stepper
     let safe = 0.9;
-    let facc1: f64 = 1.0 / 0.2;
-    let facc2: f64 = 1.0 / 10.0;
+    let (facc1, facc2) = (St::FACC1, St::FACC2);
     let mut facold: f64 = 1e-4;
     let mut last_rejected = false;
     let mut n_bad = 0u32;
@@ -215,14 +218,14 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
         n_bad = 0;
         let mut h_new = h;
         if fixed_h.is_none() {
-            let fac11 = err.powf(expo1);
+            let fac11 = St::err_factor(err);
             if err > 1.0 {
                 h /= facc1.min(fac11 / safe);
                 stats.n_rejected += 1;
                 last_rejected = true;
                 continue;
             }
-            let fac = facc2.max(facc1.min(fac11 / facold.powf(beta) / safe));
+            let fac = facc2.max(facc1.min(fac11 / St::old_factor(facold) / safe));
             h_new = h / fac;
             facold = err.max(1e-4);
             if last_rejected {
@@ -240,7 +243,7 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
             sys.events(t + h, st.y_new(), &mut mon.g_new);
         }
         if ne > 0 && mon.may_cross() {
-            st.prepare_dense(&y, h);
+            st.prepare_dense(sys, t, &y, h);
             dense_ready = true;
             let mut dense = |th: f64, out: &mut [f64]| st.dense(th, out);
             let mut found =
@@ -260,7 +263,7 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
                 }
                 h_used *= th;
                 st.attempt(sys, t, &y, h_used, opts.rtol, opts.atol);
-                st.prepare_dense(&y, h_used);
+                st.prepare_dense(sys, t, &y, h_used);
                 sys.events(t + h_used, st.y_new(), &mut mon.g_new);
                 last = false;
                 let mut dense = |th: f64, out: &mut [f64]| st.dense(th, out);
@@ -276,7 +279,7 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
             }
         }
         if !dense_ready && rec.wants_dense(t + h_used) {
-            st.prepare_dense(&y, h_used);
+            st.prepare_dense(sys, t, &y, h_used);
         }
         {
             let (stref, ye) = (&st, st.y_new());

@@ -89,6 +89,7 @@
 #![deny(missing_docs)]
 
 mod bifurcation;
+mod dop853;
 mod driver;
 mod error;
 mod metrics;
