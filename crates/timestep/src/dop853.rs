@@ -629,6 +629,9 @@ mod tests {
         }
         assert_eq!(eighth_root(0.0).to_bits(), 0.0f64.to_bits());
         assert_eq!(eighth_root(256.0).to_bits(), 2.0f64.to_bits());
-        assert_eq!(eighth_root(f64::INFINITY).to_bits(), f64::INFINITY.to_bits());
+        assert_eq!(
+            eighth_root(f64::INFINITY).to_bits(),
+            f64::INFINITY.to_bits()
+        );
     }
 }

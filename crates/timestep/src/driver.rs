@@ -344,7 +344,7 @@ mod tests {
     use crate::problems::DeadZoneOscillator;
     use crate::system::FirstOrder;
 
-    /// The fixed-size-array stepper that `integrate` picks for 2 states performs the arithmetic
+    /// The fixed-size-array steppers (DP5 and DOP853) that `integrate` picks for 2 states performs the arithmetic
     /// of the `Vec` stepper in the same order: the same solution bit for bit (samples from the
     /// dense output, located events, restarts and counters included).
     #[test]
@@ -382,6 +382,15 @@ mod tests {
             );
             assert!(a.stats.n_accepted > 100 && (!events || a.stats.n_events > 10));
             let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a.y), bits(&v.y));
+            assert_eq!(bits(&a.t), bits(&v.t));
+            assert_eq!(bits(&a.y_final), bits(&v.y_final));
+            assert_eq!(a.events, v.events);
+            assert_eq!(a.stats, v.stats);
+            assert_eq!(a.h_last.to_bits(), v.h_last.to_bits());
+            let a = run(&sys, 0.0, &y0, 200.0, &o, Dop853::<[f64; 2]>::new(2), None);
+            let v = run(&sys, 0.0, &y0, 200.0, &o, Dop853::<Vec<f64>>::new(2), None);
+            assert!(a.stats.n_accepted > 20 && (!events || a.stats.n_events > 10));
             assert_eq!(bits(&a.y), bits(&v.y));
             assert_eq!(bits(&a.t), bits(&v.t));
             assert_eq!(bits(&a.y_final), bits(&v.y_final));
