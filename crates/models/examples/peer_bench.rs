@@ -23,6 +23,8 @@
 //! * `wp`: the work–precision runs (own DP5, own DOP853, `ode_solvers` DOP853 at rtol
 //!   1e-6 … 1e-12) of Liu at 160 and 180 rad/s and of Yu, with references; driven by
 //!   `docs/peers/work_precision.py`.
+//! * `dop853-once <own|ode_solvers> <0|1>`: one Liu 160 rad/s DOP853 run (events off/on) for
+//!   callgrind instruction counts of the own stepper against the `ode_solvers` backend.
 //!
 //! `karpov` takes a third argument, `printed` or `accumulated`, to run one reading only.
 //!
@@ -396,6 +398,32 @@ fn wp(reps: u32) -> Value {
     json!({ "section": "wp", "cases": cases })
 }
 
+/// `dop853-once <own|ode_solvers> <events: 0|1>`: one Liu 160 rad/s run (3 periods, rtol 1e-10,
+/// steps ≤ 0.5) with the own or the `ode_solvers` DOP853, for instruction counts under
+/// `valgrind --tool=callgrind` (load-independent); prints the statistics.
+fn dop853_once(which: &str, events: bool) -> Value {
+    let mut p = liu2021::table1();
+    p.omega1 = 160.0;
+    p.readings.base_radius = BaseRadius::Mean;
+    let m = p.model().expect("Table 1 is valid");
+    let y0 = [m.static_position(0.0), 0.0];
+    let method = if which == "own" {
+        timestep::Method::Dop853
+    } else {
+        timestep::Method::OdeSolversDop853
+    };
+    let opts = timestep::Options::default()
+        .with_method(method)
+        .with_tol(1e-10, 1e-13 * m.backlash.max(m.b0))
+        .with_h_max(0.5)
+        .with_events(events)
+        .with_output(timestep::Output::Final);
+    let sys = liu2021::TimeSystem::with_trig(m, Trig::Kernel);
+    let s = timestep::integrate(&sys, 0.0, &y0, 3.0 * m.period(), &opts).expect("integrates");
+    json!({ "section": "dop853-once", "method": which, "events": events, "stats": s.stats,
+            "y_final": s.y_final })
+}
+
 /// On-CPU time of the FFTs of a cold Liu solve: `residuals` × (complex inverse + real
 /// forward, size `n`), `jacobians` × complex forward (size `n`), one complex inverse of size
 /// `m` (the metrics' samples), on this thread's planned transforms.
@@ -538,8 +566,12 @@ fn main() {
         "hbm" => hbm(reps),
         "sweep" => sweep(reps),
         "wp" => wp(reps),
+        "dop853-once" => dop853_once(
+            args.get(2).map_or("own", String::as_str),
+            args.get(3).is_some_and(|a| a == "1"),
+        ),
         other => {
-            eprintln!("unknown section {other:?}: karpov | liu | hbm | sweep | wp");
+            eprintln!("unknown section {other:?}: karpov | liu | hbm | sweep | wp | dop853-once");
             std::process::exit(2);
         }
     };

@@ -10,7 +10,8 @@ pub enum Method {
     /// This crate's own embedded Dormand–Prince 5(4) with 4th-order dense output (Hairer,
     /// Nørsett & Wanner 1993, §II.5/II.6). Adaptive, allocation-free per step; events are
     /// located on its dense output and the step is recomputed to end on the surface.
-    /// The default and the fastest choice.
+    /// The default; the fastest at loose and moderate tolerances ([`Method::Dop853`] wins at
+    /// tight ones).
     DormandPrince54,
     /// This crate's own DOP853: Hairer's explicit Runge–Kutta pair of order 8 with error
     /// estimators of orders 5 and 3 and a 7th-order dense output (Hairer, Nørsett & Wanner
