@@ -66,7 +66,7 @@
 //!   with `err^(1/8)` as three correctly rounded square roots (no libm `pow`, within 1.75 ulp).
 //!   It is an own stepper rather than the `ode_solvers` backend brought up to it because that
 //!   backend has no access to its stages: its dense output is a cubic Hermite, events need a
-//!   solver restart per crossing, it allocates per stage and knows no deadline. Measured on
+//!   solver restart per crossing and it allocates per stage. Measured on
 //!   the same Liu 160 rad/s run at rtol 1e-8 (in one process, interleaved, on a loaded
 //!   2-core machine), the `ode_solvers` backend takes ≈ 6.5 M steps and ≈ 14.6 s of CPU,
 //!   the own DOP853 ≈ 12.5 k steps and ≈ 6 ms, at a 10⁵× smaller error.
