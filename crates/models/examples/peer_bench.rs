@@ -20,6 +20,12 @@
 //!   `IntegrationOptions`), per point the adaptive run and the fixed-step loop with as many
 //!   steps over the same span.
 //!
+//! * `wp`: the work–precision runs (own DP5, own DOP853, `ode_solvers` DOP853 at rtol
+//!   1e-6 … 1e-12) of Liu at 160 and 180 rad/s and of Yu, with references; driven by
+//!   `docs/peers/work_precision.py`.
+//! * `dop853-once <own|ode_solvers> <0|1>`: one Liu 160 rad/s DOP853 run (events off/on) for
+//!   callgrind instruction counts of the own stepper against the `ode_solvers` backend.
+//!
 //! `karpov` takes a third argument, `printed` or `accumulated`, to run one reading only.
 //!
 //! Times are the minimum over at least `reps` calls (and 0.2 s) after one warm-up (wall clock, seconds, `time_s`)
@@ -289,6 +295,136 @@ fn sweep(reps: u32) -> Value {
     })
 }
 
+/// Final-state error `max_i |y_i − ref_i| / max(1, ‖ref‖∞)`.
+fn state_error(y: &[f64], reference: &[f64]) -> f64 {
+    let scale = reference.iter().fold(1.0f64, |a, v| a.max(v.abs()));
+    y.iter()
+        .zip(reference)
+        .fold(0.0f64, |a, (u, r)| a.max((u - r).abs()))
+        / scale
+}
+
+/// The work–precision runs of one system: per rtol (1e-6 … 1e-12, `atol = rtol · atol_scale`)
+/// and method, the final-state error against a reference (the own DOP853 at rtol 1e-14,
+/// checked against the own DP5 at rtol 1e-14: `reference_spread`) and the mean on-CPU time per
+/// call; the methods alternate at each tolerance.
+fn wp_runs<S: OdeSystem>(
+    sys: &S,
+    y0: &[f64],
+    t_end: f64,
+    h_max: f64,
+    atol_scale: f64,
+    reps: u32,
+) -> (Vec<f64>, f64, Vec<Value>) {
+    use timestep::Method as M;
+    let opts = |m: M, rtol: f64| {
+        timestep::Options::default()
+            .with_method(m)
+            .with_tol(rtol, rtol * atol_scale)
+            .with_h_max(h_max)
+            .with_output(timestep::Output::Final)
+    };
+    let reference =
+        timestep::integrate(sys, 0.0, y0, t_end, &opts(M::Dop853, 1e-14)).expect("integrates");
+    let check = timestep::integrate(sys, 0.0, y0, t_end, &opts(M::DormandPrince54, 1e-14))
+        .expect("integrates");
+    let spread = state_error(&check.y_final, &reference.y_final);
+    let mut runs = Vec::new();
+    for k in 6..=12 {
+        let rtol = 10f64.powi(-k);
+        for (name, m) in [
+            ("dp5", M::DormandPrince54),
+            ("dop853", M::Dop853),
+            ("ode_solvers_dop853", M::OdeSolversDop853),
+        ] {
+            // the `ode_solvers` backend (events by restarts, Hermite interpolant) takes 100×
+            // the steps here: one tolerance only, for the own-vs-backend comparison
+            if name == "ode_solvers_dop853" && k != 8 {
+                continue;
+            }
+            let o = opts(m, rtol);
+            let run = || timestep::integrate(sys, 0.0, y0, t_end, &o).expect("integrates");
+            let s = run();
+            let wall = best(reps, run);
+            runs.push(json!({
+                "method": name, "rtol": rtol, "atol": rtol * atol_scale,
+                "error": state_error(&s.y_final, &reference.y_final),
+                "cpu_s": cpu(), "time_s": wall, "stats": s.stats, "y_final": s.y_final,
+                "status": format!("{:?}", s.status),
+            }));
+        }
+    }
+    (reference.y_final, spread, runs)
+}
+
+/// `wp [reps]`: the work–precision runs of `docs/peers/work_precision.py` — Liu 2021 at 160 and
+/// 180 rad/s (Table 1, constant b̄, `Trig::Kernel`, 3 periods from the quasi-static contact
+/// position, steps ≤ 0.5, gap events) and Yu 2021 (Table 1, ω* = 0.9, 10 periods from the
+/// model's initial state, steps ≤ T/4, events on), each with own DP5, own DOP853 and the
+/// `ode_solvers` DOP853 at rtol 1e-8 only (it takes about 100× the steps of the own one on
+/// these problems: events by restarts). The Liu cases carry the model for the Python
+/// peers (scipy, the numba DP5 of `liu_dp5_events_numba.py`).
+fn wp(reps: u32) -> Value {
+    use geardyn_models::yu2021::{Options as YuOptions, Yu2021Model, Yu2021Params, Yu2021SixDof};
+    let mut cases = Vec::new();
+    for omega1 in [160.0, 180.0] {
+        let mut p = liu2021::table1();
+        p.omega1 = omega1;
+        p.readings.base_radius = BaseRadius::Mean;
+        let m = p.model().expect("Table 1 is valid");
+        let t_end = 3.0 * m.period();
+        let y0 = [m.static_position(0.0), 0.0];
+        let atol_scale = 1e-3 * m.backlash.max(m.b0);
+        let sys = liu2021::TimeSystem::with_trig(m, Trig::Kernel);
+        let (reference, spread, runs) = wp_runs(&sys, &y0, t_end, 0.5, atol_scale, reps);
+        cases.push(json!({
+            "case": format!("liu{omega1}"), "title": format!("Liu 2021, {omega1} rad/s"),
+            "model": m, "y0": y0, "tau_end": t_end, "h_max": 0.5, "atol_scale": atol_scale,
+            "reference": reference, "reference_spread": spread, "runs": runs,
+        }));
+    }
+    let w = 0.9;
+    let m = Yu2021Model::new(&Yu2021Params::table1(), YuOptions::default()).expect("Table 1");
+    let sys = timestep::FirstOrder(
+        timestep::Mechanical::new(Yu2021SixDof::new(&m, w).expect("valid")).expect("valid"),
+    );
+    let period = std::f64::consts::TAU / w;
+    let y0 = m.initial_state();
+    let (reference, spread, runs) = wp_runs(&sys, &y0, 10.0 * period, period / 4.0, 1e-2, reps);
+    cases.push(json!({
+        "case": "yu", "title": "Yu 2021, ω* = 0.9", "y0": y0, "tau_end": 10.0 * period,
+        "h_max": period / 4.0, "atol_scale": 1e-2, "reference": reference,
+        "reference_spread": spread, "runs": runs,
+    }));
+    json!({ "section": "wp", "cases": cases })
+}
+
+/// `dop853-once <own|ode_solvers> <events: 0|1>`: one Liu 160 rad/s run (3 periods, rtol 1e-10,
+/// steps ≤ 0.5) with the own or the `ode_solvers` DOP853, for instruction counts under
+/// `valgrind --tool=callgrind` (load-independent); prints the statistics.
+fn dop853_once(which: &str, events: bool) -> Value {
+    let mut p = liu2021::table1();
+    p.omega1 = 160.0;
+    p.readings.base_radius = BaseRadius::Mean;
+    let m = p.model().expect("Table 1 is valid");
+    let y0 = [m.static_position(0.0), 0.0];
+    let method = if which == "own" {
+        timestep::Method::Dop853
+    } else {
+        timestep::Method::OdeSolversDop853
+    };
+    let opts = timestep::Options::default()
+        .with_method(method)
+        .with_tol(1e-10, 1e-13 * m.backlash.max(m.b0))
+        .with_h_max(0.5)
+        .with_events(events)
+        .with_output(timestep::Output::Final);
+    let sys = liu2021::TimeSystem::with_trig(m, Trig::Kernel);
+    let s = timestep::integrate(&sys, 0.0, &y0, 3.0 * m.period(), &opts).expect("integrates");
+    json!({ "section": "dop853-once", "method": which, "events": events, "stats": s.stats,
+            "y_final": s.y_final })
+}
+
 /// On-CPU time of the FFTs of a cold Liu solve: `residuals` × (complex inverse + real
 /// forward, size `n`), `jacobians` × complex forward (size `n`), one complex inverse of size
 /// `m` (the metrics' samples), on this thread's planned transforms.
@@ -430,8 +566,13 @@ fn main() {
         "liu-profile" => liu_profile(reps, args.get(3).map_or("kernel", String::as_str)),
         "hbm" => hbm(reps),
         "sweep" => sweep(reps),
+        "wp" => wp(reps),
+        "dop853-once" => dop853_once(
+            args.get(2).map_or("own", String::as_str),
+            args.get(3).is_some_and(|a| a == "1"),
+        ),
         other => {
-            eprintln!("unknown section {other:?}: karpov | liu | hbm | sweep");
+            eprintln!("unknown section {other:?}: karpov | liu | hbm | sweep | wp | dop853-once");
             std::process::exit(2);
         }
     };

@@ -29,41 +29,61 @@
 
 use system::numeric::{exp2_approx as exp2, log2_approx as log2_pos};
 
+/// The constants of a controller (Hairer's `beta`, `fac1`, `fac2` of DOPRI5/DOP853).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct ControlParams {
+    /// `α`, the exponent of the current error: `1/q − 0.75 β` for an error estimate of order `q`
+    /// (DOPRI5: `1/5 − 0.75·0.04`; DOP853: `1/8`).
+    pub(crate) alpha: f64,
+    /// `β`, the exponent of the last accepted error (0: a pure I controller, as DOP853's).
+    pub(crate) beta: f64,
+    /// Largest shrink of the next step after one step, `h/h_new ≤ max_shrink` (`1/fac1`).
+    pub(crate) max_shrink: f64,
+    /// Largest growth, `h_new/h ≤ max_growth` (`fac2`).
+    pub(crate) max_growth: f64,
+}
+
+/// DOPRI5's controller (`dopri5.f` defaults: `β = 0.04`, `fac1 = 0.2`, `fac2 = 10`).
+pub(crate) const DOPRI5_CONTROL: ControlParams = ControlParams {
+    alpha: 1.0 / 5.0 - 0.75 * 0.04,
+    beta: 0.04,
+    max_shrink: 5.0,
+    max_growth: 10.0,
+};
+
+/// DOP853's controller (`dop853.f` defaults: `β = 0`, `fac1 = 0.333`, `fac2 = 6`).
+pub(crate) const DOP853_CONTROL: ControlParams = ControlParams {
+    alpha: 1.0 / 8.0,
+    beta: 0.0,
+    max_shrink: 1.0 / 0.333,
+    max_growth: 6.0,
+};
+
 /// Hairer's PI step-size controller (module docs), with the exponent arithmetic in `log₂`.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct PiController {
-    /// `α` (exponent of the current error).
-    alpha: f64,
-    /// `β` (exponent of the last accepted error).
-    beta: f64,
+    p: ControlParams,
     /// `log₂ max(err_old, 10⁻⁴)`.
     log2_err_old: f64,
-    /// `log₂(safe/10)`: at or below it the factor clamps to the largest growth.
+    /// `log₂(safe/max_growth)`: at or below it the factor clamps to the largest growth.
     lo: f64,
-    /// `log₂(safe·5)`: at or above it the factor clamps to the largest shrink.
+    /// `log₂(safe·max_shrink)`: at or above it the factor clamps to the largest shrink.
     hi: f64,
 }
 
 /// Safety factor.
 const SAFE: f64 = 0.9;
-/// Largest growth of a step (`h_new/h ≤ 10`); the factor `fac = h/h_new` is kept in
-/// `[1/MAX_GROWTH, MAX_SHRINK]`.
-const MAX_GROWTH: f64 = 10.0;
-/// Largest shrink of a step (`h/h_new ≤ 5`).
-const MAX_SHRINK: f64 = 5.0;
 
 impl PiController {
-    /// DOPRI5's controller for a method whose error estimate is of order `order` (5 for the
-    /// 5(4) pair: `α = 1/order − 0.75 β`), `β = 0.04`.
-    pub(crate) fn new(order: f64, beta: f64) -> Self {
+    /// A controller with the constants `p`.
+    pub(crate) fn new(p: ControlParams) -> Self {
         PiController {
-            alpha: 1.0 / order - 0.75 * beta,
-            beta,
+            p,
             log2_err_old: log2_pos(1e-4),
-            // q/safe ≤ 1/MAX_GROWTH  ⟺  log₂ q ≤ log₂(safe/MAX_GROWTH); q/safe ≥ MAX_SHRINK ⟺
-            // log₂ q ≥ log₂(safe·MAX_SHRINK)
-            lo: log2_pos(SAFE / MAX_GROWTH),
-            hi: log2_pos(SAFE * MAX_SHRINK),
+            // q/safe ≤ 1/max_growth ⟺ log₂ q ≤ log₂(safe/max_growth); q/safe ≥ max_shrink ⟺
+            // log₂ q ≥ log₂(safe·max_shrink)
+            lo: log2_pos(SAFE / p.max_growth),
+            hi: log2_pos(SAFE * p.max_shrink),
         }
     }
 
@@ -73,20 +93,20 @@ impl PiController {
     pub(crate) fn step(&mut self, err: f64) -> (f64, bool) {
         let l = log2_pos(err);
         if err > 1.0 {
-            // rejected: h /= min(5, err^α / safe); err^α > 1 here
-            let la = self.alpha * l;
+            // rejected: h /= min(max_shrink, err^α / safe); err^α > 1 here
+            let la = self.p.alpha * l;
             let fac = if la >= self.hi {
-                MAX_SHRINK
+                self.p.max_shrink
             } else {
                 exp2(la) / SAFE
             };
             return (fac, false);
         }
-        let lq = self.alpha * l - self.beta * self.log2_err_old;
+        let lq = self.p.alpha * l - self.p.beta * self.log2_err_old;
         let fac = if lq <= self.lo {
-            1.0 / MAX_GROWTH
+            1.0 / self.p.max_growth
         } else if lq >= self.hi {
-            MAX_SHRINK
+            self.p.max_shrink
         } else {
             exp2(lq) / SAFE
         };
@@ -106,7 +126,7 @@ mod tests {
     fn factor_matches_the_pow_form() {
         let (beta, safe) = (0.04, 0.9);
         let expo1 = 0.2 - 0.75 * beta;
-        let mut c = PiController::new(5.0, beta);
+        let mut c = PiController::new(DOPRI5_CONTROL);
         let mut facold: f64 = 1e-4;
         let mut err = 1e-12_f64;
         let mut n = 0;
@@ -132,6 +152,24 @@ mod tests {
         assert!(n > 300);
     }
 
+    /// DOP853's pure I controller against `err^(1/8)`.
+    #[test]
+    fn dop853_factor_matches_the_eighth_root() {
+        let mut c = PiController::new(DOP853_CONTROL);
+        let mut err = 1e-12_f64;
+        while err < 1e3 {
+            let fac11 = err.sqrt().sqrt().sqrt();
+            let want = if err > 1.0 {
+                (1.0_f64 / 0.333).min(fac11 / 0.9)
+            } else {
+                (1.0_f64 / 6.0).max((1.0_f64 / 0.333).min(fac11 / 0.9))
+            };
+            let (got, _) = c.step(err);
+            assert!((got / want - 1.0).abs() < 1e-9, "err {err}: {got} vs {want}");
+            err *= 1.0913;
+        }
+    }
+
     /// Monotone in `err` at a fixed history: a larger error never gives a longer step.
     #[test]
     fn factor_is_monotone() {
@@ -141,7 +179,7 @@ mod tests {
             let mut prev = 0.0;
             let mut e = from;
             while e <= to {
-                let mut c = PiController::new(5.0, 0.04);
+                let mut c = PiController::new(DOPRI5_CONTROL);
                 let (f, _) = c.step(e);
                 assert!(f >= prev, "{e}: {f} < {prev}");
                 prev = f;

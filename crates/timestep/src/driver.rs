@@ -1,6 +1,7 @@
 //! The integration driver: step-size control, event location, step restart and output.
 
 use crate::control::PiController;
+use crate::dop853::Dop853;
 use crate::error::{Error, Result, check_finite, check_finite_slice};
 use crate::options::{Method, Options};
 use crate::record::{EventMonitor, Recorder};
@@ -81,6 +82,11 @@ pub fn integrate<S: OdeSystem + ?Sized>(
                 DormandPrince::<Vec<f64>>::new(n),
                 None,
             ),
+        }),
+        Method::Dop853 => Ok(match n {
+            2 => run(sys, t0, y0, t_end, opts, Dop853::<[f64; 2]>::new(n), None),
+            4 => run(sys, t0, y0, t_end, opts, Dop853::<[f64; 4]>::new(n), None),
+            _ => run(sys, t0, y0, t_end, opts, Dop853::<Vec<f64>>::new(n), None),
         }),
         Method::Rk4 { h } => Ok(run(sys, t0, y0, t_end, opts, ClassicRk4::new(n), Some(h))),
         Method::OdeSolversDopri5 | Method::OdeSolversDop853 => {
@@ -165,15 +171,15 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
             let mut f0 = vec![0.0; n];
             let mut f1 = vec![0.0; n];
             sys.rhs(t, &y, &mut f0);
-            let h0 = initial_step(sys, t, &y, &f0, 5.0, opts, h_max, &mut ybuf, &mut f1);
+            let h0 = initial_step(sys, t, &y, &f0, St::ORDER, opts, h_max, &mut ybuf, &mut f1);
             stats.n_rhs += 2;
             h0
         }
     }
     .min(h_max);
 
-    // Hairer's DOPRI5 PI controller, without `pow` (crate::control)
-    let mut control = PiController::new(5.0, 0.04);
+    // Hairer's PI controller with the stepper's constants, without `pow` (crate::control)
+    let mut control = PiController::new(St::CONTROL);
     let mut last_rejected = false;
     let mut n_bad = 0u32;
     let mut first_new = 0usize;
@@ -235,7 +241,7 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
             sys.events(t + h, st.y_new(), &mut mon.g_new);
         }
         if ne > 0 && mon.may_cross() {
-            st.prepare_dense(&y, h);
+            st.prepare_dense(sys, t, &y, h);
             dense_ready = true;
             let mut dense = |th: f64, out: &mut [f64]| st.dense(th, out);
             let mut found =
@@ -255,7 +261,7 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
                 }
                 h_used *= th;
                 st.attempt(sys, t, &y, h_used, opts.rtol, opts.atol);
-                st.prepare_dense(&y, h_used);
+                st.prepare_dense(sys, t, &y, h_used);
                 sys.events(t + h_used, st.y_new(), &mut mon.g_new);
                 last = false;
                 let mut dense = |th: f64, out: &mut [f64]| st.dense(th, out);
@@ -271,7 +277,7 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
             }
         }
         if !dense_ready && rec.wants_dense(t + h_used) {
-            st.prepare_dense(&y, h_used);
+            st.prepare_dense(sys, t, &y, h_used);
         }
         {
             let (stref, ye) = (&st, st.y_new());
@@ -337,7 +343,7 @@ mod tests {
     use crate::problems::DeadZoneOscillator;
     use crate::system::FirstOrder;
 
-    /// The fixed-size-array stepper that `integrate` picks for 2 states performs the arithmetic
+    /// The fixed-size-array steppers (DP5 and DOP853) that `integrate` picks for 2 states performs the arithmetic
     /// of the `Vec` stepper in the same order: the same solution bit for bit (samples from the
     /// dense output, located events, restarts and counters included).
     #[test]
@@ -375,6 +381,15 @@ mod tests {
             );
             assert!(a.stats.n_accepted > 100 && (!events || a.stats.n_events > 10));
             let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&a.y), bits(&v.y));
+            assert_eq!(bits(&a.t), bits(&v.t));
+            assert_eq!(bits(&a.y_final), bits(&v.y_final));
+            assert_eq!(a.events, v.events);
+            assert_eq!(a.stats, v.stats);
+            assert_eq!(a.h_last.to_bits(), v.h_last.to_bits());
+            let a = run(&sys, 0.0, &y0, 200.0, &o, Dop853::<[f64; 2]>::new(2), None);
+            let v = run(&sys, 0.0, &y0, 200.0, &o, Dop853::<Vec<f64>>::new(2), None);
+            assert!(a.stats.n_accepted > 20 && (!events || a.stats.n_events > 10));
             assert_eq!(bits(&a.y), bits(&v.y));
             assert_eq!(bits(&a.t), bits(&v.t));
             assert_eq!(bits(&a.y_final), bits(&v.y_final));

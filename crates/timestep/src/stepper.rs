@@ -31,6 +31,10 @@ impl<const N: usize> Buf for [f64; N] {
 
 /// A one-step scheme with dense output, driven by [`crate::integrate`].
 pub(crate) trait Stepper {
+    /// Order of the propagated solution (Hairer's `hinit` uses it for the starting step).
+    const ORDER: f64;
+    /// The constants of its step-size controller ([`crate::control::PiController`]).
+    const CONTROL: crate::control::ControlParams;
     /// Sets `f0 = F(t, y)` (call at the start and after a state change).
     fn init<S: OdeSystem + ?Sized>(&mut self, sys: &S, t: f64, y: &[f64]);
     /// Attempts a step of size `h` from `(t, y)` (with `f0 = F(t, y)` already set). Writes the
@@ -46,8 +50,10 @@ pub(crate) trait Stepper {
     ) -> f64;
     /// The state computed by the last `attempt`.
     fn y_new(&self) -> &[f64];
-    /// Builds the dense-output coefficients of the last attempted step (after acceptance).
-    fn prepare_dense(&mut self, y: &[f64], h: f64);
+    /// Builds the dense-output coefficients of the last attempted step from `(t, y)` of size
+    /// `h` (after acceptance). Schemes whose continuous extension needs extra stages evaluate
+    /// them here (and count them in [`Stepper::n_rhs`]).
+    fn prepare_dense<S: OdeSystem + ?Sized>(&mut self, sys: &S, t: f64, y: &[f64], h: f64);
     /// Evaluates the dense output at `theta` in [0, 1] of the prepared step.
     fn dense(&self, theta: f64, out: &mut [f64]);
     /// Makes `F(t+h, y_new)` the `f0` of the next step (first-same-as-last).
@@ -95,18 +101,19 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
+
 /// Work buffers shared by the explicit Runge–Kutta steppers: `S` stage derivatives (`k[0]` is
 /// `F(t, y)` at the start of a step), a stage state, the new state and the evaluation count.
 #[derive(Debug, Clone)]
-struct Stages<const S: usize, B> {
-    k: [B; S],
-    ytmp: B,
-    ynew: B,
-    n_rhs: u64,
+pub(crate) struct Stages<const S: usize, B> {
+    pub(crate) k: [B; S],
+    pub(crate) ytmp: B,
+    pub(crate) ynew: B,
+    pub(crate) n_rhs: u64,
 }
 
 impl<const S: usize, B: Buf> Stages<S, B> {
-    fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         Self {
             k: std::array::from_fn(|_| B::zeros(n)),
             ytmp: B::zeros(n),
@@ -116,7 +123,7 @@ impl<const S: usize, B: Buf> Stages<S, B> {
     }
 
     /// `k[0] = F(t, y)` ([`Stepper::init`]).
-    fn init<Sys: OdeSystem + ?Sized>(&mut self, sys: &Sys, t: f64, y: &[f64]) {
+    pub(crate) fn init<Sys: OdeSystem + ?Sized>(&mut self, sys: &Sys, t: f64, y: &[f64]) {
         sys.rhs(t, y, self.k[0].as_mut());
         self.n_rhs += 1;
     }
@@ -139,6 +146,9 @@ impl<B: Buf> DormandPrince<B> {
 }
 
 impl<B: Buf> Stepper for DormandPrince<B> {
+    const ORDER: f64 = 5.0;
+    const CONTROL: crate::control::ControlParams = crate::control::DOPRI5_CONTROL;
+
     fn init<S: OdeSystem + ?Sized>(&mut self, sys: &S, t: f64, y: &[f64]) {
         self.st.init(sys, t, y);
     }
@@ -203,7 +213,7 @@ impl<B: Buf> Stepper for DormandPrince<B> {
         self.st.ynew.as_ref()
     }
 
-    fn prepare_dense(&mut self, y: &[f64], h: f64) {
+    fn prepare_dense<S: OdeSystem + ?Sized>(&mut self, _sys: &S, _t: f64, y: &[f64], h: f64) {
         let ynew = self.st.ynew.as_ref();
         let n = ynew.len();
         let y = &y[..n];
@@ -269,7 +279,11 @@ impl ClassicRk4 {
     }
 }
 
+/// Fixed steps: the controller constants are never read (the driver skips step control).
 impl Stepper for ClassicRk4 {
+    const ORDER: f64 = 5.0;
+    const CONTROL: crate::control::ControlParams = crate::control::DOPRI5_CONTROL;
+
     fn init<S: OdeSystem + ?Sized>(&mut self, sys: &S, t: f64, y: &[f64]) {
         self.st.init(sys, t, y);
     }
@@ -306,7 +320,7 @@ impl Stepper for ClassicRk4 {
         &self.st.ynew
     }
 
-    fn prepare_dense(&mut self, y: &[f64], h: f64) {
+    fn prepare_dense<S: OdeSystem + ?Sized>(&mut self, _sys: &S, _t: f64, y: &[f64], h: f64) {
         self.y0.copy_from_slice(y);
         self.h = h;
     }

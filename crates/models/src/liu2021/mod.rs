@@ -121,7 +121,9 @@ pub use harmonic::{
     Basis, HbmOptions, HbmResponse, HbmStart, PerThreadHbm, PreparedHbm,
     coefficients_from_time_response, solve_hbm, solve_hbm_from_time_response, solve_hbm_with,
 };
-pub use integrate::{IntegrationOptions, TimeResponse, bifurcation_point, integrate};
+pub use integrate::{
+    AUTO_DOP853_RTOL, IntegrationOptions, Stepping, TimeResponse, bifurcation_point, integrate,
+};
 pub use model::{Model, Rattle, RattleState};
 pub use ode::{TimeSystem, Trig};
 pub use params::{

@@ -3,8 +3,9 @@
 use geardyn_timestep::*;
 use math::DetMath;
 
-const ALL: [Method; 4] = [
+const ALL: [Method; 5] = [
     Method::DormandPrince54,
+    Method::Dop853,
     Method::Rk4 { h: 0.005 },
     Method::OdeSolversDopri5,
     Method::OdeSolversDop853,
@@ -54,7 +55,11 @@ fn energy_drift_of_undamped_oscillator_is_small() {
     let w2 = 1.3f64 * 1.3;
     let e = |y: &[f64]| 0.5 * y[1] * y[1] + 0.5 * w2 * y[0] * y[0];
     let y0 = [1.0, 0.0];
-    for m in [Method::DormandPrince54, Method::OdeSolversDop853] {
+    for m in [
+        Method::DormandPrince54,
+        Method::Dop853,
+        Method::OdeSolversDop853,
+    ] {
         let o = Options::default()
             .with_method(m)
             .with_tol(1e-10, 1e-12)
@@ -91,6 +96,7 @@ fn measured_order_of_accuracy() {
         (Method::DormandPrince54, 0.2, 5.0),
         (Method::OdeSolversDopri5, 0.2, 5.0),
         (Method::OdeSolversDop853, 0.5, 8.0),
+        (Method::Dop853, 0.5, 8.0),
     ] {
         let e1 = fixed_step_error(m, h);
         let e2 = fixed_step_error(m, h / 2.0);
@@ -140,7 +146,11 @@ fn impact_oscillator_times_and_restitution() {
     };
     let exact = ball.impact_times(1.0, 8);
     let sys = FirstOrder(ball);
-    for m in [Method::DormandPrince54, Method::OdeSolversDop853] {
+    for m in [
+        Method::DormandPrince54,
+        Method::Dop853,
+        Method::OdeSolversDop853,
+    ] {
         let o = Options::default().with_method(m).with_output(Output::Final);
         let s = integrate(&sys, 0.0, &[1.0, 0.0], exact[7] + 1e-3, &o).unwrap();
         assert_eq!(s.events.len(), 8, "{m:?}");
