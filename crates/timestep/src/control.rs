@@ -165,7 +165,10 @@ mod tests {
                 (1.0_f64 / 6.0).max((1.0_f64 / 0.333).min(fac11 / 0.9))
             };
             let (got, _) = c.step(err);
-            assert!((got / want - 1.0).abs() < 1e-9, "err {err}: {got} vs {want}");
+            assert!(
+                (got / want - 1.0).abs() < 1e-9,
+                "err {err}: {got} vs {want}"
+            );
             err *= 1.0913;
         }
     }

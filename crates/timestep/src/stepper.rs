@@ -101,7 +101,6 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
-
 /// Work buffers shared by the explicit Runge–Kutta steppers: `S` stage derivatives (`k[0]` is
 /// `F(t, y)` at the start of a step), a stage state, the new state and the evaluation count.
 #[derive(Debug, Clone)]

@@ -616,6 +616,7 @@ fn ts_plan(s: &Settings, initial: Option<(f64, f64)>) -> Result<TsPlan, PointErr
         max_step: s.f("max_step"),
         rtol: s.f("rtol"),
         initial,
+        method: liu2021::Stepping::Auto,
     };
     let fixed = s.name("settle") == "fixed";
     let transient = one_period.transient_periods;

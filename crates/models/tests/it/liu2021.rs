@@ -431,6 +431,7 @@ fn one_period(m: &liu2021::Model, q: f64, v: f64, max_step: f64, rtol: f64) -> (
             max_step,
             rtol,
             initial: Some((q, v)),
+            method: liu2021::Stepping::Auto,
         },
     )
     .unwrap();
