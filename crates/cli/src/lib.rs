@@ -342,8 +342,9 @@ pub fn validate(
 ) -> Result<(), Failure> {
     let shard: Option<validate::Shard> = shard.map(str::parse).transpose()?;
     let total = if let Some(sh) = shard {
-        (0..validate::all_studies().len())
-            .filter(|&i| sh.holds(i))
+        sh.members(&validate::all_studies())
+            .into_iter()
+            .filter(|m| *m)
             .count()
     } else if let Some(f) = filter {
         validate::all_studies()

@@ -68,9 +68,12 @@ pub fn run_validation(
     run_validation_sharded(root, check, filter, None, progress)
 }
 
-/// One shard of `--check`: shard `index` of `count` (`1 ≤ index ≤ count`) holds the studies
-/// whose position in [`crate::all_studies`] is `index − 1` modulo `count`, so that every study
-/// is in exactly one shard.
+/// One shard of `--check`: shard `index` of `count` (`1 ≤ index ≤ count`). The studies are
+/// dealt to the shards by their expected CPU time ([`crate::expected_cpu_seconds`]): in the
+/// order of [`crate::longest_first`], each to the shard with the least expected time so far
+/// (ties: the lower shard), so that every study is in exactly one shard and the shards cost
+/// about the same (the largest study alone sets the floor). Deterministic: the same shards on
+/// every machine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
     /// 1-based index of the shard.
@@ -101,9 +104,22 @@ impl std::str::FromStr for Shard {
 }
 
 impl Shard {
-    /// Whether the study at position `i` of [`crate::all_studies`] is in this shard.
-    pub fn holds(&self, i: usize) -> bool {
-        i % self.count == self.index - 1
+    /// Which of `studies` are in this shard (one flag per study, in order).
+    pub fn members(&self, studies: &[Study]) -> Vec<bool> {
+        let mut load = vec![0.0_f64; self.count];
+        let mut of = vec![0usize; studies.len()];
+        for i in crate::longest_first(studies) {
+            // the least-loaded shard (the first of equals)
+            let mut best = 0;
+            for k in 1..self.count {
+                if load[k] < load[best] {
+                    best = k;
+                }
+            }
+            load[best] += crate::expected_cpu_seconds(studies[i].id);
+            of[i] = best;
+        }
+        of.iter().map(|&k| k == self.index - 1).collect()
     }
 }
 
@@ -139,11 +155,12 @@ pub fn run_validation_sharded(
     let t0 = Instant::now();
     let mut studies = crate::all_studies();
     if let Some(sh) = shard {
+        let members = sh.members(&studies);
         studies = studies
             .into_iter()
-            .enumerate()
-            .filter(|(i, _)| sh.holds(*i))
-            .map(|(_, s)| s)
+            .zip(members)
+            .filter(|(_, m)| *m)
+            .map(|(s, _)| s)
             .collect();
     }
     if let Some(f) = filter {
@@ -741,13 +758,40 @@ mod tests {
         assert!("1/0".parse::<Shard>().is_err());
         assert!("x/2".parse::<Shard>().is_err());
         assert!("1-2".parse::<Shard>().is_err());
-        let n = crate::all_studies().len();
+        let studies = crate::all_studies();
         for count in [1, 2, 4, 7] {
-            let shards: Vec<Shard> = (1..=count)
-                .map(|i| format!("{i}/{count}").parse().unwrap())
+            let members: Vec<Vec<bool>> = (1..=count)
+                .map(|i| {
+                    format!("{i}/{count}")
+                        .parse::<Shard>()
+                        .unwrap()
+                        .members(&studies)
+                })
                 .collect();
-            for i in 0..n {
-                assert_eq!(shards.iter().filter(|s| s.holds(i)).count(), 1);
+            for i in 0..studies.len() {
+                assert_eq!(members.iter().filter(|m| m[i]).count(), 1);
+            }
+            // balanced: no shard expects more than the larger of the biggest study and twice
+            // the mean
+            let total: f64 = studies
+                .iter()
+                .map(|s| crate::expected_cpu_seconds(s.id))
+                .sum();
+            let biggest = studies
+                .iter()
+                .map(|s| crate::expected_cpu_seconds(s.id))
+                .fold(0.0, f64::max);
+            for m in &members {
+                let load: f64 = studies
+                    .iter()
+                    .zip(m)
+                    .filter(|(_, m)| **m)
+                    .map(|(s, _)| crate::expected_cpu_seconds(s.id))
+                    .sum();
+                assert!(
+                    load <= biggest.max(2.0 * total / count as f64) + 1e-9,
+                    "{load}"
+                );
             }
         }
     }
