@@ -8,7 +8,7 @@
 
 use crate::study::Study;
 
-/// Expected CPU seconds of a study that is not in [`EXPECTED_CPU_SECONDS`].
+/// Expected CPU seconds of a study that the table of measured costs does not list.
 pub const UNKNOWN_CPU_SECONDS: f64 = 5.0;
 
 /// CPU seconds per study, from the cost table of a full `cargo xtask validate` on 2 cores
