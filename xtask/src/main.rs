@@ -10,8 +10,8 @@
 //!   `validation/verdicts.csv` at REV (default: merge base with `main`) and the working tree.
 //! * `cargo xtask study <file.toml>` — run a user study (format in `docs/studies.md`).
 //! * `cargo xtask heavy-tests` — the heavy numerical tests (`#[ignore = "heavy: …"]` in
-//!   `geardyn-models` and `geardyn-orbit`), optimised: `cargo test --profile validate` with
-//!   `--ignored`. `cargo test --workspace` skips them so that the contributor loop stays short
+//!   `geardyn-models`, `geardyn-orbit` and `geardyn-study`), optimised: `cargo test --profile
+//!   validate` with `--ignored`. `cargo test --workspace` skips them so that the contributor loop stays short
 //!   (issue 26); `.ci/run` runs both.
 //!
 //! Both run the code of the `geardyn` command (`cli::validate`, `cli::study`).
@@ -65,7 +65,8 @@ enum Cmd {
     },
     /// Run the heavy numerical tests (ignored by `cargo test --workspace`) in the optimised
     /// `validate` profile: `cargo test --profile validate -p geardyn-models -p geardyn-orbit
-    /// --lib --tests -- --ignored`, then ARGS (e.g. a test-name filter).
+    /// -p geardyn-study --lib --tests -- --ignored --skip fuzz::`, then ARGS (e.g. a test-name
+    /// filter).
     HeavyTests {
         /// Passed to the test binaries after `--ignored` (filters, `--nocapture`, ...).
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
@@ -107,10 +108,15 @@ fn heavy_tests(args: &[String]) -> ExitCode {
         "geardyn-models",
         "-p",
         "geardyn-orbit",
+        "-p",
+        "geardyn-study",
         "--lib",
         "--tests",
         "--",
         "--ignored",
+        // the study crate's fuzzer is ignored too; `.ci/run` runs it on its own, with a budget
+        "--skip",
+        "fuzz::",
     ]);
     for helper in PRINTING_HELPERS {
         cmd.args(["--skip", helper]);
