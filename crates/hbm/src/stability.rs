@@ -98,7 +98,7 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         for s in 0..steps {
             let t = s as f64 * h;
             let mut k1 = DMatrix::<f64>::zeros(nn, nn);
-            product_into(&a0, &phi, &mut k1);
+            system::numeric::product_into(&a0, &phi, &mut k1);
             let rhs = |t: f64, y: &[f64], d: &mut [f64]| {
                 if cached.as_ref().is_none_or(|(bits, _)| *bits != t.to_bits()) {
                     match a_at(t) {
@@ -134,25 +134,5 @@ impl<S: SecondOrderSystem> HbmProblem<S> {
         let mu = phi.complex_eigenvalues();
         let multipliers: Vec<[f64; 2]> = mu.iter().map(|z| [z.re, z.im]).collect();
         Ok(Stability::from_multipliers(multipliers))
-    }
-}
-
-/// `C = A B` for column-major dynamic matrices, summed in one fixed order (for each column of
-/// `B`, the columns of `A` added in turn), not by nalgebra's `gemm`: for dynamic matrices larger
-/// than 5 × 5 that calls `matrixmultiply::dgemm`, which picks an FMA or AVX kernel by CPU at run
-/// time, so its result would depend on the machine (issue 40). The matrices here are a state
-/// dimension across (2 to 10), where this loop costs about what `gemm` does.
-fn product_into(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &mut DMatrix<f64>) {
-    let (n, k) = (a.nrows(), a.ncols());
-    debug_assert_eq!(b.nrows(), k);
-    debug_assert_eq!((c.nrows(), c.ncols()), (n, b.ncols()));
-    let (ad, bd) = (a.as_slice(), b.as_slice());
-    for (cj, bj) in c.as_mut_slice().chunks_exact_mut(n).zip(bd.chunks_exact(k)) {
-        cj.fill(0.0);
-        for (aj, &x) in ad.chunks_exact(n).zip(bj) {
-            for (ci, ai) in cj.iter_mut().zip(aj) {
-                *ci += ai * x;
-            }
-        }
     }
 }

@@ -440,7 +440,7 @@ impl<'a, S: SecondOrderSystem + ?Sized> Stepper<'a, S> {
                         self.field.jacobian(ts, &yj, &mut self.a);
                     }
                     self.y = yj;
-                    product_into(&self.a, &self.yp, &mut self.kp[s]);
+                    system::numeric::product_into(&self.a, &self.yp, &mut self.kp[s]);
                 }
             }
             if s == 6 {
@@ -929,26 +929,6 @@ fn golden<S: SecondOrderSystem + ?Sized>(
         }
     }
     fc.max(fd)
-}
-
-/// `C = A B` for column-major dynamic matrices, summed in one fixed order (for each column of
-/// `B`, the columns of `A` added in turn), not by nalgebra's `gemm`: for dynamic matrices larger
-/// than 5 × 5 that calls `matrixmultiply::dgemm`, which picks an FMA or AVX kernel by CPU at run
-/// time, so its result would depend on the machine (issue 40). The matrices here are a state
-/// dimension across (2 to 10), where this loop costs about what `gemm` does.
-fn product_into(a: &DMatrix<f64>, b: &DMatrix<f64>, c: &mut DMatrix<f64>) {
-    let (n, k) = (a.nrows(), a.ncols());
-    debug_assert_eq!(b.nrows(), k);
-    debug_assert_eq!((c.nrows(), c.ncols()), (n, b.ncols()));
-    let (ad, bd) = (a.as_slice(), b.as_slice());
-    for (cj, bj) in c.as_mut_slice().chunks_exact_mut(n).zip(bd.chunks_exact(k)) {
-        cj.fill(0.0);
-        for (aj, &x) in ad.chunks_exact(n).zip(bj) {
-            for (ci, ai) in cj.iter_mut().zip(aj) {
-                *ci += ai * x;
-            }
-        }
-    }
 }
 
 #[cfg(test)]

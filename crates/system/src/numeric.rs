@@ -345,9 +345,45 @@ pub fn exp2_approx(x: f64) -> f64 {
     p * scale
 }
 
+/// `C = A B` for column-major dynamic matrices, summed in one fixed order (for each column of
+/// `B`, the columns of `A` added in turn), not by nalgebra's `gemm`: for dynamic matrices larger
+/// than 5 × 5 that calls `matrixmultiply::dgemm`, which picks an FMA or AVX kernel by CPU at run
+/// time, so its result would depend on the machine. The one product of the variational flows and
+/// Floquet maps (`geardyn-hbm` stability, `geardyn-orbit` flow) whose result reaches an output;
+/// at their sizes (a state dimension across, 2 to 10) this loop costs about what `gemm` does.
+/// The shapes must agree (`A` n × k, `B` k × m, `C` n × m; checked in debug builds).
+pub fn product_into(
+    a: &nalgebra::DMatrix<f64>,
+    b: &nalgebra::DMatrix<f64>,
+    c: &mut nalgebra::DMatrix<f64>,
+) {
+    let (n, k) = (a.nrows(), a.ncols());
+    debug_assert_eq!(b.nrows(), k);
+    debug_assert_eq!((c.nrows(), c.ncols()), (n, b.ncols()));
+    let (ad, bd) = (a.as_slice(), b.as_slice());
+    for (cj, bj) in c.as_mut_slice().chunks_exact_mut(n).zip(bd.chunks_exact(k)) {
+        cj.fill(0.0);
+        for (aj, &x) in ad.chunks_exact(n).zip(bj) {
+            for (ci, ai) in cj.iter_mut().zip(aj) {
+                *ci += ai * x;
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An exact small product (integers: no rounding), against nalgebra's.
+    #[test]
+    fn product_into_is_the_matrix_product() {
+        let a = nalgebra::DMatrix::from_fn(3, 2, |i, j| (i * 2 + j) as f64 - 1.0);
+        let b = nalgebra::DMatrix::from_fn(2, 4, |i, j| (3 * i + j) as f64 - 2.0);
+        let mut c = nalgebra::DMatrix::from_element(3, 4, f64::NAN);
+        product_into(&a, &b, &mut c);
+        assert_eq!(c, &a * &b);
+    }
 
     #[test]
     fn log2_and_exp2_approx_agree_with_libm() {
