@@ -480,7 +480,7 @@ impl<'a, S: SecondOrderSystem + ?Sized> Stepper<'a, S> {
 }
 
 /// `err^(−1/5)` of the step-size controller, without the C math library's `pow`
-/// (`system::numeric::{log2_approx, exp2_approx}`: relative error below 1e-9, deterministic on
+/// (`system::numeric::{log2_approx, exp2_approx}`: relative error below 1e-8, deterministic on
 /// every platform).
 #[inline]
 fn err_pow(err: f64) -> f64 {

@@ -22,6 +22,18 @@
 //!   dense output (repeat until the step end and the crossing agree), recorded as [`Event`]
 //!   (time, index, direction), and [`OdeSystem::on_event`] may apply a jump (impact law) or
 //!   stop. The right-hand side is thus never integrated across a kink inside one step.
+//! * **Steps across a switching surface.** A trial step that straddles a surface carries the
+//!   kink in its error estimate and is usually rejected; the controller's shrink factor alone
+//!   then takes several rejections to step off it (about 7 per event for DP5 and 13 for
+//!   DOP853 on Liu's bilateral rattle). On a rejection whose end state lies across a surface,
+//!   the retry ends instead just past the crossing estimated by linear interpolation of the
+//!   event functions, `θ = g(t)/(g(t) − g(t+h))`, at `(θ + 10⁻³) h`, where the kink adds next
+//!   to nothing to the error, and the event is located on that accepted step as usual. The
+//!   retry is used only where it shortens the step by 10 % or more (every rejection still
+//!   shrinks the step) and at most four times between located events (an estimate that keeps
+//!   falling short, near a grazing, goes back to the plain controller). Measured on Liu 2021
+//!   over 60 periods: right-hand sides −8 % (DP5, rtol 1e-8) and −13 % (DOP853, 1e-10) at
+//!   180 rad/s, −5 % and −6 % at 160 rad/s.
 //! * **Steady state** ([`steady_state`]): transient by a fixed number of forcing periods or a
 //!   period-to-period test `|P_k − P_{k−m}|_∞ ≤ tol (1 + |P_k|_∞)`, `m ≤ max_order`; then an
 //!   integer number of periods sampled uniformly (end point excluded) for exact-bin FFTs.

@@ -76,6 +76,16 @@ pub struct Options {
     pub events: bool,
     /// What to store (default [`Output::Steps`]).
     pub output: Output,
+    /// Whether a rejected step whose end lies across a switching surface is retried to just
+    /// past the linearly estimated crossing (default true; crate docs, "Steps across a
+    /// switching surface"). Off: the controller's shrink factor alone, as in Hairer's codes.
+    #[cfg_attr(feature = "serde", serde(default = "default_crossing_retry"))]
+    pub crossing_retry: bool,
+}
+
+#[cfg(feature = "serde")]
+fn default_crossing_retry() -> bool {
+    true
 }
 
 impl Default for Options {
@@ -90,6 +100,7 @@ impl Default for Options {
             event_tol: 1e-12,
             events: true,
             output: Output::Steps,
+            crossing_retry: true,
         }
     }
 }
@@ -114,6 +125,12 @@ impl Options {
     /// Enables or disables event location.
     pub fn with_events(mut self, on: bool) -> Self {
         self.events = on;
+        self
+    }
+    /// Enables or disables the retry of a rejected step at an estimated crossing
+    /// ([`Options::crossing_retry`]).
+    pub fn with_crossing_retry(mut self, on: bool) -> Self {
+        self.crossing_retry = on;
         self
     }
     /// Sets the maximum step size.

@@ -112,6 +112,13 @@ impl HbmResponse {
 /// Eq. (9) as the shared system description, solved by both engines (`hbm` directly, `timestep`
 /// through [`timestep::Mechanical`]): `M = 1`, `C = 2ζ`, `g = F(τ) f(q, b̄(τ))`, the forcing
 /// of Eq. (9), and the gap edges `q = ±b̄(τ)` as events.
+///
+/// Every time function here (forcing, time table, force, Jacobian, events) comes from one
+/// evaluation, `Model::time_functions_short` (three short `sin_cos`), so the separate and the
+/// shared forms agree bit for bit; they equal the inherent [`Model::stiffness`],
+/// [`Model::backlash_at`] and [`Model::forcing`] to rounding (tested). The harmonic-balance
+/// grid of the engine's own frequency is tabulated from one quarter circle instead
+/// (`tabulate_grid`).
 impl system::SecondOrderSystem for Model {
     fn n_dof(&self) -> usize {
         1
@@ -123,22 +130,25 @@ impl system::SecondOrderSystem for Model {
         DMatrix::from_element(1, 1, 2.0 * self.zeta)
     }
     fn nonlinear_force(&self, t: f64, q: &[f64], _qd: &[f64], g: &mut [f64]) {
-        g[0] = self.restoring(t, q[0]);
+        let [stiffness, backlash, _] = self.time_functions_short(t);
+        g[0] = Model::restoring_of(stiffness, backlash, q[0]);
     }
     fn forcing(&self, t: f64, f: &mut [f64]) {
-        f[0] = self.forcing(t);
+        f[0] = self.time_functions_short(t)[2];
     }
     fn force_jacobian(&self, t: f64, q: &[f64], _qd: &[f64], dq: &mut [f64], dv: &mut [f64]) {
-        dq[0] = Model::restoring_slope_of(self.stiffness(t), self.backlash_at(t), q[0]);
+        let [stiffness, backlash, _] = self.time_functions_short(t);
+        dq[0] = Model::restoring_slope_of(stiffness, backlash, q[0]);
         dv[0] = 0.0;
     }
     fn n_events(&self) -> usize {
         2
     }
     fn events(&self, t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) {
-        system::gap_edges(q[0], self.backlash_at(t), e);
+        system::gap_edges(q[0], self.time_functions_short(t)[1], e);
     }
-    /// The gap edges from the row's `b̄(τ)` (the same value as [`Model::backlash_at`]).
+    /// The gap edges from the row's `b̄(τ)` (the same value as [`events`](Self::events)
+    /// reads).
     fn events_tabulated(&self, _t: f64, row: &[f64], q: &[f64], _qd: &[f64], e: &mut [f64]) {
         system::gap_edges(q[0], row[1], e);
     }
@@ -147,13 +157,14 @@ impl system::SecondOrderSystem for Model {
         2
     }
     fn fill_time_table(&self, t: f64, row: &mut [f64]) {
-        row[0] = self.stiffness(t);
-        row[1] = self.backlash_at(t);
+        let [stiffness, backlash, _] = self.time_functions_short(t);
+        row[0] = stiffness;
+        row[1] = backlash;
     }
-    /// `f_r(τ)` and `[F(τ), b̄(τ)]` from [`Model::time_functions`]: the same values bit for
-    /// bit, with each `sin`/`cos` of `τ` taken once (four to six calls instead of seven to nine).
+    /// `f_r(τ)` and `[F(τ), b̄(τ)]` from one evaluation: the values of
+    /// [`forcing`](Self::forcing) and [`fill_time_table`](Self::fill_time_table) bit for bit.
     fn fill_time_functions(&self, t: f64, f: &mut [f64], row: &mut [f64]) {
-        let [stiffness, backlash, forcing] = self.time_functions(t);
+        let [stiffness, backlash, forcing] = self.time_functions_short(t);
         f[0] = forcing;
         row[0] = stiffness;
         row[1] = backlash;

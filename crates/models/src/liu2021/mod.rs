@@ -87,10 +87,16 @@
 //! assert!(sol.converged());
 //! assert_eq!(sol.rattle.state.rsv(), 0);
 //!
-//! // bilateral rattle at 220 rad/s: warm-start HBM from the time-integrated period
+//! // bilateral rattle at 220 rad/s: warm-start HBM from a period of the settled response
+//! // (after the default 2 periods the response is still a transient whose harmonics may not
+//! // lead Newton to the orbit)
 //! p.omega1 = 220.0;
 //! let model = p.model()?;
-//! let ti = liu2021::integrate(&model, &liu2021::IntegrationOptions::default())?;
+//! let settled = liu2021::IntegrationOptions {
+//!     transient_periods: 12.0,
+//!     ..liu2021::IntegrationOptions::default()
+//! };
+//! let ti = liu2021::integrate(&model, &settled)?;
 //! let warm = liu2021::solve_hbm_with(
 //!     &model,
 //!     &HbmOptions::default(),

@@ -262,8 +262,10 @@ impl Model {
                 let r = 1.0 + be * cx;
                 let dr = -be * wc * sx;
                 let ddr = -be * wc * wc * cx;
-                dde / r - 2.0 * de * dr / (r * r)
-                    + e * (2.0 * dr * dr / (r * r * r) - ddr / (r * r))
+                // (e/r)'' = e''/r − 2e'r'/r² + e(2r'²/r³ − r''/r²), nested on 1/r: one
+                // division instead of four on the right-hand side's critical path
+                let ir = 1.0 / r;
+                ir * (dde + ir * (e * (2.0 * dr * dr * ir - ddr) - 2.0 * de * dr))
             }
         }
     }
@@ -311,6 +313,27 @@ impl Model {
             sin_stiffness: sz * cpm + cz * spm,
             sph: sz * cpe + cz * spe,
             cph: cz * cpe - sz * spe,
+        })
+    }
+
+    /// [`time_functions`](Self::time_functions) from three short `sin_cos` (of `ω̄_c τ`,
+    /// `ω̄_e τ + φ_m` and `ω̄_e τ + φ_e`, the same arguments as the direct evaluation) and
+    /// `sin 2x = 2 sin x cos x`: the time functions of the model as a
+    /// [`system::SecondOrderSystem`] (shooting flows, the generic adapters), equal to
+    /// [`time_functions`](Self::time_functions) to rounding and about three times cheaper
+    /// than the C-library-free `sin`/`cos` of `geardyn-math` that it reads.
+    pub(super) fn time_functions_short(&self, tau: f64) -> [f64; 3] {
+        let (sx, cx) = crate::trig::sin_cos(self.omega_c * tau);
+        let we = self.omega_e * tau;
+        let (sin_stiffness, _) = crate::trig::sin_cos(we + self.phase_stiffness);
+        let (sph, cph) = crate::trig::sin_cos(we + self.phase_error);
+        self.time_functions_of(&TimeTrig {
+            sx,
+            cx,
+            s2x: 2.0 * sx * cx,
+            sin_stiffness,
+            sph,
+            cph,
         })
     }
 

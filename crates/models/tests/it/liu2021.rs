@@ -23,6 +23,16 @@ fn short() -> IntegrationOptions {
     }
 }
 
+/// Settled on the bilateral period-1 orbit at 220 rad/s: after one period the response is
+/// still a transient whose details (ppv 2.2e-3 … 3.8e-3) change with the tolerance, so a
+/// harmonic balance started from it converges or not by chance.
+fn settled() -> IntegrationOptions {
+    IntegrationOptions {
+        transient_periods: 12.0,
+        ..IntegrationOptions::default()
+    }
+}
+
 #[test]
 fn serde_round_trip_json_and_toml() {
     let mut p = liu2021::table1();
@@ -157,7 +167,7 @@ fn unilateral_point_both_engines() {
 fn bilateral_point_both_engines() {
     // ω1 = 220 rad/s: bilateral rattle; HBM started from the time response lands on it.
     let m = paper(220.0).model().unwrap();
-    let ti = liu2021::integrate(&m, &short()).unwrap();
+    let ti = liu2021::integrate(&m, &settled()).unwrap();
     assert_eq!(ti.rattle.state, RattleState::Bilateral);
     let hb = solve_hbm_from_time_response(&m, &HbmOptions::full(&m, 1), &ti).unwrap();
     assert!(hb.converged(), "{}", hb.solution.termination);
@@ -414,7 +424,7 @@ fn shooting_multipliers_flag_stable_orbits() {
     let mu = liu2021::shooting_multipliers(&m, &hb).unwrap();
     assert!(mu.max_modulus < 1e-3, "{:?}", mu.multipliers);
     let m = paper(220.0).model().unwrap();
-    let ti = liu2021::integrate(&m, &short()).unwrap();
+    let ti = liu2021::integrate(&m, &settled()).unwrap();
     let hb = solve_hbm_from_time_response(&m, &HbmOptions::full(&m, 1), &ti).unwrap();
     let mu = liu2021::shooting_multipliers(&m, &hb).unwrap();
     assert!(mu.max_modulus < 1.0, "{:?}", mu.multipliers);
