@@ -164,6 +164,7 @@
 
 #![deny(missing_docs)]
 
+mod codim2;
 mod continuation;
 mod error;
 mod floquet;
@@ -174,6 +175,9 @@ pub mod path;
 mod problem;
 mod shooting;
 
+pub use codim2::{
+    Codim2Branch, Codim2BranchPoint, Codim2ContinuationOptions, Codim2Correction, Codim2Point,
+};
 pub use continuation::{
     ShootingBranch, ShootingBranchPoint, ShootingContinuationOptions, ShootingCorrection,
     ShootingPoint,
@@ -187,8 +191,8 @@ pub use flow::{EventRecord, Flow, FlowOptions};
 pub use harmonic::{HbmContinuationOptions, HbmCorrection, continue_hbm};
 pub use impact::{ImpactLaw, Restitution};
 pub use path::{
-    Branch, BranchPoint, ContinuationOptions, Extremum, Fold, Predictor, SpecialKind, SpecialPoint,
-    StepControl, StopReason, fill_from_neighbours,
+    Branch, BranchPoint, ContinuationOptions, Degeneracy, Extremum, Fold, Predictor, SpecialKind,
+    SpecialPoint, StepControl, StopReason, fill_from_neighbours,
 };
 pub use problem::{OrbitProblem, Parameter};
 pub use shooting::{PeriodicOrbit, ShootingOptions};
