@@ -57,12 +57,18 @@ pub struct Codim2Correction {
     /// Fold and period-doubling curves stop ([`Degeneracy::SingularBordered`]) where the
     /// reciprocal condition number `σ_min/σ_max` of the bordered matrix falls below this.
     pub singular_tol: f64,
+    /// Locate the codim-2 points met (Illinois on the test function along the arclength of
+    /// the step, re-correcting at every trial); `false`: detected only.
+    pub locate: bool,
+    /// Codim-2 points are located to this arclength tolerance (scaled variables).
+    pub locate_tol: f64,
 }
 
 impl Codim2Correction {
     /// Defaults for a curve in `first` (the branch's parameter) and `parameter` (continued):
     /// unbounded ranges, unit scales, increasing `λ₂`, shooting tolerance `1e-9` with 12
-    /// iterations, `curvature_tol = 1e-3`, `tangency_tol = 1e-6`, `singular_tol = 1e-12`.
+    /// iterations, `curvature_tol = 1e-3`, `tangency_tol = 1e-6`, `singular_tol = 1e-12`,
+    /// codim-2 points located to `1e-9`.
     pub fn new(first: Parameter, parameter: Parameter) -> Self {
         Self {
             first,
@@ -81,6 +87,8 @@ impl Codim2Correction {
             curvature_tol: 1e-3,
             tangency_tol: 1e-6,
             singular_tol: 1e-12,
+            locate: true,
+            locate_tol: 1e-9,
         }
     }
 
@@ -127,6 +135,12 @@ impl Codim2Correction {
         ] {
             check(v.is_finite() && v > 0.0, name, "> 0 and finite", v)?;
         }
+        check(
+            self.locate_tol.is_finite() && self.locate_tol > 0.0,
+            "Codim2Correction::locate_tol",
+            "> 0 and finite",
+            self.locate_tol,
+        )?;
         for (v, name) in [
             (self.curvature_tol, "Codim2Correction::curvature_tol"),
             (self.tangency_tol, "Codim2Correction::tangency_tol"),
@@ -631,6 +645,91 @@ impl<S: SecondOrderSystem> Augmented<'_, S> {
         })
     }
 
+    /// The test value of `kind` at `p` (as [`Self::tests`]).
+    fn test_of(&self, kind: SpecialKind, p: &Codim2BranchPoint) -> f64 {
+        self.tests(p)
+            .into_iter()
+            .find(|(k, _)| *k == kind)
+            .map_or(f64::NAN, |(_, v)| v)
+    }
+
+    /// The corrected curve point at arclength `s` of the step from `a` (rejected when the
+    /// corrector moved farther than `max_correction · max(s, locate_tol)`).
+    fn point_at(&mut self, a: &Sol, s: f64) -> Result<Codim2BranchPoint> {
+        let pred = &a.y + &a.tangent * s;
+        let borders = self.borders.clone();
+        let sol = self.newton(&pred, &a.tangent, &a.tangent);
+        // location trials must not move the borders of the curve
+        self.borders = borders;
+        let sol = sol?;
+        let dist = (&sol.y - &pred).norm();
+        if dist > self.opts.max_correction * s.max(self.opts.locate_tol) {
+            return Err(OrbitError::NotConverged {
+                what: "codim-2 point location (corrector left the step)",
+                iterations: 0,
+                residual: dist,
+            });
+        }
+        Ok(sol.raw)
+    }
+
+    /// Illinois on the arclength `s ∈ (0, ds)` of the step from `a` for a sign change of the
+    /// test function of `kind` (values `fa`, `fb` at the ends); bisection when a trial lands
+    /// outside the bracket. Returns the point, its `λ₂` bracket and whether the arclength
+    /// bracket shrank to `locate_tol`.
+    fn locate(
+        &mut self,
+        a: &Sol,
+        (fa, fb): (f64, f64),
+        ds: f64,
+        kind: SpecialKind,
+    ) -> Result<(Codim2BranchPoint, [f64; 2], bool)> {
+        let (mut lo, mut hi) = (0.0, ds);
+        let (mut flo, mut fhi) = (fa, fb);
+        let (mut plo, mut phi) = (a.raw.parameter, f64::NAN);
+        let mut best = None;
+        let mut side = 0i8;
+        for _ in 0..60 {
+            if hi - lo <= self.opts.locate_tol {
+                break;
+            }
+            let mut s = hi - fhi * (hi - lo) / (fhi - flo);
+            if !(s > lo && s < hi) {
+                s = 0.5 * (lo + hi);
+            }
+            let p = self.point_at(a, s)?;
+            let f = self.test_of(kind, &p);
+            if !f.is_finite() {
+                return Err(OrbitError::NonFinite {
+                    what: "codim-2 test function",
+                    time: self.problem.phase(),
+                });
+            }
+            if f * flo > 0.0 {
+                (lo, flo, plo) = (s, f, p.parameter);
+                if side == -1 {
+                    fhi *= 0.5;
+                }
+                side = -1;
+            } else {
+                (hi, fhi, phi) = (s, f, p.parameter);
+                if side == 1 {
+                    flo *= 0.5;
+                }
+                side = 1;
+            }
+            best = Some(p);
+        }
+        let located = hi - lo <= self.opts.locate_tol;
+        let point = best.ok_or(OrbitError::NotConverged {
+            what: "codim-2 point location",
+            iterations: 0,
+            residual: hi - lo,
+        })?;
+        let phi = if phi.is_nan() { point.parameter } else { phi };
+        Ok((point, sorted(plo, phi), located))
+    }
+
     /// The test values that mark codim-2 points on this curve: `(kind, value)`.
     fn tests(&self, p: &Codim2BranchPoint) -> Vec<(SpecialKind, f64)> {
         let mut out = vec![];
@@ -677,20 +776,43 @@ impl<S: SecondOrderSystem> Corrector for Augmented<'_, S> {
         self.opts.parameter_scale
     }
 
-    fn on_step(&mut self, a: &Sol, b: &Sol, _ds: f64, branch: &mut Codim2Branch) -> Result<()> {
+    fn on_step(&mut self, a: &Sol, b: &Sol, ds: f64, branch: &mut Codim2Branch) -> Result<()> {
         let after = branch.points.len() - 1;
         let (ta, tb) = (self.tests(&a.raw), self.tests(&b.raw));
+        let mut found = vec![];
         for ((kind, va), (_, vb)) in ta.into_iter().zip(tb) {
             if va.is_finite() && vb.is_finite() && va * vb < 0.0 {
-                branch.special.push(SpecialPoint {
+                let detected = SpecialPoint {
                     kind,
                     point: b.raw.clone(),
                     after,
                     located: false,
                     bracket: sorted(a.raw.parameter, b.raw.parameter),
-                });
+                };
+                let sp = if self.opts.locate {
+                    self.locate(a, (va, vb), ds, kind).map_or(
+                        detected,
+                        |(point, bracket, located)| SpecialPoint {
+                            kind,
+                            point,
+                            after,
+                            located,
+                            bracket,
+                        },
+                    )
+                } else {
+                    detected
+                };
+                found.push(sp);
             }
         }
+        found.sort_by(|x, y| {
+            let d = |p: &SpecialPoint<Codim2Point>| (p.point.parameter - a.raw.parameter).abs();
+            d(x).total_cmp(&d(y))
+        });
+        branch.special.extend(found);
+        // the borders and the problem's parameters back at b
+        self.set(&b.y)?;
         Ok(())
     }
 
