@@ -47,7 +47,7 @@ fn grazing_start(
         max_step: 0.1,
         corrector: ShootingCorrection {
             parameter: Parameter::Named("f".into()),
-            range: [0.0, 2.0],
+            range: [0.0, 0.6],
             locate_tol: 1e-10,
             ..ShootingCorrection::default()
         },
@@ -471,7 +471,7 @@ fn two_surfaces_start(
         max_step: 0.1,
         corrector: ShootingCorrection {
             parameter: Parameter::Named("f".into()),
-            range: [0.0, 2.0],
+            range: [0.0, 0.6],
             locate_tol: 1e-10,
             ..ShootingCorrection::default()
         },
@@ -556,6 +556,7 @@ fn grazing_curve_locates_the_change_of_flank() {
 /// `(f, a)` follows the closed form `f = (1 − ω²)(d − f₀ − B)` and stops with
 /// `Degenerate { GrazingCurvature }` next to that point, never past it on a wrong curve.
 #[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn degenerate_grazing_stops_with_a_named_reason() {
     let w = 0.4;
     let s = TwoSurfaces {
@@ -652,4 +653,93 @@ fn codim2_options_and_start_are_checked() {
         "{:?}",
         c.stop
     );
+}
+
+/// `ω` where the closed-form period-1 impacting orbit of `q'' + 2ζq' + q = cos ωt` with a
+/// stop at `q = 0` (restitution `r`) has `det(Φ + I) = 0` in `[2.3, 3.0]` (bisection to 1e-13;
+/// the closed form of `impact::closed_form`).
+fn pd_closed_form(zeta: f64, r: f64) -> f64 {
+    let f = |w: f64| {
+        let s = crate::common::ImpactOscillator {
+            zeta,
+            sigma: 0.0,
+            omega: w,
+        };
+        let c = crate::impact::closed_form(&s, r);
+        (&c[0].monodromy + nalgebra::DMatrix::identity(2, 2)).determinant()
+    };
+    let (mut a, mut b) = (2.3, 3.0);
+    assert!(f(a) * f(b) < 0.0, "ζ = {zeta}");
+    while b - a > 1e-13 {
+        let m = 0.5 * (a + b);
+        if f(m) * f(a) > 0.0 {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// The period-doubling curve of the impact oscillator (`r = 0.8`, stop at `q = 0`) in
+/// `(ω, ζ)`, from the flip located on a branch in `ω` at `ζ = 0.05`: at every point a
+/// multiplier is `−1` (to 1e-6; measured ≤ 7e-12), and `ω` equals the closed-form flip at that
+/// `ζ` (to 1e-9).
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn impact_period_doubling_curve_matches_closed_form() {
+    let r = 0.8;
+    let w0 = 2.5;
+    let mut p = crate::impact::problem(w0, r);
+    let c = crate::impact::closed_form(p.system(), r);
+    let opts = ContinuationOptions {
+        initial_step: 0.02,
+        max_step: 0.05,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [2.0, 2.8],
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&c[0].x_section, w0, &opts).unwrap();
+    let pd = br
+        .special
+        .iter()
+        .find(|s| s.kind == SpecialKind::PeriodDoubling && s.located)
+        .unwrap()
+        .clone();
+    let mut p = crate::impact::problem(w0, r);
+    let mut o = Codim2ContinuationOptions::codim2(
+        Parameter::BaseFrequency,
+        Parameter::Named("zeta".into()),
+    );
+    o.initial_step = 0.01;
+    o.max_step = 0.02;
+    o.corrector.range = [0.02, 0.1];
+    let curve = p.continue_codim2(&pd, &o).unwrap();
+    assert_eq!(curve.stop, StopReason::ReachedEnd, "{:?}", curve.stop);
+    assert!(curve.points.len() >= 4);
+    for pt in &curve.points {
+        let flip = pt
+            .floquet
+            .multipliers
+            .iter()
+            .map(|m| (m[0] + 1.0).dhypot(m[1]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            flip < 1e-6,
+            "ζ = {}: {:?}",
+            pt.parameter,
+            pt.floquet.multipliers
+        );
+        let w = pd_closed_form(pt.parameter, r);
+        // measured ≤ 2.5e-12
+        assert!(
+            (pt.first_parameter - w).abs() < 1e-9,
+            "ζ = {}: ω = {} vs closed form {w}",
+            pt.parameter,
+            pt.first_parameter
+        );
+    }
 }
