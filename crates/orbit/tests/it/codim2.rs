@@ -743,3 +743,147 @@ fn impact_period_doubling_curve_matches_closed_form() {
         );
     }
 }
+
+/// The Duffing oscillator of [`duffing`] with a switching surface `q = d` that changes no
+/// force (event `q − d` only).
+#[derive(Debug, Clone, Copy)]
+struct DuffingSurface {
+    duffing: crate::common::Duffing,
+    d: f64,
+}
+
+impl system::SecondOrderSystem for DuffingSurface {
+    fn n_dof(&self) -> usize {
+        1
+    }
+    fn mass(&self) -> nalgebra::DMatrix<f64> {
+        self.duffing.mass()
+    }
+    fn damping(&self) -> nalgebra::DMatrix<f64> {
+        self.duffing.damping()
+    }
+    fn stiffness(&self) -> nalgebra::DMatrix<f64> {
+        self.duffing.stiffness()
+    }
+    fn nonlinear_force(&self, t: f64, q: &[f64], v: &[f64], g: &mut [f64]) {
+        self.duffing.nonlinear_force(t, q, v, g);
+    }
+    fn force_jacobian(&self, t: f64, q: &[f64], v: &[f64], a: &mut [f64], b: &mut [f64]) {
+        self.duffing.force_jacobian(t, q, v, a, b);
+    }
+    fn forcing(&self, t: f64, f: &mut [f64]) {
+        self.duffing.forcing(t, f);
+    }
+    fn n_events(&self) -> usize {
+        1
+    }
+    fn events(&self, _t: f64, q: &[f64], _v: &[f64], e: &mut [f64]) {
+        e[0] = q[0] - self.d;
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), system::SystemError> {
+        self.duffing.set_base_frequency(omega)
+    }
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), system::SystemError> {
+        self.duffing.set_parameter(name, value)
+    }
+    fn parameter(&self, name: &str) -> Result<f64, system::SystemError> {
+        self.duffing.parameter(name)
+    }
+}
+
+/// A grazing that meets a fold: the orbits of the hardening Duffing oscillator whose maximum
+/// touches `q = 1.3` form a curve in `(ω, F)` (about constant amplitude); followed from the
+/// stable upper branch at `F = 0.2` to smaller `F`, it turns in `F` near the backbone and
+/// crosses the fold curve, where `det(Φ − I)` changes sign: a located [`SpecialKind::Fold`]
+/// on the grazing curve. There the shooting branch in `ω` at that `F` has its located fold at
+/// the same `ω` (to 1e-8), with the orbit's maximum at `q = 1.3` (to 1e-8).
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn grazing_meets_fold_on_the_duffing_grazing_curve() {
+    let d = 1.3;
+    let sys = DuffingSurface {
+        duffing: duffing(0.2, 0.8),
+        d,
+    };
+    let mut p = OrbitProblem::new(sys, 2.0 * PI / 0.8).unwrap();
+    let sopts = ContinuationOptions {
+        initial_step: 0.02,
+        max_step: 0.05,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [0.7, 2.0],
+            locate_tol: 1e-10,
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap();
+    let g = br
+        .special
+        .iter()
+        .find(|x| {
+            x.kind
+                == SpecialKind::Grazing {
+                    event: 0,
+                    extremum: Extremum::Max,
+                }
+        })
+        .unwrap()
+        .clone();
+    assert!(g.point.floquet.stable && g.located);
+    let mut p = OrbitProblem::new(sys, 2.0 * PI / 0.8).unwrap();
+    let mut o = Codim2ContinuationOptions::codim2(
+        Parameter::BaseFrequency,
+        Parameter::Named("force".into()),
+    );
+    o.initial_step = 0.01;
+    o.max_step = 0.02;
+    o.max_points = 200;
+    o.corrector.range = [0.1, 0.2];
+    o.corrector.direction = -1.0;
+    let curve = p.continue_codim2(&g, &o).unwrap();
+    let folds: Vec<_> = curve
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .collect();
+    assert!(!folds.is_empty(), "{:?} {:?}", curve.stop, curve.special);
+    let sp = folds[0];
+    assert!(sp.located);
+    let (f_star, w_star) = (sp.point.parameter, sp.point.first_parameter);
+    assert!(sp.point.floquet.test_fold.abs() < 1e-6);
+    // the shooting branch in ω at F*: its fold where the grazing curve met it
+    let mut q = OrbitProblem::new(
+        DuffingSurface {
+            duffing: duffing(f_star, 0.8),
+            d,
+        },
+        2.0 * PI / 0.8,
+    )
+    .unwrap();
+    let b2 = q.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap();
+    let fw: Vec<_> = b2
+        .special
+        .iter()
+        .filter(|x| x.kind == SpecialKind::Fold && x.located)
+        .collect();
+    let near = fw
+        .iter()
+        .min_by(|a, b| {
+            (a.point.parameter - w_star)
+                .abs()
+                .total_cmp(&(b.point.parameter - w_star).abs())
+        })
+        .unwrap();
+    // measured 3.8e-12 (F* = 0.15389, ω* = 1.18105)
+    assert!(
+        (near.point.parameter - w_star).abs() < 1e-8,
+        "fold at ω = {} vs {w_star} (F = {f_star})",
+        near.point.parameter
+    );
+    assert!(
+        near.point.extrema[0][1].abs() < 1e-8,
+        "{:?}",
+        near.point.extrema
+    );
+}
