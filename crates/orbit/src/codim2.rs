@@ -216,8 +216,9 @@ pub struct Codim2Point {
 pub type Codim2BranchPoint = BranchPoint<Codim2Point>;
 
 /// A codim-2 curve: the one [`Branch`] type, traced in the second parameter; its
-/// [`Branch::special`] holds the codim-2 points met (detected between two curve points,
-/// [`SpecialPoint::located`] false, [`SpecialPoint::bracket`] in `λ₂`):
+/// [`Branch::special`] holds the codim-2 points met (a sign change of a test function between
+/// two curve points, located by Illinois on the arclength when [`Codim2Correction::locate`];
+/// [`SpecialPoint::bracket`] in `λ₂`, [`SpecialPoint::point`] on the curve):
 /// * on a grazing curve: [`SpecialKind::Fold`] (`det(Φ − I)` changes sign: the grazing
 ///   meets a fold), [`SpecialKind::PeriodDoubling`] (`det(Φ + I)`), and
 ///   [`SpecialKind::Grazing`] of another event function or extremum (a second contact is
@@ -451,7 +452,11 @@ impl<S: SecondOrderSystem> Augmented<'_, S> {
             m[(i, nn)] = b[i];
             m[(nn, i)] = c[i];
         }
-        let sv = m.clone().singular_values();
+        // bounded SVD (a non-converging one counts as singular)
+        let sv = m
+            .clone()
+            .try_svd(false, false, f64::EPSILON, 1000)
+            .map_or_else(|| DVector::zeros(nn + 1), |d| d.singular_values);
         let (smin, smax) = sv
             .iter()
             .fold((f64::INFINITY, 0.0_f64), |(a, z), v| (a.min(*v), z.max(*v)));
@@ -963,7 +968,15 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
                 for i in 0..nn {
                     a[(i, i)] -= sigma;
                 }
-                let svd = a.svd(true, true);
+                check(
+                    a.iter().all(|v| v.is_finite()),
+                    "start.point.monodromy",
+                    "finite",
+                    f64::NAN,
+                )?;
+                let svd = a
+                    .try_svd(true, true, f64::EPSILON, 1000)
+                    .ok_or(OrbitError::Eigen)?;
                 let (Some(u), Some(vt)) = (svd.u.as_ref(), svd.v_t.as_ref()) else {
                     return Err(OrbitError::Eigen);
                 };

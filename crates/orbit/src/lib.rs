@@ -149,7 +149,8 @@
 //! needs `ḧ < 0` at `t_g`, of the minimum `ḧ > 0`.
 //!
 //! Along the curve every point carries its Floquet multipliers; the codim-2 points met are
-//! listed in [`Branch::special`] (detected between two points, bracket in `λ₂`): on a
+//! listed in [`Branch::special`] (a sign change between two points, located by Illinois on
+//! the arclength, re-correcting the augmented system at every trial; bracket in `λ₂`): on a
 //! grazing curve a sign change of `det(Φ − I)` ([`SpecialKind::Fold`]: the grazing meets a
 //! fold) or of `det(Φ + I)` ([`SpecialKind::PeriodDoubling`]), and another event function's
 //! (or the other) extremum crossing zero ([`SpecialKind::Grazing`]: a second contact, the

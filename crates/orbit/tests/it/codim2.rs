@@ -643,6 +643,22 @@ fn codim2_options_and_start_are_checked() {
         extremum: Extremum::Max,
     };
     assert!(p.continue_codim2(&wrong_event, &ok).is_err());
+    // hostile starts: a NaN state, a fold start whose monodromy is not the state's size or
+    // not finite, a λ₂ the model does not know
+    let mut nan = g.clone();
+    nan.point.orbit.x0[0] = f64::NAN;
+    assert!(p.continue_codim2(&nan, &ok).is_err());
+    let mut fold = g.clone();
+    fold.kind = SpecialKind::Fold;
+    fold.point.orbit.monodromy = nalgebra::DMatrix::zeros(3, 3);
+    assert!(p.continue_codim2(&fold, &ok).is_err());
+    fold.point.orbit.monodromy = nalgebra::DMatrix::from_element(2, 2, f64::NAN);
+    assert!(p.continue_codim2(&fold, &ok).is_err());
+    let unknown = Codim2ContinuationOptions::codim2(
+        Parameter::Named("f".into()),
+        Parameter::Named("x".into()),
+    );
+    assert!(p.continue_codim2(&g, &unknown).is_err());
     // λ₁ out of its range at the first point: a named stop, one point
     let mut narrow = ok.clone();
     narrow.corrector.first_range = [0.0, 0.1];
