@@ -275,12 +275,24 @@ impl<S: SecondOrderSystem> Augmented<'_, S> {
         self.nn() + usize::from(matches!(self.curve, Curve::Grazing { .. }))
     }
 
+    /// Sets both parameters from `y`; refuses a system whose setting of `λ₂` moved `λ₁` (a
+    /// model rebuilt from its own copy of the first parameter would otherwise give a silently
+    /// wrong curve).
     fn set(&mut self, y: &DVector<f64>) -> Result<()> {
         let m = self.i_mu();
+        let l1 = y[m] * self.opts.first_scale;
+        self.problem.set_parameter(&self.opts.first, l1)?;
         self.problem
-            .set_parameter(&self.opts.first, y[m] * self.opts.first_scale)?;
-        self.problem
-            .set_parameter(&self.opts.parameter, y[m + 1] * self.opts.parameter_scale)
+            .set_parameter(&self.opts.parameter, y[m + 1] * self.opts.parameter_scale)?;
+        if let Ok(back) = self.problem.parameter(&self.opts.first) {
+            check(
+                (back - l1).abs() <= 1e-12 * (1.0 + l1.abs()),
+                "Codim2Correction::parameter",
+                "a parameter whose setting leaves the first parameter unchanged",
+                back,
+            )?;
+        }
+        Ok(())
     }
 
     /// `ḣ_i(t, x)` by a central difference along the vector field (exact for gap functions

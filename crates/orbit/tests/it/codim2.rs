@@ -396,6 +396,8 @@ struct TwoSurfaces {
     f: f64,
     a: f64,
     omega: f64,
+    /// a broken model: setting `f0` resets `f` to 0.2
+    reset_f: bool,
 }
 
 impl system::SecondOrderSystem for TwoSurfaces {
@@ -436,7 +438,12 @@ impl system::SecondOrderSystem for TwoSurfaces {
     fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), system::SystemError> {
         match name {
             "f" => self.f = value,
-            "f0" => self.f0 = value,
+            "f0" => {
+                self.f0 = value;
+                if self.reset_f {
+                    self.f = 0.2;
+                }
+            }
             "a" => self.a = value,
             _ => {
                 return Err(system::SystemError::UnknownParameter {
@@ -507,6 +514,7 @@ fn grazing_curve_locates_the_change_of_flank() {
         f: 0.2,
         a: 0.0,
         omega: 1.5,
+        reset_f: false,
     };
     let (mut p, g) = two_surfaces_start(s);
     let mut opts = Codim2ContinuationOptions::codim2(
@@ -547,6 +555,16 @@ fn grazing_curve_locates_the_change_of_flank() {
     );
     assert!(sp.point.extrema[1][0].abs() < 1e-8);
     assert!(sp.bracket[0] - 1e-8 <= f0 && f0 <= sp.bracket[1] + 1e-8);
+    // a model whose setting of λ₂ = f₀ resets λ₁ = f is refused, not continued wrongly
+    let (_, g) = two_surfaces_start(s);
+    let mut broken = OrbitProblem::new(TwoSurfaces { reset_f: true, ..s }, 2.0 * PI / w).unwrap();
+    assert!(matches!(
+        broken.continue_codim2(&g, &opts),
+        Err(orbit::OrbitError::InvalidInput {
+            field: "Codim2Correction::parameter",
+            ..
+        })
+    ));
 }
 
 /// A degenerate tangency stops the curve with a named reason: undamped and below both
@@ -567,6 +585,7 @@ fn degenerate_grazing_stops_with_a_named_reason() {
         f: 0.2,
         a: 0.0,
         omega: w,
+        reset_f: false,
     };
     let (mut p, g) = two_surfaces_start(s);
     let mut opts = Codim2ContinuationOptions::codim2(
