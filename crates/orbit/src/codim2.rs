@@ -295,8 +295,8 @@ impl<S: SecondOrderSystem> Augmented<'_, S> {
         Ok(())
     }
 
-    /// `ḣ_i(t, x)` by a central difference along the vector field (exact for gap functions
-    /// linear in the state up to rounding), and the field at `(t, x)`.
+    /// `ḣ_i(t, x) = ∂h/∂t + ∇h·f(t, x)` by a central difference along the vector field (exact
+    /// for gap functions linear in the state, up to rounding).
     fn h_dot(&self, event: usize, t: f64, x: &[f64], dt: f64) -> f64 {
         let mut field = self.problem.field();
         let mut f = vec![0.0; x.len()];
