@@ -373,6 +373,25 @@ impl Basins {
     pub fn failed_fraction(&self) -> f64 {
         self.failed as f64 / self.cells.len().max(1) as f64
     }
+
+    /// The attractor a signature computed elsewhere (another start, another run) belongs to:
+    /// the first with the same rattle state and motion and, for a periodic motion, a ppv within
+    /// `ppv_tol` (relative, as the clustering) of the attractor's ppv range. `None` when the
+    /// signature reaches no attractor of the grid.
+    pub fn attractor_of(&self, s: &Signature) -> Option<&Attractor> {
+        let o = &self.options;
+        self.attractors.iter().find(|a| {
+            let rep = Signature::new(a.state, a.motion, a.ppv);
+            let near =
+                |p: f64| (s.ppv - p).abs() <= o.ppv_tol * s.ppv.abs().max(p.abs()).max(o.ppv_floor);
+            rep.state == s.state
+                && rep.motion_rank() == s.motion_rank()
+                && (!rep.periodic()
+                    || near(a.ppv_min)
+                    || near(a.ppv_max)
+                    || (s.ppv >= a.ppv_min && s.ppv <= a.ppv_max))
+        })
+    }
 }
 
 /// Cluster the cell results of `grid` (see the module docs). A signature that is not a valid
@@ -629,6 +648,13 @@ mod tests {
         );
         // the first cell of attractor 2 is cell 0
         assert_eq!(b.attractors[2].seed, g.cell(0));
+        // signatures from elsewhere: matched within ppv_tol of the range, or none
+        let label = |s: Signature| b.attractor_of(&s).map(|a| a.label);
+        assert_eq!(label(Signature::new(1, 1.0, 1.0099)), Some(1));
+        assert_eq!(label(Signature::new(1, 1.0, 1.19)), Some(2));
+        assert_eq!(label(Signature::new(1, 1.0, 1.1)), None);
+        assert_eq!(label(Signature::new(2, 1.0, 1.0)), None);
+        assert_eq!(label(Signature::new(1, UNSETTLED_CODE, 1.0)), Some(4));
         // any order of the same cells: the same attractors
         let mut rev: Vec<_> = sig.iter().rev().map(|s| Ok(*s)).collect();
         rev.rotate_left(3);
