@@ -43,6 +43,10 @@ const Q_RANGE: (f64, f64) = (-3.0, 2.0);
 /// The q'(0) range in units of b̄(0).
 const V_RANGE: (f64, f64) = (-2.0, 2.0);
 
+/// A start of the robustness variants: its label, its initial state and its signature (or why
+/// it failed).
+pub(super) type Start = (&'static str, (f64, f64), Result<Signature, String>);
+
 /// The basins at ε = 0, 160 rad/s with where the two starts of the robustness variants land.
 #[derive(Debug, Clone)]
 pub(super) struct LiuBasins {
@@ -51,7 +55,7 @@ pub(super) struct LiuBasins {
     /// `b̄(0)`, the unit of the grid.
     pub bbar: f64,
     /// The two starts of the variants (label, state, signature or failure).
-    pub starts: Vec<(&'static str, (f64, f64), Result<Signature, String>)>,
+    pub starts: Vec<Start>,
 }
 
 /// The basins at ε = 0, 160 rad/s ([`LiuBasins`]); memoised, so that this study and the
