@@ -8,7 +8,9 @@
 //! ([`models::response::basin`]); those rows quote the fractions ([`evidence`]).
 
 use models::liu2021::{self, LongWindowOptions};
-use models::response::basin::{Axis, BasinGrid, BasinOptions, Basins, Signature, basins};
+use models::response::basin::{
+    Attractor, Axis, BasinGrid, BasinOptions, Basins, Signature, basins,
+};
 
 use super::{base, model, sig};
 use crate::{
@@ -157,15 +159,38 @@ fn starts_text(lb: &LiuBasins) -> String {
 }
 
 /// The evidence the coexistence rows quote: the attractors at ε = 0, 160 rad/s with their basin
-/// fractions and where the two starts of the variants land (or why there are none).
-pub(super) fn evidence() -> String {
+/// fractions, where the two starts of the variants land, and from which attractors the row's
+/// reading of the claim holds (`holds`) with their share of the starts (or why there are none).
+pub(super) fn evidence(holds: impl Fn(&Attractor) -> bool) -> String {
     match eps0_basins() {
-        Ok(lb) => format!(
-            "basins at ε = 0, 160 rad/s (liu2021-basins, {n} × {n} starts): {}; {}",
-            attractors_text(&lb.basins),
-            starts_text(&lb),
-            n = STEPS
-        ),
+        Ok(lb) => {
+            let b = &lb.basins;
+            let (yes, no): (Vec<&Attractor>, Vec<&Attractor>) =
+                b.attractors.iter().partition(|a| holds(a));
+            let side = |v: &[&Attractor]| {
+                if v.is_empty() {
+                    "none".to_owned()
+                } else {
+                    format!(
+                        "{} ({} % of the starts)",
+                        v.iter()
+                            .map(|a| format!("A{}", a.label))
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        sig(100.0 * v.iter().map(|a| a.fraction).sum::<f64>())
+                    )
+                }
+            };
+            format!(
+                "basins at ε = 0, 160 rad/s (liu2021-basins, {n} × {n} starts): {}; {}; at ε = 0 \
+                 the claim's reading holds on {} and not on {}",
+                attractors_text(b),
+                starts_text(&lb),
+                side(&yes),
+                side(&no),
+                n = STEPS
+            )
+        }
         Err(e) => format!("basins at ε = 0 not computed: {e}"),
     }
 }
