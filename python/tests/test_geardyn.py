@@ -122,6 +122,37 @@ method = "kinematics"
         geardyn.run_study("name = 'x'\nmodel = 'nope'\n[solver]\nmethod = 'hbm'\n")
 
 
+def test_basin_study_gives_cells_and_fractions():
+    """A [basin] study: one row per initial state with its attractor label, the attractors'
+    fractions (with the failed fraction) summing to one, the grid as the study's dims."""
+    text = """
+name = "b"
+model = "liu2021"
+[overrides]
+eccentricity = 0.0
+[solver]
+method = "time-stepping"
+[solver.settings]
+window_periods = 20
+max_transient_periods = 0
+transient_periods = 0
+[basin]
+q = { from = -0.002, to = 0.0, steps = 2 }
+q_dot = { from = -0.001, to = 0.001, steps = 2 }
+"""
+    s = geardyn.run_study(text)
+    assert s.columns[:2] == ["q", "q_dot"] and s.columns[-1] == "attractor"
+    assert s.dims == [("q", 2), ("q_dot", 2)]
+    assert np.allclose(s.column("q"), [-0.002, 0.0, -0.002, 0.0])
+    rows = s.fractions(as_="list")
+    total = sum(r["fraction"] for r in rows) + s.basin["failed_fraction"]
+    assert abs(total - 1.0) < 1e-12
+    assert sorted(set(s.column("attractor"))) == [r["attractor"] for r in rows]
+    with pytest.raises(ValueError, match="basin"):
+        geardyn.run_study("name = 'x'\nmodel = 'karpov2017-kinematics'\n"
+                          "[solver]\nmethod = 'kinematics'\n").fractions(as_="list")
+
+
 def test_liu_shooting_columns_and_errors():
     """Method "shooting": the study's columns; below the unilateral onset (134.8 rad/s in the
     validation study) the orbit keeps contact and is stable, as the time response says; above

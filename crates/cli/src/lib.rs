@@ -284,6 +284,17 @@ fn print_reliability(output: &study::UserStudyOutput) {
             output.points
         );
     }
+    // a basin study: one line per attractor with its basin fraction
+    if let Some(b) = &output.basins {
+        for a in &b.attractors {
+            println!(
+                "  {}: {} cells, fraction {}",
+                a.name(),
+                a.cells,
+                system::format::fmt6(a.fraction)
+            );
+        }
+    }
 }
 
 /// `geardyn study FILE --shard i/n`: compute one shard and write its partial result (under

@@ -9,7 +9,7 @@
 //! `docs/studies.md`, limits in `docs/reliability.md`): any model of [`REGISTRY`], parameter
 //! overrides and choices, a sweep over one or two parameters ([`Sweep`]), solver and settings,
 //! the initial state, limits ([`Limits`]) and an optional bifurcation diagram
-//! ([`BifurcationSpec`]).
+//! ([`BifurcationSpec`]) or basin-of-attraction grid ([`BasinSpec`], [`basin`]).
 //!
 //! The flow is *check everything, then compute, then write*: [`UserStudy::parse`] checks every
 //! entry that does not depend on the model; [`prepare`] builds every point through the model's
@@ -39,12 +39,14 @@
 
 #![deny(missing_docs)]
 
+pub mod basin;
 pub mod bifurcation;
 mod error;
 pub mod shard;
 mod spec;
 mod user;
 
+pub use basin::BasinSpec;
 pub use bifurcation::{BifurcationSpec, MAX_BIFURCATION_PERIODS, MAX_BIFURCATION_POINTS};
 pub use error::Error;
 // the output table of a study is a `plot` table

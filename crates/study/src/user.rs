@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::basin::{self, BasinSpec};
 use crate::bifurcation::{self, BifurcationSpec};
 
 /// One `[overrides]` entry as TOML gives it: a value, or a table of entries (dotted keys).
@@ -100,6 +101,10 @@ pub struct UserStudy {
     /// (see [`crate::bifurcation`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bifurcation: Option<BifurcationSpec>,
+    /// A basin-of-attraction study: a grid of initial states at fixed parameters, each cell's
+    /// attractor named and clustered, with the basin fractions (see [`crate::basin`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub basin: Option<BasinSpec>,
 }
 
 impl UserStudy {
@@ -135,6 +140,19 @@ impl UserStudy {
                         .to_owned(),
                 ));
             }
+        }
+        if let Some(b) = &s.basin {
+            let grid = b.grid()?;
+            b.options()?;
+            if s.sweep.is_some() || s.sweep2.is_some() || s.bifurcation.is_some() {
+                return Err(Error::StudyFile(
+                    "a [basin] study is at fixed parameters: remove [sweep], [sweep2] and \
+                     [bifurcation] (set the parameters in [overrides])"
+                        .to_owned(),
+                ));
+            }
+            s.limits.check_points(grid.q.steps, grid.q_dot.steps)?;
+            return Ok(s);
         }
         let n1 = s
             .sweep
@@ -221,6 +239,9 @@ impl Prepared {
 /// point whose values the model rejects is kept as a failed point.
 pub fn prepare(study: &UserStudy) -> Result<Prepared, Error> {
     let spec = model_spec(&study.model)?;
+    if let Some(b) = &study.basin {
+        return prepare_basin(study, spec, b);
+    }
     let ctx = registry::Context {
         solver: &study.solver,
         initial: study.initial.as_deref(),
@@ -284,6 +305,53 @@ pub fn prepare(study: &UserStudy) -> Result<Prepared, Error> {
     })
 }
 
+/// [`prepare`] for a basin study: one time-stepping point per cell, started at the cell's
+/// initial state (the adapter is built per cell, so every initial state is checked by the
+/// model as a study file's `initial` is).
+fn prepare_basin(
+    study: &UserStudy,
+    spec: &'static dyn Model,
+    b: &BasinSpec,
+) -> Result<Prepared, Error> {
+    let grid = b.grid()?;
+    let mut outputs = None;
+    let mut jobs = Vec::with_capacity(grid.len());
+    for k in 0..grid.len() {
+        let (q, v) = grid.cell(k);
+        let initial = BasinSpec::initial(study.initial.as_deref(), q, v);
+        let ctx = registry::Context {
+            solver: &study.solver,
+            initial: Some(&initial),
+            limits: study.limits,
+        };
+        let adapter = spec.build(&ctx).map_err(|e| match Error::from(e) {
+            Error::StudyFile(m) => Error::StudyFile(format!(
+                "[basin] (every cell starts the time integration at its own initial state): {m}"
+            )),
+            e => e,
+        })?;
+        if outputs.is_none() {
+            basin::check_outputs(spec.name(), &adapter.outputs)?;
+            outputs = Some(adapter.outputs.clone());
+        }
+        let job = catch_unwind(AssertUnwindSafe(|| {
+            (adapter.prepare)(&study.overrides).map_err(Error::from)
+        }))
+        .unwrap_or_else(|e| Err(Error::Study(panic_message(e.as_ref()))));
+        match job {
+            Err(Error::StudyFile(m)) => return Err(Error::StudyFile(m)),
+            j => jobs.push(j),
+        }
+    }
+    Ok(Prepared {
+        study: study.clone(),
+        outputs: outputs.unwrap_or_default(),
+        xs: grid.q.values().into_iter().map(Value::Num).collect(),
+        ys: grid.q_dot.values().into_iter().map(Value::Num).collect(),
+        jobs,
+    })
+}
+
 pub(crate) fn panic_message(e: &(dyn std::any::Any + Send)) -> String {
     let m = e
         .downcast_ref::<&str>()
@@ -322,6 +390,11 @@ pub struct UserStudyOutput {
     pub maps: Vec<Heatmap>,
     /// Points that failed (NaN rows in the table).
     pub failed: Vec<FailedPoint>,
+    /// Further CSV tables written beside the main one (`<table name>.csv`): a basin study's
+    /// fractions.
+    pub tables: Vec<Table>,
+    /// A basin study's attractors, fractions and labels ([`crate::basin`]).
+    pub basins: Option<models::response::basin::Basins>,
     /// Number of points.
     pub points: usize,
     /// How many points can be trusted (settled, chaotic, failed, …): also in `summary`.
@@ -645,11 +718,24 @@ fn assemble(
         other => Cell::Text(other.label()),
     };
     let bif = study.bifurcation.is_some();
+    // a basin study: its attractors from the complete, ordered records (a study whose records
+    // cannot be clustered keeps its rows and says why in the summary)
+    let basins = study
+        .basin
+        .as_ref()
+        .map(|b| basin::basins_of(b, outputs, &results));
     let mut cols: Vec<(String, String)> = Vec::new();
     for s in [&study.sweep, &study.sweep2].into_iter().flatten() {
         cols.push((s.parameter.clone(), axis_unit(study, &s.parameter)));
     }
+    if study.basin.is_some() {
+        cols.push(("q".to_owned(), String::new()));
+        cols.push(("q_dot".to_owned(), String::new()));
+    }
     cols.extend(outputs.iter().cloned());
+    if let Some(Ok(_)) = &basins {
+        cols.push((basin::COLUMN.to_owned(), String::new()));
+    }
     let col_refs: Vec<(&str, &str)> = cols.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
     let mut table = Table::new(&study.name, &col_refs);
     let mut failed = Vec::new();
@@ -665,6 +751,12 @@ fn assemble(
             if let Some(s) = &study.sweep2 {
                 row.push(cell(y));
                 at.insert(s.parameter.clone(), y.clone());
+            }
+            if study.basin.is_some() {
+                row.push(cell(x));
+                row.push(cell(y));
+                at.insert("q".to_owned(), x.clone());
+                at.insert("q_dot".to_owned(), y.clone());
             }
             match &results[k] {
                 Ok(v) if bif => {
@@ -685,6 +777,9 @@ fn assemble(
                     });
                     row.extend(outputs.iter().map(|_| Cell::Num(f64::NAN)));
                 }
+            }
+            if let Some(Ok(b)) = &basins {
+                row.push(basin::label_cell(b, k));
             }
             // Row length always matches the header (same column list).
             let _ = table.push(row);
@@ -773,10 +868,10 @@ fn assemble(
             &results,
         ));
     }
-    let maps = heat_maps(study, outputs, xs, ys, &results);
+    let mut maps = heat_maps(study, outputs, xs, ys, &results);
     let points = results.len();
     let reliability = Reliability::of(outputs, &results);
-    let summary = serde_json::json!({
+    let mut summary = serde_json::json!({
         "study": study,
         "points": points,
         "failed_points": failed,
@@ -784,6 +879,27 @@ fn assemble(
         "reliability": reliability,
         "significant_digits": plot::SIGNIFICANT_DIGITS,
     });
+    let mut tables = Vec::new();
+    let basins = match basins {
+        Some(Ok(b)) => {
+            tables.push(basin::fractions_table(&study.name, &b));
+            maps.extend(basin::heat_map(&study.name, &b));
+            if let Some(o) = summary.as_object_mut() {
+                o.insert("basin".to_owned(), basin::summary(&b));
+            }
+            Some(b)
+        }
+        Some(Err(e)) => {
+            if let Some(o) = summary.as_object_mut() {
+                o.insert(
+                    "basin".to_owned(),
+                    serde_json::json!({ "error": e.to_string() }),
+                );
+            }
+            None
+        }
+        None => None,
+    };
     UserStudyOutput {
         name: study.name.clone(),
         outputs: outputs.to_vec(),
@@ -791,6 +907,8 @@ fn assemble(
         figures,
         maps,
         failed,
+        tables,
+        basins,
         points,
         reliability,
         summary,
@@ -1121,6 +1239,9 @@ pub fn write_outputs(out: &UserStudyOutput, lock: &OutputLock) -> Result<Written
     // merged, resumed), and the JSON names exactly the set of files written with it.
     let mut rendered: Vec<(String, Vec<u8>)> = Vec::new();
     rendered.push((format!("{}.csv", out.name), out.table.to_csv().into_bytes()));
+    for t in &out.tables {
+        rendered.push((format!("{}.csv", t.name), t.to_csv().into_bytes()));
+    }
     // A figure that cannot be drawn (e.g. a data range wider than f64) is reported in the
     // summary; its data is in the CSV.
     let mut not_drawn = Vec::new();

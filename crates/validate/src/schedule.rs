@@ -22,6 +22,7 @@ const EXPECTED_CPU_SECONDS: &[(&str, f64)] = &[
     ("yu2021-df-rms-sweeps", 64.6),
     ("liu2021-readings-speed-thresholds", 44.7),
     ("liu2021-fig11-continuation", 38.6),
+    ("liu2021-basins", 36.0),
     ("liu2021-table2-amplitude-ratio", 23.3),
     ("yu2021-sensitivity", 19.2),
     ("karpov2017-fig3-time-series", 13.2),

@@ -475,6 +475,24 @@ class StudyResult:
         as for any Dataset. Needs xarray (``pip install 'geardyn[xarray]'``)."""
         return _tables.study_frame(self, "xarray")
 
+    @property
+    def basin(self):
+        """A basin study's attractors and fractions (``summary["basin"]``: ``attractors``,
+        ``failed``, ``failed_fraction``, ``grid``), or ``None`` for any other study."""
+        b = self.summary.get("basin") if isinstance(self.summary, dict) else None
+        return b if isinstance(b, dict) else None
+
+    def fractions(self, as_="pandas"):
+        """A basin study's attractors, one row per attractor in label order (``attractor``,
+        ``name``, ``rsv``, ``motion``, ``ppv``, ``ppv_min``, ``ppv_max``, ``cells``,
+        ``fraction``, ``seed_q``, ``seed_q_dot``): a :class:`pandas.DataFrame` (``as_="pandas"``,
+        ``df.attrs["failed_fraction"]``) or a list of dicts (``as_="list"``). The cells are the
+        study's table (``to_pandas()``: ``q``, ``q_dot``, the method's columns, ``attractor``).
+        A study without ``[basin]`` raises ``ValueError``."""
+        if as_ not in ("pandas", "list"):
+            raise ValueError(f"as_ must be 'pandas' or 'list', got {as_!r}")
+        return _tables.basin_fractions(self, as_)
+
     def column(self, name):
         """One column as a float array (by name)."""
         try:

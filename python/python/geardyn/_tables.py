@@ -282,6 +282,10 @@ def study_dims(summary, columns):
     empty for a single point."""
     study = summary.get("study", {}) if isinstance(summary, dict) else {}
     dims = []
+    basin = study.get("basin")
+    if isinstance(basin, dict):
+        # a basin study: the grid of initial states, q fastest (the columns q, q_dot)
+        dims = [("q", int(basin["q"]["steps"])), ("q_dot", int(basin["q_dot"]["steps"]))]
     for key in ("sweep", "sweep2"):
         s = study.get(key)
         if not isinstance(s, dict) or "parameter" not in s:
@@ -298,6 +302,27 @@ def study_dims(summary, columns):
         if name != col:
             return []
     return dims
+
+
+def basin_fractions(result, as_):
+    """The attractors of a basin study (``summary["basin"]``) as a list of dicts or a
+    :class:`pandas.DataFrame`, one row per attractor, in label order."""
+    basin = result.summary.get("basin") if isinstance(result.summary, dict) else None
+    if not isinstance(basin, dict) or "attractors" not in basin:
+        raise ValueError(f"study {result.name!r} is not a basin study (no [basin] table)")
+    rows = [{"attractor": a["label"], "name": a["name"], "rsv": a["rsv"],
+             "motion": a["motion"], "ppv": a["ppv"], "ppv_min": a["ppv_min"],
+             "ppv_max": a["ppv_max"], "cells": a["cells"], "fraction": a["fraction"],
+             "seed_q": a["seed"][0], "seed_q_dot": a["seed"][1]}
+            for a in basin["attractors"]]
+    if as_ == "list":
+        return rows
+    pd = require("pandas", "pandas", "StudyResult.fractions()")
+    df = pd.DataFrame(rows, columns=["attractor", "name", "rsv", "motion", "ppv", "ppv_min",
+                                     "ppv_max", "cells", "fraction", "seed_q", "seed_q_dot"])
+    df.attrs["failed"] = basin.get("failed")
+    df.attrs["failed_fraction"] = basin.get("failed_fraction")
+    return df
 
 
 def study_frame(result, as_):

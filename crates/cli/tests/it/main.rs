@@ -1,5 +1,6 @@
 //! The integration tests of this crate, one module per former `tests/*.rs` file, built as
 //! one test binary (one link of the dependency tree instead of one per file; issue 26).
 
+mod basin;
 mod cli;
 mod faults;

@@ -22,8 +22,10 @@
 //! combines the statistics of several records of the same point (two tolerances, two windows,
 //! two initial states) into intervals, so that a verdict can say whether its statistic is robust;
 //! [`window_motion`] and [`window_unsettled`] say whether a window's answer is settled (one
-//! home for the validation and the user studies).
+//! home for the validation and the user studies); [`basin`] names the attractors that a grid of
+//! initial states reaches and gives their basins of attraction.
 
+pub mod basin;
 mod metrics;
 mod settle;
 mod window;

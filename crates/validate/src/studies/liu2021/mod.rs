@@ -23,6 +23,7 @@ use crate::{
     fmt_sig,
 };
 
+mod basins;
 mod continuation;
 mod fig17;
 mod load_sweep;
@@ -45,6 +46,7 @@ pub fn studies() -> Vec<Study> {
         responses::study(),
         load_sweep::study(),
         parameter_sweeps::study(),
+        basins::study(),
         readings_thresholds::study(),
     ]
 }
