@@ -170,6 +170,7 @@ mod floquet;
 mod flow;
 mod harmonic;
 mod impact;
+mod lyapunov;
 pub mod path;
 mod problem;
 mod shooting;
@@ -186,6 +187,9 @@ pub use floquet::{
 pub use flow::{EventRecord, Flow, FlowOptions};
 pub use harmonic::{HbmContinuationOptions, HbmCorrection, continue_hbm};
 pub use impact::{ImpactLaw, Restitution};
+pub use lyapunov::{
+    LyapunovOptions, LyapunovSpectrum, MAX_LYAPUNOV_WINDOWS, WindowMap, lyapunov_qr,
+};
 pub use path::{
     Branch, BranchPoint, ContinuationOptions, Extremum, Fold, Predictor, SpecialKind, SpecialPoint,
     StepControl, StopReason, fill_from_neighbours,
