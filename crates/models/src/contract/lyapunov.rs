@@ -5,6 +5,7 @@
 
 use super::{Kind, PointError, Record, SettingDef, Settings};
 use crate::response::{LyapunovWindowOptions, MAX_LYAPUNOV_EXPONENTS, settled_lyapunov};
+use orbit::LyapunovSpectrum;
 
 /// Setting `lyapunov`: `"on"` adds the Lyapunov columns.
 pub(crate) const LYAPUNOV: SettingDef = SettingDef {
@@ -100,18 +101,20 @@ pub(crate) fn lyapunov_steps(o: &LyapunovWindowOptions) -> f64 {
     50.0 * o.windows as f64
 }
 
-/// The Lyapunov run of `sys` from `(t0, x0)` (the end of the settled integration), appended to `rec` in the columns of [`lyapunov_columns`].
-pub(crate) fn push_lyapunov<S: system::SecondOrderSystem>(
-    rec: &mut Record,
+/// The Lyapunov run of `sys` from `(t0, x0)` (the end of the settled integration).
+pub(crate) fn run_lyapunov<S: system::SecondOrderSystem>(
     what: &str,
     sys: S,
     period: f64,
     (t0, x0): (f64, &[f64]),
     o: &LyapunovWindowOptions,
-    rate: &'static str,
-) -> Result<(), PointError> {
-    let s = settled_lyapunov(sys, period, t0, x0, o)
-        .map_err(|e| PointError::Compute(format!("{what} Lyapunov run: {e}")))?;
+) -> Result<LyapunovSpectrum, PointError> {
+    settled_lyapunov(sys, period, t0, x0, o)
+        .map_err(|e| PointError::Compute(format!("{what} Lyapunov run: {e}")))
+}
+
+/// Appends a spectrum to `rec` in the columns of [`lyapunov_columns`] (`period`: the window).
+pub(crate) fn push_lyapunov(rec: &mut Record, s: &LyapunovSpectrum, period: f64, rate: &str) {
     for (n, v) in LAMBDA.iter().zip(&s.exponents) {
         rec.push(n, rate, *v);
     }
@@ -121,5 +124,4 @@ pub(crate) fn push_lyapunov<S: system::SecondOrderSystem>(
         .push("lambda_converged", "1", if s.converged { 1.0 } else { 0.0 })
         .push("lambda_sum", rate, s.sum())
         .push("lyapunov_events_per_period", "1", s.events as f64 / windows);
-    Ok(())
 }

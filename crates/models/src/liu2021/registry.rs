@@ -9,7 +9,7 @@ use serde_json::{Value as J, json};
 
 use crate::contract::lyapunov::{
     LYAPUNOV, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL, lyapunov_columns, lyapunov_plan,
-    lyapunov_steps, push_lyapunov, tighter,
+    lyapunov_steps, push_lyapunov, run_lyapunov, tighter,
 };
 use crate::contract::shoot::shoot_on;
 use crate::contract::{
@@ -742,15 +742,14 @@ fn ts_point_full(
                 "liu2021 Lyapunov run: empty response".into(),
             ));
         };
-        push_lyapunov(
-            &mut rec,
+        let s = run_lyapunov(
             "liu2021",
             *model,
             model.period(),
             (*t0, &[*q, *v]),
             &tighter(l, factor),
-            "1",
         )?;
+        push_lyapunov(&mut rec, &s, model.period(), "1");
     }
     let mut work = one.stats;
     work.add(&kept.work);

@@ -4,7 +4,7 @@
 
 use crate::contract::lyapunov::{
     LYAPUNOV, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL, lyapunov_columns, lyapunov_plan,
-    lyapunov_steps, push_lyapunov, tighter,
+    lyapunov_steps, push_lyapunov, run_lyapunov, tighter,
 };
 use math::DetMath;
 use std::sync::Arc;
@@ -256,15 +256,14 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                         // from the end state of the run, at its time
                         let period = std::f64::consts::TAU / r.omega;
                         let periods = (st.transient_periods + st.record_periods) as f64;
-                        push_lyapunov(
-                            &mut rec,
+                        let s = run_lyapunov(
                             "generic-pair",
                             model.clone(),
                             period,
                             (periods * period, &r.final_state),
                             &tighter(l, factor),
-                            "1/s",
                         )?;
+                        push_lyapunov(&mut rec, &s, period, "1/s");
                     }
                     Ok((rec, r.stats))
                 })

@@ -577,18 +577,10 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                     if let Some(l) = &lyapunov {
                         // from the end state of the run, at its time (Chen's fractal backlash
                         // is not periodic in time)
-                        let period = std::f64::consts::TAU / omega;
-                        let t_end =
-                            (settings.transient_periods + settings.record_periods) as f64 * period;
-                        push_lyapunov(
-                            &mut rec,
-                            "yu2021",
-                            yu2021::Yu2021SixDof::for_time_stepping(&model, omega),
-                            period,
-                            (t_end, &r.final_state),
-                            &tighter(l, factor),
-                            "1",
-                        )?;
+                        let s = model
+                            .lyapunov(&settings, &r.final_state, &tighter(l, factor))
+                            .context("yu2021")?;
+                        push_lyapunov(&mut rec, &s, std::f64::consts::TAU / omega, "1");
                     }
                     Ok((rec, r.stats))
                 })
