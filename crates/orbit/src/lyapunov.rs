@@ -221,7 +221,7 @@ fn spread(rows: &[Vec<f64>], i: usize) -> f64 {
 ///
 /// # Errors
 /// Invalid options; a window map of the wrong size or not finite; a tangent vector collapsing
-/// to zero; any error of `advance`.
+/// to zero (these carry the elapsed time `(j + 1) τ` of the window); any error of `advance`.
 pub fn lyapunov_qr<F>(
     dim: usize,
     opts: &LyapunovOptions,
