@@ -15,8 +15,8 @@ pub(crate) const LYAPUNOV: SettingDef = SettingDef {
         default: "off",
     },
     doc: "\"on\": the Lyapunov spectrum of the settled response (QR renormalisation of the \
-          event-located variational flow with saltation matrices, one window per forcing \
-          period, from the end of the time integration) in columns lambda1 … lambda<k>, \
+          event-located variational flow with saltation matrices, renormalised once or more per \
+          forcing period, from the end of the time integration) in columns lambda1 … lambda<k>, \
           lambda1_per_period, lambda1_spread, lambda_converged, lambda_sum, \
           lyapunov_events_per_period; \"off\": absent",
 };
@@ -29,8 +29,8 @@ pub(crate) const LYAPUNOV_PERIODS: SettingDef = SettingDef {
         hi: 100_000,
         default: Some(200),
     },
-    doc: "forcing periods of the Lyapunov run (one renormalisation each); the spread is taken \
-          over the last quarter",
+    doc: "forcing periods of the Lyapunov run (each split into m = ⌈|tr M⁻¹(C + ∂g/∂q')| T/10⌉ \
+          renormalisation windows); the spread is taken over the last quarter",
 };
 
 /// Setting `lyapunov_exponents`.
@@ -118,10 +118,10 @@ pub(crate) fn push_lyapunov(rec: &mut Record, s: &LyapunovSpectrum, period: f64,
     for (n, v) in LAMBDA.iter().zip(&s.exponents) {
         rec.push(n, rate, *v);
     }
-    let windows = s.running.len() as f64;
+    let periods = s.running.len() as f64 * s.window / period;
     rec.push("lambda1_per_period", "1", s.largest() * period)
         .push("lambda1_spread", rate, s.spread_last[0])
         .push("lambda_converged", "1", if s.converged { 1.0 } else { 0.0 })
         .push("lambda_sum", rate, s.sum())
-        .push("lyapunov_events_per_period", "1", s.events as f64 / windows);
+        .push("lyapunov_events_per_period", "1", s.events as f64 / periods);
 }

@@ -2,8 +2,10 @@
 //! [`SecondOrderSystem`] (Liu, Yu's 6-DOF pair, the generic pair).
 //!
 //! From a state on the attractor (the end of a model's settled time integration), the
-//! event-located variational flow of [`orbit`] runs `windows` forcing periods `T`; after each,
-//! the tangent basis is re-orthonormalised by QR and `ln R_ii` accumulated
+//! event-located variational flow of [`orbit`] runs `windows` forcing periods `T`, each split
+//! into `m` windows (`m = ⌈|tr M⁻¹(C + ∂g/∂q')| T/10⌉`, so that a window contracts volumes by
+//! at most about `e^{−10}` and `Φ_j` keeps its contracting directions above rounding); after
+//! each window the tangent basis is re-orthonormalised by QR and `ln R_ii` accumulated
 //! ([`orbit::lyapunov_qr`], saltation matrices at every event: the identity at the backlash
 //! kinks):
 //!
@@ -17,7 +19,9 @@
 //! converged; `λ1 T` (nepers per forcing period) compares across models whatever their time
 //! unit.
 
-use orbit::{FlowOptions, LyapunovOptions, LyapunovSpectrum, OrbitError, OrbitProblem};
+use orbit::{
+    FlowOptions, LyapunovOptions, LyapunovSpectrum, MAX_LYAPUNOV_WINDOWS, OrbitError, OrbitProblem,
+};
 use system::SecondOrderSystem;
 
 /// Most exponents a study may ask for (the state dimension of Yu's 6-DOF pair).
@@ -45,9 +49,29 @@ impl Default for LyapunovWindowOptions {
     }
 }
 
+/// Renormalisations per forcing period: `m = ⌈|tr M⁻¹(C + ∂g/∂q')| T / 10⌉` at the start
+/// state, in `[1, 1024]`. A window then contracts volumes by about `e^{−10}` at most, so the
+/// contracting directions of `Φ_j` stay above the rounding of its expanding ones (over one Liu
+/// period, `2ζT ≈ 54`: `e^{−54}` is below `ε ≈ 2e-16`, and `Φ Q` would lose them).
+fn windows_per_period<S: SecondOrderSystem>(sys: &S, period: f64, t0: f64, x0: &[f64]) -> usize {
+    let n = sys.n_dof();
+    let (mut dq, mut dv) = (vec![0.0; n * n], vec![0.0; n * n]);
+    sys.force_jacobian(t0, &x0[..n], &x0[n..], &mut dq, &mut dv);
+    let c = sys.damping() + nalgebra::DMatrix::from_row_slice(n, n, &dv);
+    let tr = sys.mass().lu().solve(&c).map_or(0.0, |a| a.trace());
+    let m = (tr.abs() * period / 10.0).ceil();
+    if m.is_finite() && m >= 1.0 {
+        (m as usize).min(1024)
+    } else {
+        1
+    }
+}
+
 /// The Lyapunov spectrum of the response of `sys` (forcing period `period`) from the state
-/// `x0 = (q, q')` at time `t0` (a state of the settled response): `windows` windows of one
-/// period, convergence judged over the last quarter of them.
+/// `x0 = (q, q')` at time `t0` (a state of the settled response): `windows` forcing periods,
+/// each split into `m` renormalisation windows (`m` from the dissipation, see
+/// `windows_per_period`: 1 for a lightly damped flow), convergence judged over the last
+/// quarter of them within `5 % |λ| + 10⁻³/T`.
 ///
 /// # Errors
 /// Invalid options (named with their bounds: fewer than 4 or more than 100000 windows, `k`
@@ -74,31 +98,43 @@ pub fn settled_lyapunov<S: SecondOrderSystem>(
             value: o.exponents as f64,
         });
     }
+    let n = sys.n_dof();
+    if x0.len() != 2 * n {
+        return Err(OrbitError::DimensionMismatch {
+            what: "state (q, q')",
+            expected: 2 * n,
+            got: x0.len(),
+        });
+    }
+    let m = windows_per_period(&sys, period, t0, x0).min(MAX_LYAPUNOV_WINDOWS / o.windows);
     let flow = FlowOptions {
         rtol: o.rtol,
         ..FlowOptions::default()
     };
     let p = OrbitProblem::new(sys, period)?.with_flow_options(flow)?;
+    let windows = o.windows * m;
     let opts = LyapunovOptions {
-        window: period,
-        windows: o.windows,
+        window: period / m as f64,
+        windows,
         exponents: o.exponents,
-        last: (o.windows / 4).max(1),
+        last: (windows / 4).max(1),
+        // the bound atol/τ stays 10⁻³ per period
+        atol: 1e-3 / m as f64,
         ..LyapunovOptions::default()
     };
     p.lyapunov(t0, x0, &opts).map(|(s, _)| s)
 }
 
 /// One line of evidence: `λ1 = v ± s per unit time (λ1T = …; converged|not converged over N
-/// periods)`.
-pub fn describe_lyapunov(s: &LyapunovSpectrum) -> String {
-    let n = s.running.len();
+/// periods)`, `period` the forcing period `T`.
+pub fn describe_lyapunov(s: &LyapunovSpectrum, period: f64) -> String {
+    let n = (s.running.len() as f64 * s.window / period).round();
     let l = s.largest();
     format!(
         "λ1 = {} ± {} (λ1·T = {} per period; {} over {n} periods)",
         system::format::fmt_sig(l, 3),
         system::format::fmt_sig(s.spread_last[0], 2),
-        system::format::fmt_sig(l * s.window, 3),
+        system::format::fmt_sig(l * period, 3),
         if s.converged {
             "converged"
         } else {
@@ -183,7 +219,7 @@ mod tests {
         assert!(qr > 0.05 && tt > 0.05, "λ1: QR {qr}, two-trajectory {tt}");
         assert!((qr - tt).abs() < 0.03, "λ1: QR {qr}, two-trajectory {tt}");
         assert!((s.sum() + 0.05).abs() < 1e-6, "Σλ = {}", s.sum());
-        assert!(describe_lyapunov(&s).starts_with("λ1 = "));
+        assert!(describe_lyapunov(&s, period).starts_with("λ1 = "));
     }
 
     #[test]

@@ -35,7 +35,7 @@ pub(crate) fn step_cells(s: &timestep::Stats) -> [crate::Cell; 4] {
 /// taken over the last quarter, [`models::response::settled_lyapunov`]).
 pub(crate) const LYAPUNOV_PERIODS: usize = 200;
 
-/// The chaos evidence of a non-periodic response: the 0–1 test `K` (when known) beside the
+/// The chaos evidence of a non-periodic response (forcing period `period`): the 0–1 test `K` (when known) beside the
 /// largest Lyapunov exponent per forcing period with its spread and convergence, and, with the
 /// full spectrum of a model with linear damping only, the volume-law defect `Σλ − div` (the
 /// integrator's floor on every exponent). A chaos reading from λ1 is stated only when it
@@ -43,10 +43,11 @@ pub(crate) const LYAPUNOV_PERIODS: usize = 200;
 pub(crate) fn chaos_evidence(
     k: Option<f64>,
     s: &orbit::LyapunovSpectrum,
+    period: f64,
     divergence: Option<f64>,
 ) -> String {
     use models::contract::fmt_sig;
-    let t = s.window;
+    let t = period;
     let (l, spread) = (s.largest() * t, s.spread_last[0] * t);
     let reading = if !s.converged {
         "not converged: no reading"
@@ -65,7 +66,7 @@ pub(crate) fn chaos_evidence(
         "λ1·T = {} ± {} per period over {} periods ({reading})",
         fmt_sig(l, 3),
         fmt_sig(spread, 2),
-        s.running.len()
+        (s.running.len() as f64 * s.window / period).round()
     ));
     if let Some(d) = divergence {
         e.push_str(&format!(

@@ -401,7 +401,7 @@ fn fig11() -> Result<StudyOutput, Error> {
             Ok(format!(
                 "{}: {}",
                 name(i),
-                super::chaos_evidence(None, &l, None)
+                super::chaos_evidence(None, &l, std::f64::consts::TAU / W_FIG10, None)
             ))
         })
         .collect::<Result<_, Error>>()?;
@@ -662,7 +662,7 @@ fn fig12() -> Result<StudyOutput, Error> {
             Ok(format!(
                 "{} ({})",
                 motion_of(i).label(),
-                super::chaos_evidence(None, &l, None)
+                super::chaos_evidence(None, &l, std::f64::consts::TAU / w, None)
             ))
         })
         .collect::<Result<_, Error>>()?;

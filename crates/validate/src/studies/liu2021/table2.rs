@@ -58,29 +58,28 @@ struct Row {
     time_unsettled: bool,
     /// The 0–1 test `K` of the nominal long window.
     chaos_k: f64,
+    /// The forcing period `T` (dimensionless).
+    period: f64,
     /// The mean divergence `−c` of the flow (linear damping only).
     divergence: f64,
     /// The Lyapunov spectrum of a non-periodic speed (`None` at a periodic one).
     lyapunov: Option<orbit::LyapunovSpectrum>,
 }
 
+/// The rig point, its time reference, the spectrum, the run's work and its end `(τ, [q, q'])`.
+pub(super) type RigSpectrum = (
+    liu2021::Model,
+    TimeReference,
+    timestep::Spectrum,
+    timestep::Stats,
+    (f64, [f64; 2]),
+);
+
 /// The Sect. 3.8 rig point at motor speed `rpm`: Table 1 with T2 = 3 N·m and the rig's ratio
 /// and pinion speed; the time-integration reference (library strategy, 100× refinement and
 /// Poincaré motion type) and the amplitude spectrum of `q` over one steady excitation period
 /// sampled at [`SAMPLES`] points (bin k = k f_c).
-pub(super) fn rig_spectrum(
-    rig: &liu2021::Rig,
-    rpm: f64,
-) -> Result<
-    (
-        liu2021::Model,
-        TimeReference,
-        timestep::Spectrum,
-        timestep::Stats,
-        (f64, [f64; 2]),
-    ),
-    Error,
-> {
+pub(super) fn rig_spectrum(rig: &liu2021::Rig, rpm: f64) -> Result<RigSpectrum, Error> {
     let mut p = base();
     p.load_torque = 3.0;
     p.ratio = f64::from(rig.z2) / f64::from(rig.z1);
@@ -141,6 +140,7 @@ fn run() -> Result<StudyOutput, Error> {
             };
             Ok(Row {
                 chaos_k: lw.nominal.chaos_k,
+                period: m.period(),
                 divergence: -system::SecondOrderSystem::damping(&m)[(0, 0)],
                 lyapunov,
                 disp_window: (ratio(&lw.nominal), lo, hi),
@@ -210,7 +210,7 @@ fn run() -> Result<StudyOutput, Error> {
                 "; motion at {} rpm: {}, {}",
                 r.n,
                 r.motion,
-                super::super::chaos_evidence(Some(r.chaos_k), l, Some(r.divergence))
+                super::super::chaos_evidence(Some(r.chaos_k), l, r.period, Some(r.divergence))
             )
         });
         let with_chaos = |n: &str| format!("{n}{chaos}");
@@ -283,8 +283,8 @@ fn run() -> Result<StudyOutput, Error> {
         ];
         match &r.lyapunov {
             Some(l) => row.extend([
-                Cell::Text(models::contract::fmt_sig(l.largest() * l.window, 2)),
-                Cell::Text(models::contract::fmt_sig(l.spread_last[0] * l.window, 1)),
+                Cell::Text(models::contract::fmt_sig(l.largest() * r.period, 2)),
+                Cell::Text(models::contract::fmt_sig(l.spread_last[0] * r.period, 1)),
                 if l.converged { 1.0 } else { 0.0 }.into(),
             ]),
             None => row.extend([
