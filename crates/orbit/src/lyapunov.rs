@@ -193,7 +193,9 @@ fn mgs(a: &mut DMatrix<f64>, time: f64) -> Result<Vec<f64>> {
         let norm = nn.sqrt();
         if !(norm.is_finite() && norm > 0.0) {
             return Err(OrbitError::NonFinite {
-                what: "Lyapunov QR (tangent vector norm zero or not finite)",
+                what: "Lyapunov QR tangent vector (its norm after orthogonalisation is zero or \
+                       not finite: the window map's singular values span more than the \
+                       precision; shorten the window or ask fewer exponents)",
                 time,
             });
         }
