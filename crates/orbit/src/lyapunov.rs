@@ -11,8 +11,10 @@
 //! ```text
 //! Φ_j = Φ(t_j + τ ← t_e,last) S_last ⋯ S_1 Φ(t_e,1 ← t_j)
 //! Φ_j Q_j = Q_{j+1} R_j            (modified Gram–Schmidt, columns in order 1 … k)
-//! λ_i ≈ Λ_i(N) = (1 / Nτ) Σ_{j<N} ln |R_j,ii|,     i = 1 … k,   Q_0 = [e_1 … e_k]
+//! λ_i ≈ Λ_i(N) = (1 / (N − N₀)τ) Σ_{N₀ ≤ j < N} ln |R_j,ii|,     i = 1 … k,   Q_0 = [e_1 … e_k]
 //! ```
+//!
+//! (`N₀` warm-up windows align `Q` before the sum starts, [`LyapunovOptions::warmup`].)
 //!
 //! `Q_j` (`2n × k`, orthonormal columns) spans the first `k` directions; `R_j` is `k × k` upper
 //! triangular with a positive diagonal. `Λ_1 ≥ … ≥ Λ_k` converge to the `k` largest exponents
@@ -53,6 +55,10 @@ pub struct LyapunovOptions {
     pub window: f64,
     /// Number of windows `N`, in `[1, MAX_LYAPUNOV_WINDOWS]`.
     pub windows: usize,
+    /// Warm-up windows `N₀ < N` renormalised but not accumulated: the QR basis aligns with the
+    /// leading directions first, so that the average starts without its alignment transient
+    /// (which otherwise decays only as `1/N`).
+    pub warmup: usize,
     /// Number of exponents `k`, in `[1, state dimension]`.
     pub exponents: usize,
     /// `K`: the windows over which the convergence spread is taken, in `[1, windows]`.
@@ -65,12 +71,13 @@ pub struct LyapunovOptions {
 }
 
 impl Default for LyapunovOptions {
-    /// `τ = 1`, 400 windows, the largest exponent, spread over the last 50 windows within
+    /// `τ = 1`, 400 windows without warm-up, the largest exponent, spread over the last 50 windows within
     /// `5 % |λ| + 10⁻³/τ`.
     fn default() -> Self {
         Self {
             window: 1.0,
             windows: 400,
+            warmup: 0,
             exponents: 1,
             last: 50,
             rtol: 0.05,
@@ -98,15 +105,21 @@ impl LyapunovOptions {
             self.windows as f64,
         )?;
         check(
+            self.warmup < self.windows,
+            "LyapunovOptions::warmup",
+            "< windows",
+            self.warmup as f64,
+        )?;
+        check(
             self.exponents >= 1 && self.exponents <= dim,
             "LyapunovOptions::exponents",
             "in [1, state dimension]",
             self.exponents as f64,
         )?;
         check(
-            self.last >= 1 && self.last <= self.windows,
+            self.last >= 1 && self.last <= self.windows - self.warmup,
             "LyapunovOptions::last",
-            "in [1, windows]",
+            "in [1, windows − warmup]",
             self.last as f64,
         )?;
         check(
@@ -142,7 +155,7 @@ pub struct LyapunovSpectrum {
     /// `Λ_1 ≥ … ≥ Λ_k` after the last window (per unit time; ordered as the QR columns, which
     /// orders them for a converged run).
     pub exponents: Vec<f64>,
-    /// `running[j][i]`: `Λ_i` after window `j + 1`.
+    /// `running[j][i]`: `Λ_i` after window `N₀ + j + 1` (the accumulated windows).
     pub running: Vec<Vec<f64>>,
     /// Per exponent: `max − min` of the running estimate over the last
     /// [`LyapunovOptions::last`] windows.
@@ -250,7 +263,7 @@ where
                 got: w.jacobian.len(),
             });
         }
-        let t_end = (j + 1) as f64 * tau;
+        let t_end = (j + 1) as f64 * tau; // elapsed time
         if w.jacobian.iter().any(|v| !v.is_finite()) {
             return Err(OrbitError::NonFinite {
                 what: "window Jacobian",
@@ -262,7 +275,10 @@ where
         system::numeric::product_into(&w.jacobian, &q, &mut pq);
         let diag = mgs(&mut pq, t_end)?;
         std::mem::swap(&mut q, &mut pq);
-        let elapsed = (j + 1) as f64 * tau;
+        if j < opts.warmup {
+            continue;
+        }
+        let elapsed = (j + 1 - opts.warmup) as f64 * tau;
         let mut row = vec![0.0; k];
         for i in 0..k {
             sums[i] += diag[i].dln();
@@ -323,6 +339,52 @@ mod tests {
         assert!(s.converged);
         assert!(s.spread_last.iter().all(|&v| v < 1e-12));
         assert_eq!(s.running.len(), 10);
+    }
+
+    /// A non-normal constant map `P diag(e², e⁻¹) P⁻¹`: from `Q_0 = I` the average carries an
+    /// alignment transient of order `1/N`; after a warm-up the basis is aligned (to
+    /// `e^{−3·N₀}`) and every accumulated increment is exactly `2` and `−1` nepers.
+    #[test]
+    fn warmup_removes_the_alignment_transient() {
+        let p = DMatrix::from_row_slice(2, 2, &[1.0, 3.0, 0.5, 1.0]);
+        let d = DMatrix::from_row_slice(2, 2, &[2.0_f64.dexp(), 0.0, 0.0, (-1.0_f64).dexp()]);
+        let phi = &p * d * p.clone().try_inverse().unwrap();
+        let run = |warmup: usize| {
+            let o = LyapunovOptions {
+                windows: 40,
+                warmup,
+                exponents: 2,
+                last: 10,
+                ..Default::default()
+            };
+            lyapunov_qr(2, &o, |_| {
+                Ok(WindowMap {
+                    jacobian: phi.clone(),
+                    events: 0,
+                    impacts: 0,
+                })
+            })
+            .unwrap()
+        };
+        let cold = run(0);
+        assert!(
+            (cold.exponents[0] - 2.0).abs() > 1e-4,
+            "{:?}",
+            cold.exponents
+        );
+        let warm = run(20);
+        assert_eq!(warm.running.len(), 20);
+        assert!(
+            (warm.exponents[0] - 2.0).abs() < 1e-12,
+            "{:?}",
+            warm.exponents
+        );
+        assert!(
+            (warm.exponents[1] + 1.0).abs() < 1e-12,
+            "{:?}",
+            warm.exponents
+        );
+        assert!(warm.spread_last.iter().all(|&v| v < 1e-12));
     }
 
     #[test]

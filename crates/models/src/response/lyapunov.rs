@@ -68,8 +68,8 @@ fn windows_per_period<S: SecondOrderSystem>(sys: &S, period: f64, t0: f64, x0: &
 }
 
 /// The Lyapunov spectrum of the response of `sys` (forcing period `period`) from the state
-/// `x0 = (q, q')` at time `t0` (a state of the settled response): `windows` forcing periods,
-/// each split into `m` renormalisation windows (`m` from the dissipation, see
+/// `x0 = (q, q')` at time `t0` (a state of the settled response): `windows` forcing periods
+/// (the first fifth a QR warm-up, not accumulated), each split into `m` renormalisation windows (`m` from the dissipation, see
 /// `windows_per_period`: 1 for a lightly damped flow), convergence judged over the last
 /// quarter of them within `5 % |λ| + 10⁻³/T`.
 ///
@@ -113,11 +113,14 @@ pub fn settled_lyapunov<S: SecondOrderSystem>(
     };
     let p = OrbitProblem::new(sys, period)?.with_flow_options(flow)?;
     let windows = o.windows * m;
+    // the first fifth aligns the QR basis (not accumulated)
+    let warmup = (o.windows / 5) * m;
     let opts = LyapunovOptions {
         window: period / m as f64,
         windows,
+        warmup,
         exponents: o.exponents,
-        last: (windows / 4).max(1),
+        last: ((windows - warmup) / 4).max(1),
         // the bound atol/τ stays 10⁻³ per period
         atol: 1e-3 / m as f64,
         ..LyapunovOptions::default()

@@ -66,6 +66,7 @@ fn lorenz_spectrum_matches_literature_and_divergence() {
     let opts = LyapunovOptions {
         window: 1.0,
         windows: 1000,
+        warmup: 0,
         exponents: 3,
         last: 100,
         rtol: 0.05,
