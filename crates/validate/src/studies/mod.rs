@@ -63,7 +63,7 @@ pub(crate) fn chaos_evidence(
         e.push_str(&format!("0–1 test K = {}; ", fmt_sig(k, 2)));
     }
     e.push_str(&format!(
-        "λ1·T = {} ± {} per period over {} periods ({reading})",
+        "λ1·T = {} ± {} per period over {} periods after a warm-up ({reading})",
         fmt_sig(l, 3),
         fmt_sig(spread, 2),
         (s.running.len() as f64 * s.window / period).round()
