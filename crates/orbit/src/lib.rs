@@ -77,7 +77,8 @@
 //!
 //! The QR is modified Gram–Schmidt with the columns in a fixed order. [`lyapunov_qr`] is the
 //! one home of the renormalisation: it takes any window map, so a first-order system can use it
-//! too (the Lorenz test). The result, [`LyapunovSpectrum`], holds the running estimate after
+//! too (the Lorenz test). Optional warm-up windows ([`LyapunovOptions::warmup`]) align `Q`
+//! before the sum starts. The result, [`LyapunovSpectrum`], holds the running estimate after
 //! every window and its spread over the last `K` windows and over the last half. It is
 //! converged when every spread is at most `rtol |Λ_i| + atol/τ`. Two exact statements are
 //! tested:
