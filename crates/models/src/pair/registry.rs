@@ -355,3 +355,54 @@ fn shooting(ctx: &Context<'_>) -> Result<Adapter, PointError> {
         }),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    /// `lyapunov = "on"` reaches the generic pair: the columns in `1/s`, a full spectrum whose
+    /// sum is the run's `lambda_sum`, and the exponent bound named.
+    #[test]
+    fn lyapunov_columns_reach_the_generic_pair() {
+        let solve = |extra: &[(&str, Value)]| {
+            let mut settings: BTreeMap<String, Value> = [
+                ("transient_periods", Value::Num(5.0)),
+                ("record_periods", Value::Num(2.0)),
+                ("lyapunov", Value::Text("on".into())),
+                ("lyapunov_periods", Value::Num(5.0)),
+            ]
+            .into_iter()
+            .map(|(k, v)| (k.to_owned(), v))
+            .collect();
+            for (k, v) in extra {
+                settings.insert((*k).to_owned(), v.clone());
+            }
+            let solver = contract::Solver {
+                method: Method::TimeStepping,
+                settings,
+            };
+            let ctx = Context {
+                solver: &solver,
+                initial: None,
+                limits: contract::Limits::default(),
+            };
+            contract::Model::solve(&Pair, &Point::new(), &ctx)
+        };
+        let r = solve(&[("lyapunov_exponents", Value::Num(2.0))]).unwrap();
+        let (l1, l2) = (r.get("lambda1").unwrap(), r.get("lambda2").unwrap());
+        assert!(l1.is_finite() && l2.is_finite());
+        assert!((l1 + l2 - r.get("lambda_sum").unwrap()).abs() <= 1e-12 * l1.abs().max(1.0));
+        let unit = |n: &str| {
+            r.columns()
+                .iter()
+                .find(|c| c.name == n)
+                .map(|c| c.unit.clone())
+        };
+        assert_eq!(unit("lambda1").as_deref(), Some("1/s"));
+        let e = solve(&[("lyapunov_exponents", Value::Num(5.0))])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("lyapunov_exponents"), "{e}");
+    }
+}
