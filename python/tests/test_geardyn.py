@@ -187,3 +187,35 @@ def test_yu_shooting_matches_the_study_file_method():
         yu.solve("shooting", segments=0)
     with pytest.raises(geardyn.GeardynError, match="free centres"):
         yu.solve("shooting", options={"kind": "KahramanSingh"})
+
+
+def test_study_lyapunov_columns_are_opt_in():
+    """``lyapunov = "on"`` (time stepping, default "off") adds the Lyapunov columns of the
+    settled response; for Liu's one degree of freedom the full spectrum sums to −2ζ up to the
+    integrator's floor (5e-4 relative, docs/studies.md)."""
+    text = """
+name = "liu-lyapunov"
+model = "liu2021"
+[sweep]
+parameter = "omega1"
+values = [100.0]
+[solver]
+method = "time-stepping"
+[solver.settings]
+settle = "fixed"
+record_periods = 1
+transient_periods = 10
+{extra}
+"""
+    off = geardyn.run_study(text.format(extra=""))
+    assert "lambda1" not in off.columns
+    on = geardyn.run_study(text.format(
+        extra='lyapunov = "on"\nlyapunov_periods = 6\nlyapunov_exponents = 2'))
+    for k in ("lambda1", "lambda2", "lambda1_per_period", "lambda1_spread",
+              "lambda_converged", "lambda_sum", "lyapunov_events_per_period"):
+        assert k in on.columns, k
+    l1, l2 = on.column("lambda1")[0], on.column("lambda2")[0]
+    assert l1 < 0.0 and l2 < 0.0
+    assert abs(on.column("lambda_sum")[0] + 0.02) < 0.02 * 1e-3
+    with pytest.raises(geardyn.StudyError):
+        geardyn.run_study(text.format(extra='lyapunov = "on"\nlyapunov_periods = 2'))

@@ -1,8 +1,9 @@
 //! # geardyn-orbit
 //!
 //! Periodic orbits of rattling and impacting systems: shooting on the event-located flow with
-//! saltation matrices, Floquet multipliers with their conditioning, and pseudo-arclength
-//! continuation through grazing, period doubling and folds, for any
+//! saltation matrices, Floquet multipliers with their conditioning, Lyapunov exponents of the
+//! non-smooth flow, and pseudo-arclength continuation through grazing, period doubling and
+//! folds, for any
 //! [`SecondOrderSystem`](system::SecondOrderSystem) (every model of the registry).
 //!
 //! ## The flow and its variational equations
@@ -61,6 +62,32 @@
 //! `Π_{i<j}(μ_iμ_j − 1)` (a pair on the unit circle) change sign at period doubling, fold and
 //! Neimark–Sacker points; [`classify_crossing`] names the crossing between two sets of
 //! multipliers from the count outside the unit circle.
+//!
+//! ## Lyapunov exponents
+//!
+//! [`OrbitProblem::lyapunov`] runs the variational flow above over windows of length `τ`
+//! (e.g. the forcing period), composed with the saltation matrix at every event. After each
+//! window the tangent basis is re-orthonormalised by QR (Benettin, Galgani, Giorgilli &
+//! Strelcyn 1980; Shimada & Nagashima 1979; Müller 1995 for the saltation matrices):
+//!
+//! ```text
+//! Φ_j = Φ(t_j + τ ← t_e,m) S_m ⋯ S_1 Φ(t_e,1 ← t_j),     Φ_j Q_j = Q_{j+1} R_j
+//! λ_i ≈ Λ_i(N) = (1 / Nτ) Σ_{j<N} ln R_j,ii,     Q_0 = [e_1 … e_k]
+//! ```
+//!
+//! The QR is modified Gram–Schmidt with the columns in a fixed order. [`lyapunov_qr`] is the
+//! one home of the renormalisation: it takes any window map, so a first-order system can use it
+//! too (the Lorenz test). Optional warm-up windows ([`LyapunovOptions::warmup`]) align `Q`
+//! before the sum starts. The result, [`LyapunovSpectrum`], holds the running estimate after
+//! every window and its spread over the last `K` windows and over the last half. It is
+//! converged when every spread is at most `rtol |Λ_i| + atol/τ`. Two exact statements are
+//! tested:
+//!
+//! * **Volume.** `Σ_i Λ_i N τ = ln |det Π Φ_j|`, and `det Φ = exp(∫ tr A) Π det S`. With
+//!   linear damping, `tr A = −tr(M⁻¹C)` whatever the stiffness does, and `det S = 1` at a kink.
+//!   At a restitution impact, `det S = r²`. So `Σλ = −tr(M⁻¹C) + N_imp ln r² / (Nτ)`.
+//! * **Periodic orbits.** With `τ = T` on a period-`T` orbit, the iteration is the orthogonal
+//!   iteration on the monodromy, and `Λ_i → ln|μ_i|/T`.
 //!
 //! ## The one continuation
 //!
@@ -219,6 +246,7 @@ mod floquet;
 mod flow;
 mod harmonic;
 mod impact;
+mod lyapunov;
 pub mod path;
 mod problem;
 mod shooting;
@@ -238,6 +266,9 @@ pub use floquet::{
 pub use flow::{EventRecord, Flow, FlowOptions};
 pub use harmonic::{HbmContinuationOptions, HbmCorrection, continue_hbm};
 pub use impact::{ImpactLaw, Restitution};
+pub use lyapunov::{
+    LyapunovOptions, LyapunovSpectrum, MAX_LYAPUNOV_WINDOWS, WindowMap, lyapunov_qr,
+};
 pub use path::{
     Branch, BranchPoint, ContinuationOptions, Degeneracy, Extremum, Fold, Predictor, SpecialKind,
     SpecialPoint, StepControl, StopReason, fill_from_neighbours,

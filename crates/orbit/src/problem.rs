@@ -3,6 +3,7 @@
 use crate::error::{OrbitError, Result, check};
 use crate::flow::{self, Field, Flow, FlowOptions, Matrices};
 use crate::impact::ImpactLaw;
+use crate::lyapunov::{LyapunovOptions, LyapunovSpectrum, WindowMap, lyapunov_qr};
 use system::SecondOrderSystem;
 
 /// The continuation (or sweep) parameter.
@@ -215,6 +216,40 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             variational,
             true,
         )
+    }
+
+    /// The Lyapunov spectrum of the flow from `(t0, x0)` ([`lyapunov_qr`] on this problem's
+    /// event-located variational flow): `opts.windows` windows of length `opts.window`, each a
+    /// [`flow`](Self::flow) with its Jacobian (saltation matrices at every event: `S = I` at
+    /// the kinks of a continuous force, the impact law's `S` at resets). Start `x0` on the
+    /// attractor (after the transient). Returns the spectrum and the final state.
+    ///
+    /// # Errors
+    /// Invalid options or state, integration failures (each window is capped by
+    /// [`FlowOptions::max_steps`] and [`FlowOptions::max_events`]), a non-finite tangent map.
+    pub fn lyapunov(
+        &self,
+        t0: f64,
+        x0: &[f64],
+        opts: &LyapunovOptions,
+    ) -> Result<(LyapunovSpectrum, Vec<f64>)> {
+        check(t0.is_finite(), "t0", "finite", t0)?;
+        self.check_state(x0)?;
+        let mut x = x0.to_vec();
+        let spec = lyapunov_qr(self.dim(), opts, |j| {
+            let f = self.flow(t0 + j as f64 * opts.window, &x, opts.window, true)?;
+            x = f.state;
+            let jacobian = f.jacobian.ok_or(OrbitError::NonFinite {
+                what: "window Jacobian",
+                time: f.time,
+            })?;
+            Ok(WindowMap {
+                jacobian,
+                events: f.events.len(),
+                impacts: f.events.iter().filter(|e| e.impact).count(),
+            })
+        })?;
+        Ok((spec, x))
     }
 
     /// `[min, max]` of every event function (gap function) along the flow from `(t₀, x0)` over

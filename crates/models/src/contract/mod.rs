@@ -22,6 +22,7 @@ mod accuracy;
 pub mod api;
 mod describe;
 mod error;
+pub(crate) mod lyapunov;
 mod overrides;
 mod record;
 mod settings;

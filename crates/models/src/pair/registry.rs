@@ -2,6 +2,10 @@
 //! [`PairParams::example_spur`](crate::pair::PairParams::example_spur) in SI units, by time
 //! stepping, harmonic balance or shooting.
 
+use crate::contract::lyapunov::{
+    LYAPUNOV, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL, lyapunov_columns, lyapunov_plan,
+    lyapunov_steps, push_lyapunov, run_lyapunov, tighter,
+};
 use math::DetMath;
 use std::sync::Arc;
 
@@ -66,6 +70,10 @@ const PAIR_TS: &[SettingDef] = &[
         doc: "absolute tolerance (units of the coordinates)",
     },
     TOLERANCE_CHECK,
+    LYAPUNOV,
+    LYAPUNOV_PERIODS,
+    LYAPUNOV_EXPONENTS,
+    LYAPUNOV_RTOL,
 ];
 
 const PAIR_HBM: &[SettingDef] = &[
@@ -203,13 +211,29 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
     };
     let initial = ctx.initial.map(<[f64]>::to_vec);
     let check = s.name("tolerance_check") == "on";
+    let lyapunov = lyapunov_plan(&s);
+    let mut names = PAIR_TS_OUT.to_vec();
+    if let Some(l) = &lyapunov {
+        names.extend(lyapunov_columns(l.exponents, "1/s"));
+    }
     Ok(Adapter {
-        outputs: outs_stepped(PAIR_TS_OUT, check),
+        outputs: outs_stepped(&names, check),
         prepare: Box::new(move |p: &Point| {
             let (model, f_s) = pair_model(p)?;
+            if let Some(l) = &lyapunov {
+                let dim = 2 * system::SecondOrderSystem::n_dof(&model);
+                if l.exponents > dim {
+                    return Err(PointError::Input(format!(
+                        "setting `lyapunov_exponents` must be at most the state dimension \
+                         {dim} of this generic-pair, got {}",
+                        l.exponents
+                    )));
+                }
+            }
             // adaptive steps: at least 8 per mesh period (h_max = T/8)
             let periods = settings.transient_periods + settings.record_periods;
-            limits.need_steps("generic-pair", 8.0 * periods as f64)?;
+            let steps = 8.0 * periods as f64 + lyapunov.as_ref().map_or(0.0, lyapunov_steps);
+            limits.need_steps("generic-pair", steps)?;
             let initial = initial.clone();
             Ok(Box::new(move || {
                 run_stepped(check, |factor| {
@@ -228,6 +252,19 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                     rec.push("df", "1", r.dynamic_factor(f_s))
                         .push("mean_dte", "m", r.delta.iter().sum::<f64>() / n)
                         .push("dte_peak_to_peak", "m", max - min);
+                    if let Some(l) = &lyapunov {
+                        // from the end state of the run, at its time
+                        let period = std::f64::consts::TAU / r.omega;
+                        let periods = (st.transient_periods + st.record_periods) as f64;
+                        let s = run_lyapunov(
+                            "generic-pair",
+                            model.clone(),
+                            period,
+                            (periods * period, &r.final_state),
+                            &tighter(l, factor),
+                        )?;
+                        push_lyapunov(&mut rec, &s, period, "1/s");
+                    }
                     Ok((rec, r.stats))
                 })
             }) as Job)
@@ -317,4 +354,55 @@ fn shooting(ctx: &Context<'_>) -> Result<Adapter, PointError> {
             }) as Job)
         }),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    /// `lyapunov = "on"` reaches the generic pair: the columns in `1/s`, a full spectrum whose
+    /// sum is the run's `lambda_sum`, and the exponent bound named.
+    #[test]
+    fn lyapunov_columns_reach_the_generic_pair() {
+        let solve = |extra: &[(&str, Value)]| {
+            let mut settings: BTreeMap<String, Value> = [
+                ("transient_periods", Value::Num(5.0)),
+                ("record_periods", Value::Num(2.0)),
+                ("lyapunov", Value::Text("on".into())),
+                ("lyapunov_periods", Value::Num(5.0)),
+            ]
+            .into_iter()
+            .map(|(k, v)| (k.to_owned(), v))
+            .collect();
+            for (k, v) in extra {
+                settings.insert((*k).to_owned(), v.clone());
+            }
+            let solver = contract::Solver {
+                method: Method::TimeStepping,
+                settings,
+            };
+            let ctx = Context {
+                solver: &solver,
+                initial: None,
+                limits: contract::Limits::default(),
+            };
+            contract::Model::solve(&Pair, &Point::new(), &ctx)
+        };
+        let r = solve(&[("lyapunov_exponents", Value::Num(2.0))]).unwrap();
+        let (l1, l2) = (r.get("lambda1").unwrap(), r.get("lambda2").unwrap());
+        assert!(l1.is_finite() && l2.is_finite());
+        assert!((l1 + l2 - r.get("lambda_sum").unwrap()).abs() <= 1e-12 * l1.abs().max(1.0));
+        let unit = |n: &str| {
+            r.columns()
+                .iter()
+                .find(|c| c.name == n)
+                .map(|c| c.unit.clone())
+        };
+        assert_eq!(unit("lambda1").as_deref(), Some("1/s"));
+        let e = solve(&[("lyapunov_exponents", Value::Num(5.0))])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("lyapunov_exponents"), "{e}");
+    }
 }

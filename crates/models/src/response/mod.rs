@@ -18,6 +18,9 @@
 //! * a **chaos indicator**: the 0–1 test for chaos of Gottwald & Melbourne (SIAM J. Appl. Dyn.
 //!   Syst. 8:129, 2009) on the stroboscopic section — `K ≈ 0` regular, `K ≈ 1` chaotic.
 //!
+//! * the **Lyapunov spectrum** of the settled response ([`settled_lyapunov`]: QR renormalisation
+//!   of the event-located variational flow, with its convergence), beside the 0–1 test.
+//!
 //! [`window_stats`] computes them from uniform samples `(t, q, q')` of one record; [`Robust`]
 //! combines the statistics of several records of the same point (two tolerances, two windows,
 //! two initial states) into intervals, so that a verdict can say whether its statistic is robust;
@@ -26,10 +29,14 @@
 //! initial states reaches and gives their basins of attraction.
 
 pub mod basin;
+mod lyapunov;
 mod metrics;
 mod settle;
 mod window;
 
+pub use lyapunov::{
+    LyapunovWindowOptions, MAX_LYAPUNOV_EXPONENTS, describe_lyapunov, settled_lyapunov,
+};
 pub use metrics::{
     RattleState, dynamic_factor, order_of_magnitude, rattle_state, rattle_state_with_gap,
     rms_of_harmonics,

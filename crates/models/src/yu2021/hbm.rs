@@ -250,6 +250,46 @@ impl Yu2021SixDof {
     }
 }
 
+impl Yu2021Model {
+    /// The Lyapunov spectrum of a settled response of this model at `ω*`
+    /// ([`crate::response::settled_lyapunov`] on the 6-DOF system description, the one the
+    /// `timestep` engine integrates; locked centres stay at rest): from `final_state` (the
+    /// [`super::Response::final_state`] of a run of `settings`) at its time
+    /// `τ = (transient + record periods) · 2π/ω*`, windows of one period `2π/ω*`.
+    ///
+    /// # Errors
+    /// Fig. 8's previous-step backlash update (not a function of the state), a non-positive
+    /// `ω*`, invalid options, a failed flow.
+    pub fn lyapunov(
+        &self,
+        settings: &super::RunSettings,
+        final_state: &[f64],
+        options: &crate::response::LyapunovWindowOptions,
+    ) -> Result<orbit::LyapunovSpectrum, Error> {
+        let w = settings.omega;
+        if !(w > 0.0 && w.is_finite()) {
+            return Err(Error::invalid("yu2021.omega", "> 0 and finite", w));
+        }
+        if self.options.update == BacklashUpdate::PreviousStep {
+            return Err(Error::Solver(
+                "yu2021 Lyapunov run: Fig. 8's previous-step backlash update is not a function \
+                 of the state"
+                    .into(),
+            ));
+        }
+        let period = std::f64::consts::TAU / w;
+        let t0 = (settings.transient_periods + settings.record_periods) as f64 * period;
+        crate::response::settled_lyapunov(
+            Yu2021SixDof::for_time_stepping(self, w),
+            period,
+            t0,
+            final_state,
+            options,
+        )
+        .map_err(|e| Error::Solver(format!("yu2021 Lyapunov run: {e}")))
+    }
+}
+
 /// The shared system description (solved by `hbm` directly and by `timestep` through
 /// [`timestep::Mechanical`]), with the dead-zone edges `δ* = ±B` as events (`B` and `δ*` from
 /// the state, Eq. 10–11 and 14).

@@ -8,6 +8,10 @@ use std::sync::Arc;
 
 use serde_json::{Value as J, json};
 
+use crate::contract::lyapunov::{
+    LYAPUNOV, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL, lyapunov_columns, lyapunov_plan,
+    lyapunov_steps, push_lyapunov, tighter,
+};
 use crate::contract::shoot::{SHOOT_OUT, shoot_any, shoot_settings, shoot_transient};
 use crate::contract::spur::{
     AFT_SAMPLES, RECORD_PERIODS, TRANSIENT_PERIODS, time_stepping_and_hbm,
@@ -90,6 +94,10 @@ const YU_TS: &[SettingDef] = &[
         doc: "engine = \"timestep\": absolute tolerance",
     },
     TOLERANCE_CHECK,
+    LYAPUNOV,
+    LYAPUNOV_PERIODS,
+    LYAPUNOV_EXPONENTS,
+    LYAPUNOV_RTOL,
 ];
 
 const YU_HBM: &[SettingDef] = &[
@@ -526,13 +534,35 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
         record_periods: s.u("record_periods").unwrap_or(20) as usize,
         steps_per_period: s.u("steps_per_period").unwrap_or(256) as usize,
     };
+    let lyapunov = lyapunov_plan(&s);
+    if let Some(l) = lyapunov
+        && l.exponents > 10
+    {
+        return Err(PointError::Input(format!(
+            "setting `lyapunov_exponents` must be at most 10 for yu2021 (state dimension 10), \
+             got {}",
+            l.exponents
+        )));
+    }
+    let mut names = YU_TS_OUT.to_vec();
+    if let Some(l) = &lyapunov {
+        names.extend(lyapunov_columns(l.exponents, "1"));
+    }
     Ok(Adapter {
-        outputs: outs_stepped(YU_TS_OUT, check),
+        outputs: outs_stepped(&names, check),
         prepare: Box::new(move |p: &Point| {
             let (model, omega) = yu_model(p)?;
             let settings = RunSettings { omega, ..base };
+            if lyapunov.is_some() && model.options.update == yu2021::BacklashUpdate::PreviousStep {
+                return Err(PointError::Input(
+                    "yu2021: lyapunov = \"on\" needs the state-dependent backlash update \
+                     (Fig. 8's previous-step update is not a function of the state)"
+                        .to_owned(),
+                ));
+            }
             let steps = model.run_steps(&settings).context("yu2021 run size")?;
-            limits.need_steps("yu2021", steps as f64)?;
+            let steps = steps as f64 + lyapunov.as_ref().map_or(0.0, lyapunov_steps);
+            limits.need_steps("yu2021", steps)?;
             Ok(Box::new(move || {
                 run_stepped(check, |factor| {
                     let r = model
@@ -544,6 +574,14 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                         .push("mean_dte", "1", r.mean_dte())
                         .push("dte_peak_to_peak", "1", r.dte_peak_to_peak())
                         .push("mean_backlash", "1", r.mean_backlash());
+                    if let Some(l) = &lyapunov {
+                        // from the end state of the run, at its time (Chen's fractal backlash
+                        // is not periodic in time)
+                        let s = model
+                            .lyapunov(&settings, &r.final_state, &tighter(l, factor))
+                            .context("yu2021")?;
+                        push_lyapunov(&mut rec, &s, std::f64::consts::TAU / omega, "1");
+                    }
                     Ok((rec, r.stats))
                 })
             }) as Job)

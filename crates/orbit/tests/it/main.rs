@@ -8,6 +8,7 @@ mod hostile;
 mod impact;
 mod linear;
 mod liu;
+mod lyapunov;
 mod models;
 mod piecewise;
 mod smooth_and_grazing;

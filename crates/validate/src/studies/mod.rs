@@ -30,3 +30,49 @@ pub fn all_studies() -> Vec<Study> {
 pub(crate) fn step_cells(s: &timestep::Stats) -> [crate::Cell; 4] {
     [s.n_accepted, s.n_rejected, s.n_rhs, s.n_events].map(crate::Cell::Count)
 }
+
+/// Forcing periods of the validation's Lyapunov runs (one QR renormalisation each; the spread is
+/// taken over the last quarter, [`models::response::settled_lyapunov`]).
+pub(crate) const LYAPUNOV_PERIODS: usize = 200;
+
+/// The chaos evidence of a non-periodic response (forcing period `period`): the 0–1 test `K` (when known) beside the
+/// largest Lyapunov exponent per forcing period with its spread and convergence, and, with the
+/// full spectrum of a model with linear damping only, the volume-law defect `Σλ − div` (the
+/// integrator's floor on every exponent). A chaos reading from λ1 is stated only when it
+/// converged: `λ1 > spread` (chaotic), `λ1 < −spread` (regular), else undecided.
+pub(crate) fn chaos_evidence(
+    k: Option<f64>,
+    s: &orbit::LyapunovSpectrum,
+    period: f64,
+    divergence: Option<f64>,
+) -> String {
+    use models::contract::fmt_sig;
+    let t = period;
+    let (l, spread) = (s.largest() * t, s.spread_last[0] * t);
+    let reading = if !s.converged {
+        "not converged: no reading"
+    } else if l > spread {
+        "converged, positive: chaotic"
+    } else if l < -spread {
+        "converged, negative: regular"
+    } else {
+        "converged, within its spread of 0: undecided"
+    };
+    let mut e = String::new();
+    if let Some(k) = k {
+        e.push_str(&format!("0–1 test K = {}; ", fmt_sig(k, 2)));
+    }
+    e.push_str(&format!(
+        "λ1·T = {} ± {} per period over {} periods after a warm-up ({reading})",
+        fmt_sig(l, 3),
+        fmt_sig(spread, 2),
+        (s.running.len() as f64 * s.window / period).round()
+    ));
+    if let Some(d) = divergence {
+        e.push_str(&format!(
+            ", volume-law defect (Σλ − div)·T = {}",
+            fmt_sig((s.sum() - d) * t, 2)
+        ));
+    }
+    e
+}

@@ -190,6 +190,32 @@ pub(crate) fn run_checked(p: &Yu2021Params, o: Options, omega: f64) -> Result<Re
         .context("Yu 2021 checked run")
 }
 
+/// Forcing periods of a Yu Lyapunov run (the 6-DOF variational flow is `10 × 10` with a
+/// finite-difference force Jacobian: about 1.7 CPU s per run at ω* = 0.2 … 0.31).
+pub(crate) const YU_LYAPUNOV_PERIODS: usize = 200;
+
+/// The largest Lyapunov exponent of a checked run's settled response (from its end state,
+/// [`Yu2021Model::lyapunov`]), for the chaos evidence beside the Poincaré motion type.
+pub(crate) fn run_lyapunov(
+    p: &Yu2021Params,
+    o: Options,
+    omega: f64,
+    run: &ReferenceRun,
+) -> Result<orbit::LyapunovSpectrum, Error> {
+    Yu2021Model::new(p, o)
+        .context("Yu 2021 model")?
+        .lyapunov(
+            &settings(omega),
+            &run.response.final_state,
+            &models::response::LyapunovWindowOptions {
+                windows: YU_LYAPUNOV_PERIODS,
+                exponents: 1,
+                rtol: 1e-9,
+            },
+        )
+        .context("Yu 2021 Lyapunov run")
+}
+
 /// The flags of labelled checked runs (`label: reason`), for the rows that rest on them.
 pub(crate) fn run_flags<'a>(
     runs: impl IntoIterator<Item = (String, &'a ReferenceRun)>,

@@ -15,7 +15,7 @@ use models::yu2021::{DynamicBacklashLaw, Options, ReferenceRun, Response};
 
 use super::yu2021::{
     G_FIG9, check_cells, checked_columns, fractal_rig_with, row_with, run_checked, run_flags,
-    stat_cells,
+    run_lyapunov, stat_cells,
 };
 use crate::{
     Claim, Comparison, Cost, Error, Evidence, Figure, Paper, ResultExt, Series, Study, StudyOutput,
@@ -386,13 +386,33 @@ fn fig11() -> Result<StudyOutput, Error> {
         })
         .collect();
     let all = expect.iter().all(|(i, _, ok)| ok(runs[*i].motion));
+    // the chaos evidence of the two non-periodic claims (D = 1.6 constant "quasi-periodic",
+    // D = 1.8 dynamic "chaotic"): λ1 of the model's settled response beside its motion type
+    let lyap: Vec<String> = [5usize, 6]
+        .iter()
+        .map(|&i| {
+            let (d, dynamic) = cases[i];
+            let l = run_lyapunov(
+                &fractal_rig_with(d, G_FIG9)?,
+                if dynamic { Options::default() } else { off },
+                W_FIG10,
+                &runs[i],
+            )?;
+            Ok(format!(
+                "{}: {}",
+                name(i),
+                super::chaos_evidence(None, &l, std::f64::consts::TAU / W_FIG10, None)
+            ))
+        })
+        .collect::<Result<_, Error>>()?;
     out.claim(
         Claim::new(
             "[D = 1.2] system under goes periodic motion … [D = 1.6] the curve of dynamic backlash is a four-periodic motion while constant model is quasi-periodic motion … [D = 1.8] The dynamic model becomes chaotic while the constant model still maintains periodic",
             "Sect. 4.2, Fig. 10",
             format!(
-                "Poincaré motion type of the recorded 20 periods (sections at every sampled phase, tolerance 1e-4 of pp(δ*) + mean B; quasi-periodic and chaotic both read as non-periodic): {}",
-                got.join("; ")
+                "Poincaré motion type of the recorded 20 periods (sections at every sampled phase, tolerance 1e-4 of pp(δ*) + mean B; quasi-periodic and chaotic both read as non-periodic): {}; largest Lyapunov exponent of the settled response: {}",
+                got.join("; "),
+                lyap.join("; ")
             ),
             Verdict::from_bool(all),
         )
@@ -633,15 +653,26 @@ fn fig12() -> Result<StudyOutput, Error> {
         out.figure(sec);
     }
     let motion_of = |i: usize| runs[i].2.motion;
-    // (a) periodic for every D
-    let periodic: Vec<String> = d_idx.iter().map(|&i| motion_of(i).label()).collect();
+    // (a) periodic for every D, with λ1 of each settled response beside the motion type
+    let periodic: Vec<String> = d_idx
+        .iter()
+        .map(|&i| {
+            let (d, g, w) = jobs[i];
+            let l = run_lyapunov(&fractal_rig_with(d, g)?, Options::default(), w, &runs[i].2)?;
+            Ok(format!(
+                "{} ({})",
+                motion_of(i).label(),
+                super::chaos_evidence(None, &l, std::f64::consts::TAU / w, None)
+            ))
+        })
+        .collect::<Result<_, Error>>()?;
     out.claim(
         Claim::new(
             "all the curves are thin closed lines … which indicates that gear system under all morphology undergoes periodic motion at given dimensionless frequency",
             "Sect. 4.3, Fig. 12(a)",
             format!(
-                "Poincaré motion type at ω* = 0.31 for D = 1.2, 1.4, 1.6, 1.8: {}",
-                periodic.join(", ")
+                "Poincaré motion type at ω* = 0.31 for D = 1.2, 1.4, 1.6, 1.8 (with λ1 of the settled response): {}",
+                periodic.join("; ")
             ),
             Verdict::from_bool(d_idx.iter().all(|&i| motion_of(i) != Motion::NonPeriodic)),
         )

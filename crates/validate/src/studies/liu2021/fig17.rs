@@ -43,7 +43,7 @@ fn run() -> Result<StudyOutput, Error> {
     let paper = published!("liu2021.toml")?;
     let rig = Rig::table2();
     let rpm = paper.value("sect38.motor-rpm")?.value;
-    let (_, time, sp, _) = rig_spectrum(&rig, rpm)?;
+    let (_, time, sp, _, _) = rig_spectrum(&rig, rpm)?;
     let fc = rig.centre_frequency(rpm);
     let z2 = rig.z2 as usize;
     let amp = |k: usize| sp.amplitude.get(k).copied().unwrap_or(f64::NAN);

@@ -56,24 +56,28 @@ struct Row {
     window_settled: bool,
     /// The one-period time reference is a sample of a non-periodic orbit.
     time_unsettled: bool,
+    /// The 0–1 test `K` of the nominal long window.
+    chaos_k: f64,
+    /// The forcing period `T` (dimensionless).
+    period: f64,
+    /// The Lyapunov spectrum of a non-periodic speed (`None` at a periodic one).
+    lyapunov: Option<orbit::LyapunovSpectrum>,
 }
+
+/// The rig point, its time reference, the spectrum, the run's work and its end `(τ, [q, q'])`.
+pub(super) type RigSpectrum = (
+    liu2021::Model,
+    TimeReference,
+    timestep::Spectrum,
+    timestep::Stats,
+    (f64, [f64; 2]),
+);
 
 /// The Sect. 3.8 rig point at motor speed `rpm`: Table 1 with T2 = 3 N·m and the rig's ratio
 /// and pinion speed; the time-integration reference (library strategy, 100× refinement and
 /// Poincaré motion type) and the amplitude spectrum of `q` over one steady excitation period
 /// sampled at [`SAMPLES`] points (bin k = k f_c).
-pub(super) fn rig_spectrum(
-    rig: &liu2021::Rig,
-    rpm: f64,
-) -> Result<
-    (
-        liu2021::Model,
-        TimeReference,
-        timestep::Spectrum,
-        timestep::Stats,
-    ),
-    Error,
-> {
+pub(super) fn rig_spectrum(rig: &liu2021::Rig, rpm: f64) -> Result<RigSpectrum, Error> {
     let mut p = base();
     p.load_torque = 3.0;
     p.ratio = f64::from(rig.z2) / f64::from(rig.z1);
@@ -90,7 +94,11 @@ pub(super) fn rig_spectrum(
     let k = SAMPLES.min(ti.q.len());
     let sp =
         timestep::amplitude_spectrum(&ti.q[..k], s.integration.sample_step).context("spectrum")?;
-    Ok((m, time, sp, ti.stats))
+    let end = match (ti.tau.last(), ti.q.last(), ti.v.last()) {
+        (Some(t), Some(q), Some(v)) => (*t, [*q, *v]),
+        _ => return Err(Error::Study("liu2021 rig: empty time reference".to_owned())),
+    };
+    Ok((m, time, sp, ti.stats, end))
 }
 
 fn run() -> Result<StudyOutput, Error> {
@@ -105,7 +113,7 @@ fn run() -> Result<StudyOutput, Error> {
     let rows: Vec<Row> = timestep::sweep(
         &rpms,
         |(_, n)| {
-            let (m, time, sp, stats) = rig_spectrum(&rig, *n)?;
+            let (m, time, sp, stats, end) = rig_spectrum(&rig, *n)?;
             let a = |k: usize| sp.amplitude.get(k).copied().unwrap_or(f64::NAN);
             let hb = liu2021::solve_hbm(&m, &HbmOptions::default(), None).context("hbm")?;
             let lw =
@@ -113,7 +121,27 @@ fn run() -> Result<StudyOutput, Error> {
             let ratio =
                 |w: &models::response::WindowStats| w.line_incoherent[1] / w.line_incoherent[0];
             let (lo, hi) = lw.prediction_interval(ratio);
+            // the chaos evidence of a non-periodic speed: λ1 of the settled response beside
+            // the 0–1 test (λ1 only: near grazing one window's tangent map stretches by 1e5
+            // and more, beyond which a second QR column loses its direction to rounding and
+            // the integrator's error)
+            let lyapunov = if time.motion.period_multiple() == 0 {
+                let o = models::response::LyapunovWindowOptions {
+                    windows: super::super::LYAPUNOV_PERIODS,
+                    exponents: 1,
+                    rtol: 1e-9,
+                };
+                Some(
+                    models::response::settled_lyapunov(m, m.period(), end.0, &end.1, &o)
+                        .context("Lyapunov run")?,
+                )
+            } else {
+                None
+            };
             Ok(Row {
+                chaos_k: lw.nominal.chaos_k,
+                period: m.period(),
+                lyapunov,
                 disp_window: (ratio(&lw.nominal), lo, hi),
                 window_settled: lw.settled(ratio, 1.0 / crate::precision::DRAWING_STEPS),
                 time_unsettled: time.motion.period_multiple() == 0,
@@ -159,6 +187,10 @@ fn run() -> Result<StudyOutput, Error> {
         ("ratio_velocity_window_lo", "1"),
         ("ratio_velocity_window_hi", "1"),
         ("ratio_acceleration_window", "1"),
+        ("chaos_k_window", "1"),
+        ("lambda1_per_period", "1"),
+        ("lambda1_spread_per_period", "1"),
+        ("lambda_converged", "1"),
     ];
     let mut t = Table::new("ratios", &super::columns(&own, &super::RUN_COLUMNS));
     let (mut model_pts, mut hbm_pts, mut th_pts, mut ex_pts) =
@@ -172,6 +204,15 @@ fn run() -> Result<StudyOutput, Error> {
         let (vel, vlo, vhi) = (d * z2, dlo * z2, dhi * z2);
         let (acc, alo, ahi) = (vel * z2, vlo * z2, vhi * z2);
         let vel_hbm = r.disp_hbm * z2;
+        let chaos = r.lyapunov.as_ref().map_or(String::new(), |l| {
+            format!(
+                "; motion at {} rpm: {}, {}",
+                r.n,
+                r.motion,
+                super::super::chaos_evidence(Some(r.chaos_k), l, r.period, None)
+            )
+        });
+        let with_chaos = |n: &str| format!("{n}{chaos}");
         let observable = Evidence::Calibration(
             "observable: the velocity ratio is the one of displacement, velocity, acceleration that \
              matches the theory column (R-LIU-TABLE2)"
@@ -183,7 +224,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .reading("R-LIU-TABLE2")
                 .class(observable.clone())
                 .unsettled_if(!r.window_settled)
-                .note("model: window-averaged velocity ratio A(f_e)/A(f_c) over 50 periods, 95 % prediction interval over the long-window variants"),
+                .note(&with_chaos("model: window-averaged velocity ratio A(f_e)/A(f_c) over 50 periods, 95 % prediction interval over the long-window variants")),
         );
         out.compare(
             Comparison::published(th, vel_hbm)?
@@ -209,7 +250,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .reading("R-LIU-TABLE2")
                 .cause("like with like: the rig measures acceleration, so the model's acceleration ratio A(f_e)/A(f_c) = Z2² × displacement ratio is compared")
                 .unsettled_if(!r.window_settled)
-                .note("model: window-averaged acceleration ratio over 50 periods, 95 % prediction interval over the long-window variants"),
+                .note(&with_chaos("model: window-averaged acceleration ratio over 50 periods, 95 % prediction interval over the long-window variants")),
         );
         out.compare(
             Comparison::published(exv, vel)?
@@ -218,7 +259,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .reading("R-LIU-TABLE2")
                 .class(observable)
                 .unsettled_if(!r.window_settled)
-                .note("model: window-averaged velocity ratio (the observable chosen to match the theory column; shown as a calibration)"),
+                .note(&with_chaos("model: window-averaged velocity ratio (the observable chosen to match the theory column; shown as a calibration)")),
         );
         let (tu, wu) = (r.time_unsettled, !r.window_settled);
         let mut row = vec![
@@ -237,7 +278,20 @@ fn run() -> Result<StudyOutput, Error> {
             Cell::settled_if(vlo, wu),
             Cell::settled_if(vhi, wu),
             Cell::settled_if(acc, wu),
+            Cell::Text(sig(r.chaos_k)),
         ];
+        match &r.lyapunov {
+            Some(l) => row.extend([
+                Cell::Text(models::contract::fmt_sig(l.largest() * r.period, 2)),
+                Cell::Text(models::contract::fmt_sig(l.spread_last[0] * r.period, 1)),
+                if l.converged { 1.0 } else { 0.0 }.into(),
+            ]),
+            None => row.extend([
+                Cell::Text("-".to_owned()),
+                Cell::Text("-".to_owned()),
+                Cell::Text("-".to_owned()),
+            ]),
+        }
         row.extend(super::run_cells(&r.stats, r.hbm_accuracy));
         t.push(row)?;
         model_pts.push((r.n, vel));
