@@ -24,6 +24,7 @@ use crate::{
 };
 
 mod continuation;
+mod design_charts;
 mod fig17;
 mod load_sweep;
 mod orbit_branch;
@@ -46,6 +47,7 @@ pub fn studies() -> Vec<Study> {
         load_sweep::study(),
         parameter_sweeps::study(),
         readings_thresholds::study(),
+        design_charts::study(),
     ]
 }
 

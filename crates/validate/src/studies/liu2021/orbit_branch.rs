@@ -9,8 +9,8 @@ use orbit::{
     ShootingPoint, SpecialKind,
 };
 
-type Branch = orbit::ShootingBranch;
-type SpecialPoint = orbit::SpecialPoint<ShootingPoint>;
+pub(super) type Branch = orbit::ShootingBranch;
+pub(super) type SpecialPoint = orbit::SpecialPoint<ShootingPoint>;
 use system::{SecondOrderSystem, SystemError};
 
 use super::{base, model, sig, speed_tolerance};
@@ -206,7 +206,32 @@ fn shooting() -> ShootingOptions {
 
 /// The ω1 branch from `w_start` in direction `dir`.
 fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
-    let mut p = base();
+    let (branch, conv) = speed_branch_at(base(), w_start, dir, [99.0, 221.0], 400)?;
+    Ok(Run {
+        label: if dir > 0.0 {
+            "ω1 from 100 up"
+        } else {
+            "ω1 from 220 down"
+        },
+        parameter: "omega1",
+        unit: "rad/s",
+        scale: conv,
+        branch,
+    })
+}
+
+/// The period-1 branch in ω1 of the parameter set `p` (its `omega1` replaced by `w_start`),
+/// from the orbit settled by 199 periods of time integration, continued in direction `dir`
+/// inside `range` (rad/s) with at most `max_points` points; with the conversion `ω̄_c` per
+/// rad/s (branch parameters are `ω̄_c`: divide by it for rad/s).
+pub(super) fn speed_branch_at(
+    p: Parameters,
+    w_start: f64,
+    dir: f64,
+    range: [f64; 2],
+    max_points: usize,
+) -> Result<(Branch, f64), Error> {
+    let mut p = p;
     p.omega1 = w_start;
     let m = model(&p)?;
     let conv = m.omega_c / w_start; // ω̄_c per rad/s
@@ -216,10 +241,10 @@ fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
         initial_step: 1.0,
         max_step: 2.0,
         min_step: 1e-6,
-        max_points: 400,
+        max_points,
         corrector: ShootingCorrection {
             parameter: Parameter::BaseFrequency,
-            range: [99.0 * conv, 221.0 * conv],
+            range: [range[0] * conv, range[1] * conv],
             direction: dir,
             parameter_scale: conv,
             state_scale: 0.1 * m.backlash,
@@ -233,17 +258,7 @@ fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
     let branch = prob
         .continuation(&[q, v], m.omega_c, &opts)
         .context("continuation in ω1")?;
-    Ok(Run {
-        label: if dir > 0.0 {
-            "ω1 from 100 up"
-        } else {
-            "ω1 from 220 down"
-        },
-        parameter: "omega1",
-        unit: "rad/s",
-        scale: conv,
-        branch,
-    })
+    Ok((branch, conv))
 }
 
 /// A branch in a Table 1 entry (`load_torque` or `ak`) at speed `w`.
@@ -299,7 +314,7 @@ fn named_branch(
 
 /// Short name of a special point: separation from the drive flank (max of `q + b̄` through 0,
 /// event 1), contact with the back flank (max of `q − b̄`, event 0), period doubling, fold.
-fn marker(kind: SpecialKind) -> String {
+pub(super) fn marker(kind: SpecialKind) -> String {
     match kind {
         SpecialKind::Grazing {
             event: 1,
@@ -334,15 +349,15 @@ fn found_or_nan(p: Option<&SpecialPoint>, scale: f64) -> (f64, f64, f64) {
     })
 }
 
-fn first(b: &Branch, kind: SpecialKind) -> Option<&SpecialPoint> {
+pub(super) fn first(b: &Branch, kind: SpecialKind) -> Option<&SpecialPoint> {
     b.special.iter().find(|s| s.kind == kind)
 }
 
-const UNI: SpecialKind = SpecialKind::Grazing {
+pub(super) const UNI: SpecialKind = SpecialKind::Grazing {
     event: 1,
     extremum: Extremum::Max,
 };
-const BI: SpecialKind = SpecialKind::Grazing {
+pub(super) const BI: SpecialKind = SpecialKind::Grazing {
     event: 0,
     extremum: Extremum::Max,
 };
@@ -929,7 +944,7 @@ fn base_backlash() -> Result<f64, Error> {
     Ok(model(&base())?.backlash)
 }
 
-fn stop_label(b: &Branch) -> String {
+pub(super) fn stop_label(b: &Branch) -> String {
     match &b.stop {
         orbit::StopReason::ReachedEnd | orbit::StopReason::LeftRange { .. } => {
             "range left".to_owned()

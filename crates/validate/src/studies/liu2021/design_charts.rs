@@ -1,0 +1,686 @@
+//! Rattle design charts (issue 39, item 2): where in (ω1, T2) and (ω1, a_k) the Liu gear pair is
+//! free of rattle, rattles on one flank or on both.
+//!
+//! Each chart is a brute-force map (one settled long window per cell, [`liu2021::settled_window`])
+//! with the boundaries located by shooting continuation drawn over it: the period-1 branch in
+//! ω1 is continued at fixed values of the second parameter (the slices), from 100 rad/s up and
+//! from 220 rad/s down ([`super::orbit_branch::speed_branch_at`]), and its special points on each
+//! slice — the unilateral-onset grazing (drive flank), the grazing of the back flank, the folds
+//! and the loss of stability of the bilateral orbits — are joined across the slices into curves.
+//! A slice without a point leaves a gap in its curve and a named row in the `curves` table
+//! (why: the branch stopped, or left the range before reaching it).
+//!
+//! The agreement rows hold the map and the curves against each other: every cell whose rattle
+//! state differs from a 4-neighbour's (a boundary cell) must lie within one cell of a curve,
+//! and every curve must separate cells of different states — or lie where the map names why
+//! not (cells that are not period-1: a chaotic band, where no period-1 orbit is the attractor;
+//! an unstable orbit, which no time integration reaches).
+
+use models::liu2021::{self, LongWindowOptions, Parameters};
+use models::motion::Motion;
+use models::response::window_motion;
+use orbit::SpecialKind;
+use plot::{Curve, CurveStyle, HeatScale, Heatmap};
+
+use super::orbit_branch::{BI, Branch, UNI, speed_branch_at, stop_label};
+use super::{base, model, sig};
+use crate::{
+    Comparison, Cost, Error, Evidence, Paper, Reference, Study, StudyOutput, Table, Tolerance,
+    ToleranceBand,
+};
+
+pub(super) fn study() -> Study {
+    Study {
+        id: "liu2021-design-charts",
+        paper: Paper::Liu2021,
+        source: "Fig. 11, 12–15; Sect. 3.3, 3.6, 3.7",
+        title: "Rattle design charts in (ω1, T2) and (ω1, a_k): long-window map with the continued boundaries",
+        description: "Two 40 × 40 maps of the settled long-window rattle state (time integration \
+            from drive-flank contact, 10 transient periods, a 20-period window, one more window \
+            when the first still holds a transient; a cell that fails is a failed cell): ω1 = \
+            100–220 rad/s against T2 = 0–60 N·m (a_k from Table 1) and against a_k = 0.05–0.8 \
+            (T2 = 30 N·m). Over them the boundaries from shooting continuation of the period-1 \
+            orbit in ω1 at fixed T2 or a_k (slices): the unilateral-onset grazing, the grazing \
+            of the back flank, the folds and the loss of stability of the bilateral orbits (from \
+            220 rad/s down). Agreement rows: every boundary cell of the map within one cell of \
+            a curve or in a named region (cells not period-1: chaotic band), and every curve \
+            point separating different states or in a named region (unstable orbit, chaotic \
+            band). Consistency of two methods on one model, not a reproduction of the paper.",
+        cost: Cost::Heavy,
+        run,
+    }
+}
+
+/// Cells per axis of each map.
+const N: usize = 40;
+/// The ω1 range of both maps (rad/s): below Liu's unilateral onset to well inside the bilateral
+/// region (Fig. 11: onsets near 135 and 165 rad/s).
+const OMEGA: [f64; 2] = [100.0, 220.0];
+/// Slices (fixed second-parameter values) at which the branch is continued in ω1.
+const SLICES: usize = 9;
+
+/// Map codes: the rattle state (0, 1, 2) of a period-1 window; 3 and 4 a unilateral or
+/// bilateral window that is not period-1 (period-n, quasi-periodic or chaotic); 5 unsettled
+/// (still a transient after the second window); NaN a failed cell.
+const NOT_P1: f64 = 2.0;
+const UNSETTLED: f64 = 5.0;
+
+fn states() -> HeatScale {
+    HeatScale::Categorical(vec![
+        (0.0, "no rattle".to_owned()),
+        (1.0, "unilateral, period-1".to_owned()),
+        (2.0, "bilateral, period-1".to_owned()),
+        (3.0, "unilateral, not period-1".to_owned()),
+        (4.0, "bilateral, not period-1".to_owned()),
+        (UNSETTLED, "unsettled".to_owned()),
+    ])
+}
+
+/// The window of every map cell (module docs): short, but at least the 20 periods that the
+/// section and 0–1 tests need; one window more when the first caught a transient.
+fn window_options() -> LongWindowOptions {
+    LongWindowOptions {
+        transient_periods: 10.0,
+        periods: models::response::MIN_CLASSIFIED_PERIODS,
+        settle_windows: 1,
+        ..LongWindowOptions::default()
+    }
+}
+
+/// The map code of one cell (module docs); NaN when the cell fails.
+fn cell(p: &Parameters) -> f64 {
+    let Ok(m) = model(p) else { return f64::NAN };
+    let Ok(w) = liu2021::settled_window(&m, &window_options(), None) else {
+        return f64::NAN;
+    };
+    let rsv = f64::from(w.stats.state.rsv());
+    match window_motion(&w.stats) {
+        _ if rsv == 0.0 => 0.0,
+        Some(Motion::Periodic(1)) => rsv,
+        Some(_) => rsv + NOT_P1,
+        None => UNSETTLED,
+    }
+}
+
+/// The rattle state (0, 1, 2) of a map code; `None` for a failed cell.
+fn rsv_of(code: f64) -> Option<u8> {
+    if code.is_nan() {
+        None
+    } else if code >= UNSETTLED {
+        Some(2)
+    } else if code > NOT_P1 {
+        Some((code - NOT_P1) as u8)
+    } else {
+        Some(code as u8)
+    }
+}
+
+/// The code marks a cell whose window is not period-1 (or unsettled, or failed).
+fn not_period_one(code: f64) -> bool {
+    !(code <= NOT_P1)
+}
+
+/// One chart: its second parameter and range.
+struct Chart {
+    name: &'static str,
+    y: (&'static str, &'static str),
+    range: [f64; 2],
+    set: fn(&mut Parameters, f64),
+}
+
+fn charts() -> [Chart; 2] {
+    [
+        Chart {
+            name: "t2",
+            y: ("T2", "N m"),
+            range: [0.0, 60.0],
+            set: |p, v| p.load_torque = v,
+        },
+        Chart {
+            name: "ak",
+            y: ("a_k", "1"),
+            range: [0.05, 0.8],
+            set: |p, v| p.kr = v * p.k0,
+        },
+    ]
+}
+
+fn axis(range: [f64; 2], n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| range[0] + (range[1] - range[0]) * i as f64 / (n - 1) as f64)
+        .collect()
+}
+
+/// The special points of one slice: the branch from 100 rad/s up and from 220 rad/s down.
+struct Slice {
+    y: f64,
+    up: Result<(Branch, f64), String>,
+    down: Result<(Branch, f64), String>,
+}
+
+/// A curve of a chart: its name, style and one point per slice (NaN: none on that slice, with
+/// the reason in `why`); `stable[k]`: the orbit at the point is stable.
+struct Boundary {
+    label: &'static str,
+    style: CurveStyle,
+    colour: usize,
+    points: Vec<(f64, f64)>,
+    stable: Vec<bool>,
+    why: Vec<String>,
+}
+
+/// The first special point of `kind` on a branch as `(ω1, stable)`.
+fn special_on(b: &(Branch, f64), kind: SpecialKind) -> Option<(f64, bool)> {
+    b.0.special
+        .iter()
+        .find(|s| s.kind == kind)
+        .map(|s| (s.point.parameter / b.1, s.point.floquet.stable))
+}
+
+/// Every fold of a branch (rad/s).
+fn folds_on(b: &(Branch, f64)) -> Vec<f64> {
+    b.0.folds.iter().map(|f| f.parameter / b.1).collect()
+}
+
+/// The loss of stability of the branch from 220 rad/s down: the midpoint of the last stable and
+/// the first unstable continuation point (steps ≤ 2 rad/s, under a map cell).
+fn stability_limit(b: &(Branch, f64)) -> Option<f64> {
+    let pts = &b.0.points;
+    let k = pts.iter().position(|p| !p.floquet.stable)?;
+    if k == 0 {
+        return None;
+    }
+    Some(0.5 * (pts[k - 1].parameter + pts[k].parameter) / b.1)
+}
+
+fn missing(b: &Result<(Branch, f64), String>, what: &str) -> String {
+    match b {
+        Ok((br, conv)) => format!(
+            "no {what} on the branch ({} points, stopped: {}, at ω1 = {} rad/s)",
+            br.points.len(),
+            stop_label(br),
+            sig(br.points.last().map_or(f64::NAN, |p| p.parameter / conv))
+        ),
+        Err(e) => format!("the branch failed: {e}"),
+    }
+}
+
+fn boundaries(slices: &[Slice]) -> Vec<Boundary> {
+    let mut out = Vec::new();
+    let from = |label, style, colour, up: bool, kind: SpecialKind, what: &str| {
+        let mut b = Boundary {
+            label,
+            style,
+            colour,
+            points: Vec::new(),
+            stable: Vec::new(),
+            why: Vec::new(),
+        };
+        for s in slices {
+            let branch = if up { &s.up } else { &s.down };
+            match branch.as_ref().ok().and_then(|br| special_on(br, kind)) {
+                Some((w, st)) => {
+                    b.points.push((w, s.y));
+                    b.stable.push(st);
+                    b.why.push(String::new());
+                }
+                None => {
+                    b.points.push((f64::NAN, s.y));
+                    b.stable.push(false);
+                    b.why.push(missing(branch, what));
+                }
+            }
+        }
+        b
+    };
+    out.push(from(
+        "unilateral onset (grazing, drive flank)",
+        CurveStyle::Solid,
+        0,
+        true,
+        UNI,
+        "drive-flank grazing",
+    ));
+    out.push(from(
+        "back-flank grazing, branch from 100 up",
+        CurveStyle::Dashed,
+        0,
+        true,
+        BI,
+        "back-flank grazing",
+    ));
+    out.push(from(
+        "back-flank grazing, branch from 220 down",
+        CurveStyle::Dashed,
+        2,
+        false,
+        BI,
+        "back-flank grazing",
+    ));
+    let mut limit = Boundary {
+        label: "limit of stable bilateral orbits (from 220 down)",
+        style: CurveStyle::Solid,
+        colour: 2,
+        points: Vec::new(),
+        stable: Vec::new(),
+        why: Vec::new(),
+    };
+    for s in slices {
+        match s.down.as_ref().ok().and_then(stability_limit) {
+            Some(w) => {
+                limit.points.push((w, s.y));
+                // the stable side of the limit is what the map sees
+                limit.stable.push(true);
+                limit.why.push(String::new());
+            }
+            None => {
+                limit.points.push((f64::NAN, s.y));
+                limit.stable.push(false);
+                limit.why.push(missing(&s.down, "loss of stability"));
+            }
+        }
+    }
+    out.push(limit);
+    let mut folds = Boundary {
+        label: "folds (branches from 100 up and 220 down)",
+        style: CurveStyle::Crosses,
+        colour: 1,
+        points: Vec::new(),
+        stable: Vec::new(),
+        why: Vec::new(),
+    };
+    for s in slices {
+        for br in [&s.up, &s.down].into_iter().flatten() {
+            for w in folds_on(br) {
+                folds.points.push((w, s.y));
+                // at a fold a stable and an unstable orbit meet: the map sees the stable one
+                folds.stable.push(true);
+                folds.why.push(String::new());
+            }
+        }
+    }
+    out.push(folds);
+    out
+}
+
+/// Grid index of `v` on a uniform axis (nearest cell), `None` outside it.
+fn index(v: f64, ax: &[f64]) -> Option<usize> {
+    let (a, b) = (ax[0], ax[ax.len() - 1]);
+    let d = (b - a) / (ax.len() - 1) as f64;
+    let k = ((v - a) / d).round();
+    (k >= 0.0 && k < ax.len() as f64).then_some(k as usize)
+}
+
+/// The cells a curve passes through: each drawn piece sampled at 64 points per segment, each
+/// isolated point (crosses, or a point between two gaps) its own cell; with the stability of
+/// the orbit at the nearer end.
+fn curve_cells(c: &Boundary, xs: &[f64], ys: &[f64]) -> Vec<(usize, usize, bool)> {
+    let mut cells: Vec<(usize, usize, bool)> = Vec::new();
+    let mut push = |x: f64, y: f64, st: bool| {
+        if let (Some(i), Some(j)) = (index(x, xs), index(y, ys)) {
+            if !cells.iter().any(|&(a, b, _)| a == i && b == j) {
+                cells.push((i, j, st));
+            }
+        }
+    };
+    let ok = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite();
+    for (k, p) in c.points.iter().enumerate() {
+        if !ok(p) {
+            continue;
+        }
+        push(p.0, p.1, c.stable[k]);
+        if c.style == CurveStyle::Crosses {
+            continue;
+        }
+        if let Some(q) = c.points.get(k + 1).filter(|q| ok(q)) {
+            for s in 1..64 {
+                let t = f64::from(s) / 64.0;
+                let st = if t < 0.5 {
+                    c.stable[k]
+                } else {
+                    c.stable[k + 1]
+                };
+                push(p.0 + t * (q.0 - p.0), p.1 + t * (q.1 - p.1), st);
+            }
+        }
+    }
+    cells
+}
+
+/// Counts of the agreement of a map and its curves (module docs).
+#[derive(Debug, Default)]
+struct Agreement {
+    boundary: usize,
+    near_curve: usize,
+    chaotic: usize,
+    unexplained: Vec<(usize, usize)>,
+    curve_cells: usize,
+    separating: usize,
+    curve_chaotic: usize,
+    curve_unstable: usize,
+    curve_unexplained: Vec<(usize, usize)>,
+}
+
+fn agreement(codes: &[f64], xs: &[f64], ys: &[f64], curves: &[Boundary]) -> Agreement {
+    let (nx, ny) = (xs.len(), ys.len());
+    let at = |i: usize, j: usize| codes[j * nx + i];
+    let around = |i: usize, j: usize| {
+        let (i0, i1) = (i.saturating_sub(1), (i + 1).min(nx - 1));
+        let (j0, j1) = (j.saturating_sub(1), (j + 1).min(ny - 1));
+        (j0..=j1).flat_map(move |b| (i0..=i1).map(move |a| (a, b)))
+    };
+    let hit: Vec<(usize, usize, bool)> = curves
+        .iter()
+        .flat_map(|c| curve_cells(c, xs, ys))
+        .collect();
+    let mut near = vec![false; nx * ny];
+    for &(i, j, _) in &hit {
+        for (a, b) in around(i, j) {
+            near[b * nx + a] = true;
+        }
+    }
+    let mut g = Agreement::default();
+    for j in 0..ny {
+        for i in 0..nx {
+            let Some(r) = rsv_of(at(i, j)) else { continue };
+            let mut nb = Vec::new();
+            if i > 0 {
+                nb.push((i - 1, j));
+            }
+            if i + 1 < nx {
+                nb.push((i + 1, j));
+            }
+            if j > 0 {
+                nb.push((i, j - 1));
+            }
+            if j + 1 < ny {
+                nb.push((i, j + 1));
+            }
+            let differs = nb
+                .iter()
+                .any(|&(a, b)| rsv_of(at(a, b)).is_some_and(|s| s != r));
+            if !differs {
+                continue;
+            }
+            g.boundary += 1;
+            if near[j * nx + i] {
+                g.near_curve += 1;
+            } else if around(i, j).any(|(a, b)| not_period_one(at(a, b))) {
+                g.chaotic += 1;
+            } else {
+                g.unexplained.push((i, j));
+            }
+        }
+    }
+    for c in curves {
+        for (i, j, stable) in curve_cells(c, xs, ys) {
+            g.curve_cells += 1;
+            let mut seen: Vec<u8> = around(i, j).filter_map(|(a, b)| rsv_of(at(a, b))).collect();
+            seen.sort_unstable();
+            seen.dedup();
+            if seen.len() > 1 {
+                g.separating += 1;
+            } else if around(i, j).any(|(a, b)| not_period_one(at(a, b))) {
+                g.curve_chaotic += 1;
+            } else if !stable {
+                g.curve_unstable += 1;
+            } else {
+                g.curve_unexplained.push((i, j));
+            }
+        }
+    }
+    g
+}
+
+/// Cells as `(ω1, y)` text for a note (at most 8).
+fn cells_text(cells: &[(usize, usize)], xs: &[f64], ys: &[f64]) -> String {
+    let mut t: Vec<String> = cells
+        .iter()
+        .take(8)
+        .map(|&(i, j)| format!("({}, {})", sig(xs[i]), sig(ys[j])))
+        .collect();
+    if cells.len() > 8 {
+        t.push(format!("… {} more", cells.len() - 8));
+    }
+    t.join(", ")
+}
+
+/// CPU seconds charged so far to the account in force (NaN without one).
+fn cpu_now() -> f64 {
+    system::account::current().map_or(f64::NAN, |a| a.usage().cpu_seconds)
+}
+
+fn run() -> Result<StudyOutput, Error> {
+    let mut out = StudyOutput::new();
+    let xs = axis(OMEGA, N);
+    let mut curves_t = Table::new(
+        "curves",
+        &[
+            ("chart", "-"),
+            ("curve", "-"),
+            ("slice", "N m | 1"),
+            ("omega1", "rad/s"),
+            ("stable", "1"),
+            ("note", "-"),
+        ],
+    );
+    for chart in charts() {
+        let ys = axis(chart.range, N);
+        let params: Vec<Parameters> = ys
+            .iter()
+            .flat_map(|&y| {
+                xs.iter().map(move |&x| {
+                    let mut p = base();
+                    p.omega1 = x;
+                    (chart.set)(&mut p, y);
+                    p
+                })
+            })
+            .collect();
+        let t0 = cpu_now();
+        let codes: Vec<f64> = system::sweep::sweep(&params, cell, None);
+        let t_map = cpu_now() - t0;
+        let slice_ys = axis(chart.range, SLICES);
+        let jobs: Vec<(f64, bool)> = slice_ys
+            .iter()
+            .flat_map(|&y| [(y, true), (y, false)])
+            .collect();
+        let t1 = cpu_now();
+        let branches: Vec<Result<(Branch, f64), String>> = system::sweep::sweep(
+            &jobs,
+            |&(y, up)| {
+                let mut p = base();
+                (chart.set)(&mut p, y);
+                let (w, dir) = if up { (OMEGA[0], 1.0) } else { (OMEGA[1], -1.0) };
+                speed_branch_at(p, w, dir, [OMEGA[0] - 1.0, OMEGA[1] + 1.0], 300)
+                    .map_err(|e| e.to_string())
+            },
+            None,
+        );
+        let t_curves = cpu_now() - t1;
+        let mut it = branches.into_iter();
+        let slices: Vec<Slice> = slice_ys
+            .iter()
+            .map(|&y| Slice {
+                y,
+                up: it.next().unwrap_or_else(|| Err("no job".to_owned())),
+                down: it.next().unwrap_or_else(|| Err("no job".to_owned())),
+            })
+            .collect();
+        let curves = boundaries(&slices);
+        for c in &curves {
+            for (k, p) in c.points.iter().enumerate() {
+                curves_t.push(vec![
+                    chart.name.into(),
+                    c.label.into(),
+                    p.1.into(),
+                    p.0.into(),
+                    crate::Cell::count(if c.stable[k] { 1.0 } else { 0.0 }),
+                    c.why[k].as_str().into(),
+                ])?;
+            }
+        }
+        let g = agreement(&codes, &xs, &ys, &curves);
+        let failed = codes.iter().filter(|c| c.is_nan()).count();
+        let not_p1 = codes.iter().filter(|&&c| not_period_one(c)).count() - failed;
+        let mut map = Heatmap::new(
+            &format!("map_{}", chart.name),
+            &format!(
+                "Liu rattle design chart: ω1 × {} (long-window state, curves by continuation)",
+                chart.y.0
+            ),
+            [("omega1", "rad/s"), chart.y, ("state", "-")],
+            xs.clone(),
+            ys.clone(),
+            codes,
+            states(),
+        )?;
+        for c in &curves {
+            map = map.with_curve(Curve {
+                label: c.label.to_owned(),
+                points: c.points.clone(),
+                style: c.style,
+                colour: c.colour,
+            })?;
+        }
+        out.heatmap(map);
+        let y = chart.y.0;
+        out.compare(
+            Comparison::new(
+                &format!(
+                    "(ω1, {y}) map: boundary cells neither within one cell of a curve nor beside a cell that is not period-1"
+                ),
+                "1",
+                Reference::computed(0.0, "every boundary explained (issue 39)"),
+                g.unexplained.len() as f64,
+                Tolerance::stated(
+                    ToleranceBand::Absolute(0.0),
+                    "none may be left: a boundary the continuation misses is a deviation",
+                ),
+            )
+            .class(Evidence::Consistency)
+            .note(&format!(
+                "{} boundary cells (rattle state differs from a 4-neighbour's): {} within one cell of a curve, {} beside a cell that is not period-1 (chaotic band / period-n: no period-1 orbit is the attractor there), {} unexplained{}; {failed} failed cells, {not_p1} cells not period-1",
+                g.boundary,
+                g.near_curve,
+                g.chaotic,
+                g.unexplained.len(),
+                if g.unexplained.is_empty() {
+                    String::new()
+                } else {
+                    format!(" at (ω1, {y}) = {}", cells_text(&g.unexplained, &xs, &ys))
+                }
+            )),
+        );
+        out.compare(
+            Comparison::new(
+                &format!(
+                    "(ω1, {y}) map: curve cells that separate no two states and lie in no named region"
+                ),
+                "1",
+                Reference::computed(0.0, "every curve separates states (issue 39)"),
+                g.curve_unexplained.len() as f64,
+                Tolerance::stated(
+                    ToleranceBand::Absolute(0.0),
+                    "none may be left: a curve inside one state is a deviation unless named",
+                ),
+            )
+            .class(Evidence::Consistency)
+            .note(&format!(
+                "{} cells on the curves: {} separate two states (within one cell), {} beside a cell that is not period-1 (chaotic band), {} on an unstable orbit (no time integration reaches it: coexistence with the attractor the map shows), {} unexplained{}",
+                g.curve_cells,
+                g.separating,
+                g.curve_chaotic,
+                g.curve_unstable,
+                g.curve_unexplained.len(),
+                if g.curve_unexplained.is_empty() {
+                    String::new()
+                } else {
+                    format!(
+                        " at (ω1, {y}) = {}",
+                        cells_text(&g.curve_unexplained, &xs, &ys)
+                    )
+                }
+            )),
+        );
+        out.note(format!(
+            "(ω1, {y}) chart: map of {} cells {} CPU s, curves ({} slices, {} branches) {} CPU s (measured in this run)",
+            N * N,
+            crate::unsettled(sig(t_map)),
+            SLICES,
+            2 * SLICES,
+            crate::unsettled(sig(t_curves)),
+        ));
+        for (k, s) in slices.iter().enumerate() {
+            for (b, dir) in [(&s.up, "up"), (&s.down, "down")] {
+                if let Err(e) = b {
+                    out.note(format!(
+                        "(ω1, {y}) slice {k} ({y} = {}), branch {dir}: {e}",
+                        sig(s.y)
+                    ));
+                }
+            }
+        }
+    }
+    out.table(curves_t);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn boundary(points: Vec<(f64, f64)>, stable: bool) -> Boundary {
+        let n = points.len();
+        Boundary {
+            label: "c",
+            style: CurveStyle::Solid,
+            colour: 0,
+            points,
+            stable: vec![stable; n],
+            why: vec![String::new(); n],
+        }
+    }
+
+    /// A 6 × 4 map split at x = 2.5 by a vertical curve: every boundary cell is near it and
+    /// every curve cell separates; a second curve inside one state is unexplained when its
+    /// orbit is stable and named (unstable orbit) when not; a non-period-1 cell names the
+    /// boundary beside it.
+    #[test]
+    fn agreement_counts_boundaries_and_curves() {
+        let xs: Vec<f64> = (0..6).map(f64::from).collect();
+        let ys: Vec<f64> = (0..4).map(f64::from).collect();
+        let codes: Vec<f64> = (0..24)
+            .map(|k| if k % 6 < 3 { 0.0 } else { 1.0 })
+            .collect();
+        let split = boundary(vec![(2.5, 0.0), (2.5, 3.0)], true);
+        let g = agreement(&codes, &xs, &ys, std::slice::from_ref(&split));
+        assert_eq!(g.boundary, 8);
+        assert_eq!(g.near_curve, 8);
+        assert!(g.unexplained.is_empty());
+        assert_eq!(g.curve_cells, g.separating);
+        let inside = boundary(vec![(0.0, 0.0), (0.0, 3.0)], true);
+        let g = agreement(&codes, &xs, &ys, &[split, inside]);
+        assert_eq!(g.curve_unexplained.len(), 4);
+        let unstable = boundary(vec![(0.0, 0.0), (0.0, 3.0)], false);
+        let g = agreement(&codes, &xs, &ys, &[unstable]);
+        assert_eq!((g.curve_unstable, g.near_curve), (4, 0));
+        assert_eq!(g.unexplained.len(), 8, "no curve near the boundary");
+        let mut chaotic = codes.clone();
+        chaotic[3] = 4.0; // bilateral, not period-1, at (3, 0)
+        let g = agreement(&chaotic, &xs, &ys, &[]);
+        assert!(g.chaotic > 0 && g.chaotic + g.unexplained.len() == g.boundary);
+    }
+
+    #[test]
+    fn codes_map_to_states() {
+        assert_eq!(rsv_of(0.0), Some(0));
+        assert_eq!(rsv_of(2.0), Some(2));
+        assert_eq!(rsv_of(3.0), Some(1));
+        assert_eq!(rsv_of(4.0), Some(2));
+        assert_eq!(rsv_of(f64::NAN), None);
+        assert!(not_period_one(3.0) && not_period_one(f64::NAN) && !not_period_one(2.0));
+        assert_eq!(index(2.6, &[0.0, 1.0, 2.0, 3.0]), Some(3));
+        assert_eq!(index(3.6, &[0.0, 1.0, 2.0, 3.0]), None);
+    }
+}
