@@ -206,7 +206,18 @@ fn shooting() -> ShootingOptions {
 
 /// The ω1 branch from `w_start` in direction `dir`.
 fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
-    let (branch, conv) = speed_branch_at(base(), w_start, dir, [99.0, 221.0], 400)?;
+    let (branch, conv) = speed_branch_at(
+        base(),
+        w_start,
+        dir,
+        [99.0, 221.0],
+        &Tuning {
+            max_points: 400,
+            max_step: 2.0,
+            locate_tol: LOCATE_TOL,
+            locate_samples: LOCATE_SAMPLES,
+        },
+    )?;
     Ok(Run {
         label: if dir > 0.0 {
             "ω1 from 100 up"
@@ -220,16 +231,28 @@ fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
     })
 }
 
+/// Step and location settings of a branch in ω1 ([`speed_branch_at`]).
+pub(super) struct Tuning {
+    /// Most points of the branch.
+    pub max_points: usize,
+    /// Largest arclength step (scaled: 1 ≈ 1 rad/s).
+    pub max_step: f64,
+    /// Arclength tolerance of the located special points.
+    pub locate_tol: f64,
+    /// Pieces per step sampled before locating.
+    pub locate_samples: usize,
+}
+
 /// The period-1 branch in ω1 of the parameter set `p` (its `omega1` replaced by `w_start`),
 /// from the orbit settled by 199 periods of time integration, continued in direction `dir`
-/// inside `range` (rad/s) with at most `max_points` points; with the conversion `ω̄_c` per
-/// rad/s (branch parameters are `ω̄_c`: divide by it for rad/s).
+/// inside `range` (rad/s) with the step and location settings `t`; with the conversion `ω̄_c`
+/// per rad/s (branch parameters are `ω̄_c`: divide by it for rad/s).
 pub(super) fn speed_branch_at(
     p: Parameters,
     w_start: f64,
     dir: f64,
     range: [f64; 2],
-    max_points: usize,
+    t: &Tuning,
 ) -> Result<(Branch, f64), Error> {
     let mut p = p;
     p.omega1 = w_start;
@@ -238,18 +261,18 @@ pub(super) fn speed_branch_at(
     let (q, v, _) = settle(&m, 199.0, 1.0, 1e-8)?;
     let mut prob = OrbitProblem::new(m, m.period()).context("orbit problem")?;
     let opts = ContinuationOptions {
-        initial_step: 1.0,
-        max_step: 2.0,
+        initial_step: 1.0_f64.min(t.max_step),
+        max_step: t.max_step,
         min_step: 1e-6,
-        max_points,
+        max_points: t.max_points,
         corrector: ShootingCorrection {
             parameter: Parameter::BaseFrequency,
             range: [range[0] * conv, range[1] * conv],
             direction: dir,
             parameter_scale: conv,
             state_scale: 0.1 * m.backlash,
-            locate_tol: LOCATE_TOL,
-            locate_samples: LOCATE_SAMPLES,
+            locate_tol: t.locate_tol,
+            locate_samples: t.locate_samples,
             shooting: shooting(),
             ..ShootingCorrection::default()
         },
