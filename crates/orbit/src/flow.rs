@@ -357,7 +357,7 @@ impl<'a, S: SecondOrderSystem + ?Sized> Field<'a, S> {
         &self.e
     }
 
-    fn event(&mut self, i: usize, t: f64, x: &[f64]) -> f64 {
+    pub fn event(&mut self, i: usize, t: f64, x: &[f64]) -> f64 {
         self.events(t, x)[i]
     }
 }
@@ -893,6 +893,38 @@ pub(crate) fn extrema<S: SecondOrderSystem + ?Sized>(
     out
 }
 
+/// The time and value of the minimum (`sgn = −1`) or maximum (`sgn = +1`) of event function
+/// `i` along recorded pieces: the sampled extremum refined by golden-section search inside the
+/// pieces around it (as [`extrema`]). `None` without pieces or events.
+pub(crate) fn extremum_at<S: SecondOrderSystem + ?Sized>(
+    field: Field<'_, S>,
+    opts: &FlowOptions,
+    pieces: &[Piece],
+    i: usize,
+    sgn: f64,
+) -> Option<(f64, f64)> {
+    let mut st = Stepper::new(field, opts.rtol, opts.atol);
+    if pieces.is_empty() || i >= st.field.n_events() {
+        return None;
+    }
+    let (mut best, mut tbest, mut kbest) = (f64::NEG_INFINITY, pieces[0].t, 0);
+    for (k, p) in pieces.iter().enumerate() {
+        let v = sgn * st.field.event(i, p.t, &p.x);
+        if v > best {
+            (best, tbest, kbest) = (v, p.t, k);
+        }
+    }
+    let lo = kbest.saturating_sub(1);
+    let hi = (kbest + 1).min(pieces.len() - 1);
+    for p in &pieces[lo..=hi] {
+        let (th, v) = golden_at(&mut st, i, sgn, p);
+        if v > best {
+            (best, tbest) = (v, p.t + th * p.h);
+        }
+    }
+    best.is_finite().then_some((tbest, sgn * best))
+}
+
 /// `max_θ sgn·e_i(x(t + θh))` on one piece by golden-section search.
 fn golden<S: SecondOrderSystem + ?Sized>(
     st: &mut Stepper<'_, S>,
@@ -900,6 +932,17 @@ fn golden<S: SecondOrderSystem + ?Sized>(
     sgn: f64,
     p: &Piece,
 ) -> f64 {
+    let (_, v) = golden_at(st, i, sgn, p);
+    v
+}
+
+/// `(θ*, max_θ sgn·e_i(x(t + θh)))` on one piece by golden-section search.
+fn golden_at<S: SecondOrderSystem + ?Sized>(
+    st: &mut Stepper<'_, S>,
+    i: usize,
+    sgn: f64,
+    p: &Piece,
+) -> (f64, f64) {
     let r = 0.5 * (5.0_f64.sqrt() - 1.0);
     let f = |th: f64, st: &mut Stepper<'_, S>| -> f64 {
         let x = st.state_at(p.t, &p.x, th * p.h);
@@ -928,7 +971,8 @@ fn golden<S: SecondOrderSystem + ?Sized>(
             fd = f(d, st);
         }
     }
-    fc.max(fd)
+    // the value as `fc.max(fd)` (bit-identical to the extrema of earlier rounds)
+    (if fc > fd { c } else { d }, fc.max(fd))
 }
 
 #[cfg(test)]

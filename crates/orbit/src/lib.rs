@@ -119,6 +119,53 @@
 //! [`OrbitProblem::switch_at_period_doubling`] starts the period-`2k` branch from
 //! `x_PD ± h v` (`v` the `−1` eigenvector), shooting over `2kT`.
 //!
+//! ## Codim-2 continuation
+//!
+//! [`OrbitProblem::continue_codim2`] continues a special point located on a one-parameter
+//! shooting branch in `λ₁` ([`Codim2Correction::first`]) in a second parameter `λ₂`
+//! ([`Codim2Correction::parameter`]), with `λ₁` among the unknowns, through the same
+//! [`path::trace`] (step control [`StepControl::shooting`], [`StopReason`]s, the one
+//! [`Branch`], here [`Codim2Branch`] of [`Codim2Point`]s). With the scaled unknowns
+//! `ξ = x₀/s_x`, `μ_j = λ_j/s_j`:
+//!
+//! ```text
+//! grazing of h_i   y = (ξ, θ, μ₁, μ₂),  t_g = t₀ + θ kT (θ mod 1)
+//!                  φ_{kT}(x₀) − x₀ = 0
+//!                  h_i(t_g, x(t_g)) = 0                     (touches the surface …
+//!                  ḣ_i(t_g, x(t_g)) kT/2π = 0                … tangentially)
+//! fold / PD        y = (ξ, μ₁, μ₂)
+//!                  φ_{kT}(x₀) − x₀ = 0
+//!                  g = 0,  [[Φ ∓ I, b], [cᵀ, 0]] [v; g] = [0; 1]   (minimally augmented)
+//! ```
+//!
+//! The Jacobian: `[Φ − I]s_x` for the shooting rows; for the grazing rows
+//! `∇h(x_g) Φ(t_g, t₀) s_x`, `∇ḣ(x_g) Φ(t_g, t₀) s_x` (the flow split at `t_g`,
+//! `Φ = Φ(t₀ + kT, t_g) Φ(t_g, t₀)`), the `θ` column `(ḣ, ḧ kT/2π) kT`; `ḣ = ∂h/∂t + ∇h·f`
+//! and `ḧ` by central differences along the vector field, `∇` by central differences in the
+//! state; the state columns of `g` by central differences of the variational flow; both
+//! parameter columns by central differences of the whole residual. The borders `b`, `c` start
+//! as the left and right singular vectors of `Φ ∓ I` at the located point and follow the
+//! bordered system's null vectors at every accepted point. A grazing of the maximum of `h`
+//! needs `ḧ < 0` at `t_g`, of the minimum `ḧ > 0`.
+//!
+//! Along the curve every point carries its Floquet multipliers; the codim-2 points met are
+//! listed in [`Branch::special`] (detected between two points, bracket in `λ₂`): on a
+//! grazing curve a sign change of `det(Φ − I)` ([`SpecialKind::Fold`]: the grazing meets a
+//! fold) or of `det(Φ + I)` ([`SpecialKind::PeriodDoubling`]), and another event function's
+//! (or the other) extremum crossing zero ([`SpecialKind::Grazing`]: a second contact, the
+//! grazing flank changes); on a fold or PD curve the grazings and the other test function.
+//! A turn of the curve in `λ₂` (a cusp of two folds, a grazing curve's extremum in `λ₂`) is a
+//! [`Fold`] of the curve. The curve **stops with a named reason** rather than continue
+//! wrongly ([`StopReason::Degenerate`]): [`Degeneracy::GrazingCurvature`] where
+//! `|ḧ|(kT/2π)² < curvature_tol · ½(max h − min h)` (the tangency is no longer quadratic),
+//! [`Degeneracy::GrazingNotGlobal`] where the event function's global extremum passes the
+//! tangency (the orbit crosses the surface elsewhere: the curve no longer bounds contact),
+//! [`Degeneracy::SingularBordered`] where the bordered matrix is singular; and
+//! [`StopReason::FirstLeftRange`] where `λ₁` leaves [`Codim2Correction::first_range`]. For
+//! an impacting stop (an [`ImpactLaw`]) the flow is not `C¹` at a grazing (square-root
+//! singularity): the grazing rows are then exact but Newton converges poorly; the tested
+//! systems are piecewise-smooth with a continuous force (bilinear, dead zone).
+//!
 //! ## Accuracy and limits
 //!
 //! * The extrema of the gap functions are refined by golden-section search inside the steps
@@ -164,6 +211,7 @@
 
 #![deny(missing_docs)]
 
+mod codim2;
 mod continuation;
 mod error;
 mod floquet;
@@ -174,6 +222,9 @@ pub mod path;
 mod problem;
 mod shooting;
 
+pub use codim2::{
+    Codim2Branch, Codim2BranchPoint, Codim2ContinuationOptions, Codim2Correction, Codim2Point,
+};
 pub use continuation::{
     ShootingBranch, ShootingBranchPoint, ShootingContinuationOptions, ShootingCorrection,
     ShootingPoint,
@@ -187,8 +238,8 @@ pub use flow::{EventRecord, Flow, FlowOptions};
 pub use harmonic::{HbmContinuationOptions, HbmCorrection, continue_hbm};
 pub use impact::{ImpactLaw, Restitution};
 pub use path::{
-    Branch, BranchPoint, ContinuationOptions, Extremum, Fold, Predictor, SpecialKind, SpecialPoint,
-    StepControl, StopReason, fill_from_neighbours,
+    Branch, BranchPoint, ContinuationOptions, Degeneracy, Extremum, Fold, Predictor, SpecialKind,
+    SpecialPoint, StepControl, StopReason, fill_from_neighbours,
 };
 pub use problem::{OrbitProblem, Parameter};
 pub use shooting::{PeriodicOrbit, ShootingOptions};

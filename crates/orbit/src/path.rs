@@ -406,6 +406,41 @@ pub enum StopReason {
         /// Residual norm reached.
         residual_norm: f64,
     },
+    /// A codim-2 curve ([`OrbitProblem::continue_codim2`](crate::OrbitProblem::continue_codim2)):
+    /// its defining condition degenerated at the last accepted point (named by `condition`);
+    /// the curve is not continued past it rather than continued wrongly.
+    Degenerate {
+        /// Parameter (the continued, second parameter) of the last accepted point.
+        parameter: f64,
+        /// Which condition degenerated.
+        condition: Degeneracy,
+    },
+    /// A codim-2 curve: the first parameter (the one of the branch the special point was
+    /// found on) left its range [`Codim2Correction::first_range`](crate::Codim2Correction::first_range).
+    FirstLeftRange {
+        /// The continued (second) parameter of the last point.
+        parameter: f64,
+        /// The first parameter of the last point.
+        first: f64,
+    },
+}
+
+/// How the defining condition of a codim-2 curve degenerated ([`StopReason::Degenerate`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[non_exhaustive]
+pub enum Degeneracy {
+    /// Grazing curve: the second time derivative of the event function at the grazing time
+    /// vanished (`|ḧ| (kT/2π)² < curvature_tol · ½(max h − min h)`): the tangency is no
+    /// longer quadratic (a cusp of the contact set), `(h, ḣ) = 0` no longer fixes `t_g`.
+    GrazingCurvature,
+    /// Grazing curve: the tangency at `t_g` is no longer the global extremum of the event
+    /// function over the orbit (another local extremum crossed it): the orbit touches the
+    /// surface at `t_g` but crosses it elsewhere, so the curve stopped bounding contact.
+    GrazingNotGlobal,
+    /// Fold or period-doubling curve: the bordered matrix `[[Φ ∓ I, b], [cᵀ, 0]]` is singular
+    /// (a second multiplier reached `±1`, or the borders lost the null vectors).
+    SingularBordered,
 }
 
 impl StopReason {
@@ -419,6 +454,9 @@ impl StopReason {
     pub fn parameter(&self) -> Option<f64> {
         match self {
             Self::LeftRange { parameter } | Self::StepTooSmall { parameter, .. } => {
+                Some(*parameter)
+            }
+            Self::Degenerate { parameter, .. } | Self::FirstLeftRange { parameter, .. } => {
                 Some(*parameter)
             }
             Self::ReachedEnd | Self::MaxPoints | Self::InitialSolveFailed { .. } => None,
@@ -435,6 +473,17 @@ impl StopReason {
             Self::StepTooSmall { parameter, cause } => Self::StepTooSmall {
                 parameter: g(parameter),
                 cause,
+            },
+            Self::Degenerate {
+                parameter,
+                condition,
+            } => Self::Degenerate {
+                parameter: g(parameter),
+                condition,
+            },
+            Self::FirstLeftRange { parameter, first } => Self::FirstLeftRange {
+                parameter: g(parameter),
+                first,
             },
             other => other,
         }
@@ -587,6 +636,13 @@ pub trait Corrector {
     fn leave_at(&mut self, _y: &DVector<f64>) -> Result<(), Self::Error> {
         Ok(())
     }
+
+    /// Called after the point of `node` was pushed: `Some(reason)` stops the branch there
+    /// (a codim-2 curve whose defining condition degenerated, a second parameter out of its
+    /// range). Default: never.
+    fn stop_after(&mut self, _node: &Node<Self::Raw>) -> Option<StopReason> {
+        None
+    }
 }
 
 /// Unit null vector of `jac` (`N × (N+1)`), oriented along `reference`: the solution `v` of
@@ -718,6 +774,10 @@ pub fn trace<C: Corrector>(
         }
         corrector.on_step(&cur, &next, s, branch)?;
         branch.points.push(point);
+        if let Some(reason) = corrector.stop_after(&next) {
+            branch.stop = reason;
+            return Ok(());
+        }
         if control.grow_below.is_none_or(|k| next.iterations <= k) {
             s = (s * control.grow).min(control.max);
         } else if control.shrink_above.is_some_and(|k| next.iterations >= k) {

@@ -14,6 +14,7 @@ use crate::{SecondOrderSystem, SystemError};
 /// use geardyn_system::{SecondOrderSystem, problems::Duffing};
 /// let mut d = Duffing { zeta: 0.05, gamma: 1.0, force: 0.3, omega: 1.2 };
 /// d.set_parameter("gamma", 2.0)?;
+/// assert_eq!(d.parameter("gamma")?, 2.0);
 /// let mut g = [0.0];
 /// d.nonlinear_force(0.0, &[2.0], &[0.0], &mut g);
 /// assert_eq!(g[0], 16.0);
@@ -83,6 +84,15 @@ impl SecondOrderSystem for Duffing {
             }
         }
         Ok(())
+    }
+    fn parameter(&self, name: &str) -> Result<f64, SystemError> {
+        match name {
+            "force" => Ok(self.force),
+            "gamma" => Ok(self.gamma),
+            _ => Err(SystemError::UnknownParameter {
+                name: name.to_string(),
+            }),
+        }
     }
 }
 

@@ -18,11 +18,11 @@ use orbit::{
 };
 use std::f64::consts::PI;
 
-struct Closed {
+pub(crate) struct Closed {
     ti: f64,
     v: f64,
-    x_section: [f64; 2],
-    monodromy: DMatrix<f64>,
+    pub(crate) x_section: [f64; 2],
+    pub(crate) monodromy: DMatrix<f64>,
 }
 
 fn particular(s: &ImpactOscillator, t: f64) -> [f64; 2] {
@@ -45,7 +45,7 @@ fn state(s: &ImpactOscillator, ti: f64, zp: [f64; 2], t: f64) -> [f64; 2] {
 }
 
 /// All admissible period-1 single-impact orbits at `s` (closed form).
-fn closed_form(s: &ImpactOscillator, r: f64) -> Vec<Closed> {
+pub(crate) fn closed_form(s: &ImpactOscillator, r: f64) -> Vec<Closed> {
     let t = 2.0 * PI / s.omega;
     let e = exp_oscillator(1.0, 2.0 * s.zeta, t);
     let sig = s.sigma;
@@ -103,7 +103,7 @@ fn closed_form(s: &ImpactOscillator, r: f64) -> Vec<Closed> {
     out
 }
 
-fn problem(omega: f64, r: f64) -> OrbitProblem<ImpactOscillator> {
+pub(crate) fn problem(omega: f64, r: f64) -> OrbitProblem<ImpactOscillator> {
     let s = ImpactOscillator {
         zeta: 0.05,
         sigma: 0.0,

@@ -118,6 +118,25 @@ impl SecondOrderSystem for ImpactOscillator {
         self.omega = omega;
         Ok(())
     }
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), SystemError> {
+        match name {
+            "zeta" => self.zeta = value,
+            _ => {
+                return Err(SystemError::UnknownParameter {
+                    name: name.to_string(),
+                });
+            }
+        }
+        Ok(())
+    }
+    fn parameter(&self, name: &str) -> Result<f64, SystemError> {
+        match name {
+            "zeta" => Ok(self.zeta),
+            _ => Err(SystemError::UnknownParameter {
+                name: name.to_string(),
+            }),
+        }
+    }
 }
 
 /// Duffing `q'' + 2ζ q' + q + γ q³ = F cos ωt`: the workspace's reference problem.

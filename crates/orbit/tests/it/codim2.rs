@@ -1,0 +1,889 @@
+//! Codim-2 continuation: grazing curves against closed forms and time integration, fold
+//! curves against harmonic balance, option checks and named stops.
+
+use crate::common::Bilinear;
+use math::DetMath;
+use orbit::{
+    Codim2ContinuationOptions, ContinuationOptions, Extremum, OrbitProblem, Parameter,
+    ShootingCorrection, SpecialKind, StopReason,
+};
+use std::f64::consts::PI;
+
+/// `q'' + 2ζq' + k(q) = f₀ + f cos ωt`, kink at `q = d` (`ζ = 0.05`, `κ = 4`, `d = 0.5`,
+/// `f₀ = 0.1`).
+fn bilinear(f: f64, omega: f64) -> Bilinear {
+    Bilinear {
+        zeta: 0.05,
+        kappa: 4.0,
+        d: 0.5,
+        f0: 0.1,
+        f,
+        omega,
+    }
+}
+
+/// Below the kink the orbit is linear, `q = f₀ + P cos(ωt − ψ)` with
+/// `P = f/√((1−ω²)² + (2ζω)²)`, `ψ = atan2(2ζω, 1 − ω²)`: its maximum `f₀ + P` touches the
+/// kink `q = d` (the maximum of the event function `q − d` grazes zero) at
+/// `f_g(ω) = (d − f₀) √((1−ω²)² + (2ζω)²)`, at the time `t_g = ψ/ω (mod 2π/ω)`.
+fn grazing_closed_form(s: &Bilinear, omega: f64) -> (f64, f64) {
+    let w = omega;
+    let f = (s.d - s.f0) * ((1.0 - w * w).powi(2) + (2.0 * s.zeta * w).powi(2)).sqrt();
+    let psi = (2.0 * s.zeta * w).datan2(1.0 - w * w);
+    (f, psi / w)
+}
+
+/// The grazing of the bilinear oscillator located on a branch in `f` at `ω = omega`.
+fn grazing_start(
+    omega: f64,
+) -> (
+    OrbitProblem<Bilinear>,
+    orbit::SpecialPoint<orbit::ShootingPoint>,
+) {
+    let s = bilinear(0.2, omega);
+    let mut p = OrbitProblem::new(s, 2.0 * PI / omega).unwrap();
+    let opts = ContinuationOptions {
+        initial_step: 0.05,
+        max_step: 0.1,
+        corrector: ShootingCorrection {
+            parameter: Parameter::Named("f".into()),
+            range: [0.0, 0.6],
+            locate_tol: 1e-10,
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&[0.1, 0.0], 0.2, &opts).unwrap();
+    let g = br
+        .special
+        .iter()
+        .find(|x| {
+            x.kind
+                == SpecialKind::Grazing {
+                    event: 0,
+                    extremum: Extremum::Max,
+                }
+        })
+        .expect("grazing on the branch in f")
+        .clone();
+    assert!(g.located);
+    (p, g)
+}
+
+/// The grazing curve of the bilinear oscillator in (f, ω) from a grazing located on a branch
+/// in `f`: every point on the closed form `f_g(ω)` (source: the linear response, see
+/// [`grazing_closed_form`]) to 1e-7 and at the closed-form grazing time, stable, and the curve
+/// reaches the end of its `ω` range.
+#[test]
+fn bilinear_grazing_curve_matches_closed_form() {
+    let (mut p, g) = grazing_start(1.5);
+    let mut opts =
+        Codim2ContinuationOptions::codim2(Parameter::Named("f".into()), Parameter::BaseFrequency);
+    opts.initial_step = 0.05;
+    opts.max_step = 0.2;
+    opts.max_points = 12;
+    opts.corrector.range = [1.2, 2.0];
+    let curve = p.continue_codim2(&g, &opts).unwrap();
+    assert_eq!(curve.stop, StopReason::ReachedEnd, "{:?}", curve.stop);
+    assert!(curve.points.len() >= 4);
+    let s = bilinear(0.2, 1.5);
+    for pt in &curve.points {
+        let w = pt.parameter;
+        let (f, tg) = grazing_closed_form(&s, w);
+        assert!(
+            (pt.first_parameter - f).abs() < 1e-9 * (1.0 + f),
+            "ω = {w}: f = {} vs {f}",
+            pt.first_parameter
+        );
+        let t = 2.0 * PI / w;
+        let dt = (pt.grazing_time.unwrap() - tg).rem_euclid(t);
+        assert!(
+            dt.min(t - dt) < 1e-5,
+            "ω = {w}: t_g {:?} vs {tg}",
+            pt.grazing_time
+        );
+        assert!(pt.stable().unwrap());
+        assert!(pt.curvature.unwrap() < 0.0);
+    }
+}
+
+/// The bilinear oscillator as a plain first-order system for `timestep`, with the event
+/// `q' = 0` (falling: a maximum of `q`); records the largest `q` at the maxima after `after`.
+struct BilinearOde {
+    s: Bilinear,
+    after: f64,
+    max_q: std::cell::Cell<f64>,
+}
+
+impl timestep::OdeSystem for BilinearOde {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, t: f64, y: &[f64], dydt: &mut [f64]) {
+        let s = &self.s;
+        let k = if y[0] < s.d {
+            y[0]
+        } else {
+            s.d + s.kappa * (y[0] - s.d)
+        };
+        dydt[0] = y[1];
+        dydt[1] = s.f0 + s.f * (s.omega * t).dcos() - 2.0 * s.zeta * y[1] - k;
+    }
+    fn n_events(&self) -> usize {
+        1
+    }
+    fn events(&self, _t: f64, y: &[f64], g: &mut [f64]) {
+        g[0] = y[1];
+    }
+    fn event_direction(&self, _index: usize) -> system::Direction {
+        system::Direction::Falling
+    }
+    fn on_event(&self, event: &timestep::Event, y: &mut [f64]) -> timestep::EventAction {
+        if event.t >= self.after {
+            self.max_q.set(self.max_q.get().max(y[0]));
+        }
+        timestep::EventAction::Continue
+    }
+}
+
+/// `max q − d` of the steady state at `(f, ω)` by time integration: 200 forcing periods of
+/// transient (decay `e^{−ζt}`, below `1e-13`), then the maxima of two periods, each located as
+/// the event `q' = 0`. The start is the linear orbit's state at `t = 0` moved by
+/// `(−0.02, 0.01)`: near the resonance the stiff side makes a large orbit coexist with the
+/// linear one, and a start from rest may reach it instead.
+fn steady_max_gap(f: f64, omega: f64) -> f64 {
+    let s = bilinear(f, omega);
+    let t = 2.0 * PI / omega;
+    let dw = ((1.0 - omega * omega).powi(2) + (2.0 * s.zeta * omega).powi(2)).sqrt();
+    let psi = (2.0 * s.zeta * omega).datan2(1.0 - omega * omega);
+    let amp = f / dw;
+    let x0 = [
+        s.f0 + amp * psi.dcos() - 0.02,
+        amp * omega * psi.dsin() + 0.01,
+    ];
+    let sys = BilinearOde {
+        s,
+        after: 200.0 * t,
+        max_q: std::cell::Cell::new(f64::NEG_INFINITY),
+    };
+    let opts = timestep::Options::default()
+        .with_tol(1e-11, 1e-13)
+        .with_events(true)
+        .with_output(timestep::Output::Final);
+    let sol = timestep::integrate(&sys, 0.0, &x0, 202.0 * t, &opts).unwrap();
+    assert!(sol.status.is_success(), "{:?}", sol.status);
+    sys.max_q.get() - s.d
+}
+
+/// The grazing curve against bisection on time integration: at three frequencies along the
+/// curve, the forcing amplitude where the steady orbit starts to reach the kink (bisection
+/// on `max q − d` by `timestep`, to 1e-10 relative) equals the curve's `f` to 1e-7.
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn bilinear_grazing_curve_matches_time_integration() {
+    let (mut p, g) = grazing_start(1.5);
+    let mut opts =
+        Codim2ContinuationOptions::codim2(Parameter::Named("f".into()), Parameter::BaseFrequency);
+    opts.initial_step = 0.05;
+    opts.max_step = 0.2;
+    opts.corrector.range = [0.6, 2.0];
+    opts.corrector.direction = -1.0;
+    let curve = p.continue_codim2(&g, &opts).unwrap();
+    assert_eq!(curve.stop, StopReason::ReachedEnd);
+    assert!(curve.points.len() >= 6);
+    // away from ω ≈ 1…1.3, where the stiff side's large orbit coexists with the linear one
+    // and the time integration may settle on it (seen at ω = 1.034 from a perturbed start)
+    for target in [1.45, 0.9, 0.65] {
+        let pt = curve
+            .points
+            .iter()
+            .min_by(|a, b| {
+                (a.parameter - target)
+                    .abs()
+                    .total_cmp(&(b.parameter - target).abs())
+            })
+            .unwrap();
+        assert!((pt.parameter - target).abs() < 0.1, "{}", pt.parameter);
+        let (w, fc) = (pt.parameter, pt.first_parameter);
+        let (mut a, mut b) = (0.95 * fc, 1.05 * fc);
+        assert!(steady_max_gap(a, w) < 0.0 && steady_max_gap(b, w) > 0.0);
+        while b - a > 1e-10 * fc {
+            let m = 0.5 * (a + b);
+            if steady_max_gap(m, w) < 0.0 {
+                a = m;
+            } else {
+                b = m;
+            }
+        }
+        let f_ti = 0.5 * (a + b);
+        // measured ≤ 1.4e-10 relative
+        assert!(
+            (f_ti - fc).abs() < 1e-7 * fc,
+            "ω = {w}: time integration {f_ti} vs curve {fc}"
+        );
+    }
+}
+
+/// Duffing `q'' + 0.1q' + q + 0.3q³ = F cos ωt` (the case of the HBM-against-shooting test,
+/// folds at ω ≈ 1.258 and 1.169 for F = 0.2).
+fn duffing(force: f64, omega: f64) -> crate::common::Duffing {
+    crate::common::Duffing {
+        zeta: 0.05,
+        gamma: 0.3,
+        force,
+        omega,
+    }
+}
+
+/// The folds of the HBM branch (H = 15, `orbit::continue_hbm`, quadratic estimate at steps
+/// ≤ 0.02; it agrees with located shooting folds to 1e-9 in `hbm_branch_matches_shooting_branch`)
+/// at forcing `force`.
+fn hbm_folds(force: f64) -> Vec<f64> {
+    let mut hp =
+        hbm::HbmProblem::new(duffing(force, 0.8), hbm::Basis::full(15).unwrap(), 0.8).unwrap();
+    let z0 = hp.zero_guess();
+    let hopts = orbit::HbmContinuationOptions {
+        max_step: 0.02,
+        max_points: 5000,
+        corrector: orbit::HbmCorrection {
+            stability: false,
+            ..orbit::HbmCorrection::default()
+        },
+        ..orbit::HbmContinuationOptions::default()
+    };
+    let hb = orbit::continue_hbm(&mut hp, Parameter::BaseFrequency, &z0, 0.8, 2.0, &hopts).unwrap();
+    assert_eq!(hb.stop, StopReason::ReachedEnd);
+    hb.folds.iter().map(|f| f.parameter).collect()
+}
+
+/// The located folds (Illinois on `dω/ds` to 1e-10) of the shooting branch in `ω` at `force`.
+fn shooting_folds(force: f64) -> Vec<f64> {
+    let mut p = OrbitProblem::new(duffing(force, 0.8), 2.0 * PI / 0.8).unwrap();
+    let sopts = ContinuationOptions {
+        initial_step: 0.02,
+        max_step: 0.05,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [0.7, 2.0],
+            locate_tol: 1e-10,
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap();
+    br.special
+        .iter()
+        .filter(|x| x.kind == SpecialKind::Fold && x.located)
+        .map(|x| x.point.parameter)
+        .collect()
+}
+
+/// The Duffing fold curve in (F, ω) from the upper fold of a shooting branch in ω: every
+/// point has a multiplier `+1` and the other `e^{−2ζT}` (Liouville: `det Φ = e^{−2ζT}`);
+/// towards smaller `F` the curve turns in `F` at the cusp (a fold of the curve, recorded in
+/// `Branch::folds`) and comes back as the lower fold; at points on both sides of the cusp the
+/// curve's `ω` is a fold of the HBM branch at that `F` (to 2e-6 relative) and a located fold of
+/// the shooting branch in `ω` at that `F` (to 1e-8).
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn duffing_fold_curve_matches_hbm_folds() {
+    let mut p = OrbitProblem::new(duffing(0.2, 0.8), 2.0 * PI / 0.8).unwrap();
+    let sopts = ContinuationOptions {
+        initial_step: 0.02,
+        max_step: 0.1,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [0.7, 2.0],
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap();
+    let fold = br
+        .special
+        .iter()
+        .find(|x| x.kind == SpecialKind::Fold)
+        .unwrap()
+        .clone();
+    assert!(fold.located && (1.24..1.27).contains(&fold.point.parameter));
+    // the problem is at the end of the branch: back to the fold's ω and F = 0.2
+    let mut p = OrbitProblem::new(duffing(0.2, 0.8), 2.0 * PI / 0.8).unwrap();
+    let mut opts = Codim2ContinuationOptions::codim2(
+        Parameter::BaseFrequency,
+        Parameter::Named("force".into()),
+    );
+    opts.initial_step = 0.01;
+    opts.max_step = 0.05;
+    opts.max_points = 200;
+    opts.corrector.range = [0.01, 0.2];
+    opts.corrector.direction = -1.0;
+    let curve = p.continue_codim2(&fold, &opts).unwrap();
+    // down to the cusp, round it, back up past F = 0.2 on the lower fold
+    assert!(
+        matches!(curve.stop, StopReason::LeftRange { .. }),
+        "{:?}",
+        curve.stop
+    );
+    assert_eq!(curve.folds.len(), 1, "{:?}", curve.folds);
+    let cusp = curve.folds[0].after_index;
+    // the lower fold (ω = 1.169 at F = 0.2, `hbm_branch_matches_shooting_branch`), just past
+    // F = 0.2 (the last step is at most 0.05)
+    let last = curve.points.last().unwrap();
+    assert!(
+        last.parameter > 0.2 && last.parameter < 0.25,
+        "{}",
+        last.parameter
+    );
+    assert!(
+        (1.16..1.2).contains(&last.first_parameter),
+        "{}",
+        last.first_parameter
+    );
+    for pt in &curve.points {
+        let w = pt.first_parameter;
+        let mu = &pt.floquet.multipliers;
+        let (near, other) = if (mu[0][0] - 1.0).abs() < (mu[1][0] - 1.0).abs() {
+            (mu[0], mu[1])
+        } else {
+            (mu[1], mu[0])
+        };
+        assert!(
+            (near[0] - 1.0).abs() < 1e-6 && near[1] == 0.0,
+            "F = {}: {mu:?}",
+            pt.parameter
+        );
+        let liouville = (-2.0 * 0.05 * 2.0 * PI / w).dexp();
+        assert!((other[0] - liouville).abs() < 1e-6, "{mu:?} vs {liouville}");
+    }
+    let n = curve.points.len();
+    for i in [1, cusp / 2, cusp + (n - cusp) / 2, n - 2] {
+        let pt = &curve.points[i];
+        let folds = hbm_folds(pt.parameter);
+        let w = pt.first_parameter;
+        let d = folds
+            .iter()
+            .map(|f| (f - w).abs())
+            .fold(f64::INFINITY, f64::min);
+        let sf = shooting_folds(pt.parameter);
+        let ds = sf
+            .iter()
+            .map(|f| (f - w).abs())
+            .fold(f64::INFINITY, f64::min);
+        // measured ≤ 8.1e-7 (the HBM branch's quadratic fold estimate at steps ≤ 0.02)
+        assert!(
+            d < 2e-6 * w,
+            "F = {}: ω = {w} vs HBM folds {folds:?}",
+            pt.parameter
+        );
+        // measured ≤ 2.9e-10
+        assert!(
+            ds < 1e-8 * w,
+            "F = {}: ω = {w} vs shooting folds {sf:?}",
+            pt.parameter
+        );
+    }
+}
+
+/// `q'' + 2ζq' + k(q) = f₀ + f cos ωt + a cos 2ωt` with the bilinear kink of [`Bilinear`] at
+/// `q = d` (`κ = 4`) and two event functions: `q − d` (the kink) and `q + c` (a second
+/// surface, no force change); named parameters `f`, `f0`, `a`.
+#[derive(Debug, Clone, Copy)]
+struct TwoSurfaces {
+    zeta: f64,
+    d: f64,
+    c: f64,
+    f0: f64,
+    f: f64,
+    a: f64,
+    omega: f64,
+}
+
+impl system::SecondOrderSystem for TwoSurfaces {
+    fn n_dof(&self) -> usize {
+        1
+    }
+    fn mass(&self) -> nalgebra::DMatrix<f64> {
+        nalgebra::DMatrix::identity(1, 1)
+    }
+    fn damping(&self) -> nalgebra::DMatrix<f64> {
+        nalgebra::DMatrix::from_element(1, 1, 2.0 * self.zeta)
+    }
+    fn nonlinear_force(&self, _t: f64, q: &[f64], _v: &[f64], g: &mut [f64]) {
+        g[0] = if q[0] < self.d {
+            q[0]
+        } else {
+            self.d + 4.0 * (q[0] - self.d)
+        };
+    }
+    fn force_jacobian(&self, _t: f64, q: &[f64], _v: &[f64], dq: &mut [f64], dv: &mut [f64]) {
+        dq[0] = if q[0] < self.d { 1.0 } else { 4.0 };
+        dv[0] = 0.0;
+    }
+    fn forcing(&self, t: f64, f: &mut [f64]) {
+        f[0] = self.f0 + self.f * (self.omega * t).dcos() + self.a * (2.0 * self.omega * t).dcos();
+    }
+    fn n_events(&self) -> usize {
+        2
+    }
+    fn events(&self, _t: f64, q: &[f64], _v: &[f64], e: &mut [f64]) {
+        e[0] = q[0] - self.d;
+        e[1] = q[0] + self.c;
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), system::SystemError> {
+        self.omega = omega;
+        Ok(())
+    }
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), system::SystemError> {
+        match name {
+            "f" => self.f = value,
+            "f0" => self.f0 = value,
+            "a" => self.a = value,
+            _ => {
+                return Err(system::SystemError::UnknownParameter {
+                    name: name.to_string(),
+                });
+            }
+        }
+        Ok(())
+    }
+    fn parameter(&self, name: &str) -> Result<f64, system::SystemError> {
+        match name {
+            "f" => Ok(self.f),
+            "f0" => Ok(self.f0),
+            "a" => Ok(self.a),
+            _ => Err(system::SystemError::UnknownParameter {
+                name: name.to_string(),
+            }),
+        }
+    }
+}
+
+/// The first grazing of the maximum of `q − d` on a branch in `f` from `f = 0.2`.
+fn two_surfaces_start(
+    s: TwoSurfaces,
+) -> (
+    OrbitProblem<TwoSurfaces>,
+    orbit::SpecialPoint<orbit::ShootingPoint>,
+) {
+    let mut p = OrbitProblem::new(s, 2.0 * PI / s.omega).unwrap();
+    let opts = ContinuationOptions {
+        initial_step: 0.05,
+        max_step: 0.1,
+        corrector: ShootingCorrection {
+            parameter: Parameter::Named("f".into()),
+            range: [0.0, 0.6],
+            locate_tol: 1e-10,
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&[s.f0, 0.0], s.f, &opts).unwrap();
+    let g = br
+        .special
+        .iter()
+        .find(|x| {
+            x.kind
+                == SpecialKind::Grazing {
+                    event: 0,
+                    extremum: Extremum::Max,
+                }
+        })
+        .expect("grazing of q - d on the branch in f")
+        .clone();
+    (p, g)
+}
+
+/// A change of the grazing flank: on the grazing curve of `max q = d` in `(f, f₀)` the linear
+/// orbit `q = f₀ + P cos(ωt − ψ)` has `P = d − f₀`, so its minimum `2f₀ − d` reaches the
+/// second surface `q = −c` at `f₀ = (d − c)/2` exactly (closed form), where the curve records
+/// a located [`SpecialKind::Grazing`] of event 1's minimum; every point on `f = (d − f₀) D(ω)`.
+#[test]
+fn grazing_curve_locates_the_change_of_flank() {
+    let s = TwoSurfaces {
+        zeta: 0.05,
+        d: 0.5,
+        c: 0.3,
+        f0: 0.15,
+        f: 0.2,
+        a: 0.0,
+        omega: 1.5,
+    };
+    let (mut p, g) = two_surfaces_start(s);
+    let mut opts = Codim2ContinuationOptions::codim2(
+        Parameter::Named("f".into()),
+        Parameter::Named("f0".into()),
+    );
+    opts.initial_step = 0.02;
+    opts.max_step = 0.05;
+    opts.corrector.range = [0.0, 0.2];
+    opts.corrector.direction = -1.0;
+    let curve = p.continue_codim2(&g, &opts).unwrap();
+    assert_eq!(curve.stop, StopReason::ReachedEnd, "{:?}", curve.stop);
+    let w = s.omega;
+    let dw = ((1.0 - w * w).powi(2) + (2.0 * s.zeta * w).powi(2)).sqrt();
+    for pt in &curve.points {
+        let f = (s.d - pt.parameter) * dw;
+        assert!(
+            (pt.first_parameter - f).abs() < 1e-9,
+            "{} vs {f}",
+            pt.first_parameter
+        );
+    }
+    assert_eq!(curve.special.len(), 1, "{:?}", curve.special);
+    let sp = &curve.special[0];
+    assert_eq!(
+        sp.kind,
+        SpecialKind::Grazing {
+            event: 1,
+            extremum: Extremum::Min
+        }
+    );
+    assert!(sp.located);
+    let f0 = 0.5 * (s.d - s.c);
+    assert!(
+        (sp.point.parameter - f0).abs() < 1e-8,
+        "{} vs {f0}",
+        sp.point.parameter
+    );
+    assert!(sp.point.extrema[1][0].abs() < 1e-8);
+    assert!(sp.bracket[0] - 1e-8 <= f0 && f0 <= sp.bracket[1] + 1e-8);
+}
+
+/// A degenerate tangency stops the curve with a named reason: undamped and below both
+/// resonances the orbit is `q = f₀ + A cos ωt + B cos 2ωt`, `A = f/(1 − ω²)`,
+/// `B = a/(1 − 4ω²)` (in phase), grazing `q = d` at `t = 0` (the section: `θ` wraps) while
+/// `f₀ + A + B = d`; its curvature `−(A + 4B)ω²` vanishes at `B = −(d − f₀)/3`. The curve in
+/// `(f, a)` follows the closed form `f = (1 − ω²)(d − f₀ − B)` and stops with
+/// `Degenerate { GrazingCurvature }` next to that point, never past it on a wrong curve.
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn degenerate_grazing_stops_with_a_named_reason() {
+    let w = 0.4;
+    let s = TwoSurfaces {
+        zeta: 0.0,
+        d: 0.5,
+        c: 5.0,
+        f0: 0.1,
+        f: 0.2,
+        a: 0.0,
+        omega: w,
+    };
+    let (mut p, g) = two_surfaces_start(s);
+    let mut opts = Codim2ContinuationOptions::codim2(
+        Parameter::Named("f".into()),
+        Parameter::Named("a".into()),
+    );
+    opts.initial_step = 0.01;
+    opts.max_step = 0.02;
+    opts.corrector.range = [-0.5, 0.5];
+    opts.corrector.direction = -1.0;
+    let curve = p.continue_codim2(&g, &opts).unwrap();
+    let StopReason::Degenerate {
+        parameter,
+        condition,
+    } = curve.stop
+    else {
+        panic!("{:?}", curve.stop);
+    };
+    assert_eq!(condition, orbit::Degeneracy::GrazingCurvature);
+    let a_deg = -(s.d - s.f0) / 3.0 * (1.0 - 4.0 * w * w);
+    let last = curve.points.last().unwrap();
+    assert_eq!(parameter.to_bits(), last.parameter.to_bits());
+    assert!(
+        (parameter - a_deg).abs() < 0.03,
+        "stopped at a = {parameter} vs {a_deg}"
+    );
+    for pt in &curve.points[..curve.points.len() - 1] {
+        let b = pt.parameter / (1.0 - 4.0 * w * w);
+        let f = (1.0 - w * w) * (s.d - s.f0 - b);
+        assert!(
+            (pt.first_parameter - f).abs() < 1e-8,
+            "{} vs {f}",
+            pt.first_parameter
+        );
+        assert!(pt.parameter > a_deg);
+        let t = pt.grazing_time.unwrap().rem_euclid(2.0 * PI / w);
+        assert!(t.min(2.0 * PI / w - t) < 1e-5, "t_g = {t}");
+    }
+}
+
+/// Options are checked (fields named), and a start of another kind is refused.
+#[test]
+fn codim2_options_and_start_are_checked() {
+    let (mut p, g) = grazing_start(1.5);
+    let ok =
+        Codim2ContinuationOptions::codim2(Parameter::Named("f".into()), Parameter::BaseFrequency);
+    assert!(ok.validate().is_ok());
+    let mut same = ok.clone();
+    same.corrector.parameter = Parameter::Named("f".into());
+    let mut bad_tol = ok.clone();
+    bad_tol.corrector.curvature_tol = 1.5;
+    let mut bad_range = ok.clone();
+    bad_range.corrector.first_range = [1.0, 0.0];
+    let mut bad_step = ok.clone();
+    bad_step.min_step = 0.0;
+    for bad in [same, bad_tol, bad_range, bad_step] {
+        assert!(matches!(
+            p.continue_codim2(&g, &bad),
+            Err(orbit::OrbitError::InvalidInput { .. })
+        ));
+    }
+    let mut ns = g.clone();
+    ns.kind = SpecialKind::NeimarkSacker;
+    assert!(matches!(
+        p.continue_codim2(&ns, &ok),
+        Err(orbit::OrbitError::InvalidInput {
+            field: "start.kind",
+            ..
+        })
+    ));
+    let mut wrong_event = g.clone();
+    wrong_event.kind = SpecialKind::Grazing {
+        event: 3,
+        extremum: Extremum::Max,
+    };
+    assert!(p.continue_codim2(&wrong_event, &ok).is_err());
+    // λ₁ out of its range at the first point: a named stop, one point
+    let mut narrow = ok.clone();
+    narrow.corrector.first_range = [0.0, 0.1];
+    let c = p.continue_codim2(&g, &narrow).unwrap();
+    assert_eq!(c.points.len(), 1);
+    assert!(
+        matches!(c.stop, StopReason::FirstLeftRange { .. }),
+        "{:?}",
+        c.stop
+    );
+}
+
+/// `ω` where the closed-form period-1 impacting orbit of `q'' + 2ζq' + q = cos ωt` with a
+/// stop at `q = 0` (restitution `r`) has `det(Φ + I) = 0` in `[2.3, 3.0]` (bisection to 1e-13;
+/// the closed form of `impact::closed_form`).
+fn pd_closed_form(zeta: f64, r: f64) -> f64 {
+    let f = |w: f64| {
+        let s = crate::common::ImpactOscillator {
+            zeta,
+            sigma: 0.0,
+            omega: w,
+        };
+        let c = crate::impact::closed_form(&s, r);
+        (&c[0].monodromy + nalgebra::DMatrix::identity(2, 2)).determinant()
+    };
+    let (mut a, mut b) = (2.3, 3.0);
+    assert!(f(a) * f(b) < 0.0, "ζ = {zeta}");
+    while b - a > 1e-13 {
+        let m = 0.5 * (a + b);
+        if f(m) * f(a) > 0.0 {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// The period-doubling curve of the impact oscillator (`r = 0.8`, stop at `q = 0`) in
+/// `(ω, ζ)`, from the flip located on a branch in `ω` at `ζ = 0.05`: at every point a
+/// multiplier is `−1` (to 1e-6; measured ≤ 7e-12), and `ω` equals the closed-form flip at that
+/// `ζ` (to 1e-9).
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn impact_period_doubling_curve_matches_closed_form() {
+    let r = 0.8;
+    let w0 = 2.5;
+    let mut p = crate::impact::problem(w0, r);
+    let c = crate::impact::closed_form(p.system(), r);
+    let opts = ContinuationOptions {
+        initial_step: 0.02,
+        max_step: 0.05,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [2.0, 2.8],
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&c[0].x_section, w0, &opts).unwrap();
+    let pd = br
+        .special
+        .iter()
+        .find(|s| s.kind == SpecialKind::PeriodDoubling && s.located)
+        .unwrap()
+        .clone();
+    let mut p = crate::impact::problem(w0, r);
+    let mut o = Codim2ContinuationOptions::codim2(
+        Parameter::BaseFrequency,
+        Parameter::Named("zeta".into()),
+    );
+    o.initial_step = 0.01;
+    o.max_step = 0.02;
+    o.corrector.range = [0.02, 0.1];
+    let curve = p.continue_codim2(&pd, &o).unwrap();
+    assert_eq!(curve.stop, StopReason::ReachedEnd, "{:?}", curve.stop);
+    assert!(curve.points.len() >= 4);
+    for pt in &curve.points {
+        let flip = pt
+            .floquet
+            .multipliers
+            .iter()
+            .map(|m| (m[0] + 1.0).dhypot(m[1]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            flip < 1e-6,
+            "ζ = {}: {:?}",
+            pt.parameter,
+            pt.floquet.multipliers
+        );
+        let w = pd_closed_form(pt.parameter, r);
+        // measured ≤ 2.5e-12
+        assert!(
+            (pt.first_parameter - w).abs() < 1e-9,
+            "ζ = {}: ω = {} vs closed form {w}",
+            pt.parameter,
+            pt.first_parameter
+        );
+    }
+}
+
+/// The Duffing oscillator of [`duffing`] with a switching surface `q = d` that changes no
+/// force (event `q − d` only).
+#[derive(Debug, Clone, Copy)]
+struct DuffingSurface {
+    duffing: crate::common::Duffing,
+    d: f64,
+}
+
+impl system::SecondOrderSystem for DuffingSurface {
+    fn n_dof(&self) -> usize {
+        1
+    }
+    fn mass(&self) -> nalgebra::DMatrix<f64> {
+        self.duffing.mass()
+    }
+    fn damping(&self) -> nalgebra::DMatrix<f64> {
+        self.duffing.damping()
+    }
+    fn stiffness(&self) -> nalgebra::DMatrix<f64> {
+        self.duffing.stiffness()
+    }
+    fn nonlinear_force(&self, t: f64, q: &[f64], v: &[f64], g: &mut [f64]) {
+        self.duffing.nonlinear_force(t, q, v, g);
+    }
+    fn force_jacobian(&self, t: f64, q: &[f64], v: &[f64], a: &mut [f64], b: &mut [f64]) {
+        self.duffing.force_jacobian(t, q, v, a, b);
+    }
+    fn forcing(&self, t: f64, f: &mut [f64]) {
+        self.duffing.forcing(t, f);
+    }
+    fn n_events(&self) -> usize {
+        1
+    }
+    fn events(&self, _t: f64, q: &[f64], _v: &[f64], e: &mut [f64]) {
+        e[0] = q[0] - self.d;
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), system::SystemError> {
+        self.duffing.set_base_frequency(omega)
+    }
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), system::SystemError> {
+        self.duffing.set_parameter(name, value)
+    }
+    fn parameter(&self, name: &str) -> Result<f64, system::SystemError> {
+        self.duffing.parameter(name)
+    }
+}
+
+/// A grazing that meets a fold: the orbits of the hardening Duffing oscillator whose maximum
+/// touches `q = 1.3` form a curve in `(ω, F)` (about constant amplitude); followed from the
+/// stable upper branch at `F = 0.2` to smaller `F`, it turns in `F` near the backbone and
+/// crosses the fold curve, where `det(Φ − I)` changes sign: a located [`SpecialKind::Fold`]
+/// on the grazing curve. There the shooting branch in `ω` at that `F` has its located fold at
+/// the same `ω` (to 1e-8), with the orbit's maximum at `q = 1.3` (to 1e-8).
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn grazing_meets_fold_on_the_duffing_grazing_curve() {
+    let d = 1.3;
+    let sys = DuffingSurface {
+        duffing: duffing(0.2, 0.8),
+        d,
+    };
+    let mut p = OrbitProblem::new(sys, 2.0 * PI / 0.8).unwrap();
+    let sopts = ContinuationOptions {
+        initial_step: 0.02,
+        max_step: 0.05,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [0.7, 2.0],
+            locate_tol: 1e-10,
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap();
+    let g = br
+        .special
+        .iter()
+        .find(|x| {
+            x.kind
+                == SpecialKind::Grazing {
+                    event: 0,
+                    extremum: Extremum::Max,
+                }
+        })
+        .unwrap()
+        .clone();
+    assert!(g.point.floquet.stable && g.located);
+    let mut p = OrbitProblem::new(sys, 2.0 * PI / 0.8).unwrap();
+    let mut o = Codim2ContinuationOptions::codim2(
+        Parameter::BaseFrequency,
+        Parameter::Named("force".into()),
+    );
+    o.initial_step = 0.01;
+    o.max_step = 0.02;
+    o.max_points = 200;
+    o.corrector.range = [0.1, 0.2];
+    o.corrector.direction = -1.0;
+    let curve = p.continue_codim2(&g, &o).unwrap();
+    let folds: Vec<_> = curve
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .collect();
+    assert!(!folds.is_empty(), "{:?} {:?}", curve.stop, curve.special);
+    let sp = folds[0];
+    assert!(sp.located);
+    let (f_star, w_star) = (sp.point.parameter, sp.point.first_parameter);
+    assert!(sp.point.floquet.test_fold.abs() < 1e-6);
+    // the shooting branch in ω at F*: its fold where the grazing curve met it
+    let mut q = OrbitProblem::new(
+        DuffingSurface {
+            duffing: duffing(f_star, 0.8),
+            d,
+        },
+        2.0 * PI / 0.8,
+    )
+    .unwrap();
+    let b2 = q.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap();
+    let fw: Vec<_> = b2
+        .special
+        .iter()
+        .filter(|x| x.kind == SpecialKind::Fold && x.located)
+        .collect();
+    let near = fw
+        .iter()
+        .min_by(|a, b| {
+            (a.point.parameter - w_star)
+                .abs()
+                .total_cmp(&(b.point.parameter - w_star).abs())
+        })
+        .unwrap();
+    // measured 3.8e-12 (F* = 0.15389, ω* = 1.18105)
+    assert!(
+        (near.point.parameter - w_star).abs() < 1e-8,
+        "fold at ω = {} vs {w_star} (F = {f_star})",
+        near.point.parameter
+    );
+    assert!(
+        near.point.extrema[0][1].abs() < 1e-8,
+        "{:?}",
+        near.point.extrema
+    );
+}
