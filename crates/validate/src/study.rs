@@ -4,8 +4,8 @@ use serde::Serialize;
 
 use crate::error::{Error, check_name};
 use crate::figure::Figure;
-use crate::heatmap::Heatmap;
 use crate::format::half_last_digit;
+use crate::heatmap::Heatmap;
 use crate::published::{PublishedClaim, PublishedValue};
 use crate::table::Table;
 

@@ -19,10 +19,10 @@
 use models::liu2021::{self, LongWindowOptions, Parameters};
 use models::motion::Motion;
 use models::response::window_motion;
-use orbit::SpecialKind;
+use orbit::{Codim2ContinuationOptions, OrbitProblem, Parameter, ShootingOptions, SpecialKind};
 use plot::{Curve, CurveStyle, HeatScale, Heatmap};
 
-use super::orbit_branch::{BI, Branch, Tuning, UNI, speed_branch_at, stop_label};
+use super::orbit_branch::{BI, Branch, Liu, Tuning, UNI, speed_branch_at, stop_label};
 use super::{base, model, sig};
 use crate::{
     Comparison, Cost, Error, Evidence, Paper, Reference, Study, StudyOutput, Table, Tolerance,
@@ -147,6 +147,10 @@ struct Chart {
     y: (&'static str, &'static str),
     range: [f64; 2],
     set: fn(&mut Parameters, f64),
+    /// The parameter's name for the orbit problem ([`Liu`]'s `set_parameter`).
+    param: &'static str,
+    /// Its arclength scale (1 ≈ 1 rad/s in ω1).
+    scale: f64,
 }
 
 fn charts() -> [Chart; 2] {
@@ -156,12 +160,16 @@ fn charts() -> [Chart; 2] {
             y: ("T2", "N m"),
             range: [0.0, 60.0],
             set: |p, v| p.load_torque = v,
+            param: "load_torque",
+            scale: 1.0,
         },
         Chart {
             name: "ak",
             y: ("a_k", "1"),
             range: [0.05, 0.8],
             set: |p, v| p.kr = v * p.k0,
+            param: "ak",
+            scale: 0.01,
         },
     ]
 }
@@ -255,8 +263,8 @@ fn boundaries(slices: &[Slice]) -> Vec<Boundary> {
         b
     };
     out.push(from(
-        "unilateral onset (grazing, drive flank)",
-        CurveStyle::Solid,
+        "unilateral onset (grazing, drive flank) on the slices",
+        CurveStyle::Dashed,
         0,
         true,
         UNI,
@@ -390,10 +398,8 @@ fn agreement(codes: &[f64], xs: &[f64], ys: &[f64], curves: &[Boundary]) -> Agre
         let (j0, j1) = (j.saturating_sub(1), (j + 1).min(ny - 1));
         (j0..=j1).flat_map(move |b| (i0..=i1).map(move |a| (a, b)))
     };
-    let hit: Vec<(usize, usize, bool)> = curves
-        .iter()
-        .flat_map(|c| curve_cells(c, xs, ys))
-        .collect();
+    let hit: Vec<(usize, usize, bool)> =
+        curves.iter().flat_map(|c| curve_cells(c, xs, ys)).collect();
     let mut near = vec![false; nx * ny];
     for &(i, j, _) in &hit {
         for (a, b) in around(i, j) {
@@ -451,6 +457,99 @@ fn agreement(codes: &[f64], xs: &[f64], ys: &[f64], curves: &[Boundary]) -> Agre
         }
     }
     g
+}
+
+/// The unilateral-onset grazing curve by codim-2 continuation ([`OrbitProblem::continue_codim2`]:
+/// the shooting residual plus the grazing condition of the drive flank, ω1 an unknown) from the
+/// grazing located on the branch from 100 rad/s up at the slice `y0`, traced in the chart's
+/// second parameter both ways to the ends of its range: `(ω1, y, stable)` in the order of `y`,
+/// and the stop reasons of the two directions.
+fn codim2_grazing(
+    chart: &Chart,
+    y0: f64,
+    up: &(Branch, f64),
+) -> Result<(Vec<(f64, f64, bool)>, [String; 2]), String> {
+    let start =
+        up.0.special
+            .iter()
+            .find(|s| s.kind == UNI)
+            .ok_or("no unilateral-onset grazing on the middle slice")?;
+    let mut p = base();
+    p.omega1 = OMEGA[0];
+    (chart.set)(&mut p, y0);
+    let m = model(&p).map_err(|e| e.to_string())?;
+    let conv = up.1;
+    let mut pieces: Vec<Vec<(f64, f64, bool)>> = Vec::new();
+    let mut stops = [String::new(), String::new()];
+    for (k, dir) in [-1.0, 1.0].into_iter().enumerate() {
+        let sys = Liu::new(p).map_err(|e| e.to_string())?;
+        let mut prob = OrbitProblem::new(sys, m.period()).map_err(|e| e.to_string())?;
+        let mut o = Codim2ContinuationOptions::codim2(
+            Parameter::BaseFrequency,
+            Parameter::Named(chart.param.to_owned()),
+        );
+        o.initial_step = 0.5;
+        o.max_step = 2.0;
+        o.max_points = CODIM2_POINTS;
+        o.corrector.first_range = [(OMEGA[0] - 1.0) * conv, (OMEGA[1] + 1.0) * conv];
+        o.corrector.first_scale = conv;
+        o.corrector.range = chart.range;
+        o.corrector.direction = dir;
+        o.corrector.parameter_scale = chart.scale;
+        o.corrector.state_scale = 0.1 * m.backlash;
+        o.corrector.shooting = ShootingOptions {
+            tol: 1e-8,
+            max_iter: 20,
+            ..ShootingOptions::default()
+        };
+        o.corrector.locate_tol = 1e-3;
+        let b = prob
+            .continue_codim2(start, &o)
+            .map_err(|e| format!("codim-2 continuation: {e}"))?;
+        stops[k] = format!("{:?}", b.stop);
+        let mut piece: Vec<(f64, f64, bool)> = b
+            .points
+            .iter()
+            .map(|q| (q.first_parameter / conv, q.parameter, q.floquet.stable))
+            .collect();
+        if dir < 0.0 {
+            piece.reverse();
+            // the start is the first point of both directions
+            piece.pop();
+        }
+        pieces.push(piece);
+    }
+    Ok((pieces.concat(), stops))
+}
+
+/// Points of each direction of the codim-2 curve at most.
+const CODIM2_POINTS: usize = 60;
+
+/// The codim-2 curve at `y` by linear interpolation between its two points around `y`, with an
+/// estimate of the interpolation error (`|Δ²ω|/8` of the three points nearest, the bound
+/// `h²|ω''|/8` of linear interpolation); `None` outside the curve.
+fn interpolate(curve: &[(f64, f64, bool)], y: f64) -> Option<(f64, f64)> {
+    let k = curve
+        .windows(2)
+        .position(|w| (w[0].1 - y) * (w[1].1 - y) <= 0.0 && w[0].1 != w[1].1)?;
+    let (a, b) = (curve[k], curve[k + 1]);
+    let w = a.0 + (b.0 - a.0) * (y - a.1) / (b.1 - a.1);
+    let c = if k + 2 < curve.len() {
+        Some(curve[k + 2])
+    } else if k > 0 {
+        Some(curve[k - 1])
+    } else {
+        None
+    };
+    let err = c.map_or(f64::NAN, |c| {
+        // second divided difference × the bracket's width squared / 8
+        let (x0, x1, x2) = (a.1, b.1, c.1);
+        let d1 = (b.0 - a.0) / (x1 - x0);
+        let d2 = (c.0 - b.0) / (x2 - x1);
+        let dd = (d2 - d1) / (x2 - x0);
+        (dd * (x1 - x0) * (x1 - x0)).abs() / 4.0
+    });
+    Some((w, err))
 }
 
 /// Cells as `(ω1, y)` text for a note (at most 8).
@@ -522,7 +621,11 @@ fn run() -> Result<StudyOutput, Error> {
             |&(y, up)| {
                 let mut p = base();
                 (chart.set)(&mut p, y);
-                let (w, dir) = if up { (OMEGA[0], 1.0) } else { (OMEGA[1], -1.0) };
+                let (w, dir) = if up {
+                    (OMEGA[0], 1.0)
+                } else {
+                    (OMEGA[1], -1.0)
+                };
                 speed_branch_at(p, w, dir, [OMEGA[0] - 1.0, OMEGA[1] + 1.0], &tuning())
                     .map_err(|e| e.to_string())
             },
@@ -538,7 +641,15 @@ fn run() -> Result<StudyOutput, Error> {
                 down: it.next().unwrap_or_else(|| Err("no job".to_owned())),
             })
             .collect();
-        let curves = boundaries(&slices);
+        let mut curves = boundaries(&slices);
+        // the unilateral-onset grazing curve by codim-2 continuation from the middle slice
+        let mid = &slices[SLICES / 2];
+        let t2 = cpu_now();
+        let codim2 = match &mid.up {
+            Ok(up) => codim2_grazing(&chart, mid.y, up),
+            Err(e) => Err(format!("no branch on the middle slice: {e}")),
+        };
+        let t_codim2 = cpu_now() - t2;
         let points: usize = slices
             .iter()
             .flat_map(|s| [&s.up, &s.down])
@@ -571,6 +682,93 @@ fn run() -> Result<StudyOutput, Error> {
                 ])?;
             }
         }
+        // codim-1 grazings on the slices against the codim-2 curve
+        let y = chart.y.0;
+        match &codim2 {
+            Ok((c2, stops)) => {
+                let mut worst: f64 = 0.0;
+                let mut bound: f64 = 0.0;
+                let mut compared = 0;
+                let mut rows = Vec::new();
+                for (k, s) in slices.iter().enumerate() {
+                    let w1 = curves[0].points[k].0;
+                    if !w1.is_finite() {
+                        continue;
+                    }
+                    if let Some((w2, err)) = interpolate(c2, s.y) {
+                        compared += 1;
+                        worst = worst.max((w1 - w2).abs());
+                        bound = bound.max(if err.is_finite() { err } else { f64::INFINITY });
+                        rows.push(format!("{} = {}: {} vs {}", y, sig(s.y), sig(w1), sig(w2)));
+                    }
+                }
+                let tol = 2.0 * bound + 2e-3;
+                out.compare(
+                    Comparison::new(
+                        &format!(
+                            "(ω1, {y}) unilateral-onset grazing: largest |ω1| difference between the codim-1 grazings on the slices and the codim-2 curve"
+                        ),
+                        "rad/s",
+                        Reference::computed(0.0, "the two continuations locate one curve"),
+                        if compared > 0 { worst } else { f64::NAN },
+                        Tolerance::stated(
+                            ToleranceBand::Absolute(tol),
+                            "twice the largest linear-interpolation error of the codim-2 curve between its points (|Δ²ω|/8 of the three nearest) plus the codim-1 location tolerance (1e-3 rad/s) twice",
+                        ),
+                    )
+                    .class(Evidence::Consistency)
+                    .cause(if compared > 0 && worst <= tol {
+                        ""
+                    } else {
+                        "the codim-2 curve does not cover the slices, or misses their grazings (listed in the note)"
+                    })
+                    .note(&format!(
+                        "{compared} slices compared ({}); codim-2 curve of {} points over {} = {} … {}, stops: {} / {}",
+                        rows.join("; "),
+                        c2.len(),
+                        y,
+                        sig(c2.first().map_or(f64::NAN, |p| p.1)),
+                        sig(c2.last().map_or(f64::NAN, |p| p.1)),
+                        stops[0],
+                        stops[1]
+                    )),
+                );
+                curves.insert(
+                    0,
+                    Boundary {
+                        label: "unilateral onset, codim-2 curve",
+                        style: CurveStyle::Solid,
+                        colour: 1,
+                        points: c2.iter().map(|p| (p.0, p.1)).collect(),
+                        stable: c2.iter().map(|p| p.2).collect(),
+                        why: vec![String::new(); c2.len()],
+                    },
+                );
+            }
+            Err(e) => {
+                out.compare(
+                    Comparison::new(
+                        &format!(
+                            "(ω1, {y}) unilateral-onset grazing: largest |ω1| difference between the codim-1 grazings on the slices and the codim-2 curve"
+                        ),
+                        "rad/s",
+                        Reference::computed(0.0, "the two continuations locate one curve"),
+                        f64::NAN,
+                        Tolerance::stated(ToleranceBand::Absolute(2e-3), "location tolerances"),
+                    )
+                    .class(Evidence::Consistency)
+                    .cause("the codim-2 continuation failed (note)")
+                    .note(e),
+                );
+            }
+        }
+        cost_t.push(vec![
+            chart.name.into(),
+            "codim-2 grazing curve".into(),
+            t_codim2.into(),
+            crate::Cell::count(1.0),
+            crate::Cell::count(codim2.as_ref().map_or(0.0, |c| c.0.len() as f64)),
+        ])?;
         let g = agreement(&codes, &xs, &ys, &curves);
         let failed = codes.iter().filter(|c| c.is_nan()).count();
         let not_p1 = codes.iter().filter(|&&c| not_period_one(c)).count() - failed;
@@ -595,7 +793,6 @@ fn run() -> Result<StudyOutput, Error> {
             })?;
         }
         out.heatmap(map);
-        let y = chart.y.0;
         out.compare(
             Comparison::new(
                 &format!(
@@ -665,12 +862,13 @@ fn run() -> Result<StudyOutput, Error> {
             )),
         );
         out.note(format!(
-            "(ω1, {y}) chart: map of {} cells {} CPU s, curves ({} slices, {} branches, {points} branch points) {} CPU s (measured in this run; validation/stats/ table `cost`)",
+            "(ω1, {y}) chart: map of {} cells {} CPU s, curves ({} slices, {} branches, {points} branch points) {} CPU s, codim-2 grazing curve {} CPU s (measured in this run; validation/stats/ table `cost`)",
             N * N,
             crate::unsettled(sig(t_map)),
             SLICES,
             2 * SLICES,
             crate::unsettled(sig(t_curves)),
+            crate::unsettled(sig(t_codim2)),
         ));
         for (k, s) in slices.iter().enumerate() {
             for (b, dir) in [(&s.up, "up"), (&s.down, "down")] {
@@ -712,9 +910,7 @@ mod tests {
     fn agreement_counts_boundaries_and_curves() {
         let xs: Vec<f64> = (0..6).map(f64::from).collect();
         let ys: Vec<f64> = (0..4).map(f64::from).collect();
-        let codes: Vec<f64> = (0..24)
-            .map(|k| if k % 6 < 3 { 0.0 } else { 1.0 })
-            .collect();
+        let codes: Vec<f64> = (0..24).map(|k| if k % 6 < 3 { 0.0 } else { 1.0 }).collect();
         let split = boundary(vec![(2.5, 0.0), (2.5, 3.0)], true);
         let g = agreement(&codes, &xs, &ys, std::slice::from_ref(&split));
         assert_eq!(g.boundary, 8);
@@ -732,6 +928,32 @@ mod tests {
         chaotic[3] = 4.0; // bilateral, not period-1, at (3, 0)
         let g = agreement(&chaotic, &xs, &ys, &[]);
         assert!(g.chaotic > 0 && g.chaotic + g.unexplained.len() == g.boundary);
+    }
+
+    /// Linear interpolation of a curve in `y` with its error estimate: exact on a line (error
+    /// 0), the `h²|ω''|/8` bound on a parabola (ω = y², h = 1: 1/4 · 1/… ≥ the true error).
+    #[test]
+    fn curve_interpolation_and_its_error() {
+        let line: Vec<(f64, f64, bool)> = (0..5)
+            .map(|i| (2.0 * f64::from(i) + 1.0, f64::from(i), true))
+            .collect();
+        let (w, e) = interpolate(&line, 2.5).unwrap();
+        assert!((w - 6.0).abs() < 1e-12 && e.abs() < 1e-12);
+        assert!(interpolate(&line, 7.0).is_none());
+        let parabola: Vec<(f64, f64, bool)> = (0..5)
+            .map(|i| (f64::from(i * i), f64::from(i), true))
+            .collect();
+        let (w, e) = interpolate(&parabola, 1.5).unwrap();
+        let truth = 1.5 * 1.5;
+        assert!((w - 2.5).abs() < 1e-12);
+        assert!(
+            (w - truth).abs() <= e + 1e-12,
+            "estimate {e} bounds the error {}",
+            w - truth
+        );
+        // decreasing y (a curve traced downwards) works too
+        let rev: Vec<(f64, f64, bool)> = parabola.iter().rev().copied().collect();
+        assert!((interpolate(&rev, 1.5).unwrap().0 - 2.5).abs() < 1e-12);
     }
 
     #[test]

@@ -53,13 +53,14 @@ const LOCATE_SAMPLES: usize = 16;
 /// parameter (`load_torque`, `ak`): the model is rebuilt from the parameters at every change
 /// (no accumulated scaling).
 #[derive(Debug, Clone)]
-struct Liu {
+pub(super) struct Liu {
     p: Parameters,
     m: Model,
 }
 
 impl Liu {
-    fn new(p: Parameters) -> Result<Self, Error> {
+    /// The model of `p` with `p` kept for rebuilding.
+    pub(super) fn new(p: Parameters) -> Result<Self, Error> {
         let m = model(&p)?;
         Ok(Self { p, m })
     }
@@ -133,15 +134,25 @@ impl SecondOrderSystem for Liu {
             "ak" => p.kr = value * p.k0,
             _ => return Err(SystemError::invalid(name, "load_torque or ak", value)),
         }
-        let m = p
+        let mut m = p
             .model()
             .map_err(|_| SystemError::invalid(name, "a valid Liu parameter set", value))?;
-        // the period stays: neither parameter moves ω̄_c
+        // the period stays: neither parameter moves ω̄_c; after a change of the base frequency
+        // (a codim-2 curve in ω1 and this parameter) the model keeps the present ω̄_c
         if m.omega_c.to_bits() != self.m.omega_c.to_bits() {
-            return Err(SystemError::invalid(name, "leaving ω̄_c unchanged", value));
+            m = m
+                .with_omega_c(self.m.omega_c)
+                .map_err(|_| SystemError::invalid(name, "a valid ω̄_c", value))?;
         }
         self.p = p;
         self.m = m;
+        Ok(())
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
+        self.m = self
+            .m
+            .with_omega_c(omega)
+            .map_err(|_| SystemError::invalid("liu2021.omega_c", "> 0", omega))?;
         Ok(())
     }
     fn parameter(&self, name: &str) -> Result<f64, SystemError> {
