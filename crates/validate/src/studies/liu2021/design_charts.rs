@@ -138,7 +138,7 @@ fn rsv_of(code: f64) -> Option<u8> {
 
 /// The code marks a cell whose window is not period-1 (or unsettled, or failed).
 fn not_period_one(code: f64) -> bool {
-    !(code <= NOT_P1)
+    code.is_nan() || code > NOT_P1
 }
 
 /// One chart: its second parameter and range.
@@ -468,7 +468,7 @@ fn codim2_grazing(
     chart: &Chart,
     y0: f64,
     up: &(Branch, f64),
-) -> Result<(Vec<(f64, f64, bool)>, [String; 2]), String> {
+) -> Result<(Codim2Curve, [String; 2]), String> {
     let start =
         up.0.special
             .iter()
@@ -522,6 +522,9 @@ fn codim2_grazing(
     Ok((pieces.concat(), stops))
 }
 
+/// A codim-2 curve as `(ω1, y, stable)` points.
+type Codim2Curve = Vec<(f64, f64, bool)>;
+
 /// Points of each direction of the codim-2 curve at most.
 const CODIM2_POINTS: usize = 60;
 
@@ -531,7 +534,7 @@ const CODIM2_POINTS: usize = 60;
 fn interpolate(curve: &[(f64, f64, bool)], y: f64) -> Option<(f64, f64)> {
     let k = curve
         .windows(2)
-        .position(|w| (w[0].1 - y) * (w[1].1 - y) <= 0.0 && w[0].1 != w[1].1)?;
+        .position(|w| (w[0].1 - y) * (w[1].1 - y) <= 0.0 && (w[1].1 - w[0].1).abs() > 0.0)?;
     let (a, b) = (curve[k], curve[k + 1]);
     let w = a.0 + (b.0 - a.0) * (y - a.1) / (b.1 - a.1);
     let c = if k + 2 < curve.len() {
