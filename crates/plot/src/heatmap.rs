@@ -11,6 +11,10 @@
 //!
 //! Failed points (NaN) are drawn in light grey and counted in the legend.
 //!
+//! Curves can be drawn over the cells ([`Heatmap::with_curve`], [`Curve`]): boundaries located
+//! by continuation over a brute-force map (solid, dashed, or crosses at isolated points; in
+//! black, dark grey or white so that they read over every state colour), named in the legend.
+//!
 //! Up to [`RASTER_CELLS`] cells each cell is an SVG rectangle. Above it the cells are one
 //! embedded raster image (an indexed PNG, base64, at the plot area's pixel size: each pixel takes
 //! the colour of the cell under its centre) while the axes, labels, colour bar and legend stay
@@ -53,6 +57,35 @@ pub const RASTER_CELLS: usize = 20_000;
 /// these, the failed grey and spares).
 const RASTER_LEVELS: usize = 254;
 
+/// Colours of the curves over a map ([`Curve::colour`]): black, dark grey, white — none of them
+/// a state colour, so a curve reads over every cell.
+pub const CURVE_COLOURS: [(u8, u8, u8); 3] = [(0, 0, 0), (0x55, 0x55, 0x55), (0xff, 0xff, 0xff)];
+
+/// How a curve over a map is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum CurveStyle {
+    /// A solid polyline (non-finite points break it).
+    Solid,
+    /// A dashed polyline (non-finite points break it).
+    Dashed,
+    /// A cross at each point (isolated special points: folds, codim-2 points).
+    Crosses,
+}
+
+/// A curve drawn over a heat map's cells, in data coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curve {
+    /// Legend label (empty: not in the legend).
+    pub label: String,
+    /// The points `(x, y)`; a non-finite point breaks a polyline into pieces.
+    pub points: Vec<(f64, f64)>,
+    /// Solid, dashed or crosses.
+    pub style: CurveStyle,
+    /// Index into [`CURVE_COLOURS`] (modulo its length).
+    pub colour: usize,
+}
+
 /// How values map to colours.
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
@@ -80,6 +113,7 @@ pub struct Heatmap {
     ys: Vec<f64>,
     values: Vec<f64>,
     scale: HeatScale,
+    curves: Vec<Curve>,
 }
 
 fn axis_label((n, u): &(String, String)) -> String {
@@ -163,7 +197,37 @@ impl Heatmap {
             ys,
             values,
             scale,
+            curves: Vec::new(),
         })
+    }
+
+    /// Draw `curve` over the cells (builder style). Points outside the grid's area are clipped
+    /// to it; a map without curves renders exactly as before.
+    ///
+    /// Errors: an infinite coordinate (NaN is a break, infinity is a mistake).
+    pub fn with_curve(mut self, curve: Curve) -> Result<Self, Error> {
+        if let Some(p) = curve
+            .points
+            .iter()
+            .find(|p| p.0.is_infinite() || p.1.is_infinite())
+        {
+            return Err(Error::Plot {
+                figure: self.name.clone(),
+                reason: format!("curve '{}' has an infinite point {p:?}", curve.label),
+            });
+        }
+        self.curves.push(curve);
+        Ok(self)
+    }
+
+    /// The curves drawn over the cells.
+    pub fn curves(&self) -> &[Curve] {
+        &self.curves
+    }
+
+    /// The grid: `(xs, ys, values)` with `values[j * xs.len() + i] = z(xs[i], ys[j])`.
+    pub fn grid(&self) -> (&[f64], &[f64], &[f64]) {
+        (&self.xs, &self.ys, &self.values)
     }
 
     /// The data in long format (`x, y, z`), for the CSV written beside the SVG.
@@ -287,6 +351,8 @@ impl Heatmap {
                     .map_err(|e| err(e.to_string()))?;
             }
 
+            self.draw_curves(&mut chart, [x0, x1, y0, y1])
+                .map_err(err)?;
             match &self.scale {
                 HeatScale::Continuous => {
                     let mut bar = ChartBuilder::on(&right)
@@ -342,6 +408,54 @@ impl Heatmap {
                     }
                 }
             }
+            // the curves' legend under the states' (categorical) or under the colour bar's
+            // caption area (continuous: at the bottom, above the failed count)
+            let first = match &self.scale {
+                HeatScale::Categorical(states) => 78 + 26 * states.len() as i32 + 14,
+                HeatScale::Continuous => 500 - 26 * self.curves.len() as i32,
+            };
+            for (k, c) in self
+                .curves
+                .iter()
+                .filter(|c| !c.label.is_empty())
+                .enumerate()
+            {
+                let y = first + 26 * k as i32;
+                let (r, g, b) = CURVE_COLOURS[c.colour % CURVE_COLOURS.len()];
+                let colour = RGBColor(r, g, b);
+                // a white curve's key on a grey swatch
+                right
+                    .draw(&Rectangle::new([(6, y - 2), (28, y + 20)], FAILED.filled()))
+                    .map_err(|e| err(e.to_string()))?;
+                match c.style {
+                    CurveStyle::Solid => right.draw(&PathElement::new(
+                        vec![(8, y + 9), (26, y + 9)],
+                        colour.stroke_width(2),
+                    )),
+                    CurveStyle::Dashed => right
+                        .draw(&PathElement::new(
+                            vec![(8, y + 9), (14, y + 9)],
+                            colour.stroke_width(2),
+                        ))
+                        .and_then(|()| {
+                            right.draw(&PathElement::new(
+                                vec![(20, y + 9), (26, y + 9)],
+                                colour.stroke_width(2),
+                            ))
+                        }),
+                    CurveStyle::Crosses => {
+                        right.draw(&Cross::new((17, y + 9), 5, colour.stroke_width(2)))
+                    }
+                }
+                .map_err(|e| err(e.to_string()))?;
+                right
+                    .draw_text(
+                        &c.label,
+                        &("sans-serif", 13).into_text_style(&right),
+                        (32, y + 2),
+                    )
+                    .map_err(|e| err(e.to_string()))?;
+            }
             if failed > 0 {
                 let y = 500;
                 right
@@ -369,6 +483,68 @@ impl Heatmap {
             svg.insert_str(at, &format!("\n{image}"));
         }
         Ok(svg)
+    }
+
+    /// Draw the curves over the cells of `chart` (data bounds `[x0, x1, y0, y1]`: polylines
+    /// clamped to them, crosses outside them left out).
+    fn draw_curves<DB: DrawingBackend>(
+        &self,
+        chart: &mut ChartContext<
+            '_,
+            DB,
+            Cartesian2d<
+                plotters::coord::types::RangedCoordf64,
+                plotters::coord::types::RangedCoordf64,
+            >,
+        >,
+        [x0, x1, y0, y1]: [f64; 4],
+    ) -> Result<(), String> {
+        for c in &self.curves {
+            let (r, g, b) = CURVE_COLOURS[c.colour % CURVE_COLOURS.len()];
+            let colour = RGBColor(r, g, b);
+            match c.style {
+                CurveStyle::Solid | CurveStyle::Dashed => {
+                    let mut segments: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+                    for p in &c.points {
+                        if p.0.is_finite() && p.1.is_finite() {
+                            if let Some(seg) = segments.last_mut() {
+                                seg.push((p.0.clamp(x0, x1), p.1.clamp(y0, y1)));
+                            }
+                        } else {
+                            segments.push(Vec::new());
+                        }
+                    }
+                    for seg in segments.into_iter().filter(|s| !s.is_empty()) {
+                        if c.style == CurveStyle::Dashed {
+                            chart
+                                .draw_series(DashedLineSeries::new(
+                                    seg,
+                                    8,
+                                    5,
+                                    colour.stroke_width(2),
+                                ))
+                                .map_err(|e| e.to_string())?;
+                        } else {
+                            chart
+                                .draw_series(LineSeries::new(seg, colour.stroke_width(2)))
+                                .map_err(|e| e.to_string())?;
+                        }
+                    }
+                }
+                CurveStyle::Crosses => {
+                    let inside = |p: &&(f64, f64)| p.0 >= x0 && p.0 <= x1 && p.1 >= y0 && p.1 <= y1;
+                    chart
+                        .draw_series(
+                            c.points
+                                .iter()
+                                .filter(inside)
+                                .map(|&p| Cross::new(p, 6, colour.stroke_width(2))),
+                        )
+                        .map_err(|e| e.to_string())?;
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The SVG `<image>` of the cells over the plot area `px × py` (pixels) spanning the data
@@ -636,6 +812,50 @@ mod tests {
         .unwrap();
         let svg = c.to_svg().unwrap();
         assert!(svg.len() < 2_000_000 && svg.contains("bilateral"));
+    }
+
+    /// Curves over a map: drawn (a polyline per unbroken piece, crosses inside the area),
+    /// named in the legend, clipped; an infinite point is refused; no curve renders as before.
+    #[test]
+    fn curves_are_drawn_over_the_cells_and_named() {
+        let m = map(vec![0.0, 1.0, 2.0, 2.0, f64::NAN, 0.0], states()).unwrap();
+        let plain = m.to_svg().unwrap();
+        let m = m
+            .with_curve(Curve {
+                label: "grazing".into(),
+                points: vec![
+                    (110.0, 5.0),
+                    (140.0, 8.0),
+                    (f64::NAN, f64::NAN),
+                    (160.0, 6.0),
+                    (190.0, 50.0),
+                ],
+                style: CurveStyle::Solid,
+                colour: 0,
+            })
+            .unwrap()
+            .with_curve(Curve {
+                label: "fold".into(),
+                points: vec![(150.0, 7.0), (1e4, 7.0)],
+                style: CurveStyle::Crosses,
+                colour: 2,
+            })
+            .unwrap();
+        let svg = m.to_svg().unwrap();
+        assert!(svg.contains("grazing") && svg.contains("fold"));
+        let more = |tag: &str| svg.matches(tag).count() - plain.matches(tag).count();
+        assert_eq!(more("<polyline"), 3, "two pieces and the legend key");
+        // the cross inside the area and the legend's (two strokes each); the one outside left out
+        assert_eq!(more("<line"), 4);
+        assert_eq!(m.curves().len(), 2);
+        assert_eq!(svg, m.to_svg().unwrap(), "deterministic");
+        let bad = map(vec![0.0; 6], states()).unwrap().with_curve(Curve {
+            label: "x".into(),
+            points: vec![(f64::INFINITY, 1.0)],
+            style: CurveStyle::Dashed,
+            colour: 1,
+        });
+        assert!(bad.is_err());
     }
 
     #[test]

@@ -9,7 +9,7 @@
 //! * [`heatmap::Heatmap`]: a quantity `z(x, y)` on a rectangular grid, continuous (viridis, with
 //!   a colour bar) or categorical (one colour per state), drawn cell by cell so that non-uniform
 //!   grids are drawn faithfully, and above [`RASTER_CELLS`] cells as one embedded PNG with vector
-//!   axes and labels;
+//!   axes and labels, with curves over the cells ([`Curve`]: boundaries located by continuation);
 //! * text helpers for CSV and Markdown ([`csv_field`], [`md_cell`]), values that do not settle
 //!   under a solver retune ([`unsettled`], [`committed_text`], [`NOT_PERIODIC`]) and the
 //!   tolerance of a printed number ([`half_last_digit`]).
@@ -43,5 +43,5 @@ pub use format::{
     NOT_PERIODIC, SIGNIFICANT_DIGITS, UNSETTLED_CLOSE, UNSETTLED_OPEN, committed_text, csv_field,
     fmt_sig, fmt6, full_text, half_last_digit, md_cell, unsettled,
 };
-pub use heatmap::{HeatScale, Heatmap, RASTER_CELLS};
+pub use heatmap::{CURVE_COLOURS, Curve, CurveStyle, HeatScale, Heatmap, RASTER_CELLS};
 pub use table::{Cell, Column, Table};

@@ -63,6 +63,10 @@ pub fn output_files(study: &Study, out: &StudyOutput) -> Vec<String> {
         v.push(format!("{dir}/{}_{}.csv", study.id, f.name));
         v.push(format!("{dir}/{}_{}.svg", study.id, f.name));
     }
+    for m in &out.heatmaps {
+        v.push(format!("{dir}/{}_{}.csv", study.id, m.name));
+        v.push(format!("{dir}/{}_{}.svg", study.id, m.name));
+    }
     v
 }
 

@@ -383,6 +383,17 @@ pub fn snapshot_body(study: &Study, output: &Result<StudyOutput, Error>) -> Stri
             crate::precision::digest(csv.as_bytes())
         );
     }
+    for m in &out.heatmaps {
+        let csv = m.to_table().to_csv();
+        let _ = writeln!(
+            s,
+            "heat map {}: {} cells, {} curves, data digest {}",
+            m.name,
+            m.grid().2.len(),
+            m.curves().len(),
+            crate::precision::digest(csv.as_bytes())
+        );
+    }
     s
 }
 
@@ -690,6 +701,13 @@ fn study_section(s: &mut String, r: &StudyResult, idx: &ReadingsIndex) {
             p = at(f.non_periodic, format!("_{}.svg", f.name))
         ));
     }
+    for m in &out.heatmaps {
+        files.push(format!(
+            "[{n}.svg]({p})",
+            n = m.name,
+            p = out_path(st, &format!("_{}.svg", m.name))
+        ));
+    }
     let _ = writeln!(s, "Outputs: {}\n", files.join(", "));
     if !out.comparisons.is_empty() {
         s.push_str("| # | quantity | unit | paper | model | deviation (abs / rel) | tolerance (derivation) | class | verdict | readings / cause |\n");
@@ -780,6 +798,20 @@ pub fn render_all(results: &[StudyResult], idx: &ReadingsIndex) -> BTreeMap<Stri
                 match drawn.to_svg() {
                     Ok(svg) => {
                         files.insert(out_path(st, &format!("_{}.svg", f.name)), svg.into_bytes());
+                    }
+                    Err(e) => {
+                        let _ = writeln!(body, "render error: {e}");
+                    }
+                }
+            }
+            for m in &out.heatmaps {
+                files.insert(
+                    out_path(st, &format!("_{}.csv", m.name)),
+                    m.to_table().to_csv().into_bytes(),
+                );
+                match m.to_svg() {
+                    Ok(svg) => {
+                        files.insert(out_path(st, &format!("_{}.svg", m.name)), svg.into_bytes());
                     }
                     Err(e) => {
                         let _ = writeln!(body, "render error: {e}");

@@ -16,6 +16,7 @@ pub const UNKNOWN_CPU_SECONDS: f64 = 5.0;
 /// docs. Only the ratios matter (order and progress).
 const EXPECTED_CPU_SECONDS: &[(&str, f64)] = &[
     ("liu2021-fig12-14-parameter-sweeps", 346.6),
+    ("liu2021-design-charts", 437.5),
     ("liu2021-orbit-branch", 291.2),
     ("liu2021-fig11-speed-sweep", 123.6),
     ("liu2021-fig15-load-sweep", 70.1),

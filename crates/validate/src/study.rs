@@ -5,6 +5,7 @@ use serde::Serialize;
 use crate::error::{Error, check_name};
 use crate::figure::Figure;
 use crate::format::half_last_digit;
+use crate::heatmap::Heatmap;
 use crate::published::{PublishedClaim, PublishedValue};
 use crate::table::Table;
 
@@ -100,6 +101,9 @@ impl Study {
         }
         for f in &out.figures {
             check_name(&f.name)?;
+        }
+        for m in &out.heatmaps {
+            check_name(&m.name)?;
         }
         Ok(out)
     }
@@ -704,6 +708,10 @@ pub struct StudyOutput {
     pub figures: Vec<Figure>,
     /// Remarks shown under the study in the report (Markdown).
     pub notes: Vec<String>,
+    /// Heat maps (each written to `<id>_<map>.svg` and, as data, `<id>_<map>.csv`; their
+    /// curves are drawn in the SVG, their data belong in a table of the study).
+    #[serde(skip)]
+    pub heatmaps: Vec<Heatmap>,
 }
 
 impl StudyOutput {
@@ -733,6 +741,12 @@ impl StudyOutput {
     /// Add a figure.
     pub fn figure(&mut self, f: Figure) -> &mut Self {
         self.figures.push(f);
+        self
+    }
+
+    /// Add a heat map.
+    pub fn heatmap(&mut self, m: Heatmap) -> &mut Self {
+        self.heatmaps.push(m);
         self
     }
 

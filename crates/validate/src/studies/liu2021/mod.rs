@@ -25,6 +25,7 @@ use crate::{
 
 mod basins;
 mod continuation;
+mod design_charts;
 mod fig17;
 mod load_sweep;
 mod orbit_branch;
@@ -48,6 +49,7 @@ pub fn studies() -> Vec<Study> {
         parameter_sweeps::study(),
         basins::study(),
         readings_thresholds::study(),
+        design_charts::study(),
     ]
 }
 

@@ -9,8 +9,8 @@ use orbit::{
     ShootingPoint, SpecialKind,
 };
 
-type Branch = orbit::ShootingBranch;
-type SpecialPoint = orbit::SpecialPoint<ShootingPoint>;
+pub(super) type Branch = orbit::ShootingBranch;
+pub(super) type SpecialPoint = orbit::SpecialPoint<ShootingPoint>;
 use system::{SecondOrderSystem, SystemError};
 
 use super::{base, model, sig, speed_tolerance};
@@ -53,13 +53,14 @@ const LOCATE_SAMPLES: usize = 16;
 /// parameter (`load_torque`, `ak`): the model is rebuilt from the parameters at every change
 /// (no accumulated scaling).
 #[derive(Debug, Clone)]
-struct Liu {
+pub(super) struct Liu {
     p: Parameters,
     m: Model,
 }
 
 impl Liu {
-    fn new(p: Parameters) -> Result<Self, Error> {
+    /// The model of `p` with `p` kept for rebuilding.
+    pub(super) fn new(p: Parameters) -> Result<Self, Error> {
         let m = model(&p)?;
         Ok(Self { p, m })
     }
@@ -133,15 +134,25 @@ impl SecondOrderSystem for Liu {
             "ak" => p.kr = value * p.k0,
             _ => return Err(SystemError::invalid(name, "load_torque or ak", value)),
         }
-        let m = p
+        let mut m = p
             .model()
             .map_err(|_| SystemError::invalid(name, "a valid Liu parameter set", value))?;
-        // the period stays: neither parameter moves ω̄_c
+        // the period stays: neither parameter moves ω̄_c; after a change of the base frequency
+        // (a codim-2 curve in ω1 and this parameter) the model keeps the present ω̄_c
         if m.omega_c.to_bits() != self.m.omega_c.to_bits() {
-            return Err(SystemError::invalid(name, "leaving ω̄_c unchanged", value));
+            m = m
+                .with_omega_c(self.m.omega_c)
+                .map_err(|_| SystemError::invalid(name, "a valid ω̄_c", value))?;
         }
         self.p = p;
         self.m = m;
+        Ok(())
+    }
+    fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
+        self.m = self
+            .m
+            .with_omega_c(omega)
+            .map_err(|_| SystemError::invalid("liu2021.omega_c", "> 0", omega))?;
         Ok(())
     }
     fn parameter(&self, name: &str) -> Result<f64, SystemError> {
@@ -206,33 +217,18 @@ fn shooting() -> ShootingOptions {
 
 /// The ω1 branch from `w_start` in direction `dir`.
 fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
-    let mut p = base();
-    p.omega1 = w_start;
-    let m = model(&p)?;
-    let conv = m.omega_c / w_start; // ω̄_c per rad/s
-    let (q, v, _) = settle(&m, 199.0, 1.0, 1e-8)?;
-    let mut prob = OrbitProblem::new(m, m.period()).context("orbit problem")?;
-    let opts = ContinuationOptions {
-        initial_step: 1.0,
-        max_step: 2.0,
-        min_step: 1e-6,
-        max_points: 400,
-        corrector: ShootingCorrection {
-            parameter: Parameter::BaseFrequency,
-            range: [99.0 * conv, 221.0 * conv],
-            direction: dir,
-            parameter_scale: conv,
-            state_scale: 0.1 * m.backlash,
+    let (branch, conv) = speed_branch_at(
+        base(),
+        w_start,
+        dir,
+        [99.0, 221.0],
+        &Tuning {
+            max_points: 400,
+            max_step: 2.0,
             locate_tol: LOCATE_TOL,
             locate_samples: LOCATE_SAMPLES,
-            shooting: shooting(),
-            ..ShootingCorrection::default()
         },
-        ..ContinuationOptions::default()
-    };
-    let branch = prob
-        .continuation(&[q, v], m.omega_c, &opts)
-        .context("continuation in ω1")?;
+    )?;
     Ok(Run {
         label: if dir > 0.0 {
             "ω1 from 100 up"
@@ -244,6 +240,59 @@ fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
         scale: conv,
         branch,
     })
+}
+
+/// Step and location settings of a branch in ω1 ([`speed_branch_at`]).
+pub(super) struct Tuning {
+    /// Most points of the branch.
+    pub max_points: usize,
+    /// Largest arclength step (scaled: 1 ≈ 1 rad/s).
+    pub max_step: f64,
+    /// Arclength tolerance of the located special points.
+    pub locate_tol: f64,
+    /// Pieces per step sampled before locating.
+    pub locate_samples: usize,
+}
+
+/// The period-1 branch in ω1 of the parameter set `p` (its `omega1` replaced by `w_start`),
+/// from the orbit settled by 199 periods of time integration, continued in direction `dir`
+/// inside `range` (rad/s) with the step and location settings `t`; with the conversion `ω̄_c`
+/// per rad/s (branch parameters are `ω̄_c`: divide by it for rad/s).
+pub(super) fn speed_branch_at(
+    p: Parameters,
+    w_start: f64,
+    dir: f64,
+    range: [f64; 2],
+    t: &Tuning,
+) -> Result<(Branch, f64), Error> {
+    let mut p = p;
+    p.omega1 = w_start;
+    let m = model(&p)?;
+    let conv = m.omega_c / w_start; // ω̄_c per rad/s
+    let (q, v, _) = settle(&m, 199.0, 1.0, 1e-8)?;
+    let mut prob = OrbitProblem::new(m, m.period()).context("orbit problem")?;
+    let opts = ContinuationOptions {
+        initial_step: 1.0_f64.min(t.max_step),
+        max_step: t.max_step,
+        min_step: 1e-6,
+        max_points: t.max_points,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [range[0] * conv, range[1] * conv],
+            direction: dir,
+            parameter_scale: conv,
+            state_scale: 0.1 * m.backlash,
+            locate_tol: t.locate_tol,
+            locate_samples: t.locate_samples,
+            shooting: shooting(),
+            ..ShootingCorrection::default()
+        },
+        ..ContinuationOptions::default()
+    };
+    let branch = prob
+        .continuation(&[q, v], m.omega_c, &opts)
+        .context("continuation in ω1")?;
+    Ok((branch, conv))
 }
 
 /// A branch in a Table 1 entry (`load_torque` or `ak`) at speed `w`.
@@ -299,7 +348,7 @@ fn named_branch(
 
 /// Short name of a special point: separation from the drive flank (max of `q + b̄` through 0,
 /// event 1), contact with the back flank (max of `q − b̄`, event 0), period doubling, fold.
-fn marker(kind: SpecialKind) -> String {
+pub(super) fn marker(kind: SpecialKind) -> String {
     match kind {
         SpecialKind::Grazing {
             event: 1,
@@ -334,15 +383,15 @@ fn found_or_nan(p: Option<&SpecialPoint>, scale: f64) -> (f64, f64, f64) {
     })
 }
 
-fn first(b: &Branch, kind: SpecialKind) -> Option<&SpecialPoint> {
+pub(super) fn first(b: &Branch, kind: SpecialKind) -> Option<&SpecialPoint> {
     b.special.iter().find(|s| s.kind == kind)
 }
 
-const UNI: SpecialKind = SpecialKind::Grazing {
+pub(super) const UNI: SpecialKind = SpecialKind::Grazing {
     event: 1,
     extremum: Extremum::Max,
 };
-const BI: SpecialKind = SpecialKind::Grazing {
+pub(super) const BI: SpecialKind = SpecialKind::Grazing {
     event: 0,
     extremum: Extremum::Max,
 };
@@ -929,7 +978,7 @@ fn base_backlash() -> Result<f64, Error> {
     Ok(model(&base())?.backlash)
 }
 
-fn stop_label(b: &Branch) -> String {
+pub(super) fn stop_label(b: &Branch) -> String {
     match &b.stop {
         orbit::StopReason::ReachedEnd | orbit::StopReason::LeftRange { .. } => {
             "range left".to_owned()
