@@ -325,7 +325,7 @@ pub fn log2_approx(x: f64) -> f64 {
 /// `2^x` without the C math library (as [`log2_approx`]), for `|x| ≤ 1000` (clamped beyond),
 /// to below `10⁻⁸` relative.
 ///
-/// `x = n + r`, `n = round(x)` (ties to even, by [`ROUND_MAGIC`]), `|r| ≤ ½`: `2^r = e^{r ln 2}`
+/// `x = n + r`, `n = round(x)` (ties to even, by the magic-number addition of `ROUND_MAGIC`), `|r| ≤ ½`: `2^r = e^{r ln 2}`
 /// by its Taylor series to degree 7 (`|r ln 2| ≤ 0.347`; the first omitted term
 /// `0.347⁸/8! < 6·10⁻⁹`), by Estrin's scheme, times `2ⁿ` built from the exponent bits.
 #[inline]

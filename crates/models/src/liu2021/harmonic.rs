@@ -147,8 +147,7 @@ impl system::SecondOrderSystem for Model {
     fn events(&self, t: f64, q: &[f64], _qd: &[f64], e: &mut [f64]) {
         system::gap_edges(q[0], self.time_functions_short(t)[1], e);
     }
-    /// The gap edges from the row's `b̄(τ)` (the same value as [`events`](Self::events)
-    /// reads).
+    /// The gap edges from the row's `b̄(τ)` (the same value as `events` reads).
     fn events_tabulated(&self, _t: f64, row: &[f64], q: &[f64], _qd: &[f64], e: &mut [f64]) {
         system::gap_edges(q[0], row[1], e);
     }
@@ -161,8 +160,8 @@ impl system::SecondOrderSystem for Model {
         row[0] = stiffness;
         row[1] = backlash;
     }
-    /// `f_r(τ)` and `[F(τ), b̄(τ)]` from one evaluation: the values of
-    /// [`forcing`](Self::forcing) and [`fill_time_table`](Self::fill_time_table) bit for bit.
+    /// `f_r(τ)` and `[F(τ), b̄(τ)]` from one evaluation: the values of `forcing` and
+    /// `fill_time_table` bit for bit.
     fn fill_time_functions(&self, t: f64, f: &mut [f64], row: &mut [f64]) {
         let [stiffness, backlash, forcing] = self.time_functions_short(t);
         f[0] = forcing;
