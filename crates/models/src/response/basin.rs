@@ -36,7 +36,7 @@
 //! message kept), never a lost study. The attractor fractions and the failed fraction sum to 1.
 //!
 //! ```
-//! use models::response::basin::{Axis, BasinGrid, BasinOptions, Signature, basins};
+//! use geardyn_models::response::basin::{Axis, BasinGrid, BasinOptions, Signature, basins};
 //! let grid = BasinGrid::new(Axis::new(-1.0, 1.0, 4), Axis::new(-1.0, 1.0, 3)).unwrap();
 //! // two "attractors": the sign of q decides
 //! let b = basins(&grid, &BasinOptions::default(), |q, _| {
