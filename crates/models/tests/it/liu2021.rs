@@ -486,7 +486,7 @@ fn central_difference_monodromy(m: &liu2021::Model, q0: f64, v0: f64) -> nalgebr
 }
 
 /// Fig. 11 points (no rattle 120, unilateral 150 and 160, bilateral 220 and 250 rad/s, warm
-/// from the time response on the full basis K = 65): the shooting monodromy of `orbit`
+/// from the settled time response on the full basis K = 65): the shooting monodromy of `orbit`
 /// (variational equations, one integration) against the deleted finite-difference one and a
 /// converged central difference.
 ///
@@ -502,7 +502,7 @@ fn central_difference_monodromy(m: &liu2021::Model, q0: f64, v0: f64) -> nalgebr
 fn shooting_multipliers_match_the_finite_difference_period_map() {
     for omega1 in [120.0, 150.0, 160.0, 220.0, 250.0] {
         let m = paper(omega1).model().unwrap();
-        let ti = liu2021::integrate(&m, &short()).unwrap();
+        let ti = liu2021::integrate(&m, &settled()).unwrap();
         let hb = solve_hbm_from_time_response(&m, &HbmOptions::full(&m, 1), &ti).unwrap();
         let map = liu2021::shooting_period_map(&m, &hb).unwrap();
         let (q, v) = hb.solution.state_at(0.0);
