@@ -910,6 +910,34 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         start: &SpecialPoint<ShootingPoint>,
         options: &Codim2ContinuationOptions,
     ) -> Result<Codim2Branch> {
+        self.codim2_from(start, options, None)
+    }
+
+    /// The grazing phase `θ ∈ [0, 1)` (`t_g = t₀ + θ kT`) of the global extremum of event
+    /// `event` (`sgn = +1` maximum, `−1` minimum) over the orbit from `x0` at the present
+    /// parameters, over `periods` periods.
+    fn grazing_phase(&mut self, x0: &[f64], event: usize, sgn: f64, periods: usize) -> Result<f64> {
+        let t0 = self.phase();
+        let kt = periods as f64 * self.period();
+        let fr = self.flow_recorded(t0, x0, kt, false)?;
+        let (tg, _) =
+            crate::flow::extremum_at(self.field(), self.flow_options(), &fr.pieces, event, sgn)
+                .ok_or(OrbitError::InvalidInput {
+                    field: "start (no recorded orbit to locate the grazing time on)",
+                    bound: "an orbit with event functions",
+                    value: f64::NAN,
+                })?;
+        Ok(((tg - t0) / kt).rem_euclid(1.0))
+    }
+
+    /// [`OrbitProblem::continue_codim2`], a grazing started at the phase `theta` when given
+    /// (else at the global extremum of the start's orbit).
+    fn codim2_from(
+        &mut self,
+        start: &SpecialPoint<ShootingPoint>,
+        options: &Codim2ContinuationOptions,
+        theta: Option<f64>,
+    ) -> Result<Codim2Branch> {
         options.validate()?;
         let opts = &options.corrector;
         let curve = match start.kind {
@@ -944,8 +972,6 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         self.set_parameter(&opts.first, lam1)?;
         let lam2 = self.parameter(&opts.parameter)?;
         check(lam2.is_finite(), "second parameter value", "finite", lam2)?;
-        let kt = opts.shooting.periods as f64 * self.period();
-        let t0 = self.phase();
         let extra = usize::from(matches!(curve, Curve::Grazing { .. }));
         let mut y = DVector::zeros(nn + extra + 2);
         for i in 0..nn {
@@ -954,20 +980,10 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         let mut borders = (DVector::zeros(0), DVector::zeros(0));
         match curve {
             Curve::Grazing { event, sgn } => {
-                let fr = self.flow_recorded(t0, &start.point.x0, kt, false)?;
-                let (tg, _) = crate::flow::extremum_at(
-                    self.field(),
-                    self.flow_options(),
-                    &fr.pieces,
-                    event,
-                    sgn,
-                )
-                .ok_or(OrbitError::InvalidInput {
-                    field: "start (no recorded orbit to locate the grazing time on)",
-                    bound: "an orbit with event functions",
-                    value: f64::NAN,
-                })?;
-                y[nn] = ((tg - t0) / kt).rem_euclid(1.0);
+                y[nn] = match theta {
+                    Some(th) if th.is_finite() => th.rem_euclid(1.0),
+                    _ => self.grazing_phase(&start.point.x0, event, sgn, opts.shooting.periods)?,
+                };
             }
             Curve::Bordered { sigma } => {
                 let mut a = start.point.monodromy.clone();
@@ -1039,4 +1055,315 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         path::trace(&mut aug, first, &control, &course, &mut branch)?;
         Ok(branch)
     }
+}
+
+/// Most switches [`OrbitProblem::continue_grazing_envelope`] accepts.
+pub const MAX_ENVELOPE_SWITCHES: usize = 1000;
+
+/// Hops from extremum to extremum at one restart ([`OrbitProblem::continue_grazing_envelope`]).
+const RESTART_HOPS: usize = 4;
+
+/// Bisections of the `λ₂` bracket of a double grazing before a restart (`2⁻¹⁰` of the last
+/// step).
+const SWITCH_BISECTIONS: usize = 10;
+
+/// How a [`GrazingEnvelope`] ended.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum EnvelopeEnd {
+    /// The last piece stopped for a reason other than [`Degeneracy::GrazingNotGlobal`]
+    /// (its [`Branch::stop`]: the range's end, a degenerate curvature, the step cap …).
+    Stopped,
+    /// The switch cap was reached; the last piece stopped at
+    /// [`Degeneracy::GrazingNotGlobal`] once more.
+    SwitchLimit,
+    /// A restart made no progress: its first point is again not the global extremum (the
+    /// two extrema cannot be told apart at the stop), so the curve is not continued.
+    NoProgress,
+    /// The first point of a restart did not converge (the error of
+    /// [`OrbitProblem::continue_codim2`]).
+    RestartFailed(OrbitError),
+}
+
+/// A grazing curve followed along the **global** extremum of its event function
+/// ([`OrbitProblem::continue_grazing_envelope`]): the pieces of [`Codim2Branch`] traced one
+/// after the other, each started where the one before stopped with
+/// [`Degeneracy::GrazingNotGlobal`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct GrazingEnvelope {
+    /// The pieces in the order traced (at least one).
+    pub pieces: Vec<Codim2Branch>,
+    /// Why the envelope ended.
+    pub end: EnvelopeEnd,
+}
+
+impl GrazingEnvelope {
+    /// The points on the envelope in trace order: every piece's points except the stop point
+    /// of a piece that stopped with [`Degeneracy::GrazingNotGlobal`] (there another extremum
+    /// already crossed the surface, so that point bounds no contact).
+    pub fn points(&self) -> Vec<&Codim2BranchPoint> {
+        self.pieces
+            .iter()
+            .flat_map(|b| {
+                let past = matches!(
+                    b.stop,
+                    StopReason::Degenerate {
+                        condition: Degeneracy::GrazingNotGlobal,
+                        ..
+                    }
+                );
+                b.points[..b.points.len() - usize::from(past && !b.points.is_empty())].iter()
+            })
+            .collect()
+    }
+
+    /// The switch points: the first point of every piece after the first, where the grazing
+    /// moved to another local extremum of the event function (the double grazing lies between
+    /// it and the previous piece's last point on the envelope).
+    pub fn switches(&self) -> Vec<&Codim2BranchPoint> {
+        self.pieces
+            .iter()
+            .skip(1)
+            .filter_map(|b| b.points.first())
+            .collect()
+    }
+
+    /// The stop reason of the last piece.
+    pub fn stop(&self) -> Option<&StopReason> {
+        self.pieces.last().map(|b| &b.stop)
+    }
+}
+
+impl<S: SecondOrderSystem> OrbitProblem<S> {
+    /// Continues a grazing curve along the global extremum of its event function: the
+    /// boundary of contact in two parameters is the upper (for a maximum) envelope of the
+    /// grazing curves of the event function's local extrema, with a kink where two of them
+    /// touch the surface at once (a double grazing). [`OrbitProblem::continue_codim2`] traces
+    /// one local extremum and stops with [`Degeneracy::GrazingNotGlobal`] past such a kink;
+    /// here each such stop starts a new piece on the extremum that is global at the stop point
+    /// (its phase located on the stop point's orbit), at most `max_switches` times:
+    /// * forward: from the stop point, in the direction of `λ₂` the piece before was
+    ///   travelling (the two local-extremum curves cross at the double grazing and the
+    ///   envelope goes on along the other one);
+    /// * else back: from the piece's last point before the stop (where the old extremum was
+    ///   still global), in the opposite direction (the envelope has a corner at the double
+    ///   grazing and turns back in `λ₂`).
+    ///
+    /// A try counts when its first point is the global extremum. Every other stop reason ends the envelope, and so does a restart
+    /// whose first point is again not global ([`EnvelopeEnd::NoProgress`]) or does not
+    /// converge ([`EnvelopeEnd::RestartFailed`]): the pieces traced are kept.
+    ///
+    /// # Errors
+    /// `start` is not a [`SpecialKind::Grazing`]; `max_switches > MAX_ENVELOPE_SWITCHES`; the
+    /// errors of [`OrbitProblem::continue_codim2`] for the first piece.
+    pub fn continue_grazing_envelope(
+        &mut self,
+        start: &SpecialPoint<ShootingPoint>,
+        options: &Codim2ContinuationOptions,
+        max_switches: usize,
+    ) -> Result<GrazingEnvelope> {
+        check(
+            max_switches <= MAX_ENVELOPE_SWITCHES,
+            "max_switches",
+            "<= MAX_ENVELOPE_SWITCHES (1000)",
+            max_switches as f64,
+        )?;
+        let (event, sgn) = match start.kind {
+            SpecialKind::Grazing { event, extremum } => (
+                event,
+                match extremum {
+                    Extremum::Max => 1.0,
+                    Extremum::Min => -1.0,
+                },
+            ),
+            _ => unreachable_kind()?,
+        };
+        let mut pieces = vec![self.continue_codim2(start, options)?];
+        let mut opts = options.clone();
+        let periods = opts.corrector.shooting.periods;
+        let not_global = |b: &Codim2Branch| {
+            matches!(
+                b.stop,
+                StopReason::Degenerate {
+                    condition: Degeneracy::GrazingNotGlobal,
+                    ..
+                }
+            )
+        };
+        // each pass pushes one piece or ends: at most `max_switches + 1` pieces
+        let end = loop {
+            let Some(last) = pieces.last() else {
+                break EnvelopeEnd::NoProgress;
+            };
+            if !not_global(last) {
+                break EnvelopeEnd::Stopped;
+            }
+            if pieces.len() > max_switches {
+                break EnvelopeEnd::SwitchLimit;
+            }
+            let n = last.points.len();
+            let Some(mut stop) = last.points.last().cloned() else {
+                break EnvelopeEnd::NoProgress;
+            };
+            let mut prev = n.checked_sub(2).map(|k| last.points[k].clone());
+            let travel = prev
+                .as_ref()
+                .map(|q| stop.parameter - q.parameter)
+                .filter(|d| *d != 0.0)
+                .map_or(opts.corrector.direction, f64::signum);
+            // the double grazing bracketed in λ₂ by bisection on the old extremum's curve: the
+            // restarts start next to it, where the new extremum is close to the surface
+            if let Some(q) = prev.as_mut() {
+                let mut single = opts.clone();
+                single.max_points = 1;
+                for _ in 0..SWITCH_BISECTIONS {
+                    let mid = 0.5 * (q.parameter + stop.parameter);
+                    // the phase on the orbit's own period (it follows a base-frequency λ₁)
+                    let theta = q.grazing_time.map(|tg| (tg - self.phase()) / q.period);
+                    let corrected =
+                        self.set_parameter(&opts.corrector.parameter, mid)
+                            .and_then(|()| {
+                                self.codim2_from(&restart_at(start.kind, q), &single, theta)
+                            });
+                    let Ok(b) = corrected else { break };
+                    let Some(p) = b.points.first() else { break };
+                    // a correction that slid to another extremum ends the bisection
+                    let t0 = self.phase();
+                    let reach = phase_distance(&stop, q, t0);
+                    let near = phase_distance(p, q, t0) <= 2.0 * reach + 1e-3;
+                    if !near {
+                        break;
+                    }
+                    match &b.stop {
+                        _ if not_global(&b) => stop = p.clone(),
+                        StopReason::MaxPoints => *q = p.clone(),
+                        _ => break,
+                    }
+                }
+                // the last global point of the old extremum closes the piece on the envelope
+                // and the bracket's other end replaces the stop point
+                if let Some(piece) = pieces.last_mut() {
+                    piece.points.pop();
+                    if piece
+                        .points
+                        .last()
+                        .is_none_or(|x| x.parameter.to_bits() != q.parameter.to_bits())
+                    {
+                        piece.points.push(q.clone());
+                    }
+                    piece.points.push(stop.clone());
+                    piece.stop = StopReason::Degenerate {
+                        parameter: stop.parameter,
+                        condition: Degeneracy::GrazingNotGlobal,
+                    };
+                }
+            }
+            // the extremum that is global at the stop
+            let theta = match self
+                .set_parameter(&opts.corrector.first, stop.first_parameter)
+                .and_then(|()| self.set_parameter(&opts.corrector.parameter, stop.parameter))
+                .and_then(|()| self.grazing_phase(&stop.x0, event, sgn, periods))
+            {
+                Ok(th) => th,
+                Err(e) => break EnvelopeEnd::RestartFailed(e),
+            };
+            // the envelope goes on past the double grazing (a crossing of the two curves), or
+            // turns back there (a corner): forward from the stop point, else back from the last
+            // point where the old extremum was still global
+            let mut tries = vec![(stop, travel)];
+            if let Some(q) = prev {
+                tries.push((q, -travel));
+            }
+            let mut failure = None;
+            let mut next = None;
+            'tries: for (p, dir) in tries {
+                opts.corrector.direction = dir;
+                let (mut from, mut th) = (p, theta);
+                // several local extrema can lie close to the surface at once: a corrected first
+                // point that is again not global hops to the extremum global on its own orbit
+                for _ in 0..RESTART_HOPS {
+                    let tried = self
+                        .set_parameter(&opts.corrector.parameter, from.parameter)
+                        .and_then(|()| {
+                            self.codim2_from(&restart_at(start.kind, &from), &opts, Some(th))
+                        });
+                    let b = match tried {
+                        Ok(b) => b,
+                        Err(e) => {
+                            failure = Some(e);
+                            continue 'tries;
+                        }
+                    };
+                    if !(b.points.len() <= 1 && not_global(&b)) {
+                        next = Some(b);
+                        break 'tries;
+                    }
+                    let Some(f) = b.points.first().cloned() else {
+                        continue 'tries;
+                    };
+                    match self
+                        .set_parameter(&opts.corrector.first, f.first_parameter)
+                        .and_then(|()| self.set_parameter(&opts.corrector.parameter, f.parameter))
+                        .and_then(|()| self.grazing_phase(&f.x0, event, sgn, periods))
+                    {
+                        Ok(t) => (from, th) = (f, t),
+                        Err(e) => {
+                            failure = Some(e);
+                            continue 'tries;
+                        }
+                    }
+                }
+            }
+            match (next, failure) {
+                (Some(b), _) => pieces.push(b),
+                (None, Some(e)) => break EnvelopeEnd::RestartFailed(e),
+                (None, None) => break EnvelopeEnd::NoProgress,
+            }
+        };
+        Ok(GrazingEnvelope { pieces, end })
+    }
+}
+
+/// The start of a restarted grazing piece at a point of the piece before (the section state,
+/// `λ₁` and the orbit's data; `λ₂` is set on the problem).
+fn restart_at(kind: SpecialKind, p: &Codim2BranchPoint) -> SpecialPoint<ShootingPoint> {
+    SpecialPoint {
+        kind,
+        point: BranchPoint {
+            parameter: p.first_parameter,
+            tangent_parameter: 0.0,
+            stability: p.stability.clone(),
+            orbit: ShootingPoint {
+                x0: p.x0.clone(),
+                floquet: p.floquet.clone(),
+                monodromy: p.monodromy.clone(),
+                extrema: p.extrema.clone(),
+                events: p.event_counts.iter().sum(),
+                event_counts: p.event_counts.clone(),
+            },
+        },
+        after: 0,
+        located: true,
+        bracket: [p.first_parameter; 2],
+    }
+}
+
+/// The error for a start that is not a grazing.
+fn unreachable_kind<T>() -> Result<T> {
+    Err(OrbitError::InvalidInput {
+        field: "start.kind",
+        bound: "Grazing",
+        value: f64::NAN,
+    })
+}
+
+/// The distance on the circle of phases `[0, 1)` between the grazing times of two points of a
+/// grazing curve (each on its own period); NaN without grazing times.
+fn phase_distance(a: &Codim2BranchPoint, b: &Codim2BranchPoint, t0: f64) -> f64 {
+    let phase = |p: &Codim2BranchPoint| {
+        p.grazing_time
+            .map_or(f64::NAN, |tg| ((tg - t0) / p.period).rem_euclid(1.0))
+    };
+    let d = (phase(a) - phase(b)).rem_euclid(1.0);
+    d.min(1.0 - d)
 }

@@ -253,6 +253,7 @@ mod shooting;
 
 pub use codim2::{
     Codim2Branch, Codim2BranchPoint, Codim2ContinuationOptions, Codim2Correction, Codim2Point,
+    EnvelopeEnd, GrazingEnvelope, MAX_ENVELOPE_SWITCHES,
 };
 pub use continuation::{
     ShootingBranch, ShootingBranchPoint, ShootingContinuationOptions, ShootingCorrection,

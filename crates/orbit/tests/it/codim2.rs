@@ -4,7 +4,7 @@
 use crate::common::Bilinear;
 use math::DetMath;
 use orbit::{
-    Codim2ContinuationOptions, ContinuationOptions, Extremum, OrbitProblem, Parameter,
+    Codim2ContinuationOptions, ContinuationOptions, EnvelopeEnd, Extremum, OrbitProblem, Parameter,
     ShootingCorrection, SpecialKind, StopReason,
 };
 use std::f64::consts::PI;
@@ -624,6 +624,177 @@ fn degenerate_grazing_stops_with_a_named_reason() {
         let t = pt.grazing_time.unwrap().rem_euclid(2.0 * PI / w);
         assert!(t.min(2.0 * PI / w - t) < 1e-5, "t_g = {t}");
     }
+}
+
+/// The grazing of the maximum of `q − d` on a branch in the named parameter `name` from
+/// `from` (the other parameters as in `s`), within `range`.
+fn two_surfaces_grazing_in(
+    s: TwoSurfaces,
+    name: &str,
+    from: f64,
+    range: [f64; 2],
+) -> (
+    OrbitProblem<TwoSurfaces>,
+    orbit::SpecialPoint<orbit::ShootingPoint>,
+) {
+    let mut p = OrbitProblem::new(s, 2.0 * PI / s.omega).unwrap();
+    let opts = ContinuationOptions {
+        initial_step: 0.02,
+        max_step: 0.05,
+        corrector: ShootingCorrection {
+            parameter: Parameter::Named(name.into()),
+            range,
+            locate_tol: 1e-10,
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&[s.f0, 0.0], from, &opts).unwrap();
+    let g = br
+        .special
+        .iter()
+        .find(|x| {
+            x.kind
+                == SpecialKind::Grazing {
+                    event: 0,
+                    extremum: Extremum::Max,
+                }
+        })
+        .expect("grazing of q - d on the branch")
+        .clone();
+    (p, g)
+}
+
+/// The grazing envelope follows the global maximum across a double grazing, forward and
+/// back. Undamped and below both resonances the orbit is `q = f₀ + A cos ωt + B cos 2ωt`,
+/// `A = f/(1 − ω²)`, `B = a/(1 − 4ω²)`; for `B > 0` its maximum is `f₀ + |A| + B` (at `ωt = 0`
+/// for `A > 0`, at `π` for `A < 0`), so contact is bounded by `|A| + B = d − f₀`: two local-
+/// maximum grazing curves that cross at `A = 0`, with a corner of the envelope there.
+/// * In `(f, a)`, traced in `a`: `f = (1 − ω²)(d − f₀ − B)` falls to 0 at `B = d − f₀`,
+///   where the envelope turns back along `f = −(1 − ω²)(d − f₀ − B)` (the back restart).
+/// * In `(a, f)`, traced in `f`: `B = d − f₀ − |A|` goes on through `f = 0` (the forward
+///   restart).
+///
+/// Every envelope point lies on the closed form, on the side of its extremum; a plain
+/// `continue_codim2` stops at the corner with `GrazingNotGlobal`.
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn grazing_envelope_follows_the_global_maximum() {
+    let w = 0.4;
+    let s = TwoSurfaces {
+        zeta: 0.0,
+        d: 0.5,
+        c: 5.0,
+        f0: 0.1,
+        f: 0.2,
+        a: 0.0,
+        omega: w,
+        reset_f: false,
+    };
+    let (ka, kb) = (1.0 - w * w, 1.0 - 4.0 * w * w);
+    let gap = s.d - s.f0;
+    let residual = |f: f64, a: f64| f.abs() / ka + a / kb - gap;
+    // back: traced in a from the grazing on the branch in f at a = 0 (f = ka·gap > 0)
+    let (mut p, g) = two_surfaces_start(s);
+    let mut opts = Codim2ContinuationOptions::codim2(
+        Parameter::Named("f".into()),
+        Parameter::Named("a".into()),
+    );
+    opts.initial_step = 0.01;
+    opts.max_step = 0.02;
+    opts.corrector.range = [0.0, 0.3];
+    let plain = p.continue_codim2(&g, &opts).unwrap();
+    assert!(
+        matches!(
+            plain.stop,
+            StopReason::Degenerate {
+                condition: orbit::Degeneracy::GrazingNotGlobal,
+                ..
+            }
+        ),
+        "{:?}",
+        plain.stop
+    );
+    let (mut p, g) = two_surfaces_start(s);
+    let env = p.continue_grazing_envelope(&g, &opts, 4).unwrap();
+    assert_eq!(env.end, EnvelopeEnd::Stopped);
+    assert_eq!(env.pieces.len(), 2);
+    assert!(
+        env.stop().is_some_and(StopReason::left_range),
+        "{:?}",
+        env.stop()
+    );
+    for (k, piece) in env.pieces.iter().enumerate() {
+        let n = piece.points.len();
+        // the first piece's stop point is past the corner (f < 0 on the old maximum)
+        for pt in &piece.points[..if k == 0 { n - 1 } else { n }] {
+            let (f, a) = (pt.first_parameter, pt.parameter);
+            assert!(residual(f, a).abs() < 1e-8, "piece {k}: f = {f}, a = {a}");
+            assert!(
+                if k == 0 { f > -1e-9 } else { f < 1e-9 },
+                "piece {k}: f = {f}"
+            );
+        }
+    }
+    let sw = env.switches();
+    assert_eq!(sw.len(), 1);
+    // the double grazing is bisected to 2⁻¹⁰ of a step (≤ 0.02) before the restart
+    assert!(
+        (sw[0].parameter - kb * gap).abs() < 1e-4,
+        "back restart at a = {} vs the corner {}",
+        sw[0].parameter,
+        kb * gap
+    );
+    assert!(
+        sw[0].parameter < kb * gap,
+        "the back piece starts before the corner"
+    );
+    assert_eq!(
+        env.points().len(),
+        env.pieces[0].points.len() - 1 + env.pieces[1].points.len()
+    );
+    // forward: traced in f from the grazing of the maximum at ωt = π on a branch in a at f < 0
+    let s2 = TwoSurfaces { f: -0.2, ..s };
+    let (mut p, g) = two_surfaces_grazing_in(s2, "a", 0.0, [0.0, 0.3]);
+    let mut opts = Codim2ContinuationOptions::codim2(
+        Parameter::Named("a".into()),
+        Parameter::Named("f".into()),
+    );
+    opts.initial_step = 0.01;
+    opts.max_step = 0.02;
+    opts.corrector.range = [-0.3, 0.2];
+    let env = p.continue_grazing_envelope(&g, &opts, 4).unwrap();
+    assert_eq!(env.end, EnvelopeEnd::Stopped);
+    assert_eq!(env.pieces.len(), 2);
+    assert_eq!(env.stop(), Some(&StopReason::ReachedEnd));
+    let pts = env.points();
+    for pt in &pts {
+        let (a, f) = (pt.first_parameter, pt.parameter);
+        assert!(residual(f, a).abs() < 1e-8, "f = {f}, a = {a}");
+    }
+    assert!(pts.windows(2).all(|w| w[1].parameter > w[0].parameter));
+    let sw = env.switches();
+    assert_eq!(sw.len(), 1);
+    assert!(
+        sw[0].parameter.abs() < 1e-4,
+        "forward restart at f = {}",
+        sw[0].parameter
+    );
+    assert!(pts.first().unwrap().parameter < 0.0 && pts.last().unwrap().parameter > 0.19);
+    // the switch cap ends the envelope at the corner, with the first piece kept
+    let (mut p, g) = two_surfaces_grazing_in(s2, "a", 0.0, [0.0, 0.3]);
+    let capped = p.continue_grazing_envelope(&g, &opts, 0).unwrap();
+    assert_eq!(
+        (capped.end.clone(), capped.pieces.len()),
+        (EnvelopeEnd::SwitchLimit, 1)
+    );
+    assert!(matches!(
+        p.continue_grazing_envelope(&g, &opts, orbit::MAX_ENVELOPE_SWITCHES + 1),
+        Err(orbit::OrbitError::InvalidInput {
+            field: "max_switches",
+            ..
+        })
+    ));
 }
 
 /// Options are checked (fields named), and a start of another kind is refused.
