@@ -462,8 +462,11 @@ fn agreement(codes: &[f64], xs: &[f64], ys: &[f64], curves: &[Boundary]) -> Agre
 /// The unilateral-onset grazing curve by codim-2 continuation ([`OrbitProblem::continue_codim2`]:
 /// the shooting residual plus the grazing condition of the drive flank, ω1 an unknown) from the
 /// grazing located on the branch from 100 rad/s up at the slice `y0`, traced in the chart's
-/// second parameter both ways to the ends of its range: `(ω1, y, stable)` in the order of `y`,
-/// and the stop reasons of the two directions.
+/// second parameter both ways to the ends of its range along the global maximum of the
+/// drive-flank event function ([`OrbitProblem::continue_grazing_envelope`]: the Liu period
+/// holds one local maximum per mesh period, and where another one reaches the flank first the
+/// curve goes on along that one's grazing): `(ω1, y, stable)` in trace order (from the lower
+/// end of `y`), and the stop reasons of the two directions.
 fn codim2_grazing(
     chart: &Chart,
     y0: f64,
@@ -503,13 +506,19 @@ fn codim2_grazing(
             ..ShootingOptions::default()
         };
         o.corrector.locate_tol = 1e-3;
-        let b = prob
-            .continue_codim2(start, &o)
+        let env = prob
+            .continue_grazing_envelope(start, &o, MAX_SWITCHES)
             .map_err(|e| format!("codim-2 continuation: {e}"))?;
-        stops[k] = format!("{:?}", b.stop);
-        let mut piece: Vec<(f64, f64, bool)> = b
-            .points
-            .iter()
+        stops[k] = format!(
+            "{} piece(s), {} switch(es) of the mesh-period maximum, then {:?} ({:?})",
+            env.pieces.len(),
+            env.pieces.len() - 1,
+            env.stop().cloned().unwrap_or(orbit::StopReason::MaxPoints),
+            env.end
+        );
+        let mut piece: Vec<(f64, f64, bool)> = env
+            .points()
+            .into_iter()
             .map(|q| (q.first_parameter / conv, q.parameter, q.floquet.stable))
             .collect();
         if dir < 0.0 {
@@ -525,8 +534,15 @@ fn codim2_grazing(
 /// A codim-2 curve as `(ω1, y, stable)` points.
 type Codim2Curve = Vec<(f64, f64, bool)>;
 
-/// Points of each direction of the codim-2 curve at most.
+/// Points of each piece of the codim-2 curve at most.
 const CODIM2_POINTS: usize = 60;
+
+/// Switches of the grazing between local maxima of the drive-flank event function (one per
+/// mesh period of the Liu period) per direction at most ([`OrbitProblem::continue_grazing_envelope`]).
+/// Near T2 ≈ 36 N·m and ω1 ≈ 138 rad/s the curve turns in T2 among several maxima that lie
+/// close to the flank together; there the restarts alternate between two corners (with 40
+/// switches: 540 points over the same stretch, 98 CPU s), so four switches end it.
+const MAX_SWITCHES: usize = 4;
 
 /// The codim-2 curve at `y` by linear interpolation between its two points around `y`, with an
 /// estimate of the interpolation error (`|Δ²ω|/8` of the three points nearest, the bound
