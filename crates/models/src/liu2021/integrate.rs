@@ -48,6 +48,15 @@ pub enum Stepping {
 /// The tolerance at and below which [`Stepping::Auto`] takes DOP853.
 pub const AUTO_DOP853_RTOL: f64 = 1e-9;
 
+/// The tolerance at and below which [`Stepping::Auto`] also takes DOP853 for the windows of a
+/// long-window run whose transient crossed no back-flank edge ([`Stepping::long_window_method`]).
+/// On one flank or none the response is smooth between few contact events and DOP853 is the
+/// cheaper pair from 1e-7 down (`docs/performance/work-precision.md`, Liu 160 rad/s,
+/// unilateral: DP5/DOP853 CPU 1.18 at 1e-7, 1.85 at 1e-8); in bilateral rattle DP5 stays
+/// cheaper down to 1e-9 (180 rad/s: 0.76, 0.84), since DOP853 restarts at twice as many
+/// events with twelve evaluations a step.
+pub const AUTO_DOP853_ONE_FLANK_RTOL: f64 = 1e-8;
+
 impl Stepping {
     /// The `timestep` method for `rtol`.
     pub fn method(self, rtol: f64) -> timestep::Method {
@@ -55,6 +64,19 @@ impl Stepping {
             Stepping::Auto if rtol <= AUTO_DOP853_RTOL => timestep::Method::Dop853,
             Stepping::Auto | Stepping::DormandPrince54 => timestep::Method::DormandPrince54,
             Stepping::Dop853 => timestep::Method::Dop853,
+        }
+    }
+
+    /// The `timestep` method for the windows of a long-window run at `rtol` whose transient
+    /// crossed a back-flank edge (`back_flank`) or not: [`Stepping::Auto`] takes DOP853 at
+    /// `rtol ≤` [`AUTO_DOP853_RTOL`], and without a back-flank crossing also at
+    /// `rtol ≤` [`AUTO_DOP853_ONE_FLANK_RTOL`]; the fixed pairs are kept.
+    pub fn long_window_method(self, rtol: f64, back_flank: bool) -> timestep::Method {
+        match self {
+            Stepping::Auto if !back_flank && rtol <= AUTO_DOP853_ONE_FLANK_RTOL => {
+                timestep::Method::Dop853
+            }
+            _ => self.method(rtol),
         }
     }
 }
@@ -229,6 +251,26 @@ mod tests {
     use super::super::ode::Trig;
     use super::super::params::{BaseRadius, table1};
     use super::*;
+
+    /// The pair of a long window: `Auto` takes DOP853 at `rtol ≤ 1e-9`, and at `rtol ≤ 1e-8`
+    /// only without a back-flank crossing; the fixed pairs ignore the transient.
+    #[test]
+    fn long_window_pair_follows_tolerance_and_flank() {
+        use timestep::Method::{Dop853, DormandPrince54};
+        let a = Stepping::Auto;
+        assert_eq!(a.long_window_method(1e-8, false), Dop853);
+        assert_eq!(a.long_window_method(1e-8, true), DormandPrince54);
+        assert_eq!(a.long_window_method(1e-10, true), Dop853);
+        assert_eq!(a.long_window_method(1e-6, false), DormandPrince54);
+        assert_eq!(a.long_window_method(2e-8, false), DormandPrince54);
+        for back in [false, true] {
+            assert_eq!(
+                Stepping::DormandPrince54.long_window_method(1e-10, back),
+                DormandPrince54
+            );
+            assert_eq!(Stepping::Dop853.long_window_method(1e-6, back), Dop853);
+        }
+    }
 
     /// The response carries the counters of both runs; the lean system with [`Trig::Libm`]
     /// samples on the grid of the generic adapter `FirstOrder(Mechanical(model))`, and with

@@ -128,7 +128,8 @@ pub use harmonic::{
     coefficients_from_time_response, solve_hbm, solve_hbm_from_time_response, solve_hbm_with,
 };
 pub use integrate::{
-    AUTO_DOP853_RTOL, IntegrationOptions, Stepping, TimeResponse, bifurcation_point, integrate,
+    AUTO_DOP853_ONE_FLANK_RTOL, AUTO_DOP853_RTOL, IntegrationOptions, Stepping, TimeResponse,
+    bifurcation_point, integrate,
 };
 pub use model::{Model, Rattle, RattleState};
 pub use ode::{TimeSystem, Trig};

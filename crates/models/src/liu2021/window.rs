@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::integrate::{run, system};
+use super::integrate::{Stepping, run, system};
 use super::model::Model;
 use crate::Error;
 use crate::response::{Crossing, Flank, Robust, WindowOptions, WindowStats, window_stats};
@@ -21,8 +21,14 @@ pub struct LongWindowOptions {
     pub sample_step: f64,
     /// Largest integrator step.
     pub max_step: f64,
-    /// Relative tolerance of the nominal runs (Dormand–Prince 5(4)).
+    /// Relative tolerance of the nominal runs.
     pub rtol: f64,
+    /// The Runge–Kutta pair of every run ([`Stepping::long_window_method`]): with the default
+    /// [`Stepping::Auto`], DOP853 at `rtol ≤` [`super::AUTO_DOP853_RTOL`], and also at
+    /// `rtol ≤` [`super::AUTO_DOP853_ONE_FLANK_RTOL`] for the windows of a run whose transient
+    /// crossed no back-flank edge; Dormand–Prince 5(4) otherwise.
+    #[serde(default)]
+    pub stepping: Stepping,
     /// The tolerance variant runs with `rtol / refine_factor` (default: the one accuracy
     /// check's factor, [`crate::contract::TIGHTER`]).
     pub refine_factor: f64,
@@ -51,6 +57,7 @@ impl Default for LongWindowOptions {
             sample_step: 0.1,
             max_step: 0.5,
             rtol: 1e-8,
+            stepping: Stepping::Auto,
             refine_factor: crate::contract::TIGHTER,
             min_depth: 0.0,
             settle_windows: default_settle_windows(),
@@ -131,6 +138,7 @@ fn record(
     let mut io = super::IntegrationOptions {
         rtol,
         max_step: o.max_step,
+        method: o.stepping,
         ..super::IntegrationOptions::default()
     };
     io.sample_step = dt;
@@ -148,6 +156,9 @@ fn record(
         min_depth: o.min_depth,
         lines: [1, model.z2],
     };
+    // the windows' pair: the transient tells whether the back flank is reached
+    let back_flank = warm.events.iter().any(|e| e.index == 0);
+    let base = base.with_method(o.stepping.long_window_method(rtol, back_flank));
     let mut work = warm.stats;
     let mut y = warm.y_final;
     let mut out = Vec::with_capacity(windows);

@@ -2,9 +2,9 @@
 
 use geardyn_models::Error;
 use geardyn_models::liu2021::{
-    self, BaseRadius, Basis, BranchStability, HbmOptions, HbmStart, IntegrationOptions, Parameters,
-    RattleState, Readings, SpeedContinuationOptions, solve_hbm, solve_hbm_from_time_response,
-    solve_hbm_with,
+    self, BaseRadius, Basis, BranchStability, HbmOptions, HbmStart, IntegrationOptions,
+    LongWindowOptions, Parameters, RattleState, Readings, SpeedContinuationOptions, Stepping,
+    solve_hbm, solve_hbm_from_time_response, solve_hbm_with,
 };
 use math::DetMath;
 
@@ -596,5 +596,52 @@ fn shooting_monodromy_is_exact_for_a_linear_mesh() {
             (mu[0].dhypot(mu[1]) / e - 1.0).abs() < 1e-5,
             "{mu:?} vs |μ| {e}"
         );
+    }
+}
+
+/// The long window's pair by flank (`Stepping::Auto`, rtol 1e-8): without rattle (120 rad/s)
+/// and on one flank (150 rad/s) the windows run on DOP853, with fewer right-hand sides than
+/// Dormand–Prince 5(4) and the same state, its ppv within the DP5 window's own error (the
+/// 100×-tighter run is the reference: DOP853 lies closer to it); in bilateral rattle
+/// (200 rad/s) the transient crosses the back flank and the windows stay on DP5, bit for bit.
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn long_window_pair_by_flank() {
+    let o = |stepping| LongWindowOptions {
+        transient_periods: 5.0,
+        periods: 20,
+        stepping,
+        ..LongWindowOptions::default()
+    };
+    for (w, one_flank) in [(120.0, true), (150.0, true), (200.0, false)] {
+        let m = paper(w).model().unwrap();
+        let auto = liu2021::settled_window(&m, &o(Stepping::Auto), None).unwrap();
+        let dp5 = liu2021::settled_window(&m, &o(Stepping::DormandPrince54), None).unwrap();
+        let tight = liu2021::settled_window(
+            &m,
+            &LongWindowOptions {
+                rtol: 1e-10,
+                ..o(Stepping::Auto)
+            },
+            None,
+        )
+        .unwrap();
+        assert_eq!(auto.stats.state, dp5.stats.state, "{w} rad/s");
+        if one_flank {
+            assert!(
+                auto.work.n_rhs < dp5.work.n_rhs,
+                "{w} rad/s: {} vs {}",
+                auto.work.n_rhs,
+                dp5.work.n_rhs
+            );
+            let (e_auto, e_dp5) = (
+                (auto.stats.ppv - tight.stats.ppv).abs(),
+                (dp5.stats.ppv - tight.stats.ppv).abs(),
+            );
+            assert!(e_auto <= e_dp5, "{w} rad/s: |Δppv| {e_auto} vs DP5 {e_dp5}");
+        } else {
+            assert_eq!(auto.work, dp5.work, "{w} rad/s");
+            assert_eq!(auto.stats.ppv.to_bits(), dp5.stats.ppv.to_bits());
+        }
     }
 }
