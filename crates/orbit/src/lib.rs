@@ -189,7 +189,16 @@
 //! [`Degeneracy::GrazingNotGlobal`] where the event function's global extremum passes the
 //! tangency (the orbit crosses the surface elsewhere: the curve no longer bounds contact),
 //! [`Degeneracy::SingularBordered`] where the bordered matrix is singular; and
-//! [`StopReason::FirstLeftRange`] where `λ₁` leaves [`Codim2Correction::first_range`]. For
+//! [`StopReason::FirstLeftRange`] where `λ₁` leaves [`Codim2Correction::first_range`].
+//!
+//! The boundary of contact is the envelope of the grazing curves of the event function's local
+//! extrema (for a gear, one per mesh period): [`OrbitProblem::continue_grazing_envelope`]
+//! follows it, starting a new piece at each [`Degeneracy::GrazingNotGlobal`] stop on the
+//! extremum that is global there. The double grazing is bisected in `λ₂` on the old piece
+//! first; the new piece goes on forward (the two curves cross) or back from the bracket's
+//! global end (the envelope has a corner and turns back in `λ₂`), and a restart whose first
+//! point is again not global hops to the extremum global on its own orbit (several extrema
+//! near the surface at once). [`EnvelopeEnd`] says how it ended. For
 //! an impacting stop (an [`ImpactLaw`]) the flow is not `C¹` at a grazing (square-root
 //! singularity): the grazing rows are then exact but Newton converges poorly; the tested
 //! systems are piecewise-smooth with a continuous force (bilinear, dead zone).

@@ -472,19 +472,34 @@ fn two_surfaces_start(
     OrbitProblem<TwoSurfaces>,
     orbit::SpecialPoint<orbit::ShootingPoint>,
 ) {
+    two_surfaces_grazing_in(s, "f", s.f, [0.0, 0.6], (0.05, 0.1))
+}
+
+/// The grazing of the maximum of `q − d` on a branch in the named parameter `name` from
+/// `from` (the other parameters as in `s`), within `range`, with `(initial, max)` steps.
+fn two_surfaces_grazing_in(
+    s: TwoSurfaces,
+    name: &str,
+    from: f64,
+    range: [f64; 2],
+    steps: (f64, f64),
+) -> (
+    OrbitProblem<TwoSurfaces>,
+    orbit::SpecialPoint<orbit::ShootingPoint>,
+) {
     let mut p = OrbitProblem::new(s, 2.0 * PI / s.omega).unwrap();
     let opts = ContinuationOptions {
-        initial_step: 0.05,
-        max_step: 0.1,
+        initial_step: steps.0,
+        max_step: steps.1,
         corrector: ShootingCorrection {
-            parameter: Parameter::Named("f".into()),
-            range: [0.0, 0.6],
+            parameter: Parameter::Named(name.into()),
+            range,
             locate_tol: 1e-10,
             ..ShootingCorrection::default()
         },
         ..Default::default()
     };
-    let br = p.continuation(&[s.f0, 0.0], s.f, &opts).unwrap();
+    let br = p.continuation(&[s.f0, 0.0], from, &opts).unwrap();
     let g = br
         .special
         .iter()
@@ -495,9 +510,38 @@ fn two_surfaces_start(
                     extremum: Extremum::Max,
                 }
         })
-        .expect("grazing of q - d on the branch in f")
+        .expect("grazing of q - d on the branch")
         .clone();
     (p, g)
+}
+
+/// Undamped, below both resonances at `ω = 0.4`, far from the second surface: the orbit is
+/// `q = f₀ + A cos ωt + B cos 2ωt` with `A = f/(1 − ω²)`, `B = a/(1 − 4ω²)` (`d = 0.5`,
+/// `f₀ = 0.1`, `f = 0.2`, `a = 0`).
+fn two_harmonics() -> TwoSurfaces {
+    TwoSurfaces {
+        zeta: 0.0,
+        d: 0.5,
+        c: 5.0,
+        f0: 0.1,
+        f: 0.2,
+        a: 0.0,
+        omega: 0.4,
+        reset_f: false,
+    }
+}
+
+/// Codim-2 options from `first` to `second` (named parameters), steps 0.01 … 0.02, over
+/// `range` of the second.
+fn named_codim2(first: &str, second: &str, range: [f64; 2]) -> Codim2ContinuationOptions {
+    let mut opts = Codim2ContinuationOptions::codim2(
+        Parameter::Named(first.into()),
+        Parameter::Named(second.into()),
+    );
+    opts.initial_step = 0.01;
+    opts.max_step = 0.02;
+    opts.corrector.range = range;
+    opts
 }
 
 /// A change of the grazing flank: on the grazing curve of `max q = d` in `(f, f₀)` the linear
@@ -576,25 +620,10 @@ fn grazing_curve_locates_the_change_of_flank() {
 #[test]
 #[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn degenerate_grazing_stops_with_a_named_reason() {
-    let w = 0.4;
-    let s = TwoSurfaces {
-        zeta: 0.0,
-        d: 0.5,
-        c: 5.0,
-        f0: 0.1,
-        f: 0.2,
-        a: 0.0,
-        omega: w,
-        reset_f: false,
-    };
+    let s = two_harmonics();
+    let w = s.omega;
     let (mut p, g) = two_surfaces_start(s);
-    let mut opts = Codim2ContinuationOptions::codim2(
-        Parameter::Named("f".into()),
-        Parameter::Named("a".into()),
-    );
-    opts.initial_step = 0.01;
-    opts.max_step = 0.02;
-    opts.corrector.range = [-0.5, 0.5];
+    let mut opts = named_codim2("f", "a", [-0.5, 0.5]);
     opts.corrector.direction = -1.0;
     let curve = p.continue_codim2(&g, &opts).unwrap();
     let StopReason::Degenerate {
@@ -626,45 +655,6 @@ fn degenerate_grazing_stops_with_a_named_reason() {
     }
 }
 
-/// The grazing of the maximum of `q − d` on a branch in the named parameter `name` from
-/// `from` (the other parameters as in `s`), within `range`.
-fn two_surfaces_grazing_in(
-    s: TwoSurfaces,
-    name: &str,
-    from: f64,
-    range: [f64; 2],
-) -> (
-    OrbitProblem<TwoSurfaces>,
-    orbit::SpecialPoint<orbit::ShootingPoint>,
-) {
-    let mut p = OrbitProblem::new(s, 2.0 * PI / s.omega).unwrap();
-    let opts = ContinuationOptions {
-        initial_step: 0.02,
-        max_step: 0.05,
-        corrector: ShootingCorrection {
-            parameter: Parameter::Named(name.into()),
-            range,
-            locate_tol: 1e-10,
-            ..ShootingCorrection::default()
-        },
-        ..Default::default()
-    };
-    let br = p.continuation(&[s.f0, 0.0], from, &opts).unwrap();
-    let g = br
-        .special
-        .iter()
-        .find(|x| {
-            x.kind
-                == SpecialKind::Grazing {
-                    event: 0,
-                    extremum: Extremum::Max,
-                }
-        })
-        .expect("grazing of q - d on the branch")
-        .clone();
-    (p, g)
-}
-
 /// The grazing envelope follows the global maximum across a double grazing, forward and
 /// back. Undamped and below both resonances the orbit is `q = f₀ + A cos ωt + B cos 2ωt`,
 /// `A = f/(1 − ω²)`, `B = a/(1 − 4ω²)`; for `B > 0` its maximum is `f₀ + |A| + B` (at `ωt = 0`
@@ -680,29 +670,14 @@ fn two_surfaces_grazing_in(
 #[test]
 #[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn grazing_envelope_follows_the_global_maximum() {
-    let w = 0.4;
-    let s = TwoSurfaces {
-        zeta: 0.0,
-        d: 0.5,
-        c: 5.0,
-        f0: 0.1,
-        f: 0.2,
-        a: 0.0,
-        omega: w,
-        reset_f: false,
-    };
+    let s = two_harmonics();
+    let w = s.omega;
     let (ka, kb) = (1.0 - w * w, 1.0 - 4.0 * w * w);
     let gap = s.d - s.f0;
     let residual = |f: f64, a: f64| f.abs() / ka + a / kb - gap;
     // back: traced in a from the grazing on the branch in f at a = 0 (f = ka·gap > 0)
     let (mut p, g) = two_surfaces_start(s);
-    let mut opts = Codim2ContinuationOptions::codim2(
-        Parameter::Named("f".into()),
-        Parameter::Named("a".into()),
-    );
-    opts.initial_step = 0.01;
-    opts.max_step = 0.02;
-    opts.corrector.range = [0.0, 0.3];
+    let opts = named_codim2("f", "a", [0.0, 0.3]);
     let plain = p.continue_codim2(&g, &opts).unwrap();
     assert!(
         matches!(
@@ -755,14 +730,9 @@ fn grazing_envelope_follows_the_global_maximum() {
     );
     // forward: traced in f from the grazing of the maximum at ωt = π on a branch in a at f < 0
     let s2 = TwoSurfaces { f: -0.2, ..s };
-    let (mut p, g) = two_surfaces_grazing_in(s2, "a", 0.0, [0.0, 0.3]);
-    let mut opts = Codim2ContinuationOptions::codim2(
-        Parameter::Named("a".into()),
-        Parameter::Named("f".into()),
-    );
-    opts.initial_step = 0.01;
-    opts.max_step = 0.02;
-    opts.corrector.range = [-0.3, 0.2];
+    let steps = (0.02, 0.05);
+    let (mut p, g) = two_surfaces_grazing_in(s2, "a", 0.0, [0.0, 0.3], steps);
+    let opts = named_codim2("a", "f", [-0.3, 0.2]);
     let env = p.continue_grazing_envelope(&g, &opts, 4).unwrap();
     assert_eq!(env.end, EnvelopeEnd::Stopped);
     assert_eq!(env.pieces.len(), 2);
@@ -782,7 +752,7 @@ fn grazing_envelope_follows_the_global_maximum() {
     );
     assert!(pts.first().unwrap().parameter < 0.0 && pts.last().unwrap().parameter > 0.19);
     // the switch cap ends the envelope at the corner, with the first piece kept
-    let (mut p, g) = two_surfaces_grazing_in(s2, "a", 0.0, [0.0, 0.3]);
+    let (mut p, g) = two_surfaces_grazing_in(s2, "a", 0.0, [0.0, 0.3], steps);
     let capped = p.continue_grazing_envelope(&g, &opts, 0).unwrap();
     assert_eq!(
         (capped.end.clone(), capped.pieces.len()),
@@ -844,6 +814,22 @@ fn codim2_options_and_start_are_checked() {
     assert!(p.continue_codim2(&fold, &ok).is_err());
     fold.point.orbit.monodromy = nalgebra::DMatrix::from_element(2, 2, f64::NAN);
     assert!(p.continue_codim2(&fold, &ok).is_err());
+    // the grazing envelope takes a grazing start and at most MAX_ENVELOPE_SWITCHES switches
+    fold.point.orbit.monodromy = nalgebra::DMatrix::identity(2, 2);
+    assert!(matches!(
+        p.continue_grazing_envelope(&fold, &ok, 4),
+        Err(orbit::OrbitError::InvalidInput {
+            field: "start.kind",
+            ..
+        })
+    ));
+    assert!(matches!(
+        p.continue_grazing_envelope(&g, &ok, orbit::MAX_ENVELOPE_SWITCHES + 1),
+        Err(orbit::OrbitError::InvalidInput {
+            field: "max_switches",
+            ..
+        })
+    ));
     let unknown = Codim2ContinuationOptions::codim2(
         Parameter::Named("f".into()),
         Parameter::Named("x".into()),

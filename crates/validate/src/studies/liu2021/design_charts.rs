@@ -8,7 +8,10 @@
 //! slice — the unilateral-onset grazing (drive flank), the grazing of the back flank, the folds
 //! and the loss of stability of the bilateral orbits — are joined across the slices into curves.
 //! A slice without a point leaves a gap in its curve and a named row in the `curves` table
-//! (why: the branch stopped, or left the range before reaching it).
+//! (why: the branch stopped, or left the range before reaching it). The unilateral-onset
+//! grazing of every slice is also continued in both parameters (codim-2, along the global
+//! mesh-period maximum of the drive-flank event function), so the onset curve runs between
+//! and past the slices where the continuation holds.
 //!
 //! The agreement rows hold the map and the curves against each other: every cell whose rattle
 //! state differs from a 4-neighbour's (a boundary cell) must lie within one cell of a curve,
@@ -42,7 +45,9 @@ pub(super) fn study() -> Study {
             (T2 = 30 N·m). Over them the boundaries from shooting continuation of the period-1 \
             orbit in ω1 at fixed T2 or a_k (slices): the unilateral-onset grazing, the grazing \
             of the back flank, the folds and the loss of stability of the bilateral orbits (from \
-            220 rad/s down). Agreement rows: every boundary cell of the map within one cell of \
+            220 rad/s down), and the unilateral-onset grazing continued in both parameters \
+            (codim-2, along the global mesh-period maximum) from each slice's grazing. Agreement rows: \
+            each slice's grazing against the codim-2 curves from the other slices, every boundary cell of the map within one cell of \
             a curve or in a named region (cells not period-1: chaotic band), and every curve \
             point separating different states or in a named region (unstable orbit, chaotic \
             band). Consistency of two methods on one model, not a reproduction of the paper.",
@@ -190,7 +195,7 @@ struct Slice {
 /// A curve of a chart: its name, style and one point per slice (NaN: none on that slice, with
 /// the reason in `why`); `stable[k]`: the orbit at the point is stable.
 struct Boundary {
-    label: &'static str,
+    label: String,
     style: CurveStyle,
     colour: usize,
     points: Vec<(f64, f64)>,
@@ -236,9 +241,9 @@ fn missing(b: &Result<(Branch, f64), String>, what: &str) -> String {
 
 fn boundaries(slices: &[Slice]) -> Vec<Boundary> {
     let mut out = Vec::new();
-    let from = |label, style, colour, up: bool, kind: SpecialKind, what: &str| {
+    let from = |label: &str, style, colour, up: bool, kind: SpecialKind, what: &str| {
         let mut b = Boundary {
-            label,
+            label: label.to_owned(),
             style,
             colour,
             points: Vec::new(),
@@ -287,7 +292,7 @@ fn boundaries(slices: &[Slice]) -> Vec<Boundary> {
         "back-flank grazing",
     ));
     let mut limit = Boundary {
-        label: "limit of stable bilateral orbits (from 220 down)",
+        label: "limit of stable bilateral orbits (from 220 down)".to_owned(),
         style: CurveStyle::Solid,
         colour: 2,
         points: Vec::new(),
@@ -311,7 +316,7 @@ fn boundaries(slices: &[Slice]) -> Vec<Boundary> {
     }
     out.push(limit);
     let mut folds = Boundary {
-        label: "folds (branches from 100 up and 220 down)",
+        label: "folds (branches from 100 up and 220 down)".to_owned(),
         style: CurveStyle::Crosses,
         colour: 1,
         points: Vec::new(),
@@ -466,7 +471,9 @@ fn agreement(codes: &[f64], xs: &[f64], ys: &[f64], curves: &[Boundary]) -> Agre
 /// drive-flank event function ([`OrbitProblem::continue_grazing_envelope`]: the Liu period
 /// holds one local maximum per mesh period, and where another one reaches the flank first the
 /// curve goes on along that one's grazing): `(ω1, y, stable)` in trace order (from the lower
-/// end of `y`), and the stop reasons of the two directions.
+/// end of `y`), and the stop reasons of the two directions. Started on every slice with a
+/// grazing, so that a curve stopped short is taken up by the one from the next slice, and each
+/// slice's grazing is checked against the curves from the others.
 fn codim2_grazing(
     chart: &Chart,
     y0: f64,
@@ -546,29 +553,40 @@ const MAX_SWITCHES: usize = 4;
 
 /// The codim-2 curve at `y` by linear interpolation between its two points around `y`, with an
 /// estimate of the interpolation error (`|Δ²ω|/8` of the three points nearest, the bound
-/// `h²|ω''|/8` of linear interpolation); `None` outside the curve.
-fn interpolate(curve: &[(f64, f64, bool)], y: f64) -> Option<(f64, f64)> {
-    let k = curve
+/// `h²|ω''|/8` of linear interpolation): every crossing of `y` in trace order (a curve that
+/// turns in `y` crosses it more than once), empty outside the curve.
+fn crossings(curve: &[(f64, f64, bool)], y: f64) -> Vec<(f64, f64)> {
+    curve
         .windows(2)
-        .position(|w| (w[0].1 - y) * (w[1].1 - y) <= 0.0 && (w[1].1 - w[0].1).abs() > 0.0)?;
-    let (a, b) = (curve[k], curve[k + 1]);
-    let w = a.0 + (b.0 - a.0) * (y - a.1) / (b.1 - a.1);
-    let c = if k + 2 < curve.len() {
-        Some(curve[k + 2])
-    } else if k > 0 {
-        Some(curve[k - 1])
-    } else {
-        None
-    };
-    let err = c.map_or(f64::NAN, |c| {
-        // second divided difference × the bracket's width squared / 8
-        let (x0, x1, x2) = (a.1, b.1, c.1);
-        let d1 = (b.0 - a.0) / (x1 - x0);
-        let d2 = (c.0 - b.0) / (x2 - x1);
-        let dd = (d2 - d1) / (x2 - x0);
-        (dd * (x1 - x0) * (x1 - x0)).abs() / 4.0
-    });
-    Some((w, err))
+        .enumerate()
+        .filter(|(_, w)| (w[0].1 - y) * (w[1].1 - y) <= 0.0 && (w[1].1 - w[0].1).abs() > 0.0)
+        .map(|(k, _)| {
+            let (a, b) = (curve[k], curve[k + 1]);
+            let w = a.0 + (b.0 - a.0) * (y - a.1) / (b.1 - a.1);
+            let c = if k + 2 < curve.len() {
+                Some(curve[k + 2])
+            } else if k > 0 {
+                Some(curve[k - 1])
+            } else {
+                None
+            };
+            let err = c.map_or(f64::NAN, |c| {
+                // second divided difference × the bracket's width squared / 8
+                let (x0, x1, x2) = (a.1, b.1, c.1);
+                let d1 = (b.0 - a.0) / (x1 - x0);
+                let d2 = (c.0 - b.0) / (x2 - x1);
+                let dd = (d2 - d1) / (x2 - x0);
+                (dd * (x1 - x0) * (x1 - x0)).abs() / 4.0
+            });
+            (w, err)
+        })
+        .collect()
+}
+
+/// The first crossing of `y` by the curve ([`crossings`]).
+#[cfg(test)]
+fn interpolate(curve: &[(f64, f64, bool)], y: f64) -> Option<(f64, f64)> {
+    crossings(curve, y).first().copied()
 }
 
 /// Cells as `(ω1, y)` text for a note (at most 8).
@@ -660,20 +678,18 @@ fn run() -> Result<StudyOutput, Error> {
             })
             .collect();
         let mut curves = boundaries(&slices);
-        // the unilateral-onset grazing curve by codim-2 continuation from the middle slice
-        let mid = &slices[SLICES / 2];
+        // the unilateral-onset grazing curve by codim-2 continuation from the grazing of every
+        // slice (each curve checked against the grazings of the other slices it reaches)
         let t2 = cpu_now();
-        // one sweep point, so that its CPU time is charged to the account when it ends
-        let codim2 = system::sweep::sweep(
-            &[()],
-            |()| match &mid.up {
-                Ok(up) => codim2_grazing(&chart, mid.y, up),
-                Err(e) => Err(format!("no branch on the middle slice: {e}")),
+        let slice_ids: Vec<usize> = (0..slices.len()).collect();
+        let codim2: Vec<Result<(Codim2Curve, [String; 2]), String>> = system::sweep::sweep(
+            &slice_ids,
+            |&k| match &slices[k].up {
+                Ok(up) => codim2_grazing(&chart, slices[k].y, up),
+                Err(e) => Err(format!("no branch on the slice: {e}")),
             },
             None,
-        )
-        .pop()
-        .unwrap_or_else(|| Err("no sweep result".to_owned()));
+        );
         let t_codim2 = cpu_now() - t2;
         let points: usize = slices
             .iter()
@@ -697,7 +713,7 @@ fn run() -> Result<StudyOutput, Error> {
             for (k, p) in c.points.iter().enumerate() {
                 curves_t.push(vec![
                     chart.name.into(),
-                    c.label.into(),
+                    c.label.as_str().into(),
                     p.1.into(),
                     p.0.into(),
                     crate::Cell::count(if c.stable[k] { 1.0 } else { 0.0 }),
@@ -705,106 +721,151 @@ fn run() -> Result<StudyOutput, Error> {
                 ])?;
             }
         }
-        // codim-1 grazings on the slices against the codim-2 curve
+        // codim-1 grazings on the slices against the codim-2 curves started on the other slices
         let y = chart.y.0;
-        match &codim2 {
-            Ok((c2, stops)) => {
-                let mut worst: f64 = 0.0;
-                let mut bound: f64 = 0.0;
-                let mut compared = 0;
-                let mut rows = Vec::new();
-                for (k, s) in slices.iter().enumerate() {
-                    let w1 = curves[0].points[k].0;
-                    // the middle slice is the curve's start: equal by construction
-                    if !w1.is_finite() || k == SLICES / 2 {
-                        continue;
-                    }
-                    if let Some((w2, err)) = interpolate(c2, s.y) {
-                        compared += 1;
-                        worst = worst.max((w1 - w2).abs());
-                        bound = bound.max(if err.is_finite() { err } else { f64::INFINITY });
-                        rows.push(format!("{} = {}: {} vs {}", y, sig(s.y), sig(w1), sig(w2)));
-                    }
+        let quantity = format!(
+            "(ω1, {y}) unilateral-onset grazing: largest |ω1| difference between the codim-1 grazing on each slice and the codim-2 curves started on the other slices, and between those curves where they overlap"
+        );
+        let mut worst: f64 = 0.0;
+        let mut bound: f64 = 0.0;
+        let mut compared = 0;
+        let mut rows = Vec::new();
+        for (k, s) in slices.iter().enumerate() {
+            let w1 = curves[0].points[k].0;
+            if !w1.is_finite() {
+                continue;
+            }
+            // the crossing of y = y_k nearest the slice's grazing, over the other slices' curves
+            let nearest = codim2
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != k)
+                .filter_map(|(j, c)| c.as_ref().ok().map(|c| (j, c)))
+                .flat_map(|(j, (c2, _))| {
+                    crossings(c2, s.y)
+                        .into_iter()
+                        .map(move |(w2, err)| (j, w2, err))
+                })
+                .min_by(|a, b| (a.1 - w1).abs().total_cmp(&(b.1 - w1).abs()));
+            if let Some((j, w2, err)) = nearest {
+                compared += 1;
+                worst = worst.max((w1 - w2).abs());
+                bound = bound.max(if err.is_finite() { err } else { f64::INFINITY });
+                rows.push(format!(
+                    "{y} = {}: {} vs {} (curve from {y} = {})",
+                    sig(s.y),
+                    sig(w1),
+                    sig(w2),
+                    sig(slices[j].y)
+                ));
+            }
+        }
+        // and the curves against each other where their ranges of y overlap (one envelope
+        // from two starts): every point of one against the nearest crossing of the other
+        for (i, ci) in codim2.iter().enumerate() {
+            for (j, cj) in codim2.iter().enumerate() {
+                let (Ok((ci, _)), Ok((cj, _))) = (ci, cj) else {
+                    continue;
+                };
+                if i == j {
+                    continue;
                 }
-                let tol = 2.0 * bound + 2e-3;
-                out.compare(
-                    Comparison::new(
-                        &format!(
-                            "(ω1, {y}) unilateral-onset grazing: largest |ω1| difference between the codim-1 grazings on the slices and the codim-2 curve"
-                        ),
-                        "rad/s",
-                        Reference::computed(0.0, "the two continuations locate one curve"),
-                        if compared > 0 { worst } else { f64::NAN },
-                        Tolerance::stated(
-                            ToleranceBand::Absolute(tol),
-                            "twice the largest linear-interpolation error of the codim-2 curve between its points (|Δ²ω|/8 of the three nearest) plus the codim-1 location tolerance (1e-3 rad/s) twice",
-                        ),
-                    )
-                    .class(Evidence::Consistency)
-                    .cause(if compared > 0 && worst <= tol {
-                        ""
-                    } else if compared == 0 {
-                        "the codim-2 curve from the middle slice reaches no other slice with a grazing (its extent and stop reasons in the note and the `curves` table): no comparison"
-                    } else {
-                        "the codim-2 curve misses the grazings on the slices (listed in the note)"
+                let pair = ci
+                    .iter()
+                    .filter_map(|p| {
+                        crossings(cj, p.1)
+                            .into_iter()
+                            .min_by(|a, b| (a.0 - p.0).abs().total_cmp(&(b.0 - p.0).abs()))
+                            .map(|(w2, err)| ((p.0 - w2).abs(), err, p.1))
                     })
-                    .note(&format!(
-                        "{compared} slices compared ({}); codim-2 curve of {} points over {} = {} … {}, stops: {} / {}",
-                        rows.join("; "),
-                        c2.len(),
-                        y,
-                        sig(c2.first().map_or(f64::NAN, |p| p.1)),
-                        sig(c2.last().map_or(f64::NAN, |p| p.1)),
-                        stops[0],
-                        stops[1]
-                    )),
-                );
-                for p in c2 {
-                    curves_t.push(vec![
-                        chart.name.into(),
-                        "unilateral onset, codim-2 curve".into(),
-                        p.1.into(),
-                        p.0.into(),
-                        crate::Cell::count(if p.2 { 1.0 } else { 0.0 }),
-                        format!("stops: {} / {}", stops[0], stops[1])
-                            .as_str()
-                            .into(),
-                    ])?;
+                    .max_by(|a, b| a.0.total_cmp(&b.0));
+                if let Some((d, err, at)) = pair {
+                    compared += 1;
+                    worst = worst.max(d);
+                    bound = bound.max(if err.is_finite() { err } else { f64::INFINITY });
+                    rows.push(format!(
+                        "curves from {y} = {} and {}: largest difference {} rad/s (at {y} = {})",
+                        sig(slices[i].y),
+                        sig(slices[j].y),
+                        sig(d),
+                        sig(at)
+                    ));
                 }
-                curves.insert(
-                    0,
-                    Boundary {
-                        label: "unilateral onset, codim-2 curve",
-                        style: CurveStyle::Solid,
-                        colour: 1,
-                        points: c2.iter().map(|p| (p.0, p.1)).collect(),
-                        stable: c2.iter().map(|p| p.2).collect(),
-                        why: vec![String::new(); c2.len()],
-                    },
-                );
             }
-            Err(e) => {
-                out.compare(
-                    Comparison::new(
-                        &format!(
-                            "(ω1, {y}) unilateral-onset grazing: largest |ω1| difference between the codim-1 grazings on the slices and the codim-2 curve"
-                        ),
-                        "rad/s",
-                        Reference::computed(0.0, "the two continuations locate one curve"),
-                        f64::NAN,
-                        Tolerance::stated(ToleranceBand::Absolute(2e-3), "location tolerances"),
-                    )
-                    .class(Evidence::Consistency)
-                    .cause("the codim-2 continuation failed (note)")
-                    .note(e),
-                );
+        }
+        let tol = 2.0 * bound + 2e-3;
+        let extents: Vec<String> = codim2
+            .iter()
+            .zip(&slices)
+            .map(|(c, s)| match c {
+                Ok((c2, stops)) => format!(
+                    "from {y} = {}: {} points over {y} = {} … {}, stops: {} / {}",
+                    sig(s.y),
+                    c2.len(),
+                    sig(c2.iter().map(|p| p.1).fold(f64::INFINITY, f64::min)),
+                    sig(c2.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max)),
+                    stops[0],
+                    stops[1]
+                ),
+                Err(e) => format!("from {y} = {}: none ({e})", sig(s.y)),
+            })
+            .collect();
+        out.compare(
+            Comparison::new(
+                &quantity,
+                "rad/s",
+                Reference::computed(0.0, "the two continuations locate one curve"),
+                if compared > 0 { worst } else { f64::NAN },
+                Tolerance::stated(
+                    ToleranceBand::Absolute(tol),
+                    "twice the largest linear-interpolation error of the codim-2 curves between their points (|Δ²ω|/8 of the three nearest) plus the codim-1 location tolerance (1e-3 rad/s) twice",
+                ),
+            )
+            .class(Evidence::Consistency)
+            .cause(if compared > 0 && worst <= tol {
+                ""
+            } else if compared == 0 {
+                "no codim-2 curve reaches another slice with a grazing or overlaps another curve (their extents and stop reasons in the note and the `curves` table): no comparison"
+            } else {
+                "the codim-2 curves miss grazings on the other slices or each other (listed in the note): where the curves from two slices meet, several mesh-period maxima of the drive-flank gap graze within about a rad/s of each other, the envelopes from the two sides stop there (switch cap, no progress or a failed restart: stops in the note) and end on different local-maximum curves"
+            })
+            .note(&format!(
+                "{compared} comparisons ({}); codim-2 curves {}",
+                rows.join("; "),
+                extents.join("; ")
+            )),
+        );
+        let mut c2_points = 0;
+        for (c, s) in codim2.iter().zip(&slices) {
+            let Ok((c2, stops)) = c else { continue };
+            c2_points += c2.len();
+            let label = format!("unilateral onset, codim-2 curve from {y} = {}", sig(s.y));
+            for p in c2 {
+                curves_t.push(vec![
+                    chart.name.into(),
+                    label.as_str().into(),
+                    p.1.into(),
+                    p.0.into(),
+                    crate::Cell::count(if p.2 { 1.0 } else { 0.0 }),
+                    format!("stops: {} / {}", stops[0], stops[1])
+                        .as_str()
+                        .into(),
+                ])?;
             }
+            curves.push(Boundary {
+                label,
+                style: CurveStyle::Solid,
+                colour: 1,
+                points: c2.iter().map(|p| (p.0, p.1)).collect(),
+                stable: c2.iter().map(|p| p.2).collect(),
+                why: vec![String::new(); c2.len()],
+            });
         }
         cost_t.push(vec![
             chart.name.into(),
-            "codim-2 grazing curve".into(),
-            crate::Cell::count(1.0),
-            crate::Cell::count(codim2.as_ref().map_or(0.0, |c| c.0.len() as f64)),
+            "codim-2 grazing curves".into(),
+            crate::Cell::count(codim2.iter().filter(|c| c.is_ok()).count() as f64),
+            crate::Cell::count(c2_points as f64),
         ])?;
         let g = agreement(&codes, &xs, &ys, &curves);
         let failed = codes.iter().filter(|c| c.is_nan()).count();
@@ -823,7 +884,7 @@ fn run() -> Result<StudyOutput, Error> {
         )?;
         for c in &curves {
             map = map.with_curve(Curve {
-                label: c.label.to_owned(),
+                label: c.label.clone(),
                 points: c.points.clone(),
                 style: c.style,
                 colour: c.colour,
@@ -902,10 +963,10 @@ fn run() -> Result<StudyOutput, Error> {
         // (validation/stats/cost.csv, outside the stats digest) and to stderr, never into a
         // committed or digested output
         eprintln!(
-            "liu2021-design-charts (ω1, {y}): map {t_map:.1} CPU s, curves {t_curves:.1} CPU s, codim-2 grazing curve {t_codim2:.1} CPU s"
+            "liu2021-design-charts (ω1, {y}): map {t_map:.1} CPU s, curves {t_curves:.1} CPU s, codim-2 grazing curves {t_codim2:.1} CPU s"
         );
         out.note(format!(
-            "(ω1, {y}) chart: map of {} cells, curves from {} slices ({} branches, {points} branch points) and one codim-2 grazing curve (the CPU seconds of each part: docs/performance.md)",
+            "(ω1, {y}) chart: map of {} cells, curves from {} slices ({} branches, {points} branch points) and a codim-2 grazing curve from each slice's grazing (the CPU seconds of each part: docs/performance.md)",
             N * N,
             SLICES,
             2 * SLICES,
@@ -935,7 +996,7 @@ mod tests {
     fn boundary(points: Vec<(f64, f64)>, stable: bool) -> Boundary {
         let n = points.len();
         Boundary {
-            label: "c",
+            label: "c".to_owned(),
             style: CurveStyle::Solid,
             colour: 0,
             points,
@@ -996,6 +1057,12 @@ mod tests {
         // decreasing y (a curve traced downwards) works too
         let rev: Vec<(f64, f64, bool)> = parabola.iter().rev().copied().collect();
         assert!((interpolate(&rev, 1.5).unwrap().0 - 2.5).abs() < 1e-12);
+        // a curve that turns in y crosses it twice, in trace order
+        let turn = [(0.0, 0.0, true), (1.0, 1.0, true), (2.0, 0.0, true)];
+        let c = crossings(&turn, 0.5);
+        assert_eq!(c.len(), 2);
+        assert!((c[0].0 - 0.5).abs() < 1e-12 && (c[1].0 - 1.5).abs() < 1e-12);
+        assert!(crossings(&turn, 1.5).is_empty());
     }
 
     #[test]
