@@ -483,7 +483,7 @@ fn codim2_grazing(
         up.0.special
             .iter()
             .find(|s| s.kind == UNI)
-            .ok_or("no unilateral-onset grazing on the middle slice")?;
+            .ok_or("no unilateral-onset grazing on the branch from 100 rad/s up")?;
     let mut p = base();
     p.omega1 = OMEGA[0];
     (chart.set)(&mut p, y0);
