@@ -1176,7 +1176,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
                     Extremum::Min => -1.0,
                 },
             ),
-            _ => unreachable_kind()?,
+            _ => not_a_grazing()?,
         };
         let mut pieces = vec![self.continue_codim2(start, options)?];
         let mut opts = options.clone();
@@ -1349,7 +1349,7 @@ fn restart_at(kind: SpecialKind, p: &Codim2BranchPoint) -> SpecialPoint<Shooting
 }
 
 /// The error for a start that is not a grazing.
-fn unreachable_kind<T>() -> Result<T> {
+fn not_a_grazing<T>() -> Result<T> {
     Err(OrbitError::InvalidInput {
         field: "start.kind",
         bound: "Grazing",
