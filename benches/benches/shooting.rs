@@ -6,7 +6,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use geardyn_models::liu2021::{self, BaseRadius, HbmOptions, HbmStart, IntegrationOptions, Model};
-use orbit::{FlowOptions, OrbitProblem, ShootingOptions};
+use orbit::{FlowMethod, FlowOptions, OrbitProblem, ShootingOptions};
 use std::hint::black_box;
 
 fn model() -> Model {
@@ -64,6 +64,53 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
+/// One period of the Liu flow with its variational equations at the flows' default tolerance
+/// (rtol 1e-10, atol 1e-12) from a settled state, on each pair (`orbit::FlowMethod`), at
+/// 140 rad/s (unilateral, few events) and 220 rad/s (bilateral, 252 events a period).
+fn flow_pairs(c: &mut Criterion) {
+    let mut g = c.benchmark_group("liu2021_flow_one_period");
+    g.sample_size(10);
+    for w in [140.0, 220.0] {
+        let mut p = liu2021::table1();
+        p.readings.base_radius = BaseRadius::Mean;
+        p.omega1 = w;
+        let m = p.model().expect("Table 1 model");
+        let settled = liu2021::integrate(
+            &m,
+            &IntegrationOptions {
+                transient_periods: 199.0,
+                record_periods: 1.0,
+                sample_step: m.period(),
+                initial: Some((-m.backlash - m.b0, 0.0)),
+                ..IntegrationOptions::default()
+            },
+        )
+        .expect("integration");
+        let x = [*settled.q.last().expect("q"), *settled.v.last().expect("v")];
+        for (name, method) in [
+            ("dp5", FlowMethod::DormandPrince54),
+            ("dop853", FlowMethod::Dop853),
+        ] {
+            let prob = OrbitProblem::new(m, m.period())
+                .expect("problem")
+                .with_flow_options(FlowOptions {
+                    method,
+                    ..FlowOptions::default()
+                })
+                .expect("options");
+            g.bench_function(format!("{name}_{w}"), |b| {
+                b.iter(|| {
+                    black_box(
+                        prob.flow(0.0, black_box(&x), m.period(), true)
+                            .expect("flow"),
+                    )
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
 /// The 150-point continuation of the Duffing response (H = 5) with Floquet stability: the
 /// bench that was `hbm`'s `continuation_150_points_h5_with_stability`, now through the one
 /// continuation (`orbit::continue_hbm`).
@@ -98,5 +145,5 @@ fn hbm_continuation(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench, hbm_continuation);
+criterion_group!(benches, bench, flow_pairs, hbm_continuation);
 criterion_main!(benches);

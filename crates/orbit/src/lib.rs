@@ -15,12 +15,15 @@
 //! Φ' = A(t, x) Φ,   A = [[0, I], [−M⁻¹(K + ∂g/∂q), −M⁻¹(C + ∂g/∂q')]],   Φ(t₀) = I
 //! ```
 //!
-//! integrated together by an adaptive Dormand–Prince 5(4) pair (error control on `x`; `Φ`
-//! rides on the same stages, so it is the derivative of the discrete step). The zeros of the
+//! integrated together by an adaptive Runge–Kutta pair, Dormand–Prince 5(4) by default or
+//! Hairer's DOP853 ([`FlowMethod`], [`FlowOptions::method`]; error control on `x`; `Φ` rides
+//! on the same stages, so it is the derivative of the discrete step). The zeros of the
 //! event functions `h_i(t, q, q')` ([`events`](system::SecondOrderSystem::events), e.g. the gap
 //! edges `q = ±b` where the backlash force kinks) are located in every step by Illinois on the
 //! step fraction (re-stepping from the step's start); no step straddles a switch, and the
-//! Jacobian of a step that ends on a switch is taken on its own side.
+//! Jacobian of a step that ends on a switch is taken on its own side. An accepted step right
+//! after a rejection does not grow; optionally a step rejected across a switch is retried to
+//! just past the linearly estimated crossing ([`FlowOptions::crossing_retry`], off by default).
 //!
 //! ## Saltation matrices
 //!
@@ -273,7 +276,7 @@ pub use floquet::{
     Crossing, Floquet, OutsideCount, STABILITY_TOLERANCE, Stability, classify_crossing, floquet,
     real_eigenvector,
 };
-pub use flow::{EventRecord, Flow, FlowOptions};
+pub use flow::{EventRecord, Flow, FlowMethod, FlowOptions};
 pub use harmonic::{HbmContinuationOptions, HbmCorrection, continue_hbm};
 pub use impact::{ImpactLaw, Restitution};
 pub use lyapunov::{

@@ -74,6 +74,7 @@
 use math::DetMath;
 pub mod account;
 pub mod deadline;
+pub mod dop853;
 pub mod format;
 pub mod involute;
 pub mod numeric;
@@ -192,6 +193,40 @@ impl Direction {
     pub fn accepts(self, actual: Direction) -> bool {
         matches!(self, Direction::Both) || self == actual
     }
+}
+
+/// The earliest zero crossing over one step `[t, t + h]` of event functions, estimated by
+/// linear interpolation (the retry rule of a step rejected across a switching surface, shared by
+/// `geardyn-timestep`'s driver and `geardyn-orbit`'s flows): for every function `i` that starts
+/// strictly on its side `side[i]` (`±1`; `0`: none yet) with `g0[i]` and ends on the other side
+/// or on zero with `g1[i]`, in a direction that `accepts(i, direction)` admits,
+/// `θᵢ = g0ᵢ/(g0ᵢ − g1ᵢ)`. Returns the least `θᵢ ∈ (0, 1]`, or `None` (also for non-finite
+/// values, which give no `θᵢ` in that interval).
+pub fn earliest_crossing(
+    side: &[f64],
+    g0: &[f64],
+    g1: &[f64],
+    accepts: impl Fn(usize, Direction) -> bool,
+) -> Option<f64> {
+    let mut best: Option<f64> = None;
+    for (i, ((&s, &ga), &gb)) in side.iter().zip(g0).zip(g1).enumerate() {
+        if s == 0.0 || gb * s > 0.0 || gb.is_nan() || ga * s <= 0.0 {
+            continue;
+        }
+        let dir = if s > 0.0 {
+            Direction::Falling
+        } else {
+            Direction::Rising
+        };
+        if !accepts(i, dir) {
+            continue;
+        }
+        let th = ga / (ga - gb);
+        if th > 0.0 && th <= 1.0 {
+            best = Some(best.map_or(th, |x: f64| x.min(th)));
+        }
+    }
+    best
 }
 
 /// An `n`-DOF second-order system `M q'' + C q' + K q + g(t, q, q') = f(t)`.

@@ -212,27 +212,13 @@ impl EventMonitor {
     /// surface carries the kink in its error estimate, and the controller's shrink factor
     /// alone takes several rejections to step off it.
     pub(crate) fn crossing_estimate<S: OdeSystem + ?Sized>(&self, sys: &S) -> Option<f64> {
-        let mut best: Option<f64> = None;
-        for i in 0..self.ne {
-            let s = self.side[i];
-            let (ga, gb) = (self.g_prev[i], self.g_new[i]);
-            if s == 0.0 || gb * s > 0.0 || gb.is_nan() || ga * s <= 0.0 {
-                continue;
-            }
-            let dir = if s > 0.0 {
-                Direction::Falling
-            } else {
-                Direction::Rising
-            };
-            if !sys.event_direction(i).accepts(dir) {
-                continue;
-            }
-            let th = ga / (ga - gb);
-            if th > 0.0 && th <= 1.0 {
-                best = Some(best.map_or(th, |x: f64| x.min(th)));
-            }
-        }
-        best
+        let ne = self.ne;
+        system::earliest_crossing(
+            &self.side[..ne],
+            &self.g_prev[..ne],
+            &self.g_new[..ne],
+            |i, dir| sys.event_direction(i).accepts(dir),
+        )
     }
 
     /// With `g_new` evaluated at the end of a step `[t, t+h]`, finds and locates accepted

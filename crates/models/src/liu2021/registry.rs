@@ -627,6 +627,7 @@ fn ts_plan(s: &Settings, initial: Option<(f64, f64)>) -> Result<TsPlan, PointErr
         rtol: s.f("rtol"),
         initial,
         method: liu2021::Stepping::Auto,
+        transient_rtol: None,
     };
     let fixed = s.name("settle") == "fixed";
     let transient = one_period.transient_periods;

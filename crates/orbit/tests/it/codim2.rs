@@ -988,7 +988,8 @@ impl system::SecondOrderSystem for DuffingSurface {
 /// stable upper branch at `F = 0.2` to smaller `F`, it turns in `F` near the backbone and
 /// crosses the fold curve, where `det(Φ − I)` changes sign: a located [`SpecialKind::Fold`]
 /// on the grazing curve. There the shooting branch in `ω` at that `F` has its located fold at
-/// the same `ω` (to 1e-8), with the orbit's maximum at `q = 1.3` (to 1e-8).
+/// the same `ω` (to 1e-8), with the orbit's maximum at `q = 1.3` (to 3e-7, the accuracy with
+/// which the fold is placed in `F`).
 #[test]
 #[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn grazing_meets_fold_on_the_duffing_grazing_curve() {
@@ -1081,8 +1082,14 @@ fn grazing_meets_fold_on_the_duffing_grazing_curve() {
         "fold at ω = {} vs {w_star} (F = {f_star})",
         near.point.parameter
     );
+    // the orbit's maximum at that fold on the surface, to the accuracy of F*: the fold is
+    // located on the grazing curve where det(Φ − I) changes sign, known to the monodromy's own
+    // accuracy (above), which places F* to about 1e-8 (F* moves by 1.4e-8 between the flows'
+    // rtol 1e-10 and 1e-12); at the fold the orbit's maximum changes by about 7 per unit of F
+    // (measured: 5.3e-8 at rtol 1e-10, 1.5e-7 at 1e-12, each converged in the rtol of the
+    // extrema's own flow to 1e-12), so the bound is 3e-7
     assert!(
-        near.point.extrema[0][1].abs() < 1e-8,
+        near.point.extrema[0][1].abs() < 3e-7,
         "{:?}",
         near.point.extrema
     );

@@ -1,7 +1,7 @@
 //! Linear and smooth checks: exact periodic orbit and monodromy of a forced linear oscillator,
 //! Liouville's formula, finite-difference monodromy.
 
-use crate::common::{Bilinear, exp_oscillator};
+use crate::common::{Bilinear, exp_oscillator, linear_oscillator};
 use math::DetMath;
 use orbit::{OrbitProblem, ShootingOptions};
 
@@ -9,14 +9,7 @@ use orbit::{OrbitProblem, ShootingOptions};
 /// orbit `q = P cos(ωt − ψ)`, monodromy `exp(A T)`.
 #[test]
 fn linear_orbit_and_monodromy_are_exact() {
-    let s = Bilinear {
-        zeta: 0.05,
-        kappa: 10.0,
-        d: 100.0,
-        f0: 0.0,
-        f: 0.3,
-        omega: 1.3,
-    };
+    let (s, _) = linear_oscillator();
     let t = 2.0 * std::f64::consts::PI / s.omega;
     let p = OrbitProblem::new(s, t).unwrap();
     for segments in [1, 3] {

@@ -26,6 +26,7 @@ fn timestep_map(m: &Model, q: f64, v: f64, periods: f64, rtol: f64) -> (f64, f64
             rtol,
             initial: Some((q, v)),
             method: liu2021::Stepping::Auto,
+            transient_rtol: None,
         },
     )
     .unwrap();

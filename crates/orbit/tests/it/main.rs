@@ -9,6 +9,7 @@ mod impact;
 mod linear;
 mod liu;
 mod lyapunov;
+mod methods;
 mod models;
 mod piecewise;
 mod smooth_and_grazing;

@@ -2,7 +2,7 @@
 //! exponentials, S = I at kinks, and the monodromy against finite differences of the
 //! event-located flow.
 
-use crate::common::{Bilinear, Rattle, exp_oscillator};
+use crate::common::{Bilinear, bilinear_monodromy, two_sided_rattle};
 use math::DetMath;
 use nalgebra::DMatrix;
 use orbit::{OrbitProblem, ShootingOptions};
@@ -34,17 +34,7 @@ fn bilinear_monodromy_is_the_product_of_exponentials() {
         assert!(e.saltation_jump < 1e-9, "S − I = {}", e.saltation_jump);
         assert!(!e.impact);
     }
-    let mut phi = DMatrix::identity(2, 2);
-    let mut t_prev = 0.0;
-    let mut beyond = o.x0[0] >= s.d;
-    for e in &o.events {
-        let k = if beyond { s.kappa } else { 1.0 };
-        phi = exp_oscillator(k, 2.0 * s.zeta, e.time - t_prev) * phi;
-        t_prev = e.time;
-        beyond = !beyond;
-    }
-    let k = if beyond { s.kappa } else { 1.0 };
-    phi = exp_oscillator(k, 2.0 * s.zeta, t - t_prev) * phi;
+    let phi = bilinear_monodromy(&s, &o.x0, &o.events, t);
     assert!(
         (&o.monodromy - &phi).amax() < 1e-7,
         "{} vs {phi}",
@@ -75,13 +65,7 @@ fn bilinear_monodromy_is_the_product_of_exponentials() {
 /// events per period); and the multipliers of both.
 #[test]
 fn monodromy_matches_finite_differences_of_the_flow() {
-    let s = Rattle {
-        zeta: 0.05,
-        b: 0.5,
-        f0: 0.1,
-        f: 1.2,
-        omega: 1.2,
-    };
+    let s = two_sided_rattle();
     let t = 2.0 * PI / s.omega;
     let p = OrbitProblem::new(s, t).unwrap();
     let o = p.shoot(&[0.0, 1.0], &ShootingOptions::default()).unwrap();

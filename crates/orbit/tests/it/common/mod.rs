@@ -192,6 +192,57 @@ impl SecondOrderSystem for Rattle {
     }
 }
 
+/// The two-sided rattle of the flow tests: four contact events a period on its period-1 orbit.
+pub fn two_sided_rattle() -> Rattle {
+    Rattle {
+        zeta: 0.05,
+        b: 0.5,
+        f0: 0.1,
+        f: 1.2,
+        omega: 1.2,
+    }
+}
+
+/// The bilinear oscillator far below its kink, `q'' + 2ζq' + q = F cos ωt` (ζ = 0.05,
+/// F = 0.3, ω = 1.3), and its periodic orbit `q = a cos ωt + b sin ωt` on the section `t = 0`.
+pub fn linear_oscillator() -> (Bilinear, [f64; 2]) {
+    let s = Bilinear {
+        zeta: 0.05,
+        kappa: 10.0,
+        d: 100.0,
+        f0: 0.0,
+        f: 0.3,
+        omega: 1.3,
+    };
+    let (w, z) = (s.omega, s.zeta);
+    let den = (1.0 - w * w).powi(2) + (2.0 * z * w).powi(2);
+    let (a, b) = (s.f * (1.0 - w * w) / den, s.f * 2.0 * z * w / den);
+    (s, [a, b * w])
+}
+
+/// The bilinear oscillator's monodromy over `[0, t]` from the located kinks alone: between
+/// events the variational equation is linear with constant coefficients, so
+/// `Φ = e^{A_m Δt_m} ⋯ e^{A_1 Δt_1}` (`S = I` at the kinks of the continuous force), with
+/// stiffness `κ` beyond `q = d` and 1 below, starting on the side of `x0`.
+pub fn bilinear_monodromy(
+    s: &Bilinear,
+    x0: &[f64],
+    events: &[orbit::EventRecord],
+    t: f64,
+) -> DMatrix<f64> {
+    let mut phi = DMatrix::identity(2, 2);
+    let mut t_prev = 0.0;
+    let mut beyond = x0[0] >= s.d;
+    for e in events {
+        let k = if beyond { s.kappa } else { 1.0 };
+        phi = exp_oscillator(k, 2.0 * s.zeta, e.time - t_prev) * phi;
+        t_prev = e.time;
+        beyond = !beyond;
+    }
+    let k = if beyond { s.kappa } else { 1.0 };
+    exp_oscillator(k, 2.0 * s.zeta, t - t_prev) * phi
+}
+
 /// `exp(A t)` of `A = [[0, 1], [−k, −c]]`, closed form (underdamped, overdamped or critical).
 pub fn exp_oscillator(k: f64, c: f64, t: f64) -> DMatrix<f64> {
     // eigenvalues of A: λ = −c/2 ± sqrt(c²/4 − k)
