@@ -176,6 +176,12 @@ def test_liu_shooting_columns_and_errors():
         liu.solve("shooting", segments=0)
     with pytest.raises(geardyn.ParameterError, match="nope"):
         liu.solve("shooting", nope=1)
+    # the flow's pair is a setting: DOP853 finds the same orbit (Newton tolerance 1e-8)
+    r8 = liu.solve("shooting", transient_periods=50, flow_method="dop853")
+    assert abs(r8["q0"] - r["q0"]) < 1e-8 and abs(r8["dq0"] - r["dq0"]) < 1e-8
+    assert r8["stable"] == r["stable"] and r8["rsv"] == r["rsv"]
+    with pytest.raises(geardyn.ParameterError, match="flow_method"):
+        liu.solve("shooting", flow_method="rk4")
 
 
 def test_yu_shooting_matches_the_study_file_method():

@@ -73,7 +73,7 @@ def test_any_parameter_value_gives_a_result_or_a_documented_error(model, data, v
 
 
 LIU_SETTINGS = ["tol", "max_iter", "samples", "full_r", "warm_start", "output_samples",
-                "options", "nope"]
+                "options", "flow_method", "nope"]
 
 
 @given(name=st.sampled_from(LIU_SETTINGS), value=VALUES,

@@ -5,7 +5,7 @@ use super::{Kind, PointError, Record, SettingDef, Settings};
 use math::DetMath;
 
 /// The solver settings of the shooting method (after the model's `transient_periods`).
-pub(crate) const SHOOT_SOLVER: [SettingDef; 4] = [
+pub(crate) const SHOOT_SOLVER: [SettingDef; 5] = [
     SettingDef {
         name: "rtol",
         kind: Kind::Num {
@@ -41,6 +41,16 @@ pub(crate) const SHOOT_SOLVER: [SettingDef; 4] = [
             default: Some(1),
         },
         doc: "shooting segments per period (1: single shooting)",
+    },
+    SettingDef {
+        name: "flow_method",
+        kind: Kind::Name {
+            options: &["dp5", "dop853"],
+            default: "dp5",
+        },
+        doc: "Runge–Kutta pair of the flow and its variational equations: \"dp5\" \
+              (Dormand–Prince 5(4)) or \"dop853\" (Hairer's 8(5,3), cheaper without contact loss \
+              and on one flank, dearer in bilateral rattle; docs/performance.md, Shooting flows)",
     },
 ];
 
@@ -91,6 +101,10 @@ pub(crate) fn shoot_on<S: system::SecondOrderSystem>(
 ) -> Result<(orbit::OrbitProblem<S>, orbit::PeriodicOrbit, Record), PointError> {
     let flow = orbit::FlowOptions {
         rtol: s.f("rtol"),
+        method: match s.name("flow_method") {
+            "dop853" => orbit::FlowMethod::Dop853,
+            _ => orbit::FlowMethod::DormandPrince54,
+        },
         ..orbit::FlowOptions::default()
     };
     let p = orbit::OrbitProblem::new(sys, period)

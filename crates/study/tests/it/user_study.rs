@@ -786,8 +786,29 @@ fn liu_shooting_columns_match_the_orbit_crate() {
     assert_eq!(drive[1], ext[1][1] / m.backlash);
     let mu: f64 = col(&out, "mu1_re")[1].dhypot(col(&out, "mu1_im")[1]);
     assert_eq!(mu, o.floquet.max_modulus);
+    // `flow_method = "dop853"`: the orbit crate's DOP853 flow, bit for bit, and the same orbit
+    // as DP5's to the Newton tolerance 1e-8 (relative to 1 + |x|)
+    let out8 = run(
+        "name = \"s\"\nmodel = \"liu2021\"\n[overrides]\nbase_radius = \"mean\"\n\
+                   [sweep]\nparameter = \"omega1\"\nfrom = 130.0\nto = 140.0\nsteps = 2\n\
+                   [solver]\nmethod = \"shooting\"\n[solver.settings]\ntransient_periods = 50\n\
+                   flow_method = \"dop853\"\n",
+    );
+    let o8 = orbit::OrbitProblem::new(m, m.period())
+        .unwrap()
+        .with_flow_options(orbit::FlowOptions {
+            method: orbit::FlowMethod::Dop853,
+            ..orbit::FlowOptions::default()
+        })
+        .unwrap()
+        .shoot(&x, &orbit::ShootingOptions::default())
+        .unwrap();
+    assert_eq!(col(&out8, "q0")[1], o8.x0[0]);
+    assert_eq!(col(&out8, "dq0")[1], o8.x0[1]);
+    assert!((o8.x0[0] - o.x0[0]).abs() < 1e-8 && (o8.x0[1] - o.x0[1]).abs() < 1e-8);
     // bad settings name the entry and its bound; other models refuse the method
     for (setting, needle) in [
+        ("flow_method = \"rk4\"", "flow_method"),
         ("segments = 0", "segments"),
         ("rtol = 1.0", "rtol"),
         ("max_iter = 2.5", "max_iter"),
