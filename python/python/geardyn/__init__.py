@@ -321,7 +321,8 @@ class Liu2021(Model):
     ``rsv``, ``ppv``, ``converged``, ``tau``, ``q`` (and ``v`` and ``window`` for time stepping).
     ``"shooting"``: the periodic orbit by shooting on the event-located flow from a
     time-integration guess (study settings ``transient_periods``, ``rtol``, ``tol``,
-    ``max_iter``, ``segments``; ``initial=[q, q']`` where the guess starts); results are the
+    ``max_iter``, ``segments``, ``flow_method`` = ``"dp5"`` or ``"dop853"``; ``initial=[q, q']``
+    where the guess starts); results are the
     columns of ``geardyn study``'s method ``shooting``: ``rsv``, ``q0``, ``dq0``,
     ``events_per_period``, ``max_multiplier``, ``mu1_re``/``mu1_im``/``mu2_re``/``mu2_im``,
     ``stable``, ``det_phi_plus_i`` (its sign change between two points is a period doubling),
