@@ -622,6 +622,8 @@ impl<'a, S: SecondOrderSystem + ?Sized> Stepper<'a, S> {
                 for j in 0..stages {
                     acc += tab.b[j] * self.k[j][i];
                 }
+                // kept for DOP853's 3rd-order estimate (`self.y` is free after the last stage)
+                self.y[i] = acc;
                 x_new[i] = x[i] + h * acc;
             }
         }
@@ -650,9 +652,11 @@ impl<'a, S: SecondOrderSystem + ?Sized> Stepper<'a, S> {
                 let (mut err5, mut err3) = (0.0, 0.0);
                 let last = stages - 1;
                 for i in 0..m {
-                    let (mut sb, mut s5) = (0.0, 0.0);
+                    // Σ bⱼkⱼ of the solution (above; a tableau with this estimate does not
+                    // take its solution from the last stage)
+                    let sb = self.y[i];
+                    let mut s5 = 0.0;
                     for j in 0..stages {
-                        sb += tab.b[j] * self.k[j][i];
                         s5 += e5[j] * self.k[j][i];
                     }
                     let sk = self.atol + self.rtol * x[i].abs().max(x_new[i].abs());

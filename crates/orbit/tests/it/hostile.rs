@@ -1,23 +1,12 @@
 //! Hostile inputs end in typed errors, never in a panic or a hang.
 
-use crate::common::{Bilinear, ImpactOscillator, Rattle};
+use crate::common::{Bilinear, ImpactOscillator, Rattle, bilinear};
 use nalgebra::DMatrix;
 use orbit::{
     ContinuationOptions, FlowOptions, OrbitError, OrbitProblem, Parameter, Restitution,
     ShootingCorrection, ShootingOptions,
 };
 use system::SecondOrderSystem;
-
-fn bilinear() -> Bilinear {
-    Bilinear {
-        zeta: 0.05,
-        kappa: 4.0,
-        d: 0.5,
-        f0: 0.0,
-        f: 1.0,
-        omega: 1.5,
-    }
-}
 
 #[test]
 fn bad_periods_and_states_are_rejected() {

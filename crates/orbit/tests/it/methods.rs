@@ -4,7 +4,7 @@
 //! flow while saving rejections.
 
 use crate::common::{
-    Bilinear, bilinear_monodromy, exp_oscillator, linear_oscillator, two_sided_rattle,
+    bilinear, bilinear_monodromy, exp_oscillator, linear_oscillator, two_sided_rattle,
 };
 use math::DetMath;
 use orbit::{FlowMethod, FlowOptions, OrbitProblem, ShootingOptions};
@@ -84,14 +84,7 @@ fn each_pair_converges_at_its_order() {
 /// DP5's to 1e-9 (both locate to 1e-13 on flows accurate to about rtol 1e-10).
 #[test]
 fn dop853_events_and_monodromy_match_dp5_and_the_closed_form() {
-    let s = Bilinear {
-        zeta: 0.05,
-        kappa: 4.0,
-        d: 0.5,
-        f0: 0.0,
-        f: 1.0,
-        omega: 1.5,
-    };
+    let s = bilinear();
     let t = 2.0 * PI / s.omega;
     let shoot = |method| {
         OrbitProblem::new(s, t)

@@ -2,22 +2,11 @@
 //! exponentials, S = I at kinks, and the monodromy against finite differences of the
 //! event-located flow.
 
-use crate::common::{Bilinear, bilinear_monodromy, two_sided_rattle};
+use crate::common::{bilinear, bilinear_monodromy, two_sided_rattle};
 use math::DetMath;
 use nalgebra::DMatrix;
 use orbit::{OrbitProblem, ShootingOptions};
 use std::f64::consts::PI;
-
-fn bilinear() -> Bilinear {
-    Bilinear {
-        zeta: 0.05,
-        kappa: 4.0,
-        d: 0.5,
-        f0: 0.0,
-        f: 1.0,
-        omega: 1.5,
-    }
-}
 
 /// Between events the variational equation is linear with constant coefficients, so the
 /// monodromy is `e^{A_m Δt_m} ⋯ S₂ e^{A_2 Δt_2} S₁ e^{A_1 Δt_1}` with `S_i = I` (the force is

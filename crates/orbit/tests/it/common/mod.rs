@@ -192,6 +192,19 @@ impl SecondOrderSystem for Rattle {
     }
 }
 
+/// The bilinear oscillator of the non-smooth tests: one excursion past its kink `q = 0.5` per
+/// period on its period-1 orbit.
+pub fn bilinear() -> Bilinear {
+    Bilinear {
+        zeta: 0.05,
+        kappa: 4.0,
+        d: 0.5,
+        f0: 0.0,
+        f: 1.0,
+        omega: 1.5,
+    }
+}
+
 /// The two-sided rattle of the flow tests: four contact events a period on its period-1 orbit.
 pub fn two_sided_rattle() -> Rattle {
     Rattle {
