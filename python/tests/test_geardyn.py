@@ -228,3 +228,11 @@ transient_periods = 10
     assert abs(on.column("lambda_sum")[0] + 0.02) < 0.02 * 1e-3
     with pytest.raises(geardyn.StudyError):
         geardyn.run_study(text.format(extra='lyapunov = "on"\nlyapunov_periods = 2'))
+    # two consecutive batches: their mean, still within the volume law; the bound named
+    two = geardyn.run_study(text.format(
+        extra='lyapunov = "on"\nlyapunov_periods = 6\nlyapunov_exponents = 2\nlyapunov_batches = 2'))
+    assert two.column("lambda1")[0] < 0.0
+    assert abs(two.column("lambda_sum")[0] + 0.02) < 0.02 * 1e-3
+    assert two.column("lambda1_spread")[0] >= 0.0
+    with pytest.raises(geardyn.StudyError, match="lyapunov_batches"):
+        geardyn.run_study(text.format(extra='lyapunov = "on"\nlyapunov_batches = 17'))

@@ -6,7 +6,7 @@ use crate::error::{OrbitError, Result, check};
 use crate::floquet::{Crossing, Floquet, classify_crossing, floquet, real_eigenvector};
 use crate::path::{
     self, Branch, BranchPoint, ContinuationOptions, Corrector, Extremum, Node, SpecialKind,
-    SpecialPoint, StepControl, bordered_tangent,
+    SpecialPoint, StepControl, StopReason, bordered_tangent,
 };
 use crate::problem::{OrbitProblem, Parameter};
 use crate::shooting::{PeriodicOrbit, ShootingOptions};
@@ -49,6 +49,12 @@ pub struct ShootingCorrection {
     /// step (it jumps at every contact change), and this picks the first crossing down to the
     /// piece length. `1`: no sampling.
     pub locate_samples: usize,
+    /// Stop the branch at the first special point of one of these kinds
+    /// ([`StopReason::SpecialPoint`], after the step that
+    /// contains it), like AUTO's `STOP` list: a branch that is wanted only up to its fold
+    /// need not go on into what lies past it. Empty (default): no such stop.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub stop_at: Vec<SpecialKind>,
 }
 
 impl Default for ShootingCorrection {
@@ -68,6 +74,7 @@ impl Default for ShootingCorrection {
             locate_tol: 1e-8,
             locate_contact_changes: false,
             locate_samples: 1,
+            stop_at: Vec::new(),
         }
     }
 }
@@ -199,6 +206,8 @@ type Sol = Node<ShootingBranchPoint>;
 struct Shooter<'a, S> {
     problem: &'a mut OrbitProblem<S>,
     opts: &'a ShootingCorrection,
+    /// The stop at a special point of [`ShootingCorrection::stop_at`] found by the last step.
+    stop: Option<StopReason>,
 }
 
 impl<S: SecondOrderSystem> Corrector for Shooter<'_, S> {
@@ -224,8 +233,20 @@ impl<S: SecondOrderSystem> Corrector for Shooter<'_, S> {
     }
 
     fn on_step(&mut self, a: &Sol, b: &Sol, ds: f64, branch: &mut ShootingBranch) -> Result<()> {
+        let before = branch.special.len();
         self.problem.detect(self.opts, a, b, ds, branch);
+        self.stop = branch.special[before..]
+            .iter()
+            .find(|sp| self.opts.stop_at.contains(&sp.kind))
+            .map(|sp| StopReason::SpecialPoint {
+                parameter: sp.point.parameter,
+                kind: sp.kind,
+            });
         Ok(())
+    }
+
+    fn stop_after(&mut self, _node: &Sol) -> Option<StopReason> {
+        self.stop.take()
     }
 }
 
@@ -447,6 +468,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         let mut shooter = Shooter {
             problem: self,
             opts,
+            stop: None,
         };
         path::trace(&mut shooter, first, &control, &course, &mut branch)?;
         Ok(branch)

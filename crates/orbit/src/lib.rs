@@ -109,8 +109,13 @@
 //! [`StopReason::StepTooSmall`], where pseudo-arclength goes round it). Step control
 //! ([`StepControl`]): halve after a rejection (corrector failure, a correction longer than
 //! `max_correction · Δs`, a tangent turn with `cos < min_cos`), grow after success (always, or
-//! only after easy corrections), stop below the minimum. Every continuation takes the one
-//! [`ContinuationOptions<C>`](ContinuationOptions) (step bounds, point cap, predictor) with its
+//! only after easy corrections), stop below the minimum. A branch that crawls — its accepted
+//! steps below [`Stall::step`] for [`Stall::points`] points in a row, as in a non-smooth tangle
+//! where the contact set changes at nearly every step — stops with [`StopReason::Stalled`] when
+//! [`ContinuationOptions::stall`] is set; a shooting branch stops after the first special point
+//! of a kind in [`ShootingCorrection::stop_at`] ([`StopReason::SpecialPoint`], AUTO's `STOP`
+//! list). Every continuation takes the one
+//! [`ContinuationOptions<C>`](ContinuationOptions) (step bounds, point cap, predictor, stall) with its
 //! corrector's part `C` ([`ShootingCorrection`], [`HbmCorrection`]). The correctors: the shooting residual
 //! below; the harmonic-balance residual of `hbm` ([`continue_hbm`]: Newton with line search on
 //! `[r(z, λ); bᵀ(y − y_p)] = 0`, `∂r/∂λ` by central differences, Floquet stability by the RK4
@@ -284,7 +289,7 @@ pub use lyapunov::{
 };
 pub use path::{
     Branch, BranchPoint, ContinuationOptions, Degeneracy, Extremum, Fold, Predictor, SpecialKind,
-    SpecialPoint, StepControl, StopReason, fill_from_neighbours,
+    SpecialPoint, Stall, StepControl, StopReason, fill_from_neighbours,
 };
 pub use problem::{OrbitProblem, Parameter};
 pub use shooting::{PeriodicOrbit, ShootingOptions};

@@ -25,6 +25,11 @@
 //!   longer than `max_correction·Δs`, a tangent turn with `cos < min_cos`) is halved; an
 //!   accepted one grows by `grow` (optionally only after easy corrections) or shrinks after
 //!   hard ones.
+//! * **Stall** ([`Stall`], optional): a branch whose accepted steps stay below `Stall::step`
+//!   for `Stall::points` points in a row crawls: in a non-smooth tangle, where the contact
+//!   set changes at nearly every step, the corrector fails at every longer step and the
+//!   branch can spend hundreds of points within a hundredth of a parameter unit. It stops
+//!   there with [`StopReason::Stalled`] instead of at the cap or the minimum step.
 //! * **Folds** ([`Fold`]) where `t_μ` changes sign between `y_i` and `y_{i+1}`; with
 //!   `σ = t_{i,μ} Δs/(t_{i,μ} − t_{i+1,μ})` (where the linear interpolant of `t_μ(s)` vanishes) the
 //!   fold parameter is the quadratic estimate `μ_F = μ_i + ½ t_{i,μ} σ`. Shooting locates
@@ -77,8 +82,23 @@ pub struct ContinuationOptions<C> {
     /// Pseudo-arclength (default) or natural-parameter steps.
     #[cfg_attr(feature = "serde", serde(default))]
     pub predictor: Predictor,
+    /// Stop a branch that crawls ([`StopReason::Stalled`]); `None` (default): no such stop.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub stall: Option<Stall>,
     /// The corrector's own settings.
     pub corrector: C,
+}
+
+/// When a branch crawls ([`ContinuationOptions::stall`]): `points` accepted steps in a row,
+/// each shorter than `step` (the corrector's scaled variables, like the step bounds). The
+/// counter restarts at every accepted step of at least `step`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Stall {
+    /// Accepted steps in a row (≥ 1).
+    pub points: usize,
+    /// Step length below which an accepted step counts (> 0 and finite).
+    pub step: f64,
 }
 
 impl<C> ContinuationOptions<C> {
@@ -91,12 +111,14 @@ impl<C> ContinuationOptions<C> {
             max_step: 0.1,
             max_points: 500,
             predictor: Predictor::Arclength,
+            stall: None,
             corrector,
         }
     }
 
-    /// Checks the shared fields: `0 < min_step ≤ initial_step ≤ max_step`, all finite, and
-    /// `max_points ≥ 1` (the corrector's part is checked by its own `validate`).
+    /// Checks the shared fields: `0 < min_step ≤ initial_step ≤ max_step`, all finite,
+    /// `max_points ≥ 1`, and a [`Stall`] with `points ≥ 1` and a finite `step > 0` (the
+    /// corrector's part is checked by its own `validate`).
     ///
     /// # Errors
     /// [`OrbitError::InvalidInput`] naming the field and its bound.
@@ -124,16 +146,32 @@ impl<C> ContinuationOptions<C> {
             "ContinuationOptions::max_points",
             ">= 1",
             self.max_points as f64,
-        )
+        )?;
+        if let Some(stall) = self.stall {
+            check(
+                stall.points >= 1,
+                "ContinuationOptions::stall.points",
+                ">= 1",
+                stall.points as f64,
+            )?;
+            check(
+                stall.step.is_finite() && stall.step > 0.0,
+                "ContinuationOptions::stall.step",
+                "> 0 and finite",
+                stall.step,
+            )?;
+        }
+        Ok(())
     }
 
-    /// The course of a branch over `range` in `direction` with this cap and predictor.
+    /// The course of a branch over `range` in `direction` with this cap, predictor and stall.
     pub fn course(&self, range: [f64; 2], direction: f64) -> Course {
         Course {
             range,
             direction,
             max_points: self.max_points,
             predictor: self.predictor,
+            stall: self.stall,
         }
     }
 }
@@ -401,6 +439,23 @@ pub enum StopReason {
         #[cfg_attr(feature = "serde", serde(skip))]
         cause: Option<OrbitError>,
     },
+    /// The branch passed a special point of a kind it was asked to stop at
+    /// ([`ShootingCorrection::stop_at`](crate::ShootingCorrection::stop_at)); it ends with the
+    /// point after it.
+    SpecialPoint {
+        /// Parameter of the special point.
+        parameter: f64,
+        /// Its kind.
+        kind: SpecialKind,
+    },
+    /// The branch crawled ([`ContinuationOptions::stall`]): its last `points` accepted steps
+    /// were all shorter than the stall step.
+    Stalled {
+        /// Parameter of the last accepted point.
+        parameter: f64,
+        /// Accepted steps in a row below the stall step.
+        points: usize,
+    },
     /// The first point did not converge.
     InitialSolveFailed {
         /// Residual norm reached.
@@ -453,9 +508,10 @@ impl StopReason {
     /// [`StepTooSmall`](Self::StepTooSmall)), if the reason carries one.
     pub fn parameter(&self) -> Option<f64> {
         match self {
-            Self::LeftRange { parameter } | Self::StepTooSmall { parameter, .. } => {
-                Some(*parameter)
-            }
+            Self::LeftRange { parameter }
+            | Self::StepTooSmall { parameter, .. }
+            | Self::Stalled { parameter, .. }
+            | Self::SpecialPoint { parameter, .. } => Some(*parameter),
             Self::Degenerate { parameter, .. } | Self::FirstLeftRange { parameter, .. } => {
                 Some(*parameter)
             }
@@ -473,6 +529,14 @@ impl StopReason {
             Self::StepTooSmall { parameter, cause } => Self::StepTooSmall {
                 parameter: g(parameter),
                 cause,
+            },
+            Self::Stalled { parameter, points } => Self::Stalled {
+                parameter: g(parameter),
+                points,
+            },
+            Self::SpecialPoint { parameter, kind } => Self::SpecialPoint {
+                parameter: g(parameter),
+                kind,
             },
             Self::Degenerate {
                 parameter,
@@ -679,11 +743,15 @@ pub struct Course {
     pub max_points: usize,
     /// Predictor and constraint.
     pub predictor: Predictor,
+    /// Stop a crawling branch ([`StopReason::Stalled`]); `None`: never.
+    pub stall: Option<Stall>,
 }
 
 /// The one continuation loop: from `first` (already the first point of `branch`) predict,
 /// correct, check, accept, detect folds, grow or shrink the step, until the range is left,
-/// the cap is reached or the step falls below [`StepControl::min`].
+/// the cap is reached, the step falls below [`StepControl::min`] or the branch stalls
+/// ([`Course::stall`]). Every pass either accepts a point (at most `max_points`) or halves
+/// the step (at most `log₂(max/min)` times in a row), so the loop ends.
 ///
 /// # Errors
 /// Fatal errors of the corrector.
@@ -701,6 +769,7 @@ pub fn trace<C: Corrector>(
     let [lo, hi] = course.range;
     let mut e_mu = DVector::zeros(n + 1);
     e_mu[n] = 1.0;
+    let mut crawl = 0_usize;
     while branch.points.len() < course.max_points {
         let (pred, border) = match course.predictor {
             Predictor::Arclength => (&cur.y + &cur.tangent * s, cur.tangent.clone()),
@@ -778,6 +847,7 @@ pub fn trace<C: Corrector>(
             branch.stop = reason;
             return Ok(());
         }
+        let accepted_step = s;
         if control.grow_below.is_none_or(|k| next.iterations <= k) {
             s = (s * control.grow).min(control.max);
         } else if control.shrink_above.is_some_and(|k| next.iterations >= k) {
@@ -797,6 +867,20 @@ pub fn trace<C: Corrector>(
                 StopReason::LeftRange { parameter: lam }
             };
             return Ok(());
+        }
+        if let Some(stall) = course.stall {
+            crawl = if accepted_step < stall.step {
+                crawl + 1
+            } else {
+                0
+            };
+            if crawl >= stall.points {
+                branch.stop = StopReason::Stalled {
+                    parameter: lam,
+                    points: crawl,
+                };
+                return Ok(());
+            }
         }
     }
     branch.stop = StopReason::MaxPoints;
@@ -858,7 +942,14 @@ mod tests {
     /// Newton on the bordered system.
     struct Circle {
         corrections: usize,
+        /// `Some(μ_r)`: a rough stretch above `μ_r` where every correction farther than
+        /// [`ROUGH_REACH`] from the last accepted point fails (a tangle in miniature).
+        rough_above: Option<f64>,
+        last: Option<DVector<f64>>,
     }
+
+    /// The longest correction that succeeds on the rough stretch of [`Circle`].
+    const ROUGH_REACH: f64 = 0.004;
 
     impl Corrector for Circle {
         type Raw = ();
@@ -872,6 +963,11 @@ mod tests {
             reference: &DVector<f64>,
         ) -> Result<Result<Node<()>, OrbitError>, OrbitError> {
             self.corrections += 1;
+            if let (Some(mu), Some(last)) = (self.rough_above, &self.last) {
+                if pred[1] > mu && (pred - last).norm() > ROUGH_REACH {
+                    return Ok(Err(OrbitError::Singular { what: "rough" }));
+                }
+            }
             let mut y = pred.clone();
             for it in 0..20 {
                 let r = DVector::from_vec(vec![
@@ -905,6 +1001,7 @@ mod tests {
         }
 
         fn accept(&mut self, node: &Node<()>) -> Result<BranchPoint<f64>, OrbitError> {
+            self.last = Some(node.y.clone());
             Ok(BranchPoint {
                 parameter: node.y[1],
                 tangent_parameter: node.tangent[1],
@@ -915,7 +1012,20 @@ mod tests {
     }
 
     fn run(predictor: Predictor, max: f64) -> Branch<f64> {
-        let mut c = Circle { corrections: 0 };
+        run_rough(predictor, max, None, None)
+    }
+
+    fn run_rough(
+        predictor: Predictor,
+        max: f64,
+        rough_above: Option<f64>,
+        stall: Option<Stall>,
+    ) -> Branch<f64> {
+        let mut c = Circle {
+            corrections: 0,
+            rough_above,
+            last: None,
+        };
         let y = DVector::from_vec(vec![(1.0_f64 - 0.25).sqrt(), -0.5]);
         let jac = DMatrix::from_row_slice(1, 2, &[2.0 * y[0], 2.0 * y[1]]);
         let tangent = bordered_tangent(&jac, &DVector::from_vec(vec![0.0, 1.0])).unwrap();
@@ -933,9 +1043,91 @@ mod tests {
             direction: 1.0,
             max_points: 500,
             predictor,
+            stall,
         };
         trace(&mut c, first, &control, &course, &mut branch).unwrap();
         branch
+    }
+
+    #[test]
+    fn a_crawling_branch_stops_as_stalled_and_only_then() {
+        let stall = Stall {
+            points: 10,
+            step: 0.01,
+        };
+        // smooth: the stall never fires, the branch goes round the fold as without it
+        let smooth = run_rough(Predictor::Arclength, 0.2, None, Some(stall));
+        assert_eq!(smooth, run(Predictor::Arclength, 0.2));
+        // rough above μ = 0.3: steps fall to ≤ ROUGH_REACH, and after 10 of them in a row the
+        // branch stops there instead of crawling on to the cap
+        let b = run_rough(Predictor::Arclength, 0.2, Some(0.3), Some(stall));
+        let StopReason::Stalled { parameter, points } = b.stop else {
+            panic!("{:?}", b.stop);
+        };
+        assert_eq!(points, 10);
+        assert_eq!(
+            parameter.to_bits(),
+            b.points.last().unwrap().parameter.to_bits()
+        );
+        // the 10 crawling steps advance μ by at most 10 · ROUGH_REACH past the rough edge
+        assert!(
+            parameter > 0.3 && parameter < 0.3 + 11.0 * ROUGH_REACH,
+            "stopped at {parameter}"
+        );
+        let n = b.points.len();
+        for w in b.points[n - 11..].windows(2) {
+            let d = (w[1].parameter - w[0].parameter).dhypot(w[1].orbit - w[0].orbit);
+            assert!(d < stall.step, "a step of {d} counted as crawling");
+        }
+        // without the stall the same branch crawls on to the cap
+        let crawl = run_rough(Predictor::Arclength, 0.2, Some(0.3), None);
+        assert_eq!(crawl.stop, StopReason::MaxPoints);
+        assert_eq!(crawl.points[..n], b.points[..]);
+    }
+
+    #[test]
+    fn a_stall_with_no_points_or_no_step_is_an_error_naming_the_field() {
+        let ok = ContinuationOptions::with_corrector(());
+        for (stall, field) in [
+            (
+                Stall {
+                    points: 0,
+                    step: 0.1,
+                },
+                "stall.points",
+            ),
+            (
+                Stall {
+                    points: 3,
+                    step: 0.0,
+                },
+                "stall.step",
+            ),
+            (
+                Stall {
+                    points: 3,
+                    step: f64::NAN,
+                },
+                "stall.step",
+            ),
+        ] {
+            let e = ContinuationOptions {
+                stall: Some(stall),
+                ..ok
+            }
+            .validate_steps()
+            .unwrap_err();
+            assert!(e.to_string().contains(field), "{e}");
+        }
+        ContinuationOptions {
+            stall: Some(Stall {
+                points: 1,
+                step: 1e-3,
+            }),
+            ..ok
+        }
+        .validate_steps()
+        .unwrap();
     }
 
     #[test]

@@ -218,6 +218,7 @@ pub fn continue_in_speed(
         max_step: options.max_step / to_omega1,
         max_points: options.max_points,
         predictor: orbit::Predictor::Arclength,
+        stall: None,
         corrector: orbit::HbmCorrection {
             tolerance: options.hbm.tol * residual_scale(&model),
             max_iters: options.hbm.max_iter.max(1),

@@ -8,8 +8,8 @@ use std::sync::Arc;
 use serde_json::{Value as J, json};
 
 use crate::contract::lyapunov::{
-    LYAPUNOV, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL, lyapunov_columns, lyapunov_plan,
-    lyapunov_steps, push_lyapunov, run_lyapunov, tighter,
+    LYAPUNOV, LYAPUNOV_BATCHES, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL,
+    lyapunov_columns, lyapunov_plan, lyapunov_steps, push_lyapunov, run_lyapunov, tighter,
 };
 use crate::contract::shoot::shoot_on;
 use crate::contract::{
@@ -154,6 +154,7 @@ pub(crate) const LIU_TS: &[SettingDef] = &[
     LYAPUNOV_PERIODS,
     LYAPUNOV_EXPONENTS,
     LYAPUNOV_RTOL,
+    LYAPUNOV_BATCHES,
 ];
 
 /// Default cap on the periods integrated before the kept window (`max_transient_periods`): the
@@ -613,7 +614,7 @@ struct TsPlan {
     window: liu2021::LongWindowOptions,
     robust: bool,
     /// The Lyapunov run (`lyapunov = "on"`).
-    lyapunov: Option<crate::response::LyapunovWindowOptions>,
+    lyapunov: Option<crate::contract::lyapunov::LyapunovPlan>,
 }
 
 /// Read the time-stepping settings (bounds checked by [`Settings::read`]; the relations between
@@ -656,12 +657,12 @@ fn ts_plan(s: &Settings, initial: Option<(f64, f64)>) -> Result<TsPlan, PointErr
     }
     let lyapunov = lyapunov_plan(s);
     if let Some(l) = lyapunov
-        && l.exponents > 2
+        && l.window.exponents > 2
     {
         return Err(PointError::Input(format!(
             "setting `lyapunov_exponents` must be at most 2 for liu2021 (one degree of \
              freedom: state dimension 2), got {}",
-            l.exponents
+            l.window.exponents
         )));
     }
     Ok(TsPlan {
@@ -777,7 +778,7 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
         names.extend(crate::response::Robust::COLUMNS);
     }
     if let Some(l) = &plan.lyapunov {
-        names.extend(lyapunov_columns(l.exponents, "1"));
+        names.extend(lyapunov_columns(l.window.exponents, "1"));
     }
     Ok(Adapter {
         outputs: outs_stepped(&names, check),
@@ -1233,6 +1234,37 @@ mod tests {
         let flag = r.get("lambda_converged").unwrap();
         assert!(flag.to_bits() == 0.0_f64.to_bits() || flag.to_bits() == 1.0_f64.to_bits());
         assert!(r.get("lyapunov_events_per_period").unwrap() >= 0.0);
+        // batches: one is the default bit for bit; two are the mean of two consecutive runs,
+        // their spread at least the first run's own, the volume law still held
+        let with = |extra: (&'static str, Value)| {
+            let mut v = on.clone();
+            v.push(extra);
+            v
+        };
+        let one = ts_solve(&with(("lyapunov_batches", Value::Num(1.0))), 100.0).unwrap();
+        for c in ["lambda1", "lambda2", "lambda1_spread", "lambda_sum"] {
+            assert_eq!(
+                one.get(c).unwrap().to_bits(),
+                r.get(c).unwrap().to_bits(),
+                "{c}"
+            );
+        }
+        let two = ts_solve(&with(("lyapunov_batches", Value::Num(2.0))), 100.0).unwrap();
+        let (m1, m2, s2) = (
+            two.get("lambda1").unwrap(),
+            two.get("lambda2").unwrap(),
+            two.get("lambda1_spread").unwrap(),
+        );
+        assert!(m1 < 0.0 && m2 < 0.0, "{m1} {m2}");
+        assert!((two.get("lambda_sum").unwrap() + c).abs() < 1e-3 * c);
+        assert!(s2 >= 0.0 && s2.is_finite());
+        assert!(two.get("lyapunov_events_per_period").unwrap() >= 0.0);
+        for bad in [0.0, 17.0] {
+            let e = ts_solve(&with(("lyapunov_batches", Value::Num(bad))), 100.0)
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("lyapunov_batches"), "{e}");
+        }
         // the bound of the 1-DOF model, named
         on.push(("lyapunov_exponents", Value::Num(3.0)));
         let e = ts_solve(&on, 100.0).unwrap_err().to_string();

@@ -3,8 +3,8 @@
 //! stepping, harmonic balance or shooting.
 
 use crate::contract::lyapunov::{
-    LYAPUNOV, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL, lyapunov_columns, lyapunov_plan,
-    lyapunov_steps, push_lyapunov, run_lyapunov, tighter,
+    LYAPUNOV, LYAPUNOV_BATCHES, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL,
+    lyapunov_columns, lyapunov_plan, lyapunov_steps, push_lyapunov, run_lyapunov, tighter,
 };
 use math::DetMath;
 use std::sync::Arc;
@@ -74,6 +74,7 @@ const PAIR_TS: &[SettingDef] = &[
     LYAPUNOV_PERIODS,
     LYAPUNOV_EXPONENTS,
     LYAPUNOV_RTOL,
+    LYAPUNOV_BATCHES,
 ];
 
 const PAIR_HBM: &[SettingDef] = &[
@@ -214,7 +215,7 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
     let lyapunov = lyapunov_plan(&s);
     let mut names = PAIR_TS_OUT.to_vec();
     if let Some(l) = &lyapunov {
-        names.extend(lyapunov_columns(l.exponents, "1/s"));
+        names.extend(lyapunov_columns(l.window.exponents, "1/s"));
     }
     Ok(Adapter {
         outputs: outs_stepped(&names, check),
@@ -222,11 +223,11 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
             let (model, f_s) = pair_model(p)?;
             if let Some(l) = &lyapunov {
                 let dim = 2 * system::SecondOrderSystem::n_dof(&model);
-                if l.exponents > dim {
+                if l.window.exponents > dim {
                     return Err(PointError::Input(format!(
                         "setting `lyapunov_exponents` must be at most the state dimension \
                          {dim} of this generic-pair, got {}",
-                        l.exponents
+                        l.window.exponents
                     )));
                 }
             }

@@ -84,6 +84,42 @@ pub fn settled_lyapunov<S: SecondOrderSystem>(
     x0: &[f64],
     o: &LyapunovWindowOptions,
 ) -> Result<LyapunovSpectrum, OrbitError> {
+    let mut b = settled_lyapunov_batches(sys, period, t0, x0, o, 1)?;
+    b.pop().ok_or(OrbitError::InvalidInput {
+        field: "lyapunov_batches",
+        bound: "in [1, 16]",
+        value: 0.0,
+    })
+}
+
+/// Most batches of [`settled_lyapunov_batches`].
+pub const MAX_LYAPUNOV_BATCHES: usize = 16;
+
+/// [`settled_lyapunov`] as `batches` consecutive runs (batch means): batch `b` starts where
+/// batch `b − 1` ended, at `t0 + b·N·T`, each with its own QR warm-up (the first fifth of its
+/// `N` periods) and its own convergence record. On a chaotic attractor a finite-time exponent
+/// fluctuates from one stretch of trajectory to the next by more than the spread of its own
+/// running estimate (which measures how settled the average is, not how far another stretch
+/// lands); the batches measure that fluctuation: [`lyapunov_batch_spread`]. Batch 0 is
+/// [`settled_lyapunov`] bit for bit.
+///
+/// # Errors
+/// As [`settled_lyapunov`]; `batches` outside `[1, 16]`.
+pub fn settled_lyapunov_batches<S: SecondOrderSystem>(
+    sys: S,
+    period: f64,
+    t0: f64,
+    x0: &[f64],
+    o: &LyapunovWindowOptions,
+    batches: usize,
+) -> Result<Vec<LyapunovSpectrum>, OrbitError> {
+    if !(1..=MAX_LYAPUNOV_BATCHES).contains(&batches) {
+        return Err(OrbitError::InvalidInput {
+            field: "lyapunov_batches",
+            bound: "in [1, 16]",
+            value: batches as f64,
+        });
+    }
     if !(4..=100_000).contains(&o.windows) {
         return Err(OrbitError::InvalidInput {
             field: "lyapunov_windows",
@@ -125,7 +161,39 @@ pub fn settled_lyapunov<S: SecondOrderSystem>(
         atol: 1e-3 / m as f64,
         ..LyapunovOptions::default()
     };
-    p.lyapunov(t0, x0, &opts).map(|(s, _)| s)
+    let mut out = Vec::with_capacity(batches);
+    let mut x = x0.to_vec();
+    for b in 0..batches {
+        let (s, end) = p.lyapunov(t0 + (b * o.windows) as f64 * period, &x, &opts)?;
+        out.push(s);
+        x = end;
+    }
+    Ok(out)
+}
+
+/// `(mean, uncertainty)` of `λ_i` over batches of [`settled_lyapunov_batches`]: the mean of the
+/// batches' `λ_i`, and the larger of their spread (`max − min` over the batches) and the
+/// largest running-estimate spread of a batch ([`LyapunovSpectrum::spread_last`]). `None`
+/// without batches or without exponent `i`.
+pub fn lyapunov_batch_spread(batches: &[LyapunovSpectrum], i: usize) -> Option<(f64, f64)> {
+    let values: Vec<f64> = batches
+        .iter()
+        .map(|s| s.exponents.get(i).copied())
+        .collect::<Option<_>>()?;
+    if values.is_empty() {
+        return None;
+    }
+    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let (lo, hi) = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+            (lo.min(v), hi.max(v))
+        });
+    let own = batches
+        .iter()
+        .filter_map(|s| s.spread_last.get(i).copied())
+        .fold(0.0_f64, f64::max);
+    Some((mean, (hi - lo).max(own)))
 }
 
 /// One line of evidence: `λ1 = v ± s per unit time (λ1T = …; converged|not converged over N
@@ -223,6 +291,70 @@ mod tests {
         assert!((qr - tt).abs() < 0.03, "λ1: QR {qr}, two-trajectory {tt}");
         assert!((s.sum() + 0.05).abs() < 1e-6, "Σλ = {}", s.sum());
         assert!(describe_lyapunov(&s, period).starts_with("λ1 = "));
+    }
+
+    /// Batches: batch 0 is the single run bit for bit, batch 1 goes on from its end (so it is
+    /// the single run started there at `t0 + N T`), and the batch uncertainty covers both the
+    /// batches' difference and their own spreads. On Ueda's attractor both are positive.
+    #[test]
+    fn batches_continue_the_run_and_their_spread_covers_them() {
+        let period = 2.0 * std::f64::consts::PI;
+        let p = OrbitProblem::new(Ueda, period).unwrap();
+        let x = p
+            .flow(0.0, &[2.5, 0.0], 50.0 * period, false)
+            .unwrap()
+            .state;
+        let t0 = 50.0 * period;
+        let o = LyapunovWindowOptions {
+            windows: 40,
+            exponents: 1,
+            rtol: 1e-8,
+        };
+        let b = settled_lyapunov_batches(Ueda, period, t0, &x, &o, 2).unwrap();
+        assert_eq!(b.len(), 2);
+        assert_eq!(b[0], settled_lyapunov(Ueda, period, t0, &x, &o).unwrap());
+        // batch 1 from the end of batch 0 (Ueda's dissipation gives one window per period:
+        // the settings below are the ones `settled_lyapunov` derives for it)
+        let (_, end) = OrbitProblem::new(Ueda, period)
+            .unwrap()
+            .with_flow_options(FlowOptions {
+                rtol: 1e-8,
+                ..FlowOptions::default()
+            })
+            .unwrap()
+            .lyapunov(
+                t0,
+                &x,
+                &LyapunovOptions {
+                    window: period,
+                    windows: 40,
+                    warmup: 8,
+                    exponents: 1,
+                    last: 8,
+                    atol: 1e-3,
+                    ..LyapunovOptions::default()
+                },
+            )
+            .unwrap();
+        assert_eq!(
+            b[1],
+            settled_lyapunov(Ueda, period, t0 + 40.0 * period, &end, &o).unwrap()
+        );
+        let (mean, u) = lyapunov_batch_spread(&b, 0).unwrap();
+        let (a, c) = (b[0].largest(), b[1].largest());
+        assert!(a > 0.0 && c > 0.0, "λ1 of the batches: {a}, {c}");
+        assert_eq!(mean.to_bits(), (0.5 * (a + c)).to_bits());
+        assert!(u >= (a - c).abs() && u >= b[0].spread_last[0] && u >= b[1].spread_last[0]);
+        assert!(lyapunov_batch_spread(&b, 1).is_none());
+        assert!(lyapunov_batch_spread(&[], 0).is_none());
+        for bad in [0, MAX_LYAPUNOV_BATCHES + 1] {
+            match settled_lyapunov_batches(Ueda, period, t0, &x, &o, bad) {
+                Err(OrbitError::InvalidInput { field, .. }) => {
+                    assert_eq!(field, "lyapunov_batches");
+                }
+                other => panic!("{other:?}"),
+            }
+        }
     }
 
     #[test]

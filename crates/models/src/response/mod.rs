@@ -19,7 +19,9 @@
 //!   Syst. 8:129, 2009) on the stroboscopic section — `K ≈ 0` regular, `K ≈ 1` chaotic.
 //!
 //! * the **Lyapunov spectrum** of the settled response ([`settled_lyapunov`]: QR renormalisation
-//!   of the event-located variational flow, with its convergence), beside the 0–1 test.
+//!   of the event-located variational flow, with its convergence; in consecutive batches with
+//!   [`settled_lyapunov_batches`], whose spread [`lyapunov_batch_spread`] is the finite-time
+//!   fluctuation of the exponent), beside the 0–1 test.
 //!
 //! [`window_stats`] computes them from uniform samples `(t, q, q')` of one record; [`Robust`]
 //! combines the statistics of several records of the same point (two tolerances, two windows,
@@ -35,7 +37,8 @@ mod settle;
 mod window;
 
 pub use lyapunov::{
-    LyapunovWindowOptions, MAX_LYAPUNOV_EXPONENTS, describe_lyapunov, settled_lyapunov,
+    LyapunovWindowOptions, MAX_LYAPUNOV_BATCHES, MAX_LYAPUNOV_EXPONENTS, describe_lyapunov,
+    lyapunov_batch_spread, settled_lyapunov, settled_lyapunov_batches,
 };
 pub use metrics::{
     RattleState, dynamic_factor, order_of_magnitude, rattle_state, rattle_state_with_gap,

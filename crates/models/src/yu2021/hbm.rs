@@ -266,6 +266,24 @@ impl Yu2021Model {
         final_state: &[f64],
         options: &crate::response::LyapunovWindowOptions,
     ) -> Result<orbit::LyapunovSpectrum, Error> {
+        let mut b = self.lyapunov_batches(settings, final_state, options, 1)?;
+        b.pop()
+            .ok_or_else(|| Error::Solver("yu2021 Lyapunov run: no batch".into()))
+    }
+
+    /// [`Yu2021Model::lyapunov`] in `batches` consecutive batches
+    /// ([`crate::response::settled_lyapunov_batches`]; batch 0 is [`Yu2021Model::lyapunov`]
+    /// bit for bit).
+    ///
+    /// # Errors
+    /// As [`Yu2021Model::lyapunov`]; `batches` outside `[1, 16]`.
+    pub fn lyapunov_batches(
+        &self,
+        settings: &super::RunSettings,
+        final_state: &[f64],
+        options: &crate::response::LyapunovWindowOptions,
+        batches: usize,
+    ) -> Result<Vec<orbit::LyapunovSpectrum>, Error> {
         let w = settings.omega;
         if !(w > 0.0 && w.is_finite()) {
             return Err(Error::invalid("yu2021.omega", "> 0 and finite", w));
@@ -279,12 +297,13 @@ impl Yu2021Model {
         }
         let period = std::f64::consts::TAU / w;
         let t0 = (settings.transient_periods + settings.record_periods) as f64 * period;
-        crate::response::settled_lyapunov(
+        crate::response::settled_lyapunov_batches(
             Yu2021SixDof::for_time_stepping(self, w),
             period,
             t0,
             final_state,
             options,
+            batches,
         )
         .map_err(|e| Error::Solver(format!("yu2021 Lyapunov run: {e}")))
     }

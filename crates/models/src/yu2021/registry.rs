@@ -9,8 +9,8 @@ use std::sync::Arc;
 use serde_json::{Value as J, json};
 
 use crate::contract::lyapunov::{
-    LYAPUNOV, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL, lyapunov_columns, lyapunov_plan,
-    lyapunov_steps, push_lyapunov, tighter,
+    LYAPUNOV, LYAPUNOV_BATCHES, LYAPUNOV_EXPONENTS, LYAPUNOV_PERIODS, LYAPUNOV_RTOL,
+    lyapunov_columns, lyapunov_plan, lyapunov_steps, push_lyapunov, tighter,
 };
 use crate::contract::shoot::{SHOOT_OUT, shoot_any, shoot_settings, shoot_transient};
 use crate::contract::spur::{
@@ -98,6 +98,7 @@ const YU_TS: &[SettingDef] = &[
     LYAPUNOV_PERIODS,
     LYAPUNOV_EXPONENTS,
     LYAPUNOV_RTOL,
+    LYAPUNOV_BATCHES,
 ];
 
 const YU_HBM: &[SettingDef] = &[
@@ -536,17 +537,17 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
     };
     let lyapunov = lyapunov_plan(&s);
     if let Some(l) = lyapunov
-        && l.exponents > 10
+        && l.window.exponents > 10
     {
         return Err(PointError::Input(format!(
             "setting `lyapunov_exponents` must be at most 10 for yu2021 (state dimension 10), \
              got {}",
-            l.exponents
+            l.window.exponents
         )));
     }
     let mut names = YU_TS_OUT.to_vec();
     if let Some(l) = &lyapunov {
-        names.extend(lyapunov_columns(l.exponents, "1"));
+        names.extend(lyapunov_columns(l.window.exponents, "1"));
     }
     Ok(Adapter {
         outputs: outs_stepped(&names, check),
@@ -577,8 +578,9 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
                     if let Some(l) = &lyapunov {
                         // from the end state of the run, at its time (Chen's fractal backlash
                         // is not periodic in time)
+                        let t = tighter(l, factor);
                         let s = model
-                            .lyapunov(&settings, &r.final_state, &tighter(l, factor))
+                            .lyapunov_batches(&settings, &r.final_state, &t.window, t.batches)
                             .context("yu2021")?;
                         push_lyapunov(&mut rec, &s, std::f64::consts::TAU / omega, "1");
                     }

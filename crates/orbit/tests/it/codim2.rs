@@ -278,6 +278,57 @@ fn shooting_folds(force: f64) -> Vec<f64> {
         .collect()
 }
 
+/// `ShootingCorrection::stop_at`: asked to stop at its first fold, the Duffing branch in ω ends
+/// with the point after that fold, and everything up to there (points, located special points)
+/// is the same, bit for bit, as on the branch that goes on to the end of its range.
+#[test]
+fn a_branch_asked_to_stop_at_its_fold_ends_there_unchanged() {
+    let run = |stop_at: Vec<SpecialKind>| {
+        let mut p = OrbitProblem::new(duffing(0.2, 0.8), 2.0 * PI / 0.8).unwrap();
+        let sopts = ContinuationOptions {
+            initial_step: 0.02,
+            max_step: 0.1,
+            corrector: ShootingCorrection {
+                parameter: Parameter::BaseFrequency,
+                range: [0.7, 2.0],
+                stop_at,
+                ..ShootingCorrection::default()
+            },
+            ..Default::default()
+        };
+        p.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap()
+    };
+    let full = run(vec![]);
+    let stopped = run(vec![SpecialKind::Fold]);
+    let fold = full
+        .special
+        .iter()
+        .find(|x| x.kind == SpecialKind::Fold)
+        .unwrap();
+    assert!(fold.located && (1.24..1.27).contains(&fold.point.parameter));
+    assert_eq!(
+        stopped.stop,
+        StopReason::SpecialPoint {
+            parameter: fold.point.parameter,
+            kind: SpecialKind::Fold
+        }
+    );
+    // it ends with the point after the fold; the full branch goes on past it
+    assert_eq!(stopped.points.len(), fold.after + 2);
+    assert!(full.points.len() > stopped.points.len());
+    assert_eq!(stopped.points[..], full.points[..stopped.points.len()]);
+    let n_special = full
+        .special
+        .iter()
+        .take_while(|x| x.after <= fold.after)
+        .count();
+    assert_eq!(stopped.special[..], full.special[..n_special]);
+    // a kind the branch never meets: the same branch as without the stop
+    let pd = run(vec![SpecialKind::PeriodDoubling]);
+    assert_eq!(pd.points, full.points);
+    assert_eq!(pd.stop, full.stop);
+}
+
 /// The Duffing fold curve in (F, ω) from the upper fold of a shooting branch in ω: every
 /// point has a multiplier `+1` and the other `e^{−2ζT}` (Liouville: `det Φ = e^{−2ζT}`);
 /// towards smaller `F` the curve turns in `F` at the cusp (a fold of the curve, recorded in

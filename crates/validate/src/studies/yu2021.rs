@@ -201,10 +201,10 @@ pub(crate) fn run_lyapunov(
     o: Options,
     omega: f64,
     run: &ReferenceRun,
-) -> Result<orbit::LyapunovSpectrum, Error> {
+) -> Result<Vec<orbit::LyapunovSpectrum>, Error> {
     Yu2021Model::new(p, o)
         .context("Yu 2021 model")?
-        .lyapunov(
+        .lyapunov_batches(
             &settings(omega),
             &run.response.final_state,
             &models::response::LyapunovWindowOptions {
@@ -212,6 +212,7 @@ pub(crate) fn run_lyapunov(
                 exponents: 1,
                 rtol: 1e-9,
             },
+            super::LYAPUNOV_BATCHES,
         )
         .context("Yu 2021 Lyapunov run")
 }

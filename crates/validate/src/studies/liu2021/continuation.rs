@@ -348,6 +348,12 @@ fn end_label(end: &orbit::StopReason) -> String {
         orbit::StopReason::StepTooSmall { parameter, .. } => {
             format!("StepTooSmall {{ omega1: {} rad/s }}", sig(*parameter))
         }
+        orbit::StopReason::Stalled { parameter, points } => {
+            format!(
+                "Stalled {{ omega1: {} rad/s, points: {points} }}",
+                sig(*parameter)
+            )
+        }
         orbit::StopReason::InitialSolveFailed { residual_norm } => {
             format!(
                 "InitialSolveFailed {{ residual_norm: {} }}",

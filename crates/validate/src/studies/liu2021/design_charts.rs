@@ -68,13 +68,15 @@ const SLICES: usize = 5;
 /// points located to 1e-3 rad/s, at most [`MAX_POINTS`] points per branch (enough to pass the
 /// unilateral grazing and the fold from 100 rad/s up, and the loss of stability from 220 rad/s
 /// down; past them the branch enters the non-smooth tangle near 169 rad/s, where
-/// `liu2021-orbit-branch` spends hundreds of points within 0.01 rad/s).
+/// `liu2021-orbit-branch`'s branch crawls by steps below 0.01 rad/s until its stall stop).
 fn tuning() -> Tuning {
     Tuning {
         max_points: MAX_POINTS,
         max_step: 3.0,
         locate_tol: 1e-3,
         locate_samples: 4,
+        stall: None,
+        stop_at: vec![],
     }
 }
 

@@ -44,6 +44,19 @@ pub(super) fn study() -> Study {
 /// Arclength locate tolerance (scaled variables: 1 ≈ 1 rad/s or 1 N·m or 0.01 in a_k).
 const LOCATE_TOL: f64 = 1e-6;
 
+/// Where the branch from 220 rad/s down stops crawling ([`orbit::Stall`]): 15 accepted steps
+/// in a row shorter than 0.01 (scaled: 0.01 rad/s). Past the loss of stability near 169 rad/s
+/// the orbits change contact at nearly every step and their multipliers jump (|μ| 10–10⁴):
+/// there the corrector failed at every longer step, and the branch spent about 90 points and
+/// most of the study's CPU within 0.4 rad/s of orbits that no time integration reaches. On
+/// the smooth stretches the steps stay at their 2 rad/s cap; at a single hard point a step
+/// that fell below 0.01 grows back past it by 1.5 per accepted step within 15 steps unless it
+/// fell under 0.01 · 1.5⁻¹⁵ ≈ 2e-5.
+pub(super) const STALL: orbit::Stall = orbit::Stall {
+    points: 15,
+    step: 0.01,
+};
+
 /// Pieces per step sampled before locating (steps ≤ 2 → pieces ≤ 0.125 in scaled units): the
 /// multipliers of these orbits jump at every contact change, so a test function can change
 /// sign more than once within one step; the first change is located down to a piece.
@@ -239,6 +252,15 @@ fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
             max_step: 2.0,
             locate_tol: LOCATE_TOL,
             locate_samples: LOCATE_SAMPLES,
+            // the branch from 100 rad/s up is wanted up to the fold that ends it (row "fold
+            // that ends the unilateral period-1 branch"); past it it ran about 60 more points
+            // within 0.05 rad/s
+            stop_at: if dir > 0.0 {
+                vec![SpecialKind::Fold]
+            } else {
+                vec![]
+            },
+            stall: Some(STALL),
         },
     )?;
     Ok(Run {
@@ -264,6 +286,10 @@ pub(super) struct Tuning {
     pub locate_tol: f64,
     /// Pieces per step sampled before locating.
     pub locate_samples: usize,
+    /// Stop where the branch crawls (`None`: never).
+    pub stall: Option<orbit::Stall>,
+    /// Stop at the first special point of one of these kinds.
+    pub stop_at: Vec<SpecialKind>,
 }
 
 /// The period-1 branch in ω1 of the parameter set `p` (its `omega1` replaced by `w_start`),
@@ -288,6 +314,7 @@ pub(super) fn speed_branch_at(
         max_step: t.max_step,
         min_step: 1e-6,
         max_points: t.max_points,
+        stall: t.stall,
         corrector: ShootingCorrection {
             parameter: Parameter::BaseFrequency,
             range: [range[0] * conv, range[1] * conv],
@@ -297,6 +324,7 @@ pub(super) fn speed_branch_at(
             locate_tol: t.locate_tol,
             locate_samples: t.locate_samples,
             shooting: shooting(),
+            stop_at: t.stop_at.clone(),
             ..ShootingCorrection::default()
         },
         ..ContinuationOptions::default()
@@ -342,6 +370,10 @@ fn named_branch(
             locate_tol: LOCATE_TOL,
             locate_samples: LOCATE_SAMPLES,
             shooting: shooting(),
+            // wanted up to the fold that ends the unilateral branch (the rows "fold that ends
+            // the unilateral period-1 branch"); past it the T2 branch crawled 15 more points
+            // within 2e-4 N·m
+            stop_at: vec![SpecialKind::Fold],
             ..ShootingCorrection::default()
         },
         ..ContinuationOptions::default()
@@ -997,6 +1029,12 @@ pub(super) fn stop_label(b: &Branch) -> String {
         }
         orbit::StopReason::MaxPoints => "max points".to_owned(),
         orbit::StopReason::StepTooSmall { .. } => "step too small (corrector failed)".to_owned(),
+        orbit::StopReason::SpecialPoint { kind, .. } => {
+            format!("stopped at its first {}", marker(*kind))
+        }
+        orbit::StopReason::Stalled { points, .. } => {
+            format!("stalled ({points} steps in a row below the stall step)")
+        }
         other => format!("{other:?}"),
     }
 }

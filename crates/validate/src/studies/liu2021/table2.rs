@@ -61,7 +61,7 @@ struct Row {
     /// The forcing period `T` (dimensionless).
     period: f64,
     /// The Lyapunov spectrum of a non-periodic speed (`None` at a periodic one).
-    lyapunov: Option<orbit::LyapunovSpectrum>,
+    lyapunov: Option<Vec<orbit::LyapunovSpectrum>>,
 }
 
 /// The rig point, its time reference, the spectrum, the run's work and its end `(τ, [q, q'])`.
@@ -132,8 +132,15 @@ fn run() -> Result<StudyOutput, Error> {
                     rtol: 1e-9,
                 };
                 Some(
-                    models::response::settled_lyapunov(m, m.period(), end.0, &end.1, &o)
-                        .context("Lyapunov run")?,
+                    models::response::settled_lyapunov_batches(
+                        m,
+                        m.period(),
+                        end.0,
+                        &end.1,
+                        &o,
+                        super::super::LYAPUNOV_BATCHES,
+                    )
+                    .context("Lyapunov run")?,
                 )
             } else {
                 None
@@ -280,11 +287,20 @@ fn run() -> Result<StudyOutput, Error> {
             Cell::settled_if(acc, wu),
             Cell::Text(sig(r.chaos_k)),
         ];
-        match &r.lyapunov {
-            Some(l) => row.extend([
-                Cell::Text(models::contract::fmt_sig(l.largest() * r.period, 2)),
-                Cell::Text(models::contract::fmt_sig(l.spread_last[0] * r.period, 1)),
-                if l.converged { 1.0 } else { 0.0 }.into(),
+        match r
+            .lyapunov
+            .as_ref()
+            .and_then(|l| Some((l, models::response::lyapunov_batch_spread(l, 0)?)))
+        {
+            Some((l, (mean, u))) => row.extend([
+                Cell::Text(models::contract::fmt_sig(mean * r.period, 2)),
+                Cell::Text(models::contract::fmt_sig(u * r.period, 1)),
+                if l.iter().all(|b| b.converged) {
+                    1.0
+                } else {
+                    0.0
+                }
+                .into(),
             ]),
             None => row.extend([
                 Cell::Text("-".to_owned()),
