@@ -505,7 +505,8 @@ impl StopReason {
     }
 
     /// The parameter where the branch stopped ([`LeftRange`](Self::LeftRange),
-    /// [`StepTooSmall`](Self::StepTooSmall)), if the reason carries one.
+    /// [`StepTooSmall`](Self::StepTooSmall), [`Stalled`](Self::Stalled), the special point of
+    /// [`SpecialPoint`](Self::SpecialPoint), a codim-2 stop), if the reason carries one.
     pub fn parameter(&self) -> Option<f64> {
         match self {
             Self::LeftRange { parameter }

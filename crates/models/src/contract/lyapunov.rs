@@ -1,7 +1,8 @@
 //! The Lyapunov option of the time-stepping methods (off by default: it costs about one more
-//! integration of `lyapunov_periods` periods with the `2n × 2n` variational equations): the
-//! settings, the columns and the one computation ([`crate::response::settled_lyapunov`]) from
-//! the end state of a model's settled time integration.
+//! integration of `lyapunov_periods` periods, per batch, with the `2n × 2n` variational
+//! equations): the settings, the columns and the one computation
+//! ([`crate::response::settled_lyapunov_batches`]) from the end state of a model's settled
+//! time integration.
 
 use super::{Kind, PointError, Record, SettingDef, Settings};
 use crate::response::{

@@ -17,7 +17,9 @@
 //! the last quarter of the windows, and whether it is within `5 % |λ| + 10⁻³/T`
 //! ([`orbit::LyapunovSpectrum::converged`]). A chaos verdict may use `λ1 > 0` only when it
 //! converged; `λ1 T` (nepers per forcing period) compares across models whatever their time
-//! unit.
+//! unit. On a chaotic attractor that spread says how settled one run's average is, not how far
+//! the next stretch of trajectory lands: [`settled_lyapunov_batches`] runs consecutive batches
+//! and [`lyapunov_batch_spread`] puts their difference into the uncertainty (batch means).
 
 use orbit::{
     FlowOptions, LyapunovOptions, LyapunovSpectrum, MAX_LYAPUNOV_WINDOWS, OrbitError, OrbitProblem,
@@ -253,16 +255,20 @@ mod tests {
     /// flow), so they agree only statistically: over `NT = 300·2π ≈ 1900` time units the
     /// finite-time estimate fluctuates by about `D/√(NT)` with `D ≲ 0.5`, ≈ 0.01; tolerance
     /// 0.03 (about 3σ). Both are positive (chaos) and the volume law holds: `Σλ = −0.05`.
-    #[test]
-    fn qr_and_two_trajectory_largest_exponents_agree_on_a_chaotic_duffing() {
+    /// `(T, t0, x)`: a state on Ueda's attractor after 50 periods from `(2.5, 0)`.
+    fn on_ueda_attractor() -> (f64, f64, Vec<f64>) {
         let period = 2.0 * std::f64::consts::PI;
-        // settle onto the attractor
-        let p = OrbitProblem::new(Ueda, period).unwrap();
-        let x = p
+        let x = OrbitProblem::new(Ueda, period)
+            .unwrap()
             .flow(0.0, &[2.5, 0.0], 50.0 * period, false)
             .unwrap()
             .state;
-        let t0 = 50.0 * period;
+        (period, 50.0 * period, x)
+    }
+
+    #[test]
+    fn qr_and_two_trajectory_largest_exponents_agree_on_a_chaotic_duffing() {
+        let (period, t0, x) = on_ueda_attractor();
         let o = LyapunovWindowOptions {
             windows: 300,
             exponents: 2,
@@ -298,13 +304,7 @@ mod tests {
     /// batches' difference and their own spreads. On Ueda's attractor both are positive.
     #[test]
     fn batches_continue_the_run_and_their_spread_covers_them() {
-        let period = 2.0 * std::f64::consts::PI;
-        let p = OrbitProblem::new(Ueda, period).unwrap();
-        let x = p
-            .flow(0.0, &[2.5, 0.0], 50.0 * period, false)
-            .unwrap()
-            .state;
-        let t0 = 50.0 * period;
+        let (period, t0, x) = on_ueda_attractor();
         let o = LyapunovWindowOptions {
             windows: 40,
             exponents: 1,

@@ -278,26 +278,30 @@ fn shooting_folds(force: f64) -> Vec<f64> {
         .collect()
 }
 
+/// The shooting branch of the Duffing oscillator at F = 0.2 in ω from 0.8 up to 2 (steps up to
+/// 0.1), stopping at the special points of `stop_at`.
+fn duffing_omega_branch(stop_at: Vec<SpecialKind>) -> orbit::ShootingBranch {
+    let mut p = OrbitProblem::new(duffing(0.2, 0.8), 2.0 * PI / 0.8).unwrap();
+    let sopts = ContinuationOptions {
+        initial_step: 0.02,
+        max_step: 0.1,
+        corrector: ShootingCorrection {
+            parameter: Parameter::BaseFrequency,
+            range: [0.7, 2.0],
+            stop_at,
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    p.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap()
+}
+
 /// `ShootingCorrection::stop_at`: asked to stop at its first fold, the Duffing branch in ω ends
 /// with the point after that fold, and everything up to there (points, located special points)
 /// is the same, bit for bit, as on the branch that goes on to the end of its range.
 #[test]
 fn a_branch_asked_to_stop_at_its_fold_ends_there_unchanged() {
-    let run = |stop_at: Vec<SpecialKind>| {
-        let mut p = OrbitProblem::new(duffing(0.2, 0.8), 2.0 * PI / 0.8).unwrap();
-        let sopts = ContinuationOptions {
-            initial_step: 0.02,
-            max_step: 0.1,
-            corrector: ShootingCorrection {
-                parameter: Parameter::BaseFrequency,
-                range: [0.7, 2.0],
-                stop_at,
-                ..ShootingCorrection::default()
-            },
-            ..Default::default()
-        };
-        p.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap()
-    };
+    let run = duffing_omega_branch;
     let full = run(vec![]);
     let stopped = run(vec![SpecialKind::Fold]);
     let fold = full
@@ -338,18 +342,7 @@ fn a_branch_asked_to_stop_at_its_fold_ends_there_unchanged() {
 #[test]
 #[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn duffing_fold_curve_matches_hbm_folds() {
-    let mut p = OrbitProblem::new(duffing(0.2, 0.8), 2.0 * PI / 0.8).unwrap();
-    let sopts = ContinuationOptions {
-        initial_step: 0.02,
-        max_step: 0.1,
-        corrector: ShootingCorrection {
-            parameter: Parameter::BaseFrequency,
-            range: [0.7, 2.0],
-            ..ShootingCorrection::default()
-        },
-        ..Default::default()
-    };
-    let br = p.continuation(&[0.3, 0.0], 0.8, &sopts).unwrap();
+    let br = duffing_omega_branch(vec![]);
     let fold = br
         .special
         .iter()
