@@ -316,6 +316,8 @@ steps = 61
 
 [solver]
 method = "time-stepping"
+
+[solver.settings]
 # the explicit fixed run the goal was set on (2 + 1 periods); the default settles (issue 41)
 settle = "fixed"
 transient_periods = 2.0

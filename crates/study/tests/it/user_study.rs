@@ -343,6 +343,28 @@ fn every_shipped_example_parses() {
     assert!(n >= 5, "expected the shipped examples, found {n}");
 }
 
+/// The study file that `docs/peers/compare.py` writes for its sweep section (the `SWEEP_TOML`
+/// string) parses and prepares: the peer script is not run by CI, and a study-file change once
+/// broke it unseen (round 19: its `settle` had stayed under `[solver]`).
+#[test]
+fn the_peer_script_sweep_study_parses() {
+    let script = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/peers/compare.py"
+    ))
+    .unwrap();
+    let start = script
+        .find("SWEEP_TOML = \"\"\"")
+        .expect("SWEEP_TOML in compare.py")
+        + 16;
+    let len = script[start..].find("\"\"\"").expect("end of SWEEP_TOML");
+    let text = &script[start..start + len];
+    let s = UserStudy::parse(text).unwrap_or_else(|e| panic!("compare.py SWEEP_TOML: {e}"));
+    let p = geardyn_study::prepare(&s).unwrap_or_else(|e| panic!("compare.py SWEEP_TOML: {e}"));
+    assert!(p.failed_early().is_empty());
+    assert!(text.contains("settle = \"fixed\""), "{text}");
+}
+
 #[test]
 fn unwired_or_misconfigured_models_are_errors() {
     let e = err("name = \"x\"\nmodel = \"liu2021\"\n[solver]\nmethod = \"kinematics\"\n");
