@@ -75,7 +75,8 @@ pub(crate) const LIU_TS: &[SettingDef] = &[
             default: 1.0,
         },
         doc: "periods of the one-period record (columns rsv_one_period, ppv_one_period); with \
-              settle = \"fixed\" also the judged window (then a whole number ≥ 1)",
+              settle = \"fixed\" also the judged window (then a whole number ≥ 1, and one run \
+              gives both unless lyapunov is on)",
     },
     SettingDef {
         name: "sample_step",
@@ -615,6 +616,18 @@ struct TsPlan {
     robust: bool,
     /// The Lyapunov run (`lyapunov = "on"`).
     lyapunov: Option<crate::contract::lyapunov::LyapunovPlan>,
+    /// `settle = "fixed"`: the judged window is the one-period record (the same start,
+    /// transient and periods).
+    fixed: bool,
+}
+
+impl TsPlan {
+    /// The one-period columns are the judged window's, from its run: `settle = "fixed"` (the
+    /// window is the record; with `robustness = "on"` its nominal run), without a Lyapunov run
+    /// (which starts from the end of the one-period run).
+    fn window_is_record(&self) -> bool {
+        self.fixed && self.lyapunov.is_none()
+    }
 }
 
 /// Read the time-stepping settings (bounds checked by [`Settings::read`]; the relations between
@@ -667,6 +680,7 @@ fn ts_plan(s: &Settings, initial: Option<(f64, f64)>) -> Result<TsPlan, PointErr
     }
     Ok(TsPlan {
         lyapunov,
+        fixed,
         one_period,
         window: liu2021::LongWindowOptions {
             transient_periods: transient,
@@ -682,13 +696,16 @@ fn ts_plan(s: &Settings, initial: Option<(f64, f64)>) -> Result<TsPlan, PointErr
 }
 
 /// One time-stepping point of [`ts_plan`] at `rtol / factor`: the columns of [`LIU_TS_OUT`]
-/// (plus [`crate::response::Robust::COLUMNS`] when robust) and the work of every run.
+/// (plus [`crate::response::Robust::COLUMNS`] when robust) and the work of every run. Where
+/// the judged window is the one-period record ([`TsPlan::window_is_record`]), its run gives
+/// both: `rsv_one_period` and `ppv_one_period` repeat `rsv` and `ppv`, and the one-period run
+/// is not repeated.
 fn ts_point(
     model: &liu2021::Model,
     plan: &TsPlan,
     factor: f64,
 ) -> Result<(Record, timestep::Stats), PointError> {
-    ts_point_full(model, plan, factor).map(|(r, w, _)| (r, w))
+    ts_point_with(model, plan, factor, !plan.window_is_record()).map(|(r, w, _)| (r, w))
 }
 
 /// [`ts_point`] with the one-period response (its samples for a full-result solve).
@@ -697,12 +714,29 @@ fn ts_point_full(
     plan: &TsPlan,
     factor: f64,
 ) -> Result<(Record, timestep::Stats, liu2021::TimeResponse), PointError> {
+    let (rec, work, one) = ts_point_with(model, plan, factor, true)?;
+    let one = one.ok_or_else(|| PointError::Compute("liu2021: no one-period run".into()))?;
+    Ok((rec, work, one))
+}
+
+/// [`ts_point`], with the one-period run (`with_one`, which the Lyapunov run needs: it starts
+/// from its end) or with the one-period columns from the judged window.
+fn ts_point_with(
+    model: &liu2021::Model,
+    plan: &TsPlan,
+    factor: f64,
+    with_one: bool,
+) -> Result<(Record, timestep::Stats, Option<liu2021::TimeResponse>), PointError> {
     use crate::response::{Robust, SETTLED, motion_code, window_motion, window_unsettled};
     let o = liu2021::IntegrationOptions {
         rtol: plan.one_period.rtol / factor,
         ..plan.one_period
     };
-    let one = liu2021::integrate(model, &o).context("liu2021 time integration")?;
+    let one = if with_one {
+        Some(liu2021::integrate(model, &o).context("liu2021 time integration")?)
+    } else {
+        None
+    };
     let wo = liu2021::LongWindowOptions {
         rtol: plan.window.rtol / factor,
         ..plan.window
@@ -716,6 +750,10 @@ fn ts_point_full(
     };
     let w = &kept.stats;
     let flag = |b: bool| if b { 1.0 } else { 0.0 };
+    let (rsv_one, ppv_one) = match &one {
+        Some(one) => (one.rattle.state.rsv(), one.rattle.ppv),
+        None => (w.state.rsv(), w.ppv),
+    };
     let mut rec = Record::new();
     rec.push("rsv", "1", f64::from(w.state.rsv()))
         .push("ppv", "1", w.ppv)
@@ -724,8 +762,8 @@ fn ts_point_full(
         .push("motion", "1", motion_code(w))
         .push("settled", "1", flag(window_motion(w).is_some()))
         .push("transient_periods_used", "1", kept.transient_periods)
-        .push("rsv_one_period", "1", f64::from(one.rattle.state.rsv()))
-        .push("ppv_one_period", "1", one.rattle.ppv);
+        .push("rsv_one_period", "1", f64::from(rsv_one))
+        .push("ppv_one_period", "1", ppv_one);
     // the columns of LIU_TS_ROBUST_OUT, then the long-window columns
     if let Some(r) = &robust {
         let (lo, hi) = r.rsv_interval();
@@ -739,7 +777,9 @@ fn ts_point_full(
     }
     if let Some(l) = &plan.lyapunov {
         // from the end of the settled one-period run (the forcing phase of its last sample)
-        let (Some(t0), Some(q), Some(v)) = (one.tau.last(), one.q.last(), one.v.last()) else {
+        let (Some(t0), Some(q), Some(v)) = one.as_ref().map_or((None, None, None), |one| {
+            (one.tau.last(), one.q.last(), one.v.last())
+        }) else {
             return Err(PointError::Compute(
                 "liu2021 Lyapunov run: empty response".into(),
             ));
@@ -753,8 +793,11 @@ fn ts_point_full(
         )?;
         push_lyapunov(&mut rec, &s, model.period(), "1");
     }
-    let mut work = one.stats;
-    work.add(&kept.work);
+    let mut work = kept.work;
+    if let Some(one) = &one {
+        work = one.stats;
+        work.add(&kept.work);
+    }
     Ok((rec, work, one))
 }
 
@@ -804,7 +847,13 @@ fn time_stepping(ctx: &Context<'_>) -> Result<Adapter, PointError> {
             } else {
                 nominal
             };
-            let steps = (opts.transient_periods + opts.record_periods + runs) * period / w.max_step;
+            // the one-period run, unless the judged window is the record
+            let one = if plan.window_is_record() {
+                0.0
+            } else {
+                opts.transient_periods + opts.record_periods
+            };
+            let steps = (one + runs) * period / w.max_step;
             let steps = steps + plan.lyapunov.as_ref().map_or(0.0, lyapunov_steps);
             limits.need_steps("liu2021", steps)?;
             Ok(
