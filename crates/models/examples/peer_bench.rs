@@ -198,10 +198,10 @@ fn liu_profile(reps: u32, trig: &str) -> Value {
         .with_tol(1e-8, 1e-8 * 1e-3 * m.backlash.max(m.b0))
         .with_h_max(0.5)
         .with_output(timestep::Output::Final);
-    let trig = if trig == "libm" {
-        Trig::Libm
-    } else {
-        Trig::Kernel
+    let trig = match trig {
+        "libm" => Trig::Libm,
+        "table" => Trig::Table,
+        _ => Trig::Kernel,
     };
     let sys = liu2021::TimeSystem::with_trig(m, trig);
     let t = best(reps, || {
@@ -230,7 +230,11 @@ fn liu(reps: u32) -> Value {
     let reference = timestep::integrate(&liu2021::TimeSystem::new(m), 0.0, &y0, t3, &tight)
         .expect("integrates");
     let mut runs = Vec::new();
-    for (name, trig) in [("kernel", Trig::Kernel), ("libm", Trig::Libm)] {
+    for (name, trig) in [
+        ("kernel", Trig::Kernel),
+        ("libm", Trig::Libm),
+        ("table", Trig::Table),
+    ] {
         let sys = liu2021::TimeSystem::with_trig(m, trig);
         let run = || timestep::integrate(&sys, 0.0, &y0, t3, &opts).expect("integrates");
         let s = run();
@@ -255,8 +259,8 @@ fn liu(reps: u32) -> Value {
 }
 
 /// `sweep [reps]`: the 61-point ω₁ sweep of the `geardyn study` goal (Table 1, ω₁ = 100, 102.5,
-/// …, 250 rad/s, `liu2021::integrate` with the default `IntegrationOptions`: `Trig::Kernel`,
-/// rtol 1e-8, events, 2 + 1 periods). Per point: the adaptive run in process, and the
+/// …, 250 rad/s, `liu2021::integrate` with the default `IntegrationOptions`: the default
+/// `Trig::Table`, rtol 1e-8, events, 2 + 1 periods). Per point: the adaptive run in process, and the
 /// fixed-step DP5 loop on the same right-hand side over the same span with as many steps as
 /// that point attempted (accepted + rejected) — the goal's denominator point by point instead
 /// of the 160 rad/s cost times the total.
@@ -273,7 +277,7 @@ fn sweep(reps: u32) -> Value {
         let steps = r.stats.n_accepted + r.stats.n_rejected;
         best(reps, || liu2021::integrate(&m, &opts).expect("integrates"));
         let ta = cpu();
-        let sys = liu2021::TimeSystem::with_trig(m, Trig::Kernel);
+        let sys = liu2021::TimeSystem::new(m);
         let span = (opts.transient_periods + opts.record_periods) * m.period();
         let y0 = [m.static_position(0.0), 0.0];
         best(reps, || dp5_fixed(&sys, y0, span, steps));

@@ -116,6 +116,7 @@ mod params;
 mod presets;
 pub mod registry;
 mod strategy;
+mod table;
 mod window;
 
 pub use continuation::{
@@ -141,4 +142,5 @@ pub use strategy::{
     HbmOrigin, HbmPoint, Motion, SweepPoint, SweepStrategy, TimeReference, classify_section,
     is_stable_multiplier, max_multiplier, solve_point, solve_sweep, time_reference,
 };
+pub use table::TimeTable;
 pub use window::{LongWindowOptions, SettledWindow, long_window, robust_window, settled_window};

@@ -337,6 +337,42 @@ impl Model {
         })
     }
 
+    /// [`time_functions`](Self::time_functions) with the phases carried in double-double:
+    /// `ω̄_c τ` and `ω̄_e τ + φ` as error-free products and sums `hi + lo`, their sines as
+    /// `sin hi + lo cos hi` (and the cosines alike). The direct evaluation rounds each phase
+    /// argument to its last place (an error `ε ω̄_e τ` that grows along the period); this one
+    /// keeps the phase to about `ε²ω̄_e τ` and so the values to a few units in the last place
+    /// over a whole period: the samples of [`super::TimeTable`].
+    /// At `τ = tau + tau_lo` (a double-double time).
+    pub(super) fn time_functions_accurate_at(&self, tau: f64, tau_lo: f64) -> [f64; 3] {
+        let sin_cos = |(hi, lo): (f64, f64)| {
+            let (s, c) = hi.dsin_cos();
+            (s + c * lo, c - s * lo)
+        };
+        let times = |w: f64| {
+            let (p, e) = super::table::two_product(w, tau);
+            (p, e + w * tau_lo)
+        };
+        let x = times(self.omega_c);
+        let (sx, cx) = sin_cos(x);
+        let (s2x, _) = sin_cos((2.0 * x.0, 2.0 * x.1));
+        let we = times(self.omega_e);
+        let phase = |phi: f64| {
+            let (h, l) = super::table::two_sum(we.0, phi);
+            (h, l + we.1)
+        };
+        let (sin_stiffness, _) = sin_cos(phase(self.phase_stiffness));
+        let (sph, cph) = sin_cos(phase(self.phase_error));
+        self.time_functions_of(&TimeTrig {
+            sx,
+            cx,
+            s2x,
+            sin_stiffness,
+            sph,
+            cph,
+        })
+    }
+
     /// `[F, b̄, f_r]` from the sines and cosines at one `τ` (the one place of these formulas
     /// for the time stepping and the harmonic-balance grid). A non-finite `τ` gives NaN
     /// through `cos x`, as [`backlash_at`](Self::backlash_at).

@@ -19,9 +19,16 @@ pub enum Trig {
     /// Two short `sin_cos` (of `ω̄_c τ` and `ω̄_e τ`, Cody–Waite reduction and Taylor
     /// polynomials, within a few 10⁻¹⁶ of the platform's) and the addition theorems for
     /// `sin 2x` and the phases `φ_m`, `φ_e`: the same formulas, different at rounding level,
-    /// about half the cost. The default.
-    #[default]
+    /// about half the cost.
     Kernel,
+    /// One period of the time functions tabulated as piecewise polynomials of degree 11 at
+    /// round-off accuracy ([`super::TimeTable`]): one reduction and three polynomials per
+    /// evaluation, different from the direct evaluation at rounding level. Built once per
+    /// system (shared by the systems of one model, [`super::TimeTable::shared`]); where the
+    /// table declines (`τ < 0`, a non-finite `τ`, `τ ≥ 2²⁰` periods) the evaluation is
+    /// [`Trig::Kernel`]'s. The default.
+    #[default]
+    Table,
 }
 
 /// Eq. (9) as the first-order system `y = [q, q']`,
@@ -35,14 +42,15 @@ pub enum Trig {
 /// `C = 2ζ`, `g = F f`, the forcing `f_r`), written lean:
 ///
 /// * the time-only functions `F`, `b̄`, `f_r` are computed together, every `sin`/`cos` once
-///   ([`Trig::Libm`]: bit for bit the numbers of `FirstOrder(Mechanical(model))`, tested) or
-///   from two short `sin_cos` ([`Trig::Kernel`], the default: rounding-level different);
+///   ([`Trig::Libm`]: bit for bit the numbers of `FirstOrder(Mechanical(model))`, tested),
+///   from two short `sin_cos` ([`Trig::Kernel`]: rounding-level different), or from one period
+///   tabulated ([`Trig::Table`], the default: rounding-level different, the cheapest);
 /// * they are kept for the last `τ` asked: the Dormand–Prince step evaluates its 7th stage at
 ///   the same `τ` as its 6th, and the event functions at the step end again, so two of every
 ///   seven evaluations of an accepted step reuse them.
 ///
 /// The cache is a [`Cell`], so a `TimeSystem` is not `Sync`: build one per thread (it is
-/// cheap, a copy of the model).
+/// cheap: a copy of the model, and the model's shared table).
 #[derive(Debug, Clone)]
 pub struct TimeSystem {
     model: Model,
@@ -51,6 +59,8 @@ pub struct TimeSystem {
     phases: [f64; 4],
     /// `[τ, F(τ), b̄(τ), f_r(τ)]` of the last evaluation (`τ` = NaN: empty).
     cache: Cell<[f64; 4]>,
+    /// The tabulated period ([`Trig::Table`]; `None` otherwise or where the model has none).
+    table: Option<std::sync::Arc<super::TimeTable>>,
 }
 
 impl TimeSystem {
@@ -68,6 +78,10 @@ impl TimeSystem {
             trig,
             phases: [spm, cpm, spe, cpe],
             cache: Cell::new([f64::NAN; 4]),
+            table: match trig {
+                Trig::Table => super::TimeTable::shared(&model),
+                _ => None,
+            },
         }
     }
 
@@ -90,6 +104,10 @@ impl TimeSystem {
         }
         let f = match self.trig {
             Trig::Libm => self.model.time_functions(tau),
+            Trig::Table => match self.table.as_ref().and_then(|t| t.eval(tau)) {
+                Some(f) => f,
+                None => self.model.time_functions_kernel(tau, &self.phases),
+            },
             Trig::Kernel => self.model.time_functions_kernel(tau, &self.phases),
         };
         self.cache.set([tau, f[0], f[1], f[2]]);
@@ -167,6 +185,38 @@ mod tests {
                     assert_eq!(lean.event_direction(k), mech.event_direction(k));
                 }
             }
+        }
+    }
+
+    /// The default system reads the table ([`Trig::Table`]): its right-hand side and events
+    /// are those of [`Trig::Libm`] to rounding (the table's own bound: `2·10⁻¹⁵` of the scale
+    /// plus the phase rounding `4ε ω̄_e τ`), and below `τ = 0`, where the table declines, they
+    /// are [`Trig::Kernel`]'s bit for bit.
+    #[test]
+    fn the_default_system_reads_the_table() {
+        let m = table1().model().unwrap();
+        let table = TimeSystem::new(m);
+        assert_eq!(table.trig(), Trig::Table);
+        let libm = TimeSystem::with_trig(m, Trig::Libm);
+        let kernel = TimeSystem::with_trig(m, Trig::Kernel);
+        let scale = 1.0 + 3.0 * m.backlash + m.b0 + m.b1.abs() + m.b2.abs() + m.b3.abs();
+        let y = [0.5 * m.backlash, 0.01];
+        for i in 0..500 {
+            let t = 91.7 * f64::from(i);
+            let bound = (2e-15 + 4.0 * f64::EPSILON * m.omega_e * t) * scale;
+            let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+            table.rhs(t, &y, &mut a);
+            libm.rhs(t, &y, &mut b);
+            assert!((a[1] - b[1]).abs() <= bound, "{t}: {a:?} {b:?}");
+            table.events(t, &y, &mut a);
+            libm.events(t, &y, &mut b);
+            assert!((a[0] - b[0]).abs() <= bound * m.backlash, "{t}");
+        }
+        for t in [-1e-3, -10.0, -1e4] {
+            let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+            table.rhs(t, &y, &mut a);
+            kernel.rhs(t, &y, &mut b);
+            assert_eq!(a[1].to_bits(), b[1].to_bits());
         }
     }
 

@@ -823,22 +823,28 @@ fn sweep_figures(out: &mut StudyOutput, name: &str, x: (&str, &str), pts: &[Poin
 /// (half the range, as a measurement error of each point) propagated into the slope.
 /// `None` with fewer than three points or a degenerate abscissa.
 fn ppv_slope(pts: &[Point]) -> Option<(f64, f64)> {
+    ppv_slope_by(pts, &Point::ppv)
+}
+
+/// [`ppv_slope`] of the ppv that `ppv` reads from each point (a variant's, [`ppv_of`]); the
+/// measurement term is the points' spread over all variants either way.
+fn ppv_slope_by(pts: &[Point], ppv: &dyn Fn(&Point) -> f64) -> Option<(f64, f64)> {
     let n = pts.len();
     if n < 3 {
         return None;
     }
     let nf = n as f64;
     let mx = pts.iter().map(|p| p.x).sum::<f64>() / nf;
-    let my = pts.iter().map(Point::ppv).sum::<f64>() / nf;
+    let my = pts.iter().map(ppv).sum::<f64>() / nf;
     let sxx: f64 = pts.iter().map(|p| (p.x - mx).powi(2)).sum();
     if sxx <= 0.0 || !sxx.is_finite() {
         return None;
     }
-    let sxy: f64 = pts.iter().map(|p| (p.x - mx) * (p.ppv() - my)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.x - mx) * (ppv(p) - my)).sum();
     let slope = sxy / sxx;
     let rss: f64 = pts
         .iter()
-        .map(|p| (p.ppv() - my - slope * (p.x - mx)).powi(2))
+        .map(|p| (ppv(p) - my - slope * (p.x - mx)).powi(2))
         .sum();
     let measurement: f64 = pts
         .iter()
@@ -862,10 +868,15 @@ const MIN_RISE: f64 = 0.05;
 /// rise over the regime below [`MIN_RISE`] of its mean ppv (robustly no visible growth, or a
 /// fall), `None` in between or with fewer than three points.
 fn ppv_rises(pts: &[Point]) -> Option<bool> {
-    let (slope, se) = ppv_slope(pts)?;
+    ppv_rises_by(pts, &Point::ppv)
+}
+
+/// [`ppv_rises`] of the ppv that `ppv` reads from each point.
+fn ppv_rises_by(pts: &[Point], ppv: &dyn Fn(&Point) -> f64) -> Option<bool> {
+    let (slope, se) = ppv_slope_by(pts, ppv)?;
     let (first, last) = (pts.first()?.x, pts.last()?.x);
     let span = (last - first).abs();
-    let mean = pts.iter().map(Point::ppv).sum::<f64>() / pts.len() as f64;
+    let mean = pts.iter().map(ppv).sum::<f64>() / pts.len() as f64;
     if slope >= 2.0 * se && slope > 0.0 {
         Some(true)
     } else if (slope + 2.0 * se) * span < MIN_RISE * mean.abs() {
@@ -873,6 +884,32 @@ fn ppv_rises(pts: &[Point]) -> Option<bool> {
     } else {
         None
     }
+}
+
+/// The long-window ppv of `p` in variant `k` (0: the nominal window; `k ≥ 1`: the `k`-th
+/// variant, or the nominal where the point has fewer); without a long window, the time
+/// reference's for every `k`.
+fn ppv_of(p: &Point, k: usize) -> f64 {
+    match &p.window {
+        None => p.time.rattle.ppv,
+        Some(w) if k == 0 => w.nominal.ppv,
+        Some(w) => w.variants.get(k - 1).map_or(w.nominal.ppv, |(_, s)| s.ppv),
+    }
+}
+
+/// [`ppv_rises`] on the nominal windows, kept only where every long-window variant's series
+/// (each point's ppv under the same variant: the second window, rtol/100, the other start)
+/// gives the same trend; `(trend, split)` with `split` true when some variant gives another
+/// (the trend is then `None`: a solver retune could move the verdict).
+fn ppv_rises_robust(pts: &[Point]) -> (Option<bool>, bool) {
+    let t = ppv_rises(pts);
+    let variants = pts
+        .iter()
+        .filter_map(|p| p.window.as_ref().map(|w| w.variants.len()))
+        .max()
+        .unwrap_or(0);
+    let split = (1..=variants).any(|k| ppv_rises_by(pts, &|p| ppv_of(p, k)) != t);
+    (if split { None } else { t }, split)
 }
 
 /// Verdict of a trend: pass/deviation, or inconclusive when undecided.
@@ -896,14 +933,16 @@ fn span(pts: &[Point]) -> String {
 }
 
 /// The claim that ppv rises over `pts` (a contiguous run of one rattle regime), judged by the
-/// fitted slope against its standard error ([`ppv_rises`]); every point of the run is needed.
+/// fitted slope against its standard error ([`ppv_rises`]), and only where every long-window
+/// variant's ppv gives the same reading ([`ppv_rises_robust`]); every point of the run is
+/// needed.
 fn rise_claim(text: &str, source: &str, what: &str, pts: &[Point]) -> crate::Claim {
     // only robust points enter the fit (state the same under every variant, ppv within 50 %)
     let (robust, dropped): (Vec<Point>, Vec<Point>) = pts
         .iter()
         .cloned()
         .partition(|p| p.flag().is_none() && p.ppv_flag(0.5).is_none());
-    let t = ppv_rises(&robust);
+    let (t, split) = ppv_rises_robust(&robust);
     // the fitted numbers move with any point whose ppv does not settle
     let u = any_unsettled(&robust);
     let mut fit = ppv_slope(&robust).map_or(
@@ -930,7 +969,9 @@ fn rise_claim(text: &str, source: &str, what: &str, pts: &[Point]) -> crate::Cla
         ),
         trend_verdict(t),
     )
-    .cause(if t.is_none() {
+    .cause(if split {
+        "the trend differs between the long-window variants (second window, rtol/100, other start): fitted over one variant's ppv the slope gives another reading than over the nominal's, so a solver retune could move the verdict"
+    } else if t.is_none() {
         "the fitted ppv slope is within 2 standard errors of zero while a visible rise cannot be excluded, or the regime has fewer than three robust points"
     } else {
         "fitted ppv slope of the long-window statistics over the robust points of the regime"
@@ -995,6 +1036,66 @@ mod tests {
             window: None,
             seed_unsettled: [false; 3],
         }
+    }
+
+    /// Points at x = 0, 1, …, 4 whose long windows have the nominal ppv `nominal[i]` and three
+    /// variants with `variant(k, i)`.
+    fn windowed(nominal: [f64; 5], variant: impl Fn(usize, usize) -> f64) -> Vec<Point> {
+        use math::DetMath;
+        use models::response::{WindowOptions, window_stats};
+        let t: Vec<f64> = (0..=400).map(|i| f64::from(i) * 0.05).collect();
+        let q: Vec<f64> = t.iter().map(|&t| -2.0 + 0.1 * t.dsin()).collect();
+        let v: Vec<f64> = t.iter().map(|&t| 0.1 * t.dcos()).collect();
+        let o = WindowOptions {
+            period: std::f64::consts::TAU,
+            min_depth: 0.0,
+            lines: [1, 2],
+        };
+        let base = window_stats(&t, &q, &v, |_| 1.0, &[], &o).unwrap();
+        let with = |ppv: f64| models::response::WindowStats { ppv, ..base };
+        (0..5)
+            .map(|i| {
+                let mut p = point(Motion::Periodic(1), 0.0);
+                p.x = i as f64;
+                p.window = Some(models::response::Robust {
+                    nominal: with(nominal[i]),
+                    variants: (1..=3)
+                        .map(|k| (format!("variant {k}"), with(variant(k, i))))
+                        .collect(),
+                });
+                p
+            })
+            .collect()
+    }
+
+    /// A ppv trend is read only where every long-window variant reads it: a clear rise in the
+    /// nominal windows and every variant passes; one variant whose series is flat splits it
+    /// (no reading, flagged as split), though its points alone move less than the fit's error.
+    #[test]
+    fn a_trend_is_read_only_where_every_variant_reads_it() {
+        let rise = [1.0, 1.2, 1.4, 1.6, 1.8];
+        let pts = windowed(rise, |_, i| rise[i]);
+        assert_eq!(ppv_rises(&pts), Some(true));
+        assert_eq!(ppv_rises_robust(&pts), (Some(true), false));
+        // variant 2 flat at the first point's ppv, a little above the nominal at the start
+        let pts = windowed(rise, |k, i| {
+            if k == 2 {
+                1.0 + 0.001 * i as f64
+            } else {
+                rise[i]
+            }
+        });
+        let (t, split) = ppv_rises_robust(&pts);
+        assert_ne!(ppv_rises_by(&pts, &|p| ppv_of(p, 2)), ppv_rises(&pts));
+        assert_eq!((t, split), (None, true));
+        let c = rise_claim("ppv rises", "test", "x", &pts);
+        assert_eq!(c.verdict, crate::Verdict::Inconclusive);
+        // no windows: the time reference's ppv for every variant, never split
+        let mut bare = windowed(rise, |_, i| rise[i]);
+        for p in &mut bare {
+            p.window = None;
+        }
+        assert!(!ppv_rises_robust(&bare).1);
     }
 
     /// [`point`] with its seed judged ([`seed_chains`]).
