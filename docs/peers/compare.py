@@ -376,7 +376,7 @@ def sweep_section(rounds):
                 f"(default options: rtol 1e-8, events, 2 + 1 periods); {accepted:.0f} accepted + "
                 f"{rejected:.0f} rejected steps; `geardyn study`, one thread, the whole process",
         "peer": "floor: the fixed-step DP5 loop in Rust on the same right-hand side "
-                "(the default `Trig::Table`), per point as many steps over the same span as the study "
+                "(the default `Trig::Kernel`), per point as many steps over the same span as the study "
                 f"attempted there, {min(ns):.0f}–{max(ns):.0f} ns per step (`peer_bench sweep`)",
         "ours_acc": "—", "peer_acc": "—",
         "ours_t": statistics.median(ours), "peer_t": statistics.median(floors),
