@@ -260,7 +260,7 @@ fn liu(reps: u32) -> Value {
 
 /// `sweep [reps]`: the 61-point ω₁ sweep of the `geardyn study` goal (Table 1, ω₁ = 100, 102.5,
 /// …, 250 rad/s, `liu2021::integrate` with the default `IntegrationOptions`: the default
-/// `Trig::Kernel`, rtol 1e-8, events, 2 + 1 periods). Per point: the adaptive run in process, and the
+/// `Trig::Table`, rtol 1e-8, events, 2 + 1 periods). Per point: the adaptive run in process, and the
 /// fixed-step DP5 loop on the same right-hand side over the same span with as many steps as
 /// that point attempted (accepted + rejected) — the goal's denominator point by point instead
 /// of the 160 rad/s cost times the total.

@@ -289,7 +289,7 @@ mod tests {
 
     /// The response carries the counters of both runs; the lean system with [`Trig::Libm`]
     /// samples on the grid of the generic adapter `FirstOrder(Mechanical(model))`, and with
-    /// the default [`Trig::Kernel`] (what `integrate` uses) reaches the same metrics within 10⁻⁶ of
+    /// the default [`Trig::Table`] (what `integrate` uses) reaches the same metrics within 10⁻⁶ of
     /// ppv and the same samples within the change a 100× tighter tolerance makes (bilateral
     /// rattle at 220 rad/s and unilateral at 160 rad/s: events, restarts and dense samples all
     /// exercised).

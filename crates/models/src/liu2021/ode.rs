@@ -19,15 +19,15 @@ pub enum Trig {
     /// Two short `sin_cos` (of `ω̄_c τ` and `ω̄_e τ`, Cody–Waite reduction and Taylor
     /// polynomials, within a few 10⁻¹⁶ of the platform's) and the addition theorems for
     /// `sin 2x` and the phases `φ_m`, `φ_e`: the same formulas, different at rounding level,
-    /// about half the cost. The default.
-    #[default]
+    /// about half the cost.
     Kernel,
     /// One period of the time functions tabulated as piecewise polynomials of degree 11 at
     /// round-off accuracy ([`super::TimeTable`]): one reduction and three polynomials per
     /// evaluation, different from the direct evaluation at rounding level. Built once per
     /// system (shared by the systems of one model, [`super::TimeTable::shared`]); where the
     /// table declines (`τ < 0`, a non-finite `τ`, `τ ≥ 2²⁰` periods) the evaluation is
-    /// [`Trig::Kernel`]'s. Opt-in: not the default, see `docs/performance.md` (Round 19).
+    /// [`Trig::Kernel`]'s. The default.
+    #[default]
     Table,
 }
 
@@ -43,8 +43,8 @@ pub enum Trig {
 ///
 /// * the time-only functions `F`, `b̄`, `f_r` are computed together, every `sin`/`cos` once
 ///   ([`Trig::Libm`]: bit for bit the numbers of `FirstOrder(Mechanical(model))`, tested),
-///   from two short `sin_cos` ([`Trig::Kernel`], the default: rounding-level different), or
-///   from one period tabulated ([`Trig::Table`]: rounding-level different, the cheapest);
+///   from two short `sin_cos` ([`Trig::Kernel`]: rounding-level different), or from one period
+///   tabulated ([`Trig::Table`], the default: rounding-level different, the cheapest);
 /// * they are kept for the last `τ` asked: the Dormand–Prince step evaluates its 7th stage at
 ///   the same `τ` as its 6th, and the event functions at the step end again, so two of every
 ///   seven evaluations of an accepted step reuse them.
@@ -64,7 +64,7 @@ pub struct TimeSystem {
 }
 
 impl TimeSystem {
-    /// The system of `model` with the default [`Trig::Kernel`].
+    /// The system of `model` with the default [`Trig::Table`].
     pub fn new(model: Model) -> Self {
         Self::with_trig(model, Trig::default())
     }
@@ -188,15 +188,14 @@ mod tests {
         }
     }
 
-    /// The table system ([`Trig::Table`]): its right-hand side and events are those of
-    /// [`Trig::Libm`] to rounding (the table's own bound: `2·10⁻¹⁵` of the scale plus the phase
-    /// rounding `4ε ω̄_e τ`), and below `τ = 0`, where the table declines, they are
-    /// [`Trig::Kernel`]'s bit for bit. The default is still the kernel.
+    /// The default system reads the table ([`Trig::Table`]): its right-hand side and events
+    /// are those of [`Trig::Libm`] to rounding (the table's own bound: `2·10⁻¹⁵` of the scale
+    /// plus the phase rounding `4ε ω̄_e τ`), and below `τ = 0`, where the table declines, they
+    /// are [`Trig::Kernel`]'s bit for bit.
     #[test]
-    fn the_table_system_is_the_direct_one_to_rounding() {
+    fn the_default_system_reads_the_table() {
         let m = table1().model().unwrap();
-        assert_eq!(TimeSystem::new(m).trig(), Trig::Kernel);
-        let table = TimeSystem::with_trig(m, Trig::Table);
+        let table = TimeSystem::new(m);
         assert_eq!(table.trig(), Trig::Table);
         let libm = TimeSystem::with_trig(m, Trig::Libm);
         let kernel = TimeSystem::with_trig(m, Trig::Kernel);

@@ -37,10 +37,15 @@ pub struct LongWindowOptions {
     pub min_depth: f64,
     /// Windows that a record may discard because they caught the end of a transient
     /// ([`WindowStats::transient`]: the section repeats over the window's last half but not over
-    /// the whole). Near a bifurcation the transient outlasts `transient_periods`: at Liu Fig. 11,
-    /// 180 and 225 rad/s, the first 50-period window after 10 periods is not periodic while the
-    /// next one repeats to 1e-5 of the section tolerance. A chaotic window (no repeating tail)
-    /// is never discarded, so this costs time only where a transient is seen.
+    /// the whole). Near a bifurcation the transient outlasts `transient_periods`: at Liu
+    /// Fig. 11, 180 and 225 rad/s under `Trig::Kernel`, the first 50-period window after 10
+    /// periods is not periodic while the next one repeats to 1e-5 of the section tolerance (under
+    /// the default `Trig::Table` the transients end sooner). A window before the first kept one
+    /// whose section repeats nowhere is held until the next window is judged, and discarded
+    /// (spending one of these) when the next one repeats: a transient that ended inside the
+    /// window's last half (the record's hold). Two non-periodic windows in a row are kept as
+    /// the motion, so this costs one window more at a chaotic point, and more only where a
+    /// transient is seen.
     #[serde(default = "default_settle_windows")]
     pub settle_windows: usize,
 }
@@ -124,8 +129,9 @@ pub(crate) fn section_step(period: f64, sample_step: f64) -> f64 {
     period / (period / sample_step).ceil().max(1.0)
 }
 
-/// One record of `windows` consecutive windows after the transient, from `start`, at `rtol`;
-/// the statistics of each window and the number of windows discarded as transient.
+/// One record of `windows` consecutive windows after the transient, from `start`, at `rtol`:
+/// the statistics of the kept windows ([`Keeper`]), the periods integrated before the first of
+/// them, and the work of the whole run.
 fn record(
     model: &Model,
     o: &LongWindowOptions,
@@ -161,13 +167,10 @@ fn record(
     let base = base.with_method(o.stepping.long_window_method(rtol, back_flank));
     let mut work = warm.stats;
     let mut y = warm.y_final;
-    let mut out = Vec::with_capacity(windows);
-    let mut discarded = 0;
-    // periods integrated before the first kept window
-    let mut before = f64::NAN;
-    // at most `windows + settle_windows` windows: each pass keeps one or spends one discard
+    let mut keeper = Keeper::new(windows, o.settle_windows);
+    // at most `windows + settle_windows` windows ([`Keeper`])
     for w in 0..windows + o.settle_windows {
-        if out.len() == windows {
+        if keeper.done() {
             break;
         }
         let t0 = t_rec + (w * o.periods) as f64 * period;
@@ -224,16 +227,102 @@ fn record(
             &wo,
         )?;
         y = rec.y_final;
-        if stats.transient() && discarded < o.settle_windows {
-            discarded += 1;
-            continue;
-        }
-        if out.is_empty() {
-            before = o.transient_periods + (w * o.periods) as f64;
-        }
-        out.push(stats);
+        keeper.offer(stats, w);
     }
+    let (out, kept_at) = keeper.finish();
+    // periods integrated before the first kept window
+    let before = kept_at.map_or(f64::NAN, |w| o.transient_periods + (w * o.periods) as f64);
     Ok((out, before, work))
+}
+
+/// The choice of the kept windows of one record, window by window.
+///
+/// * A window that holds the visible end of a transient ([`WindowStats::transient`]: not
+///   periodic, but its last half is) is discarded.
+/// * Before the first kept window, a window that is not periodic and shows no such end is held
+///   until the next window confirms it (a settled record is not re-judged window by window; a
+///   window shorter than [`crate::response::MIN_CLASSIFIED_PERIODS`] is not classified, and not
+///   held). If the next window is periodic, or shows the end of a transient, the held
+///   window was a transient that outlasted its last half, and it is discarded. Otherwise both
+///   windows are the motion, and the held one is kept.
+/// * Every discard spends one of `settle_windows`. Once they are spent, each window is kept as it
+///   comes. A window still held when the record ends is kept unconfirmed.
+///
+/// Each offered window is kept, discarded or held, and a held window is settled by the next
+/// offer. So `windows + settle_windows` offers always fill `windows` kept windows.
+///
+/// The hold matters at Liu Fig. 11, 190 rad/s (mean `b̄`): about one start in five within
+/// `10⁻¹¹` of the default one leaves a unilateral transient that ends inside the last half of the
+/// first window. Without the hold, that window was judged "settled, not periodic", with another
+/// ppv, under each of the three `Trig` paths.
+#[derive(Debug)]
+struct Keeper {
+    windows: usize,
+    settle_windows: usize,
+    discarded: usize,
+    kept: Vec<WindowStats>,
+    /// The index of the first kept window.
+    first: Option<usize>,
+    held: Option<(WindowStats, usize)>,
+}
+
+impl Keeper {
+    fn new(windows: usize, settle_windows: usize) -> Self {
+        Self {
+            windows,
+            settle_windows,
+            discarded: 0,
+            kept: Vec::with_capacity(windows),
+            first: None,
+            held: None,
+        }
+    }
+
+    fn done(&self) -> bool {
+        self.kept.len() >= self.windows
+    }
+
+    fn keep(&mut self, stats: WindowStats, w: usize) {
+        if self.kept.len() < self.windows {
+            self.first.get_or_insert(w);
+            self.kept.push(stats);
+        }
+    }
+
+    /// Window `w` of the record (windows are offered in order, without gaps).
+    fn offer(&mut self, stats: WindowStats, w: usize) {
+        if let Some((held, wh)) = self.held.take() {
+            if stats.regular() || stats.transient() {
+                self.discarded += 1;
+            } else {
+                self.keep(held, wh);
+                self.keep(stats, w);
+                return;
+            }
+        }
+        if self.discarded < self.settle_windows {
+            if stats.transient() {
+                self.discarded += 1;
+                return;
+            }
+            if self.kept.is_empty()
+                && !stats.regular()
+                && stats.periods >= crate::response::MIN_CLASSIFIED_PERIODS
+            {
+                self.held = Some((stats, w));
+                return;
+            }
+        }
+        self.keep(stats, w);
+    }
+
+    /// The kept windows and the index of the first.
+    fn finish(mut self) -> (Vec<WindowStats>, Option<usize>) {
+        if let Some((held, wh)) = self.held.take() {
+            self.keep(held, wh);
+        }
+        (self.kept, self.first)
+    }
 }
 
 /// The window kept by [`settled_window`].
@@ -250,7 +339,8 @@ pub struct SettledWindow {
 /// The settled window of Eq. (9) at one point, without the variants of [`long_window`]: from
 /// `start` (default: the quasi-static contact position at rest), after `transient_periods`,
 /// windows of `periods` periods at `rtol`, each window that still holds the end of a transient
-/// ([`WindowStats::transient`]) discarded, up to `settle_windows` of them. Returns the kept
+/// discarded ([`WindowStats::transient`], or a non-periodic window followed by a periodic one),
+/// up to `settle_windows` of them. Returns the kept
 /// window's statistics and the periods integrated before it
 /// (`transient_periods + discarded·periods`, at most
 /// `transient_periods + settle_windows·periods`). Its motion is
@@ -355,6 +445,89 @@ mod tests {
         p.omega1 = omega1;
         p.readings.base_radius = BaseRadius::Mean;
         p.model().unwrap()
+    }
+
+    /// A synthetic window: `P` periodic, `T` the end of a transient (its last half periodic),
+    /// `C` not periodic; `tag` marks it (as its ppv).
+    fn win(kind: char, tag: f64) -> WindowStats {
+        WindowStats {
+            periods: 50,
+            state: RattleState::Bilateral,
+            fraction: [0.0, 0.0, 1.0],
+            ppv: tag,
+            q_min: 0.0,
+            q_max: tag,
+            max_depth: 1.0,
+            drive: Default::default(),
+            back: Default::default(),
+            line_coherent: [0.0; 2],
+            line_incoherent: [0.0; 2],
+            chaos_k: if kind == 'P' { 0.0 } else { 0.9 },
+            tail_regular: kind != 'C',
+            period_multiple: usize::from(kind == 'P'),
+        }
+    }
+
+    /// The kept windows' tags and the first kept index, offering `kinds` in order as `record`
+    /// does (stopping once `windows` are kept).
+    fn keep(kinds: &str, windows: usize, settle: usize) -> (Vec<f64>, Option<usize>) {
+        let mut k = Keeper::new(windows, settle);
+        let mut offered = 0;
+        for (w, kind) in kinds.chars().enumerate() {
+            if k.done() {
+                break;
+            }
+            k.offer(win(kind, w as f64), w);
+            offered += 1;
+        }
+        assert!(offered <= windows + settle, "{kinds}: {offered} offers");
+        let (kept, first) = k.finish();
+        (kept.iter().map(|s| s.ppv).collect(), first)
+    }
+
+    /// The settling rule of [`Keeper`], window by window: a transient window is discarded; a
+    /// non-periodic window before the first kept one is held and discarded when the next one is
+    /// periodic or transient, kept when the next one is not periodic either; after the first
+    /// kept window nothing is held; the budget bounds the discards and a held window at the end
+    /// of the budget is kept.
+    #[test]
+    #[allow(clippy::float_cmp)] // exact: the tags are assigned, never computed
+    fn a_window_is_judged_not_periodic_only_when_the_next_one_is_not_either() {
+        // the old rule, unchanged
+        assert_eq!(keep("P", 1, 2), (vec![0.0], Some(0)));
+        assert_eq!(keep("TP", 1, 2), (vec![1.0], Some(1)));
+        assert_eq!(keep("TTP", 1, 1), (vec![1.0], Some(1)));
+        // a transient that ends inside the first window's last half (190 rad/s)
+        assert_eq!(keep("CP", 1, 2), (vec![1.0], Some(1)));
+        assert_eq!(keep("CTP", 1, 2), (vec![2.0], Some(2)));
+        // chaos: two non-periodic windows in a row, the first one kept
+        assert_eq!(keep("CC", 1, 2), (vec![0.0], Some(0)));
+        assert_eq!(keep("CCC", 2, 2), (vec![0.0, 1.0], Some(0)));
+        assert_eq!(keep("TCC", 1, 2), (vec![1.0], Some(1)));
+        // no budget: nothing is held
+        assert_eq!(keep("C", 1, 0), (vec![0.0], Some(0)));
+        // the budget spent on the hold: the next window is kept as it comes
+        assert_eq!(keep("CT", 1, 1), (vec![1.0], Some(1)));
+        assert_eq!(keep("TCP", 1, 1), (vec![1.0], Some(1)));
+        // after the first kept window, a record is not re-judged (window B of a chaotic-looking
+        // tail stays a variant)
+        assert_eq!(keep("PC", 2, 2), (vec![0.0, 1.0], Some(0)));
+        assert_eq!(keep("CPC", 2, 2), (vec![1.0, 2.0], Some(1)));
+        // a held window at the end of the offers is kept unconfirmed
+        let mut k = Keeper::new(1, 1);
+        k.offer(win('C', 7.0), 0);
+        assert!(!k.done());
+        assert_eq!(k.finish().0[0].ppv, 7.0);
+        // an unclassified (short) window is not held
+        let mut k = Keeper::new(1, 1);
+        k.offer(
+            WindowStats {
+                periods: 2,
+                ..win('C', 3.0)
+            },
+            0,
+        );
+        assert!(k.done());
     }
 
     /// Below the unilateral onset (Table 1, 120 rad/s) the gears stay in drive-flank contact

@@ -48,22 +48,28 @@ fn state_and_bilateral_fraction_are_invariant_at_chaotic_points() {
     }
 }
 
-/// At 180 rad/s the first 50-period window after the 10 transient periods still holds the end
-/// of the transient: its section does not repeat over the window, only over its last half. The
-/// record discards it and the next window repeats, in every variant, to integration noise; the
-/// statistics then agree over the variants far inside the committed precision (1e-5).
+/// At 180 rad/s the first 50-period window after 2 transient periods still holds the end of the
+/// transient: its section does not repeat over the window, only over its last half. The record
+/// discards it and the next window repeats, in every variant, to integration noise; the
+/// statistics then agree over the variants far inside the committed precision (1e-5). (How long
+/// the transient lasts moves with rounding: under `Trig::Kernel` the window after 10 periods
+/// still held it, under the default `Trig::Table` the window after 4 no longer does.)
 #[test]
 #[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
 fn a_window_with_the_end_of_a_transient_is_discarded() {
     let m = model(180.0);
+    let short = LongWindowOptions {
+        transient_periods: 2.0,
+        ..LongWindowOptions::default()
+    };
     let bare = LongWindowOptions {
         settle_windows: 0,
-        ..LongWindowOptions::default()
+        ..short
     };
     let r0 = liu2021::long_window(&m, &bare).unwrap();
     assert!(r0.nominal.transient(), "{}", r0.describe());
     assert!(!r0.regular());
-    let r = liu2021::long_window(&m, &LongWindowOptions::default()).unwrap();
+    let r = liu2021::long_window(&m, &short).unwrap();
     assert!(r.regular(), "{}", r.describe());
     assert_eq!(r.state(), Some(RattleState::Bilateral));
     assert!(r.nominal.chaos_k.abs() < f64::MIN_POSITIVE);
@@ -76,4 +82,32 @@ fn a_window_with_the_end_of_a_transient_is_discarded() {
     // the settled window is the old window B: the same orbit, 50 periods later
     let b = &r0.variants[0].1;
     assert!((r.nominal.ppv - b.ppv).abs() <= 1e-9 * b.ppv);
+}
+
+/// At 190 rad/s the default start leaves a unilateral transient of about 40 periods: the first
+/// 50-period window after the 10 transient periods is bilateral in a quarter of its periods
+/// only, and its section repeats neither over the window nor over its last half, so it does not
+/// show the end of its transient. The next window repeats. The record holds the first window
+/// until the next one has been judged, and discards it: the kept window is periodic and
+/// bilateral, as from most starts within 10⁻¹¹ of this one (`docs/performance.md`, Round 20).
+/// (Which start leaves such a transient moves with rounding: this one does under the default
+/// `Trig::Table`.)
+#[test]
+#[ignore = "heavy: run optimised by `cargo xtask heavy-tests` (.ci/run)"]
+fn a_window_whose_transient_ends_in_its_last_half_is_held_and_discarded() {
+    let m = model(190.0);
+    let bare = LongWindowOptions {
+        settle_windows: 0,
+        ..LongWindowOptions::default()
+    };
+    let first = liu2021::settled_window(&m, &bare, None).unwrap().stats;
+    assert!(!first.regular() && !first.transient(), "{first:?}");
+    assert!(first.bilateral_fraction() < 0.5, "{first:?}");
+    let kept = liu2021::settled_window(&m, &LongWindowOptions::default(), None).unwrap();
+    assert!(kept.stats.regular(), "{:?}", kept.stats);
+    assert_eq!(kept.stats.state, RattleState::Bilateral);
+    assert!(kept.transient_periods > 10.0, "{}", kept.transient_periods);
+    let r = liu2021::long_window(&m, &LongWindowOptions::default()).unwrap();
+    assert!(r.regular(), "{}", r.describe());
+    assert!(r.reproducible(|w| w.ppv, 1e-7), "{}", r.describe());
 }
