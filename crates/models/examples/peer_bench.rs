@@ -186,7 +186,8 @@ fn dp5_fixed<S: OdeSystem>(sys: &S, y0: [f64; 2], t_end: f64, n: u64) -> [f64; 2
     y
 }
 
-/// `liu-profile <reps> <kernel|libm>`: only the adaptive runs, for a profiler.
+/// `liu-profile <reps> <kernel|libm|table>`: only the adaptive runs of `liu` (events on), for a
+/// profiler.
 fn liu_profile(reps: u32, trig: &str) -> Value {
     let mut p = liu2021::table1();
     p.omega1 = 160.0;
@@ -197,6 +198,7 @@ fn liu_profile(reps: u32, trig: &str) -> Value {
     let opts = timestep::Options::default()
         .with_tol(1e-8, 1e-8 * 1e-3 * m.backlash.max(m.b0))
         .with_h_max(0.5)
+        .with_events(true)
         .with_output(timestep::Output::Final);
     let trig = match trig {
         "libm" => Trig::Libm,
