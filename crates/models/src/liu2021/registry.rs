@@ -115,8 +115,8 @@ pub(crate) const LIU_TS: &[SettingDef] = &[
         },
         doc: "\"section\": after transient_periods, windows of window_periods periods; a window \
               whose Poincaré section still holds a transient (repeats over its last half, not \
-              the whole) is discarded until max_transient_periods; the kept window gives rsv, \
-              ppv and the motion. \"fixed\": one window of record_periods after \
+              the whole; or repeats nowhere while the next window repeats) is discarded until \
+              max_transient_periods; the kept window gives rsv, ppv and the motion. \"fixed\": one window of record_periods after \
               transient_periods, nothing discarded (fewer than 20 periods: motion unsettled)",
     },
     SettingDef {

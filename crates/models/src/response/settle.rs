@@ -3,8 +3,10 @@
 //!
 //! A steady response is judged on its long window ([`WindowStats`]): integrate a transient,
 //! then windows of `P ≥ 20` forcing periods, discarding a window that still holds the end of a
-//! transient ([`WindowStats::transient`]: its stroboscopic section repeats over its last half
-//! but not over the whole) up to a stated cap. The window that is kept is
+//! transient up to a stated cap: its stroboscopic section repeats over its last half but not over
+//! the whole ([`WindowStats::transient`]), or it repeats nowhere while the next window repeats
+//! (a transient that ended inside the window's last half: such a window is held until the next
+//! one is judged; two non-periodic windows in a row are the motion). The window that is kept is
 //!
 //! * **period-n** when its section repeats with period `n ≤ 4` to the section tolerance
 //!   ([`WindowStats::regular`], [`WindowStats::period_multiple`]);
