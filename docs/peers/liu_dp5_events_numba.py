@@ -2,13 +2,15 @@
 
 The algorithm of `timestep::integrate` with `liu2021::TimeSystem`, step for step:
 
-* DP5(4) (Hairer's tableau), FSAL, error norm sqrt(mean((e_i/sk_i)^2)),
+* DP5(4) (Hairer's tableau), FSAL, error norm squared mean((e_i/sk_i)^2) (no square root),
   sk_i = atol + rtol max(|y_i|, |ynew_i|);
-* Hairer's DOPRI5 PI controller (beta 0.04, safety 0.9, factor bounds 1/5 ... 10, no growth
+* Hairer's DOPRI5 PI controller (beta 0.04, safety 0.9, step ratio bounds 1/5 ... 10, no growth
   after a rejection, facold >= 1e-4) computed as geardyn's `timestep::control::PiController`
-  does, without pow: q = 2^(alpha log2 err - beta log2 err_old) with the same short log2 and 2^x
-  kernels (`system::numeric::{log2_approx, exp2_approx}`, here `log2_approx`/`exp2_approx`
-  through math.frexp/ldexp, which are exact) and the clamped ends decided on the exponent;
+  does, without pow or division: h_new/h = 2^(log2 safe - (alpha/2) log2 err^2 + beta log2
+  err_old) with the same table-driven log2 and 2^x kernels (`system::numeric::{log2_approx,
+  exp2_approx}`, here `log2_approx`/`exp2_approx` through math.frexp/ldexp, which are exact;
+  their tables built by the same IEEE operations as the Rust const fns) and the clamped ends
+  decided on the exponent;
   Hairer's starting step, the last step stretched to t_end
   when t + 1.01 h >= t_end, h <= h_max;
 * a rejected step whose end lies across a gap edge is retried to just past the crossing
@@ -44,6 +46,34 @@ LIMIT = 524_288.0
 FRAC_2_PI = 2.0 / math.pi
 
 
+def _ln_series(x):
+    """`system::numeric::ln_series` (a Rust const fn): the same operations in the same order."""
+    s = (x - 1.0) / (x + 1.0)
+    z = s * s
+    acc = 0.0
+    for k in range(60, 0, -1):
+        acc = acc * z + 1.0 / float(2 * k - 1)
+    return 2.0 * s * acc
+
+
+LOG2_E = 1.4426950408889634
+LN_2 = 0.6931471805599453
+LOG2_BITS = 7
+# `system::numeric::LOG2_TABLE`: (1/c, -log2(1/c)) for the centres c of the mantissa's intervals
+LOG2_INV = np.empty(1 << LOG2_BITS)
+LOG2_VAL = np.empty(1 << LOG2_BITS)
+for _i in range(1 << LOG2_BITS):
+    _c = 1.0 + (float(_i) + 0.5) / float(1 << LOG2_BITS)
+    LOG2_INV[_i] = 1.0 / _c
+    LOG2_VAL[_i] = -_ln_series(LOG2_INV[_i]) * LOG2_E
+# `system::numeric::EXP2_COEFFICIENTS`: (ln 2)^k / k!
+_c = [1.0] * 8
+for _k in range(1, 8):
+    _c[_k] = _c[_k - 1] * LN_2 / float(_k)
+C0, C1, C2, C3, C4, C5, C6, C7 = _c
+L_A, L_B, L_C = -0.5 * LOG2_E, LOG2_E / 3.0, -0.25 * LOG2_E
+
+
 @numba.njit(cache=True)
 def log2_approx(x):
     """`system::numeric::log2_approx`: the same operations in the same order."""
@@ -51,15 +81,11 @@ def log2_approx(x):
     m, e = math.frexp(x)  # x = m 2^e, m in [0.5, 1): exact
     m *= 2.0
     e -= 1
-    if m >= 1.4142135623730951:
-        m *= 0.5
-        e += 1
-    f = m - 1.0
-    s = f / (2.0 + f)
-    z = s * s
-    p = (1.0 / 3.0 + z * (1.0 / 5.0)) + (z * z) * (1.0 / 7.0 + z * (1.0 / 9.0))
-    ln_m = 2.0 * s + 2.0 * s * z * p
-    return float(e) + ln_m * 1.4426950408889634
+    i = int((m - 1.0) * float(1 << LOG2_BITS))  # the mantissa's top bits: exact
+    r = m * LOG2_INV[i] - 1.0
+    r2 = r * r
+    p = r * LOG2_E + r2 * ((L_A + r * L_B) + r2 * L_C)
+    return (float(e) + LOG2_VAL[i]) + p
 
 
 @numba.njit(cache=True)
@@ -67,10 +93,9 @@ def exp2_approx(x):
     """`system::numeric::exp2_approx`: the same operations in the same order."""
     x = min(max(x, -1000.0), 1000.0)
     n = (x + ROUND) - ROUND  # ties to even, as the Rust side's magic-number rounding
-    u = (x - n) * 0.6931471805599453
-    u2 = u * u
-    p = ((1.0 + u) + u2 * (0.5 + u * (1.0 / 6.0))) + (u2 * u2) * (
-        (1.0 / 24.0 + u * (1.0 / 120.0)) + u2 * (1.0 / 720.0 + u * (1.0 / 5040.0)))
+    r = x - n
+    r2 = r * r
+    p = ((C0 + r * C1) + r2 * (C2 + r * C3)) + (r2 * r2) * ((C4 + r * C5) + r2 * (C6 + r * C7))
     return p * math.ldexp(1.0, int(n))
 
 
@@ -219,14 +244,16 @@ def make(model, kernel):
             h1 = (0.01 / der12) ** (1.0 / 5.0)
         h = min(min(100.0 * h, h1), h_max)
         nrhs += 2
-        beta_, safe, facc1, facc2 = 0.04, 0.9, 1.0 / 0.2, 1.0 / 10.0
-        expo1 = 0.2 - 0.75 * beta_
-        l_old = log2_approx(1e-4)
-        lo, hi = log2_approx(safe / 10.0), log2_approx(safe * 5.0)
+        beta_, safe, fac1, fac2 = 0.04, 0.9, 0.2, 10.0
+        half_alpha = 0.5 * (0.2 - 0.75 * beta_)
+        l_floor = log2_approx(1e-4)
+        l_old = l_floor
+        l_safe = log2_approx(safe)
+        lo, hi = log2_approx(safe / fac2), log2_approx(safe / fac1)
         last_rej = False
         caps = 0
         nacc, nrej, nev = 0, 0, 0
-        h_new, err, fac11, theta_star, hh = h, 0.0, 0.0, 1.0, h
+        h_new, err, ratio11, theta_star, hh = h, 0.0, 0.0, 1.0, h
         nq, nv, k7q, k7v = q, v, k1q, k1v
         while t < t_end:
             last = False
@@ -262,21 +289,21 @@ def make(model, kernel):
                     ev = hh * (e1 * k1v + e3 * k3v + e4 * k4v + e5 * k5v + e6 * k6v + e7 * k7v)
                     sq = atol + rtol * max(abs(q), abs(nq))
                     sv = atol + rtol * max(abs(v), abs(nv))
-                    err = math.sqrt(((eq / sq) * (eq / sq) + (ev / sv) * (ev / sv)) / 2.0)
-                    lerr = log2_approx(err)
+                    err = ((eq / sq) * (eq / sq) + (ev / sv) * (ev / sv)) / 2.0  # squared
+                    l2 = log2_approx(err)
                     if err > 1.0:
-                        la = expo1 * lerr
-                        fac11 = facc1 if la >= hi else exp2_approx(la) / safe
+                        la = half_alpha * l2
+                        ratio11 = fac1 if la >= hi else exp2_approx(l_safe - la)
                         break
-                    lq = expo1 * lerr - beta_ * l_old
+                    lq = half_alpha * l2 - beta_ * l_old
                     if lq <= lo:
-                        fac = facc2
+                        ratio = fac2
                     elif lq >= hi:
-                        fac = facc1
+                        ratio = fac1
                     else:
-                        fac = exp2_approx(lq) / safe
-                    h_new = h / fac
-                    l_old = max(lerr, log2_approx(1e-4))
+                        ratio = exp2_approx(l_safe - lq)
+                    h_new = h * ratio
+                    l_old = max(0.5 * l2, l_floor)
                     if last_rej:
                         h_new = min(h_new, h)
                     last_rej = False
@@ -350,7 +377,7 @@ def make(model, kernel):
                 last = False
                 passes += 1
             if passes == 0 and err > 1.0:
-                h_next = h / fac11
+                h_next = h * ratio11
                 if caps < 4:
                     # geardyn's retry at the linearly estimated crossing (`crossing_retry`)
                     g0, g1 = gap(t + hh, nq, cache)

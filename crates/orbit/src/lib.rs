@@ -109,8 +109,8 @@
 //! [`StopReason::StepTooSmall`], where pseudo-arclength goes round it). Step control
 //! ([`StepControl`]): halve after a rejection (corrector failure, a correction longer than
 //! `max_correction · Δs`, a tangent turn with `cos < min_cos`), grow after success (always, or
-//! only after easy corrections), stop below the minimum. A branch that crawls — its accepted
-//! steps below [`Stall::step`] for [`Stall::points`] points in a row, as in a non-smooth tangle
+//! only after easy corrections), stop below the minimum. A branch that crawls — the mean of
+//! its last [`Stall::points`] accepted steps below [`Stall::step`], as in a non-smooth tangle
 //! where the contact set changes at nearly every step — stops with [`StopReason::Stalled`] when
 //! [`ContinuationOptions::stall`] is set; a shooting branch stops after the first special point
 //! of a kind in [`ShootingCorrection::stop_at`] ([`StopReason::SpecialPoint`], AUTO's `STOP`

@@ -25,11 +25,13 @@
 //!   longer than `max_correction·Δs`, a tangent turn with `cos < min_cos`) is halved; an
 //!   accepted one grows by `grow` (optionally only after easy corrections) or shrinks after
 //!   hard ones.
-//! * **Stall** ([`Stall`], optional): a branch whose accepted steps stay below `Stall::step`
-//!   for `Stall::points` points in a row crawls: in a non-smooth tangle, where the contact
-//!   set changes at nearly every step, the corrector fails at every longer step and the
-//!   branch can spend hundreds of points within a hundredth of a parameter unit. It stops
-//!   there with [`StopReason::Stalled`] instead of at the cap or the minimum step.
+//! * **Stall** ([`Stall`], optional): a branch whose last `Stall::points` accepted steps are
+//!   together shorter than `Stall::points · Stall::step` (their mean below `Stall::step`)
+//!   crawls: in a non-smooth tangle, where the contact set changes at nearly every step, the
+//!   corrector fails at most longer steps and the branch can spend hundreds of points within a
+//!   tenth of a parameter unit. It stops there with [`StopReason::Stalled`] instead of at the
+//!   cap or the minimum step. The mean, not every step, is compared: an occasional longer step
+//!   through a tangle does not restart the count.
 //! * **Folds** ([`Fold`]) where `t_μ` changes sign between `y_i` and `y_{i+1}`; with
 //!   `σ = t_{i,μ} Δs/(t_{i,μ} − t_{i+1,μ})` (where the linear interpolant of `t_μ(s)` vanishes) the
 //!   fold parameter is the quadratic estimate `μ_F = μ_i + ½ t_{i,μ} σ`. Shooting locates
@@ -89,15 +91,18 @@ pub struct ContinuationOptions<C> {
     pub corrector: C,
 }
 
-/// When a branch crawls ([`ContinuationOptions::stall`]): `points` accepted steps in a row,
-/// each shorter than `step` (the corrector's scaled variables, like the step bounds). The
-/// counter restarts at every accepted step of at least `step`.
+/// When a branch crawls ([`ContinuationOptions::stall`]): its last `points` accepted steps are
+/// together shorter than `points · step` (their mean below `step`; the corrector's scaled
+/// variables, like the step bounds). A window of the mean rather than a count of short steps
+/// in a row: in a tangle the corrector succeeds now and then at a longer step, and with a
+/// count in a row those steps decided, at rounding level, whether a branch stopped after 15
+/// points or crawled on for 150 (`liu2021-orbit-branch`, rounds 20–21).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Stall {
-    /// Accepted steps in a row (≥ 1).
+    /// The window: the last this many accepted steps (≥ 1).
     pub points: usize,
-    /// Step length below which an accepted step counts (> 0 and finite).
+    /// The mean step length over the window below which the branch crawls (> 0 and finite).
     pub step: f64,
 }
 
@@ -448,12 +453,12 @@ pub enum StopReason {
         /// Its kind.
         kind: SpecialKind,
     },
-    /// The branch crawled ([`ContinuationOptions::stall`]): its last `points` accepted steps
-    /// were all shorter than the stall step.
+    /// The branch crawled ([`ContinuationOptions::stall`]): the mean of its last `points`
+    /// accepted steps was below the stall step.
     Stalled {
         /// Parameter of the last accepted point.
         parameter: f64,
-        /// Accepted steps in a row below the stall step.
+        /// The window: accepted steps whose mean fell below the stall step.
         points: usize,
     },
     /// The first point did not converge.
@@ -770,7 +775,8 @@ pub fn trace<C: Corrector>(
     let [lo, hi] = course.range;
     let mut e_mu = DVector::zeros(n + 1);
     e_mu[n] = 1.0;
-    let mut crawl = 0_usize;
+    // the last `stall.points` accepted step lengths (a window of at most that many)
+    let mut recent: std::collections::VecDeque<f64> = std::collections::VecDeque::new();
     while branch.points.len() < course.max_points {
         let (pred, border) = match course.predictor {
             Predictor::Arclength => (&cur.y + &cur.tangent * s, cur.tangent.clone()),
@@ -870,15 +876,16 @@ pub fn trace<C: Corrector>(
             return Ok(());
         }
         if let Some(stall) = course.stall {
-            crawl = if accepted_step < stall.step {
-                crawl + 1
-            } else {
-                0
-            };
-            if crawl >= stall.points {
+            if recent.len() == stall.points {
+                recent.pop_front();
+            }
+            recent.push_back(accepted_step);
+            // summed in one order every time (no running sum to drift)
+            let sum: f64 = recent.iter().sum();
+            if recent.len() == stall.points && sum < stall.points as f64 * stall.step {
                 branch.stop = StopReason::Stalled {
                     parameter: lam,
-                    points: crawl,
+                    points: stall.points,
                 };
                 return Ok(());
             }
@@ -946,6 +953,9 @@ mod tests {
         /// `Some(μ_r)`: a rough stretch above `μ_r` where every correction farther than
         /// [`ROUGH_REACH`] from the last accepted point fails (a tangle in miniature).
         rough_above: Option<f64>,
+        /// `k > 0`: on the rough stretch every `k`-th correction reaches 4 · [`ROUGH_REACH`]
+        /// (a tangle where a longer step succeeds now and then).
+        lucky_every: usize,
         last: Option<DVector<f64>>,
     }
 
@@ -965,7 +975,13 @@ mod tests {
         ) -> Result<Result<Node<()>, OrbitError>, OrbitError> {
             self.corrections += 1;
             if let (Some(mu), Some(last)) = (self.rough_above, &self.last) {
-                if pred[1] > mu && (pred - last).norm() > ROUGH_REACH {
+                let lucky = self.lucky_every > 0 && self.corrections % self.lucky_every == 0;
+                let reach = if lucky {
+                    4.0 * ROUGH_REACH
+                } else {
+                    ROUGH_REACH
+                };
+                if pred[1] > mu && (pred - last).norm() > reach {
                     return Ok(Err(OrbitError::Singular { what: "rough" }));
                 }
             }
@@ -1022,9 +1038,20 @@ mod tests {
         rough_above: Option<f64>,
         stall: Option<Stall>,
     ) -> Branch<f64> {
+        run_lucky(predictor, max, rough_above, 0, stall)
+    }
+
+    fn run_lucky(
+        predictor: Predictor,
+        max: f64,
+        rough_above: Option<f64>,
+        lucky_every: usize,
+        stall: Option<Stall>,
+    ) -> Branch<f64> {
         let mut c = Circle {
             corrections: 0,
             rough_above,
+            lucky_every,
             last: None,
         };
         let y = DVector::from_vec(vec![(1.0_f64 - 0.25).sqrt(), -0.5]);
@@ -1059,8 +1086,8 @@ mod tests {
         // smooth: the stall never fires, the branch goes round the fold as without it
         let smooth = run_rough(Predictor::Arclength, 0.2, None, Some(stall));
         assert_eq!(smooth, run(Predictor::Arclength, 0.2));
-        // rough above μ = 0.3: steps fall to ≤ ROUGH_REACH, and after 10 of them in a row the
-        // branch stops there instead of crawling on to the cap
+        // rough above μ = 0.3: steps fall to ≤ ROUGH_REACH, and once the last 10 steps
+        // average below 0.01 the branch stops there instead of crawling on to the cap
         let b = run_rough(Predictor::Arclength, 0.2, Some(0.3), Some(stall));
         let StopReason::Stalled { parameter, points } = b.stop else {
             panic!("{:?}", b.stop);
@@ -1070,20 +1097,59 @@ mod tests {
             parameter.to_bits(),
             b.points.last().unwrap().parameter.to_bits()
         );
-        // the 10 crawling steps advance μ by at most 10 · ROUGH_REACH past the rough edge
+        // at most 10 crawling steps: μ advances by at most 10 · ROUGH_REACH past the edge
         assert!(
             parameter > 0.3 && parameter < 0.3 + 11.0 * ROUGH_REACH,
             "stopped at {parameter}"
         );
         let n = b.points.len();
-        for w in b.points[n - 11..].windows(2) {
-            let d = (w[1].parameter - w[0].parameter).dhypot(w[1].orbit - w[0].orbit);
-            assert!(d < stall.step, "a step of {d} counted as crawling");
-        }
+        let mean = b.points[n - 11..]
+            .windows(2)
+            .map(|w| (w[1].parameter - w[0].parameter).dhypot(w[1].orbit - w[0].orbit))
+            .sum::<f64>()
+            / 10.0;
+        assert!(mean < stall.step, "stopped at a mean step of {mean}");
         // without the stall the same branch crawls on to the cap
         let crawl = run_rough(Predictor::Arclength, 0.2, Some(0.3), None);
         assert_eq!(crawl.stop, StopReason::MaxPoints);
         assert_eq!(crawl.points[..n], b.points[..]);
+    }
+
+    /// A tangle where a longer step succeeds now and then: a count of short steps in a row
+    /// would restart at each of them, the mean over the window still stops the branch, and
+    /// only then (the window before the stop averaged at least the stall step).
+    #[test]
+    fn a_crawl_with_occasional_longer_steps_stops_on_the_mean() {
+        let stall = Stall {
+            points: 10,
+            step: 0.01,
+        };
+        let b = run_lucky(Predictor::Arclength, 0.2, Some(0.3), 3, Some(stall));
+        let StopReason::Stalled { parameter, .. } = b.stop else {
+            panic!("{:?}", b.stop);
+        };
+        let steps: Vec<f64> = b
+            .points
+            .windows(2)
+            .map(|w| (w[1].parameter - w[0].parameter).dhypot(w[1].orbit - w[0].orbit))
+            .collect();
+        let n = steps.len();
+        let last: f64 = steps[n - 10..].iter().sum();
+        assert!(last < 10.0 * stall.step, "{last}");
+        // the lucky steps: some of the last ten were longer than the stall step, so ten short
+        // steps in a row never happened
+        assert!(
+            steps[n - 10..].iter().any(|&d| d >= stall.step),
+            "{:?}",
+            &steps[n - 10..]
+        );
+        // the window one step earlier did not yet average below the stall step
+        let before: f64 = steps[n - 11..n - 1].iter().sum();
+        assert!(before >= 10.0 * stall.step, "{before}");
+        assert!(parameter > 0.3, "stopped at {parameter}");
+        // without the stall the same branch crawls on to the cap
+        let crawl = run_lucky(Predictor::Arclength, 0.2, Some(0.3), 3, None);
+        assert_eq!(crawl.stop, StopReason::MaxPoints);
     }
 
     #[test]

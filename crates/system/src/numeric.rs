@@ -295,50 +295,109 @@ pub fn bisect(
 const ROUND_MAGIC: f64 = 6_755_399_441_055_744.0;
 
 /// `log₂ x` for every `x > 0` without the C math library (the step-size controllers of
-/// `geardyn-timestep` and `geardyn-orbit`: deterministic, pow-free), clamped into the normal
-/// range first, to about `10⁻⁹` absolute.
+/// `geardyn-timestep` and `geardyn-orbit`: deterministic, pow-free, division-free), clamped into
+/// the normal range first, to about `10⁻¹²` absolute.
 ///
-/// `x = m·2ᵉ` with `m ∈ [√½, √2)`; `ln m = 2 atanh s`, `s = (m − 1)/(m + 1)`, `|s| ≤ 0.172`,
-/// by the odd series to `s⁹` (the first omitted term `2 s¹¹/11 < 7·10⁻¹⁰`), the polynomial in
-/// `z = s²` by Estrin's scheme (a short dependency chain: the controller waits on it every
-/// step).
+/// `x = m·2ᵉ` with `m ∈ [1, 2)`. The top [`LOG2_TABLE_BITS`] bits of the mantissa pick an
+/// entry `(c⁻¹, −log₂ c⁻¹)` of a table built at compile time ([`LOG2_TABLE`]: `c` the centre of
+/// the mantissa's interval, `c⁻¹` rounded to a double), and
+///
+/// ```text
+/// log₂ x = e − log₂ c⁻¹ + log₂(1 + r),   r = m·c⁻¹ − 1,   |r| ≤ 2⁻⁸ (1 + 2⁻⁵²)
+/// ```
+///
+/// with `log₂(1 + r)` by its Taylor series to `r⁴` (the first omitted term
+/// `|r|⁵/(5 ln 2) < 3·10⁻¹³`), by Estrin's scheme. The controller waits on this value every
+/// step, and the former form's division `(m − 1)/(m + 1)` was the longest link of its chain.
 #[inline]
 pub fn log2_approx(x: f64) -> f64 {
     // 0, negatives and subnormals are clamped to the smallest normal, +inf to the largest
     // finite number; NaN gives NaN
     let x = x.clamp(f64::MIN_POSITIVE, f64::MAX);
     let bits = x.to_bits();
-    let mut e = ((bits >> 52) as i64) - 1023;
-    let mut m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
-    if m >= std::f64::consts::SQRT_2 {
-        m *= 0.5;
-        e += 1;
+    let e = ((bits >> 52) as i64) - 1023;
+    let m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    // the index is below 2^LOG2_TABLE_BITS by construction (the mantissa's top bits)
+    let (inv_c, log2_c) = LOG2_TABLE[((bits >> (52 - LOG2_TABLE_BITS)) & LOG2_INDEX_MASK) as usize];
+    let r = m * inv_c - 1.0;
+    let r2 = r * r;
+    const L: f64 = std::f64::consts::LOG2_E;
+    let p = r * L + r2 * ((-0.5 * L + r * (L / 3.0)) + r2 * (-0.25 * L));
+    (e as f64 + log2_c) + p
+}
+
+/// Mantissa bits that index [`LOG2_TABLE`].
+pub const LOG2_TABLE_BITS: u32 = 7;
+const LOG2_INDEX_MASK: u64 = (1 << LOG2_TABLE_BITS) - 1;
+
+/// The table of [`log2_approx`]: for `i < 2^LOG2_TABLE_BITS`,
+/// `c = 1 + (i + ½)·2^−LOG2_TABLE_BITS`, the entry `(c⁻¹, −log₂ c⁻¹)` with `c⁻¹` rounded to a
+/// double and its logarithm computed for that double (so that `m·c⁻¹` and the logarithm belong
+/// to the same number). Built at compile time by IEEE arithmetic only (`ln x = 2 atanh((x −
+/// 1)/(x + 1))` by its odd series to 60 terms): the same bits on every platform.
+pub static LOG2_TABLE: [(f64, f64); 1 << LOG2_TABLE_BITS] = log2_table();
+
+const fn log2_table() -> [(f64, f64); 1 << LOG2_TABLE_BITS] {
+    let n = 1usize << LOG2_TABLE_BITS;
+    let mut t = [(0.0, 0.0); 1 << LOG2_TABLE_BITS];
+    let mut i = 0;
+    while i < n {
+        let c = 1.0 + (i as f64 + 0.5) / n as f64;
+        let inv_c = 1.0 / c;
+        t[i] = (inv_c, -ln_series(inv_c) * std::f64::consts::LOG2_E);
+        i += 1;
     }
-    let f = m - 1.0;
-    let s = f / (2.0 + f);
+    t
+}
+
+/// `ln x` for `x ∈ [½, 1]` at compile time: `2 atanh s`, `s = (x − 1)/(x + 1)`, `|s| ≤ ⅓`, by the
+/// odd series summed from its 60th term down (the first omitted term `2 s¹²¹/121 < 10⁻⁵⁸`).
+const fn ln_series(x: f64) -> f64 {
+    let s = (x - 1.0) / (x + 1.0);
     let z = s * s;
-    let p = (1.0 / 3.0 + z * (1.0 / 5.0)) + (z * z) * (1.0 / 7.0 + z * (1.0 / 9.0));
-    let ln_m = 2.0 * s + 2.0 * s * z * p;
-    e as f64 + ln_m * std::f64::consts::LOG2_E
+    let mut k = 60;
+    let mut sum = 0.0;
+    while k > 0 {
+        sum = sum * z + 1.0 / (2 * k - 1) as f64;
+        k -= 1;
+    }
+    2.0 * s * sum
 }
 
 /// `2^x` without the C math library (as [`log2_approx`]), for `|x| ≤ 1000` (clamped beyond),
 /// to below `10⁻⁸` relative.
 ///
-/// `x = n + r`, `n = round(x)` (ties to even, by the magic-number addition of `ROUND_MAGIC`), `|r| ≤ ½`: `2^r = e^{r ln 2}`
-/// by its Taylor series to degree 7 (`|r ln 2| ≤ 0.347`; the first omitted term
-/// `0.347⁸/8! < 6·10⁻⁹`), by Estrin's scheme, times `2ⁿ` built from the exponent bits.
+/// `x = n + r`, `n = round(x)` (ties to even, by the magic-number addition of `ROUND_MAGIC`),
+/// `|r| ≤ ½`: `2^r = e^{r ln 2} = Σ (ln 2)ᵏ rᵏ/k!` to degree 7 (`|r ln 2| ≤ 0.347`; the first
+/// omitted term `0.347⁸/8! < 6·10⁻⁹`), the coefficients `(ln 2)ᵏ/k!` folded at compile time
+/// ([`EXP2_COEFFICIENTS`]) and the polynomial by Estrin's scheme, times `2ⁿ` built from the
+/// exponent bits.
 #[inline]
 pub fn exp2_approx(x: f64) -> f64 {
     let x = x.clamp(-1000.0, 1000.0);
     let n = (x + ROUND_MAGIC) - ROUND_MAGIC;
-    let u = (x - n) * std::f64::consts::LN_2;
-    let u2 = u * u;
-    let p = ((1.0 + u) + u2 * (0.5 + u * (1.0 / 6.0)))
-        + (u2 * u2) * ((1.0 / 24.0 + u * (1.0 / 120.0)) + u2 * (1.0 / 720.0 + u * (1.0 / 5040.0)));
+    let r = x - n;
+    let r2 = r * r;
+    let c = &EXP2_COEFFICIENTS;
+    let p = ((c[0] + r * c[1]) + r2 * (c[2] + r * c[3]))
+        + (r2 * r2) * ((c[4] + r * c[5]) + r2 * (c[6] + r * c[7]));
     // 2ⁿ for n in [−1000, 1000]: a normal number, exact
     let scale = f64::from_bits(((n as i64 + 1023) as u64) << 52);
     p * scale
+}
+
+/// `(ln 2)ᵏ/k!`, `k = 0 … 7`: the Taylor coefficients of `2^r` ([`exp2_approx`]), computed at
+/// compile time by IEEE products and quotients (the same bits on every platform).
+pub const EXP2_COEFFICIENTS: [f64; 8] = exp2_coefficients();
+
+const fn exp2_coefficients() -> [f64; 8] {
+    let mut c = [1.0; 8];
+    let mut k = 1;
+    while k < 8 {
+        c[k] = c[k - 1] * std::f64::consts::LN_2 / k as f64;
+        k += 1;
+    }
+    c
 }
 
 /// `C = A B` for column-major dynamic matrices, summed in one fixed order (for each column of
@@ -387,9 +446,31 @@ mod tests {
         while x < 1e300 {
             for y in [x, x * 1.37, x * 1.999_999, x * std::f64::consts::SQRT_2] {
                 let d = (log2_approx(y) - y.dlog2()).abs();
-                assert!(d < 2e-9, "log2({y}): {} vs {}", log2_approx(y), y.dlog2());
+                assert!(d < 1e-12, "log2({y}): {} vs {}", log2_approx(y), y.dlog2());
             }
             x *= 7.3;
+        }
+        // every table entry and both ends of its interval: the mantissa in [1, 2) in steps
+        // finer than the table, where |r| is largest (log₂ near 0: absolute error is the test)
+        let n = 1 << LOG2_TABLE_BITS;
+        for j in 0..=8 * n {
+            for y in [
+                1.0 + j as f64 / (8 * n) as f64,
+                (1.0 + j as f64 / (8 * n) as f64).next_down(),
+            ] {
+                let d = (log2_approx(y) - y.dlog2()).abs();
+                assert!(d < 3e-13, "log2({y}): {} vs {}", log2_approx(y), y.dlog2());
+            }
+        }
+        // the table's logarithms against the deterministic libm
+        for &(inv_c, l) in LOG2_TABLE.iter() {
+            assert!((l + inv_c.dlog2()).abs() < 4e-16, "{inv_c}: {l}");
+        }
+        // powers of two: m = 1 is the low end of the first entry, so the table's logarithm and
+        // the polynomial cancel there to round-off
+        for e in [-1000, -3, 0, 1, 700] {
+            let y = 2f64.powi(e);
+            assert!((log2_approx(y) - f64::from(e)).abs() < 1e-12, "{e}");
         }
         let mut t = -999.5_f64;
         while t < 999.5 {

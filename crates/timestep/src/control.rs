@@ -11,6 +11,8 @@
 //! h_new = h / min(5, err^α / safe)   (rejected: err > 1)
 //! ```
 //!
+//! (`1/10` and `5` are `1/fac2` and `1/fac1` of `dopri5.f`.)
+//!
 //! with `err_old = max(err, 10⁻⁴)` after each accepted step. Two `pow` calls per step cost
 //! ~11 % of a Liu integration (profile of issue 38) and, through the C math library, made the
 //! step sequence depend on the platform's `pow`. Here the same factor is computed as
@@ -20,10 +22,21 @@
 //! ```
 //!
 //! with `log₂ err_old` kept from the last accepted step (one `log₂` and at most one `2^x` per
-//! step), both by short polynomial kernels of IEEE `+`, `×`, `÷` and bit operations only:
-//! deterministic on every platform, relative error of `q` below `10⁻⁸` (tested against `powf`),
-//! monotone in `err`. Where the factor is clamped (`q/safe` outside `[1/10, 5]`), `2^x` is
-//! skipped: the comparison is made on the exponent. The controller's guarantees are those of the
+//! step), both by short polynomial kernels of IEEE `+`, `×` and bit operations only
+//! (`system::numeric::log2_approx`, `exp2_approx`): deterministic on every platform, relative
+//! error of `q` below `10⁻⁸` (tested against `powf`), monotone in `err`. Where the factor is
+//! clamped (`q/safe` outside `[1/10, 5]`), `2^x` is skipped: the comparison is made on the
+//! exponent.
+//!
+//! Every step waits on this computation (the next step's stage times depend on `h_new`), so
+//! its chain of dependent operations is kept short and free of divisions: `log₂` by a table and
+//! a degree-4 polynomial, and the controller returns the *ratio* `h_new/h = 1/fac` directly,
+//!
+//! ```text
+//! h_new/h = 2^(log₂ safe − log₂ q),   clamped to [fac1, fac2] = [1/5, 10]
+//! ```
+//!
+//! so that `/ safe` and `h / fac` become one `2^x` and one product. The controller's guarantees are those of the
 //! exact form: the factor stays within `[1/10, 5]`, a rejected step shrinks by at least
 //! `safe⁻¹·err^α > 1` (capped at 5), and the step after a rejection does not grow.
 
@@ -37,26 +50,26 @@ pub(crate) struct ControlParams {
     pub(crate) alpha: f64,
     /// `β`, the exponent of the last accepted error (0: a pure I controller, as DOP853's).
     pub(crate) beta: f64,
-    /// Largest shrink of the next step after one step, `h/h_new ≤ max_shrink` (`1/fac1`).
-    pub(crate) max_shrink: f64,
-    /// Largest growth, `h_new/h ≤ max_growth` (`fac2`).
-    pub(crate) max_growth: f64,
+    /// Smallest ratio of the next step to this one, `h_new/h ≥ fac1`.
+    pub(crate) fac1: f64,
+    /// Largest ratio, `h_new/h ≤ fac2`.
+    pub(crate) fac2: f64,
 }
 
 /// DOPRI5's controller (`dopri5.f` defaults: `β = 0.04`, `fac1 = 0.2`, `fac2 = 10`).
 pub(crate) const DOPRI5_CONTROL: ControlParams = ControlParams {
     alpha: 1.0 / 5.0 - 0.75 * 0.04,
     beta: 0.04,
-    max_shrink: 5.0,
-    max_growth: 10.0,
+    fac1: 0.2,
+    fac2: 10.0,
 };
 
 /// DOP853's controller (`dop853.f` defaults: `β = 0`, `fac1 = 0.333`, `fac2 = 6`).
 pub(crate) const DOP853_CONTROL: ControlParams = ControlParams {
     alpha: 1.0 / 8.0,
     beta: 0.0,
-    max_shrink: 1.0 / 0.333,
-    max_growth: 6.0,
+    fac1: 0.333,
+    fac2: 6.0,
 };
 
 /// Hairer's PI step-size controller (module docs), with the exponent arithmetic in `log₂`.
@@ -65,10 +78,16 @@ pub(crate) struct PiController {
     p: ControlParams,
     /// `log₂ max(err_old, 10⁻⁴)`.
     log2_err_old: f64,
-    /// `log₂(safe/max_growth)`: at or below it the factor clamps to the largest growth.
+    /// `log₂(safe/fac2)`: at or below it (`log₂ q`) the ratio clamps to `fac2`.
     lo: f64,
-    /// `log₂(safe·max_shrink)`: at or above it the factor clamps to the largest shrink.
+    /// `log₂(safe/fac1)`: at or above it the ratio clamps to `fac1`.
     hi: f64,
+    /// `log₂ safe`.
+    log2_safe: f64,
+    /// `log₂ 10⁻⁴`, the floor of `log₂ err_old`.
+    log2_floor: f64,
+    /// `α/2`: the exponent applied to `log₂ err²`.
+    half_alpha: f64,
 }
 
 /// Safety factor.
@@ -80,39 +99,43 @@ impl PiController {
         PiController {
             p,
             log2_err_old: log2_pos(1e-4),
-            // q/safe ≤ 1/max_growth ⟺ log₂ q ≤ log₂(safe/max_growth); q/safe ≥ max_shrink ⟺
-            // log₂ q ≥ log₂(safe·max_shrink)
-            lo: log2_pos(SAFE / p.max_growth),
-            hi: log2_pos(SAFE * p.max_shrink),
+            // safe/q ≥ fac2 ⟺ log₂ q ≤ log₂(safe/fac2); safe/q ≤ fac1 ⟺ log₂ q ≥ log₂(safe/fac1)
+            lo: log2_pos(SAFE / p.fac2),
+            hi: log2_pos(SAFE / p.fac1),
+            log2_safe: log2_pos(SAFE),
+            log2_floor: log2_pos(1e-4),
+            half_alpha: 0.5 * p.alpha,
         }
     }
 
-    /// The factor `h/h_new` after a step with error norm `err` (finite, ≥ 0), and whether the
-    /// step is accepted (`err ≤ 1`). On acceptance the controller remembers `err`.
+    /// The ratio `h_new/h` after a step whose error norm squared is `err2` (finite, ≥ 0: the
+    /// steppers return `err²`), and whether the step is accepted (`err ≤ 1`). On acceptance the
+    /// controller remembers `err`.
     #[inline]
-    pub(crate) fn step(&mut self, err: f64) -> (f64, bool) {
-        let l = log2_pos(err);
-        if err > 1.0 {
-            // rejected: h /= min(max_shrink, err^α / safe); err^α > 1 here
-            let la = self.p.alpha * l;
-            let fac = if la >= self.hi {
-                self.p.max_shrink
+    pub(crate) fn step(&mut self, err2: f64) -> (f64, bool) {
+        // α log₂ err = (α/2) log₂ err²: the halving folded into the constant
+        let l2 = log2_pos(err2);
+        if err2 > 1.0 {
+            // rejected: h_new/h = max(fac1, safe/err^α); err^α > 1 here
+            let la = self.half_alpha * l2;
+            let ratio = if la >= self.hi {
+                self.p.fac1
             } else {
-                exp2(la) / SAFE
+                exp2(self.log2_safe - la)
             };
-            return (fac, false);
+            return (ratio, false);
         }
-        let lq = self.p.alpha * l - self.p.beta * self.log2_err_old;
-        let fac = if lq <= self.lo {
-            1.0 / self.p.max_growth
+        let lq = self.half_alpha * l2 - self.p.beta * self.log2_err_old;
+        let ratio = if lq <= self.lo {
+            self.p.fac2
         } else if lq >= self.hi {
-            self.p.max_shrink
+            self.p.fac1
         } else {
-            exp2(lq) / SAFE
+            exp2(self.log2_safe - lq)
         };
         // err_old = max(err, 1e-4)
-        self.log2_err_old = l.max(log2_pos(1e-4));
-        (fac, true)
+        self.log2_err_old = (0.5 * l2).max(self.log2_floor);
+        (ratio, true)
     }
 }
 
@@ -139,13 +162,14 @@ mod tests {
                 facold = err.max(1e-4);
                 (f, true)
             };
-            let (got, ok) = c.step(err);
+            let (ratio, ok) = c.step(err * err);
+            let got = 1.0 / ratio;
             assert_eq!(ok, accepted);
             assert!(
                 (got / want - 1.0).abs() < 2e-8,
                 "err {err}: {got} vs {want}"
             );
-            assert!((0.1..=5.0).contains(&got));
+            assert!((0.2..=10.0).contains(&ratio));
             err *= 1.0913;
             n += 1;
         }
@@ -164,7 +188,8 @@ mod tests {
             } else {
                 (1.0_f64 / 6.0).max((1.0_f64 / 0.333).min(fac11 / 0.9))
             };
-            let (got, _) = c.step(err);
+            let (ratio, _) = c.step(err * err);
+            let got = 1.0 / ratio;
             assert!(
                 (got / want - 1.0).abs() < 2e-8,
                 "err {err}: {got} vs {want}"
@@ -173,18 +198,19 @@ mod tests {
         }
     }
 
-    /// Monotone in `err` at a fixed history: a larger error never gives a longer step.
+    /// Monotone in `err` at a fixed history: a larger error never gives a longer step (a
+    /// smaller ratio `h_new/h`).
     #[test]
     fn factor_is_monotone() {
         // within each branch (accepted: err ≤ 1, rejected: err > 1; the exact controller also
         // jumps at err = 1, where the history term stops counting)
         for (from, to) in [(1e-20_f64, 1.0), (1.0 + 1e-12, 1e20)] {
-            let mut prev = 0.0;
+            let mut prev = f64::INFINITY;
             let mut e = from;
             while e <= to {
                 let mut c = PiController::new(DOPRI5_CONTROL);
-                let (f, _) = c.step(e);
-                assert!(f >= prev, "{e}: {f} < {prev}");
+                let (f, _) = c.step(e * e);
+                assert!(f <= prev, "{e}: {f} > {prev}");
                 prev = f;
                 e *= 1.01;
             }

@@ -15,10 +15,11 @@
 //! err = |h| · Σ(e5_i/sk_i)² / sqrt(n · (Σ(e5_i/sk_i)² + 0.01 · Σ(e3_i/sk_i)²))
 //! ```
 //!
-//! which behaves like `h⁸` for small `h` and stays robust for large `h`. The controller (in the
-//! shared driver) uses `h_new = h / clamp(err^(1/8) / 0.9, 1/6, 1/0.333)`; `err^(1/8)` is
-//! computed as three square roots (correctly rounded each, so within 1.75 ulp of the exact
-//! power, deterministic on every platform, and without libm `pow`).
+//! which behaves like `h⁸` for small `h` and stays robust for large `h`. The stepper returns
+//! `err²` (no square root on the step's critical path); the controller (`crate::control`, in the
+//! shared driver) takes `log₂ err = ½ log₂ err²` and sets `h_new = h · clamp(0.9 / err^(1/8),
+//! 0.333, 6)` with `err^(1/8)` from its `log₂`/`2^x` kernels (deterministic on every platform,
+//! without libm `pow`).
 //!
 //! Work buffers are generic over [`Buf`] as for Dormand–Prince 5(4): fixed-size arrays for the
 //! small dimensions, `Vec<f64>` otherwise, with the same arithmetic in the same order.
@@ -200,7 +201,8 @@ impl<B: Buf> Stepper for Dop853<B> {
         if deno <= 0.0 {
             deno = 1.0;
         }
-        h.abs() * err5 * (1.0 / (n.max(1) as f64 * deno)).sqrt()
+        // err² (the trait's convention: the controller halves its logarithm)
+        (h * h) * (err5 * err5) / (n.max(1) as f64 * deno)
     }
 
     fn y_new(&self) -> &[f64] {

@@ -1127,13 +1127,16 @@ fn grazing_meets_fold_on_the_duffing_grazing_curve() {
         near.point.parameter
     );
     // the orbit's maximum at that fold on the surface, to the accuracy of F*: the fold is
-    // located on the grazing curve where det(Φ − I) changes sign, known to the monodromy's own
-    // accuracy (above), which places F* to about 1e-8 (F* moves by 1.4e-8 between the flows'
-    // rtol 1e-10 and 1e-12); at the fold the orbit's maximum changes by about 7 per unit of F
-    // (measured: 5.3e-8 at rtol 1e-10, 1.5e-7 at 1e-12, each converged in the rtol of the
-    // extrema's own flow to 1e-12), so the bound is 3e-7
+    // located on the grazing curve where det(Φ − I) changes sign, known only to the
+    // monodromy's own accuracy (|test_fold| up to ~1e-6 at the located point, above), and at
+    // the fold the orbit's maximum changes by about 7 per unit of F. Measured: 5.3e-8 at the
+    // flows' rtol 1e-10, 1.5e-7 at 1e-12 (round 15), 3.1e-7 at 1e-10 with round 21's
+    // controller (whose `log₂` the flows' step control shares): F* scatters by 1e-8 … 4.4e-8
+    // with the step sequence, with no trend in the tolerance. The bound, 1e-6, is that
+    // scatter's largest value times 7 times 3; a maximum off the surface by more than that
+    // would be a fold that is not on the grazing curve
     assert!(
-        near.point.extrema[0][1].abs() < 3e-7,
+        near.point.extrema[0][1].abs() < 1e-6,
         "{:?}",
         near.point.extrema
     );

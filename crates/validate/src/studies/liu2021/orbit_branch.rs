@@ -44,14 +44,15 @@ pub(super) fn study() -> Study {
 /// Arclength locate tolerance (scaled variables: 1 ≈ 1 rad/s or 1 N·m or 0.01 in a_k).
 const LOCATE_TOL: f64 = 1e-6;
 
-/// Where the branch from 220 rad/s down stops crawling ([`orbit::Stall`]): 15 accepted steps
-/// in a row shorter than 0.01 (scaled: 0.01 rad/s). Past the loss of stability near 169 rad/s
-/// the orbits change contact at nearly every step and their multipliers jump (|μ| 10–10⁴):
-/// there the corrector failed at every longer step, and the branch spent about 90 points and
-/// most of the study's CPU within 0.4 rad/s of orbits that no time integration reaches. On
-/// the smooth stretches the steps stay at their 2 rad/s cap; at a single hard point a step
-/// that fell below 0.01 grows back past it by 1.5 per accepted step within 15 steps unless it
-/// fell under 0.01 · 1.5⁻¹⁵ ≈ 2e-5.
+/// Where a branch stops crawling ([`orbit::Stall`]): its last 15 accepted steps shorter than
+/// 0.01 on average (scaled: 0.01 rad/s). Past the loss of stability near 169 rad/s the orbits
+/// change contact at nearly every step and their multipliers jump (|μ| 10–10⁴): there the
+/// corrector failed at most longer steps, and the branch spent about 90 points and most of the
+/// study's CPU within 0.4 rad/s of orbits that no time integration reaches. The same holds
+/// for the unilateral orbits near 157 rad/s, whose event count changes by two at nearly every
+/// step. On the smooth stretches the steps stay at their 2 rad/s cap; at a single hard point
+/// a step that fell to `a` grows back by 1.5 per accepted step, and 15 steps from there sum to
+/// `a (1.5¹⁵ − 1)/0.5 ≈ 874 a`, past the window's 0.15 unless `a` fell under 1.7e-4.
 pub(super) const STALL: orbit::Stall = orbit::Stall {
     points: 15,
     step: 0.01,
@@ -1033,7 +1034,7 @@ pub(super) fn stop_label(b: &Branch) -> String {
             format!("stopped at its first {}", marker(*kind))
         }
         orbit::StopReason::Stalled { points, .. } => {
-            format!("stalled ({points} steps in a row below the stall step)")
+            format!("stalled (its last {points} steps below the stall step on average)")
         }
         other => format!("{other:?}"),
     }
