@@ -67,10 +67,10 @@ for _i in range(1 << LOG2_BITS):
     LOG2_INV[_i] = 1.0 / _c
     LOG2_VAL[_i] = -_ln_series(LOG2_INV[_i]) * LOG2_E
 # `system::numeric::EXP2_COEFFICIENTS`: (ln 2)^k / k!
-_c = [1.0] * 8
+_coef = [1.0] * 8
 for _k in range(1, 8):
-    _c[_k] = _c[_k - 1] * LN_2 / float(_k)
-C0, C1, C2, C3, C4, C5, C6, C7 = _c
+    _coef[_k] = _coef[_k - 1] * LN_2 / float(_k)
+C0, C1, C2, C3, C4, C5, C6, C7 = _coef
 L_A, L_B, L_C = -0.5 * LOG2_E, LOG2_E / 3.0, -0.25 * LOG2_E
 
 
