@@ -14,8 +14,9 @@ The algorithm of `timestep::integrate` with `liu2021::TimeSystem`, step for step
   Hairer's starting step, the last step stretched to t_end
   when t + 1.01 h >= t_end, h <= h_max;
 * a rejected step whose end lies across a gap edge is retried to just past the crossing
-  estimated by linear interpolation, (theta + 1e-3) h, where that shortens it by 10 % or more,
-  at most 4 times between located events (`timestep`'s `Options::crossing_retry`);
+  located on its own dense output (to the event tolerance), max(theta + 1e-4, 1e-3) h, where
+  that shortens it by 10 % or more, at most 4 times between located events (`timestep`'s
+  `Options::crossing_retry`);
 * the gap edges q -+ b as event functions, checked at every accepted step end; a sign change
   is located on the step's dense output (Hairer's contd5) by Illinois regula falsi to 1e-12 in
   time, the step is recomputed to end at the crossing (up to 8 passes) and the sides are updated
@@ -187,6 +188,66 @@ def make(model, kernel):
         _, b, _ = time_functions(t, cache)
         return q - b, q + b
 
+    @numba.njit(cache=False, inline="always")
+    def locate(t, hh, tol, q, nq, k1q, k3q, k4q, k5q, k6q, k7q, side, gp, gn, just_fired,
+               crossing_on, crossing_theta, cache):
+        """The earliest crossing of the step [t, t + hh] on its dense output (Hairer's contd5)
+        by Illinois regula falsi to `tol` in time, as `timestep::record::EventMonitor::locate`;
+        2.0 when there is none."""
+        d1 = -12715105075.0 / 11282082432.0
+        d3 = 87487479700.0 / 32700410799.0
+        d4 = -10690763975.0 / 1880347072.0
+        d5 = 701980252875.0 / 199316789632.0
+        d6 = -1453857185.0 / 822651844.0
+        d7 = 69997945.0 / 29380423.0
+        r1q = q
+        r2q = nq - q
+        r3q = hh * k1q - r2q
+        r4q = r2q - hh * k7q - r3q
+        r5q = hh * (d1 * k1q + d3 * k3q + d4 * k4q + d5 * k5q + d6 * k6q + d7 * k7q)
+        best = 2.0
+        for i in range(2):
+            crossing_on[i] = False
+            s = side[i]
+            gb = gn[i]
+            if s == 0.0 or gb * s > 0.0 or gb != gb:
+                continue
+            a = 0.0
+            fa = gp[i] if gp[i] * s > 0.0 else s * 2.2250738585072014e-308
+            b = 1.0
+            fb = gb
+            retained = 0
+            it = 0
+            while (b - a) * hh > tol and fb != 0.0 and it < 200:
+                it += 1
+                c = (a * fb - b * fa) / (fb - fa)
+                if not (c > a and c < b):
+                    c = 0.5 * (a + b)
+                th1 = 1.0 - c
+                dq = r1q + c * (r2q + th1 * (r3q + c * (r4q + th1 * r5q)))
+                g0, g1 = gap(t + c * hh, dq, cache)
+                fc = g0 if i == 0 else g1
+                if fc != fc:
+                    break
+                if fc * s > 0.0:
+                    a = c
+                    fa = fc
+                    if retained == 1:
+                        fb *= 0.5
+                    retained = 1
+                else:
+                    b = c
+                    fb = fc
+                    if retained == -1:
+                        fa *= 0.5
+                    retained = -1
+            if just_fired[i] and b * hh <= tol:
+                continue
+            crossing_on[i] = True
+            crossing_theta[i] = b
+            best = min(best, b)
+        return best
+
     @numba.njit(cache=False)
     def integrate(y0q, y0v, t_end, rtol, atol, h_max, event_tol):
         a21 = 1.0 / 5.0
@@ -199,12 +260,6 @@ def make(model, kernel):
         e1, e3, e4 = 71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0
         e5, e6, e7 = -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0
         c2, c3, c4, c5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
-        d1 = -12715105075.0 / 11282082432.0
-        d3 = 87487479700.0 / 32700410799.0
-        d4 = -10690763975.0 / 1880347072.0
-        d5 = 701980252875.0 / 199316789632.0
-        d6 = -1453857185.0 / 822651844.0
-        d7 = 69997945.0 / 29380423.0
         cache = np.empty(4)
         cache[0] = np.nan
         t = 0.0
@@ -317,54 +372,8 @@ def make(model, kernel):
                         may = True
                 if not may or passes == 8:
                     break
-                # dense output of this step
-                r1q, r1v = q, v
-                r2q, r2v = nq - q, nv - v
-                r3q, r3v = hh * k1q - r2q, hh * k1v - r2v
-                r4q, r4v = r2q - hh * k7q - r3q, r2v - hh * k7v - r3v
-                r5q = hh * (d1 * k1q + d3 * k3q + d4 * k4q + d5 * k5q + d6 * k6q + d7 * k7q)
-                r5v = hh * (d1 * k1v + d3 * k3v + d4 * k4v + d5 * k5v + d6 * k6v + d7 * k7v)
-                best = 2.0
-                for i in range(2):
-                    crossing_on[i] = False
-                    s = side[i]
-                    gb = gn[i]
-                    if s == 0.0 or gb * s > 0.0 or gb != gb:
-                        continue
-                    a = 0.0
-                    fa = gp[i] if gp[i] * s > 0.0 else s * 2.2250738585072014e-308
-                    b = 1.0
-                    fb = gb
-                    retained = 0
-                    it = 0
-                    while (b - a) * hh > event_tol and fb != 0.0 and it < 200:
-                        it += 1
-                        c = (a * fb - b * fa) / (fb - fa)
-                        if not (c > a and c < b):
-                            c = 0.5 * (a + b)
-                        th1 = 1.0 - c
-                        dq = r1q + c * (r2q + th1 * (r3q + c * (r4q + th1 * r5q)))
-                        g0, g1 = gap(t + c * hh, dq, cache)
-                        fc = g0 if i == 0 else g1
-                        if fc != fc:
-                            break
-                        if fc * s > 0.0:
-                            a = c
-                            fa = fc
-                            if retained == 1:
-                                fb *= 0.5
-                            retained = 1
-                        else:
-                            b = c
-                            fb = fc
-                            if retained == -1:
-                                fa *= 0.5
-                            retained = -1
-                    if just_fired[i] and b * hh <= event_tol:
-                        continue
-                    crossing_on[i] = True
-                    crossing_theta[i] = b
-                    best = min(best, b)
+                best = locate(t, hh, event_tol, q, nq, k1q, k3q, k4q, k5q, k6q, k7q, side, gp,
+                              gn, just_fired, crossing_on, crossing_theta, cache)
                 if passes == 0 and best <= 1.0:
                     caps = 0
                 if best > 1.0:
@@ -379,23 +388,24 @@ def make(model, kernel):
             if passes == 0 and err > 1.0:
                 h_next = h * ratio11
                 if caps < 4:
-                    # geardyn's retry at the linearly estimated crossing (`crossing_retry`)
-                    g0, g1 = gap(t + hh, nq, cache)
-                    th_best = 2.0
+                    # geardyn's retry at the crossing located on the rejected step's dense
+                    # output (`crossing_retry`): to the event tolerance, the retry 1e-4 h past
+                    # it, at least 1e-3 h
+                    gn[0], gn[1] = gap(t + hh, nq, cache)
+                    may = False
                     for i in range(2):
                         s = side[i]
-                        ga = gp[i]
-                        gb = g0 if i == 0 else g1
-                        if s == 0.0 or gb * s > 0.0 or gb != gb or ga * s <= 0.0:
-                            continue
-                        th = ga / (ga - gb)
-                        if th > 0.0 and th <= 1.0:
-                            th_best = min(th_best, th)
-                    if th_best <= 1.0:
-                        cap = min(th_best + 1e-3, 1.0) * h
-                        if cap <= 0.9 * h:
-                            h_next = cap
-                            caps += 1
+                        if not (s == 0.0 or gn[i] * s > 0.0 or gn[i] != gn[i]):
+                            may = True
+                    if may:
+                        th_best = locate(t, h, event_tol, q, nq, k1q, k3q, k4q, k5q, k6q, k7q,
+                                         side, gp, gn, just_fired, crossing_on, crossing_theta,
+                                         cache)
+                        if th_best <= 1.0:
+                            cap = min(max(th_best + 1e-4, 1e-3), 1.0) * h
+                            if cap <= 0.9 * h:
+                                h_next = cap
+                                caps += 1
                 h = h_next
                 nrej += 1
                 last_rej = True

@@ -14,13 +14,15 @@
 //!   rejections to step off it. Optionally ([`FlowOptions::crossing_retry`], off by default)
 //!   the retry ends instead just past the crossing estimated by linear interpolation of the
 //!   event functions, `θ = g(t)/(g(t) − g(t+h))`, at `(θ + 10⁻³) h` — the rule of
-//!   `geardyn-timestep`'s driver — if that shortens the step by 10 % or more, at most four times
-//!   between located events. It is off because the steps that then end at the events are
-//!   longer, and the variational equations lose accuracy across contact events with a
-//!   time-dependent gap: the monodromy of the rattling spur pair against finite differences of
-//!   the time stepping, 1.4e-4 without the retry, 1.1e-3 with it. On Liu's bilateral period-1
-//!   orbits (160–220 rad/s, one period) the no-growth rule alone removes 40–44 % of the
-//!   rejections (11 % of the attempted steps at 220 rad/s), the retry another 22 % of them.
+//!   `geardyn-timestep`'s driver until it began to locate the crossing on the rejected
+//!   step's dense output, which the flows do not have — if that shortens the step by 10 % or
+//!   more, at most four times between located events. It is off because the steps that then
+//!   end at the events are longer, and the variational equations lose accuracy across contact
+//!   events with a time-dependent gap: the monodromy of the rattling spur pair against finite
+//!   differences of the time stepping, 1.4e-4 without the retry, 1.1e-3 with it. On Liu's
+//!   bilateral period-1 orbits (160–220 rad/s, one period) the no-growth rule alone removes
+//!   40–44 % of the rejections (11 % of the attempted steps at 220 rad/s), the retry another
+//!   22 % of them.
 
 use crate::error::{OrbitError, Result, check};
 use crate::impact::ImpactLaw;
@@ -713,8 +715,10 @@ fn err_pow(err: f64, e: f64) -> f64 {
 }
 
 /// How far past the linearly estimated crossing a retried step ends, as a fraction of the
-/// rejected step (the time stepping's rule, `geardyn-timestep`'s crate docs, "Steps across a
-/// switching surface").
+/// rejected step. This was the time stepping's rule until `geardyn-timestep` began to locate
+/// the crossing on the rejected step's dense output (its crate docs, "Steps across a switching
+/// surface"); the flows have no dense output (they locate events by stepping again), and
+/// their retry is off by default.
 const CROSSING_MARGIN: f64 = 1e-3;
 
 /// Retries capped at an estimated crossing between two located events: an estimate that keeps

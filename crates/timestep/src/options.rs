@@ -77,8 +77,9 @@ pub struct Options {
     /// What to store (default [`Output::Steps`]).
     pub output: Output,
     /// Whether a rejected step whose end lies across a switching surface is retried to just
-    /// past the linearly estimated crossing (default true; crate docs, "Steps across a
-    /// switching surface"). Off: the controller's shrink factor alone, as in Hairer's codes.
+    /// past the crossing located on its own dense output (default true; crate docs, "Steps
+    /// across a switching surface"). Off: the controller's shrink factor alone, as in Hairer's
+    /// codes.
     #[cfg_attr(feature = "serde", serde(default = "default_crossing_retry"))]
     pub crossing_retry: bool,
 }

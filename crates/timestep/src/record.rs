@@ -205,22 +205,6 @@ impl EventMonitor {
             .any(|(&s, &gb)| !(s == 0.0 || gb * s > 0.0 || gb.is_nan()))
     }
 
-    /// With `g_new` evaluated at the end of a *rejected* step `[t, t+h]`: the earliest
-    /// crossing of an accepted direction estimated by linear interpolation of the event
-    /// functions, `θ_i = g_i(t)/(g_i(t) − g_i(t+h))`, as a step fraction in `(0, 1]`, or
-    /// `None`. The driver caps the retried step there: a step that straddles a switching
-    /// surface carries the kink in its error estimate, and the controller's shrink factor
-    /// alone takes several rejections to step off it.
-    pub(crate) fn crossing_estimate<S: OdeSystem + ?Sized>(&self, sys: &S) -> Option<f64> {
-        let ne = self.ne;
-        system::earliest_crossing(
-            &self.side[..ne],
-            &self.g_prev[..ne],
-            &self.g_new[..ne],
-            |i, dir| sys.event_direction(i).accepts(dir),
-        )
-    }
-
     /// With `g_new` evaluated at the end of a step `[t, t+h]`, finds and locates accepted
     /// crossings. Returns the earliest `theta` (post-crossing end of the final bracket).
     pub(crate) fn locate<S: OdeSystem + ?Sized>(
