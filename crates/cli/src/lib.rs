@@ -88,7 +88,7 @@ impl StderrProgress {
 }
 
 /// The progress of `geardyn validate`: one bar over the whole run, in expected CPU seconds
-/// ([`validate::RunProgress`]: finished studies plus the finished points of the running ones),
+/// ([`validate::RunProgress`]: finished studies plus the CPU time of the running ones),
 /// with studies and points done and an ETA; on a non-terminal a plain line at most every 10 %
 /// or 30 s, and at the end.
 struct WorkProgress {

@@ -175,7 +175,7 @@ fn record(
         }
         let t0 = t_rec + (w * o.periods) as f64 * period;
         let t1 = t0 + o.periods as f64 * period;
-        let rec = run(
+        let mut rec = run(
             model,
             t0,
             &y,
@@ -203,7 +203,8 @@ fn record(
                 }
             })
             .collect();
-        let (mut t, mut q, mut v) = (rec.t.clone(), rec.component(0), rec.component(1));
+        let (mut q, mut v) = (rec.component(0), rec.component(1));
+        let mut t = std::mem::take(&mut rec.t);
         // the uniform grid may stop a rounding error short of t1: close it with the final state
         if t.last().is_some_and(|&tl| tl < t1 - 1e-9 * period) {
             t.push(rec.t_final);

@@ -11,7 +11,12 @@
 //! (why: the branch stopped, or left the range before reaching it). The unilateral-onset
 //! grazing of every slice is also continued in both parameters (codim-2, along the global
 //! mesh-period maximum of the drive-flank event function), so the onset curve runs between
-//! and past the slices where the continuation holds.
+//! and past the slices where the continuation holds. Between two slices whose interval of the
+//! second parameter the codim-2 curves cover, the slices' onset grazings are not joined by a
+//! straight piece: the continued curve is the boundary there, and a chord across a bending
+//! boundary would be judged as a curve of its own (round 22: 8 of the 11 curve cells of the
+//! (ω1, T2) chart that separated no states lay on that chord, 3 to 8 rad/s beside the
+//! continued curve). A straight piece stays where no continued curve spans the interval.
 //!
 //! The agreement rows hold the map and the curves against each other: every cell whose rattle
 //! state differs from a 4-neighbour's (a boundary cell) must lie within one cell of a curve,
@@ -195,7 +200,8 @@ struct Slice {
 }
 
 /// A curve of a chart: its name, style and one point per slice (NaN: none on that slice, with
-/// the reason in `why`); `stable[k]`: the orbit at the point is stable.
+/// the reason in `why`); `stable[k]`: the orbit at the point is stable; `breaks[k]`: no piece
+/// is drawn from point `k` to point `k + 1` (missing entries: drawn).
 struct Boundary {
     label: String,
     style: CurveStyle,
@@ -203,6 +209,47 @@ struct Boundary {
     points: Vec<(f64, f64)>,
     stable: Vec<bool>,
     why: Vec<String>,
+    breaks: Vec<bool>,
+}
+
+impl Boundary {
+    /// Whether the piece from point `k` to point `k + 1` is drawn.
+    fn joined(&self, k: usize) -> bool {
+        self.style != CurveStyle::Crosses && !self.breaks.get(k).copied().unwrap_or(false)
+    }
+
+    /// The points as drawn: a non-finite point after each break (the plot's gap).
+    fn drawn_points(&self) -> Vec<(f64, f64)> {
+        let mut out = Vec::with_capacity(self.points.len());
+        for (k, &p) in self.points.iter().enumerate() {
+            out.push(p);
+            if k + 1 < self.points.len() && self.style != CurveStyle::Crosses && !self.joined(k) {
+                out.push((f64::NAN, f64::NAN));
+            }
+        }
+        out
+    }
+}
+
+/// Whether the intervals `ranges` (each `[lo, hi]`) together cover `[a, b]`.
+fn covered(ranges: &[(f64, f64)], a: f64, b: f64) -> bool {
+    let mut r: Vec<(f64, f64)> = ranges
+        .iter()
+        .copied()
+        .filter(|&(lo, hi)| lo.is_finite() && hi.is_finite() && lo <= hi)
+        .collect();
+    r.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut reach = a;
+    for (lo, hi) in r {
+        if lo > reach {
+            break;
+        }
+        reach = reach.max(hi);
+        if reach >= b {
+            return true;
+        }
+    }
+    reach >= b
 }
 
 /// The first special point of `kind` on a branch as `(ω1, stable)`.
@@ -251,6 +298,7 @@ fn boundaries(slices: &[Slice]) -> Vec<Boundary> {
             points: Vec::new(),
             stable: Vec::new(),
             why: Vec::new(),
+            breaks: Vec::new(),
         };
         for s in slices {
             let branch = if up { &s.up } else { &s.down };
@@ -300,6 +348,7 @@ fn boundaries(slices: &[Slice]) -> Vec<Boundary> {
         points: Vec::new(),
         stable: Vec::new(),
         why: Vec::new(),
+        breaks: Vec::new(),
     };
     for s in slices {
         match s.down.as_ref().ok().and_then(stability_limit) {
@@ -324,6 +373,7 @@ fn boundaries(slices: &[Slice]) -> Vec<Boundary> {
         points: Vec::new(),
         stable: Vec::new(),
         why: Vec::new(),
+        breaks: Vec::new(),
     };
     for s in slices {
         for br in [&s.up, &s.down].into_iter().flatten() {
@@ -348,8 +398,8 @@ fn index(v: f64, ax: &[f64]) -> Option<usize> {
 }
 
 /// The cells a curve passes through: each drawn piece sampled at 64 points per segment, each
-/// isolated point (crosses, or a point between two gaps) its own cell; with the stability of
-/// the orbit at the nearer end.
+/// isolated point (crosses, or a point between two gaps or breaks) its own cell; with the
+/// stability of the orbit at the nearer end.
 fn curve_cells(c: &Boundary, xs: &[f64], ys: &[f64]) -> Vec<(usize, usize, bool)> {
     let mut cells: Vec<(usize, usize, bool)> = Vec::new();
     let mut push = |x: f64, y: f64, st: bool| {
@@ -365,7 +415,7 @@ fn curve_cells(c: &Boundary, xs: &[f64], ys: &[f64]) -> Vec<(usize, usize, bool)
             continue;
         }
         push(p.0, p.1, c.stable[k]);
-        if c.style == CurveStyle::Crosses {
+        if !c.joined(k) {
             continue;
         }
         if let Some(q) = c.points.get(k + 1).filter(|q| ok(q)) {
@@ -693,6 +743,37 @@ fn run() -> Result<StudyOutput, Error> {
             None,
         );
         let t_codim2 = cpu_now() - t2;
+        // the slices' onset grazings: no chord between two slices whose interval the codim-2
+        // curves cover (module docs)
+        let spans: Vec<(f64, f64)> = codim2
+            .iter()
+            .filter_map(|c| c.as_ref().ok())
+            .filter(|(c2, _)| !c2.is_empty())
+            .map(|(c2, _)| {
+                c2.iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                        (lo.min(p.1), hi.max(p.1))
+                    })
+            })
+            .collect();
+        let onset = &mut curves[0];
+        onset.breaks = (0..onset.points.len())
+            .map(|k| {
+                let p = onset.points[k];
+                onset.points.get(k + 1).is_some_and(|q| {
+                    p.0.is_finite()
+                        && q.0.is_finite()
+                        && covered(&spans, p.1.min(q.1), p.1.max(q.1))
+                })
+            })
+            .collect();
+        for (k, &b) in onset.breaks.iter().enumerate() {
+            if b {
+                onset.why[k] =
+                    "not joined to the next slice: the codim-2 curves cover the interval"
+                        .to_owned();
+            }
+        }
         let points: usize = slices
             .iter()
             .flat_map(|s| [&s.up, &s.down])
@@ -861,6 +942,7 @@ fn run() -> Result<StudyOutput, Error> {
                 points: c2.iter().map(|p| (p.0, p.1)).collect(),
                 stable: c2.iter().map(|p| p.2).collect(),
                 why: vec![String::new(); c2.len()],
+                breaks: Vec::new(),
             });
         }
         cost_t.push(vec![
@@ -887,7 +969,7 @@ fn run() -> Result<StudyOutput, Error> {
         for c in &curves {
             map = map.with_curve(Curve {
                 label: c.label.clone(),
-                points: c.points.clone(),
+                points: c.drawn_points(),
                 style: c.style,
                 colour: c.colour,
             })?;
@@ -1004,6 +1086,7 @@ mod tests {
             points,
             stable: vec![stable; n],
             why: vec![String::new(); n],
+            breaks: Vec::new(),
         }
     }
 
@@ -1011,6 +1094,45 @@ mod tests {
     /// every curve cell separates; a second curve inside one state is unexplained when its
     /// orbit is stable and named (unstable orbit) when not; a non-period-1 cell names the
     /// boundary beside it.
+    /// Interval cover: overlapping and touching intervals join, a gap anywhere fails, and
+    /// unordered or non-finite intervals count for nothing.
+    #[test]
+    fn intervals_cover_only_without_gaps() {
+        assert!(covered(&[(0.0, 2.0), (1.5, 4.0)], 0.5, 3.5));
+        assert!(covered(&[(1.5, 4.0), (0.0, 1.5)], 0.0, 4.0));
+        assert!(!covered(&[(0.0, 1.0), (1.1, 4.0)], 0.5, 3.5));
+        assert!(!covered(&[(0.0, 3.0)], 0.5, 3.5));
+        assert!(!covered(&[(0.2, 4.0)], 0.0, 1.0));
+        assert!(!covered(&[(f64::NAN, 5.0), (3.0, 1.0)], 1.5, 2.0));
+        assert!(!covered(&[], 0.0, 1.0));
+    }
+
+    /// A broken piece is neither sampled into curve cells nor drawn: its two ends are isolated
+    /// points, and the plot gets a gap between them.
+    #[test]
+    fn a_broken_piece_has_no_cells_and_a_gap() {
+        let xs: Vec<f64> = (0..10).map(f64::from).collect();
+        let ys = xs.clone();
+        let mut c = boundary(vec![(1.0, 1.0), (8.0, 8.0), (8.0, 9.0)], true);
+        let joined = curve_cells(&c, &xs, &ys).len();
+        assert_eq!(joined, 9); // the diagonal 1..=8 and (8, 9)
+        c.breaks = vec![true, false, false];
+        let cells: Vec<(usize, usize)> = curve_cells(&c, &xs, &ys)
+            .iter()
+            .map(|&(i, j, _)| (i, j))
+            .collect();
+        assert_eq!(cells, vec![(1, 1), (8, 8), (8, 9)]);
+        let drawn = c.drawn_points();
+        assert_eq!(drawn.len(), 4);
+        assert!(drawn[1].0.is_nan() && drawn[1].1.is_nan());
+        assert_eq!((drawn[2], drawn[3]), ((8.0, 8.0), (8.0, 9.0)));
+        // crosses are never joined, and get no gap markers
+        c.style = CurveStyle::Crosses;
+        c.breaks.clear();
+        assert_eq!(c.drawn_points().len(), 3);
+        assert_eq!(curve_cells(&c, &xs, &ys).len(), 3);
+    }
+
     #[test]
     fn agreement_counts_boundaries_and_curves() {
         let xs: Vec<f64> = (0..6).map(f64::from).collect();
