@@ -1090,10 +1090,6 @@ mod tests {
         }
     }
 
-    /// A 6 × 4 map split at x = 2.5 by a vertical curve: every boundary cell is near it and
-    /// every curve cell separates; a second curve inside one state is unexplained when its
-    /// orbit is stable and named (unstable orbit) when not; a non-period-1 cell names the
-    /// boundary beside it.
     /// Interval cover: overlapping and touching intervals join, a gap anywhere fails, and
     /// unordered or non-finite intervals count for nothing.
     #[test]
@@ -1133,6 +1129,10 @@ mod tests {
         assert_eq!(curve_cells(&c, &xs, &ys).len(), 3);
     }
 
+    /// A 6 × 4 map split at x = 2.5 by a vertical curve: every boundary cell is near it and
+    /// every curve cell separates; a second curve inside one state is unexplained when its
+    /// orbit is stable and named (unstable orbit) when not; a non-period-1 cell names the
+    /// boundary beside it.
     #[test]
     fn agreement_counts_boundaries_and_curves() {
         let xs: Vec<f64> = (0..6).map(f64::from).collect();
