@@ -215,11 +215,16 @@ mod tests {
         let p0 = m.read(&accounts);
         assert_eq!((p0.studies_done, p0.work_done.to_bits()), (0, 0));
         // some points of the first study: the CPU time they took, below 95 % of its expected
-        // time (each point spins until its thread has used 2 ms of CPU)
+        // time (each point spins until its thread has used 2 ms of CPU, for at most 1 s of
+        // wall time: where the thread clock cannot be read it stays at 0, and the assertion
+        // below fails instead of the loop running on)
         let spin = |x: &u64| {
             let t0 = system::account::thread_cpu_ns();
+            let wall = std::time::Instant::now();
             let mut k = *x;
-            while system::account::thread_cpu_ns() < t0 + 2_000_000 {
+            while system::account::thread_cpu_ns() < t0 + 2_000_000
+                && wall.elapsed() < std::time::Duration::from_secs(1)
+            {
                 k = std::hint::black_box(k.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1));
             }
             k

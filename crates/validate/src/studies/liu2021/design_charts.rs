@@ -218,12 +218,13 @@ impl Boundary {
         self.style != CurveStyle::Crosses && !self.breaks.get(k).copied().unwrap_or(false)
     }
 
-    /// The points as drawn: a non-finite point after each break (the plot's gap).
+    /// The points as drawn: a non-finite point after each break (the plot's gap; crosses have
+    /// no breaks).
     fn drawn_points(&self) -> Vec<(f64, f64)> {
         let mut out = Vec::with_capacity(self.points.len());
         for (k, &p) in self.points.iter().enumerate() {
             out.push(p);
-            if k + 1 < self.points.len() && self.style != CurveStyle::Crosses && !self.joined(k) {
+            if k + 1 < self.points.len() && self.breaks.get(k).copied().unwrap_or(false) {
                 out.push((f64::NAN, f64::NAN));
             }
         }
