@@ -1246,13 +1246,14 @@ mod tests {
     /// `lyapunov = "on"` adds the Lyapunov columns (off by default: absent); on a settled
     /// periodic point the full spectrum (k = 2) sums to the mean divergence `−c` of the linear
     /// damping (the mesh force only kinks: `S = I`), to the flow's accuracy, and both
-    /// exponents are negative (a short run: 6 periods; the convergence flag is 0 or 1).
+    /// exponents are negative (a short run: 3 transient periods, 6 of exponents; the
+    /// convergence flag is 0 or 1).
     #[test]
     fn lyapunov_columns_are_opt_in_and_obey_the_volume_law() {
         let fixed = [
             ("settle", Value::Text("fixed".into())),
             ("record_periods", Value::Num(1.0)),
-            ("transient_periods", Value::Num(10.0)),
+            ("transient_periods", Value::Num(3.0)),
         ];
         let off = ts_solve(&fixed, 100.0).unwrap();
         assert!(off.get("lambda1").is_none());

@@ -100,14 +100,14 @@ fn validation_names_the_field() {
 
 /// `transient_rtol`: `Some(rtol)` is the default run bit for bit; a transient at 1e-8 before a
 /// window at 1e-10 takes fewer steps and leaves the settled window within the window's own
-/// tolerance band of the all-1e-10 run (the unilateral orbit at 140 rad/s, 30 + 2 periods:
+/// tolerance band of the all-1e-10 run (the unilateral orbit at 140 rad/s, 12 + 2 periods:
 /// the same contact events, the same rattle state, `q` within 1e-8 b̄); a bad value is an error
 /// naming the field.
 #[test]
 fn transient_rtol_settles_on_the_same_window() {
     let m = paper(140.0).model().unwrap();
     let tight = IntegrationOptions {
-        transient_periods: 30.0,
+        transient_periods: 12.0,
         record_periods: 2.0,
         sample_step: m.period() / 64.0,
         rtol: 1e-10,

@@ -6,15 +6,15 @@
 use geardyn_study::shard::ShardSpec;
 use geardyn_study::{RunOptions, UserStudyOutput, run_study_from_str};
 
-/// A 2 × 2 Liu basin at ε = 0, 160 rad/s with short windows (20 periods from the start, none
-/// discarded: a mechanics test, not a settled answer), so
-/// that the test stays fast at opt-level 0.
+/// A 2 × 2 Liu basin at ε = 0, 160 rad/s with short, coarse windows (20 periods from the start,
+/// none discarded, rtol 1e-5, samples every 1.0: a mechanics test, not a settled answer), so that
+/// the test stays fast at opt-level 0.
 fn liu_basin(extra: &str) -> String {
     format!(
         "name = \"b\"\nmodel = \"liu2021\"\n[overrides]\neccentricity = 0.0\nomega1 = 160.0\n\
          readings.base_radius = \"mean\"\n[solver]\nmethod = \"time-stepping\"\n\
          [solver.settings]\nwindow_periods = 20\nmax_transient_periods = 0\n\
-         transient_periods = 0\n[basin]\nq = {{ from = -2.0, to = 0.5, steps = 2 }}\n\
+         transient_periods = 0\nrtol = 1e-5\nsample_step = 1.0\n[basin]\nq = {{ from = -2.0, to = 0.5, steps = 2 }}\n\
          q_dot = {{ from = -0.5, to = 0.5, steps = 2 }}\n{extra}"
     )
 }

@@ -763,7 +763,7 @@ fn liu_shooting_columns_match_the_orbit_crate() {
     let out = run(
         "name = \"s\"\nmodel = \"liu2021\"\n[overrides]\nbase_radius = \"mean\"\n\
                    [sweep]\nparameter = \"omega1\"\nfrom = 130.0\nto = 140.0\nsteps = 2\n\
-                   [solver]\nmethod = \"shooting\"\n[solver.settings]\ntransient_periods = 50\n",
+                   [solver]\nmethod = \"shooting\"\n[solver.settings]\ntransient_periods = 10\n",
     );
     let (rsv, drive, back) = (
         col(&out, "rsv"),
@@ -783,7 +783,7 @@ fn liu_shooting_columns_match_the_orbit_crate() {
     let r = liu2021::integrate(
         &m,
         &liu2021::IntegrationOptions {
-            transient_periods: 49.0,
+            transient_periods: 9.0,
             record_periods: 1.0,
             sample_step: m.period() / 8.0,
             initial: Some((-m.backlash - m.b0, 0.0)),
@@ -812,7 +812,7 @@ fn liu_shooting_columns_match_the_orbit_crate() {
     let out8 = run(
         "name = \"s\"\nmodel = \"liu2021\"\n[overrides]\nbase_radius = \"mean\"\n\
                    [sweep]\nparameter = \"omega1\"\nfrom = 130.0\nto = 140.0\nsteps = 2\n\
-                   [solver]\nmethod = \"shooting\"\n[solver.settings]\ntransient_periods = 50\n\
+                   [solver]\nmethod = \"shooting\"\n[solver.settings]\ntransient_periods = 10\n\
                    flow_method = \"dop853\"\n",
     );
     let o8 = orbit::OrbitProblem::new(m, m.period())
