@@ -14,7 +14,8 @@ fn liu_basin(extra: &str) -> String {
         "name = \"b\"\nmodel = \"liu2021\"\n[overrides]\neccentricity = 0.0\nomega1 = 160.0\n\
          readings.base_radius = \"mean\"\n[solver]\nmethod = \"time-stepping\"\n\
          [solver.settings]\nwindow_periods = 20\nmax_transient_periods = 0\n\
-         transient_periods = 0\nrtol = 1e-5\nsample_step = 1.0\n[basin]\nq = {{ from = -2.0, to = 0.5, steps = 2 }}\n\
+         transient_periods = 0\nrtol = 1e-5\nsample_step = 1.0\n\
+         [basin]\nq = {{ from = -2.0, to = 0.5, steps = 2 }}\n\
          q_dot = {{ from = -0.5, to = 0.5, steps = 2 }}\n{extra}"
     )
 }
