@@ -87,10 +87,10 @@ pub struct RunProgress {
     /// A running study counts its CPU time, not the fraction of its points done: the points of
     /// one study differ in cost by orders of magnitude (`liu2021-design-charts`: 3200 map cells
     /// of about 50 ms, then twenty continuation branches of several seconds each), so a count
-    /// of points ran ahead of the work and the ETA of a whole run read about a third of the
-    /// time left (round 22: "eta 75 s" at 51 % after 2.5 minutes of a 10-minute run). CPU time
-    /// reaches an account when a sweep point or an account's scope ends (`system::account`), so
-    /// a study counts in steps of its points, and one without sweep points only when it ends.
+    /// of points would run ahead of the work (an ETA of about a third of the time left). CPU
+    /// time reaches an account when a sweep point or an account's scope ends
+    /// (`system::account`), so a study counts in steps of its points, and one without sweep
+    /// points only when it ends.
     pub work_done: f64,
     /// The expected CPU seconds of all the studies of the run.
     pub work_total: f64,

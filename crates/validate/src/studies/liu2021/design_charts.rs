@@ -14,9 +14,9 @@
 //! and past the slices where the continuation holds. Between two slices whose interval of the
 //! second parameter the codim-2 curves cover, the slices' onset grazings are not joined by a
 //! straight piece: the continued curve is the boundary there, and a chord across a bending
-//! boundary would be judged as a curve of its own (round 22: 8 of the 11 curve cells of the
-//! (ω1, T2) chart that separated no states lay on that chord, 3 to 8 rad/s beside the
-//! continued curve). A straight piece stays where no continued curve spans the interval.
+//! boundary would be judged as a curve of its own (in the (ω1, T2) chart such a chord runs 3 to
+//! 8 rad/s beside the continued curve). A straight piece stays where no continued curve spans
+//! the interval.
 //!
 //! The agreement rows hold the map and the curves against each other: every cell whose rattle
 //! state differs from a 4-neighbour's (a boundary cell) must lie within one cell of a curve,
@@ -213,9 +213,14 @@ struct Boundary {
 }
 
 impl Boundary {
+    /// Whether a break follows point `k` (missing entries: none).
+    fn broken(&self, k: usize) -> bool {
+        self.breaks.get(k).copied().unwrap_or(false)
+    }
+
     /// Whether the piece from point `k` to point `k + 1` is drawn.
     fn joined(&self, k: usize) -> bool {
-        self.style != CurveStyle::Crosses && !self.breaks.get(k).copied().unwrap_or(false)
+        self.style != CurveStyle::Crosses && !self.broken(k)
     }
 
     /// The points as drawn: a non-finite point after each break (the plot's gap; crosses have
@@ -224,7 +229,7 @@ impl Boundary {
         let mut out = Vec::with_capacity(self.points.len());
         for (k, &p) in self.points.iter().enumerate() {
             out.push(p);
-            if k + 1 < self.points.len() && self.breaks.get(k).copied().unwrap_or(false) {
+            if k + 1 < self.points.len() && self.broken(k) {
                 out.push((f64::NAN, f64::NAN));
             }
         }
@@ -246,9 +251,6 @@ fn covered(ranges: &[(f64, f64)], a: f64, b: f64) -> bool {
             break;
         }
         reach = reach.max(hi);
-        if reach >= b {
-            return true;
-        }
     }
     reach >= b
 }
