@@ -10,7 +10,7 @@
 //!   `validation/verdicts.csv` at REV (default: merge base with `main`) and the working tree.
 //! * `cargo xtask study <file.toml>` — run a user study (format in `docs/studies.md`).
 //! * `cargo xtask heavy-tests` — the heavy numerical tests (`#[ignore = "heavy: …"]` in
-//!   `geardyn-models`, `geardyn-orbit` and `geardyn-study`), optimised: `cargo test --profile
+//!   `geardyn-models`, `geardyn-orbit`, `geardyn-study` and `geardyn-validate`), optimised: `cargo test --profile
 //!   validate` with `--ignored`. `cargo test --workspace` skips them so that the contributor loop stays short
 //!   (issue 26); `.ci/run` runs both.
 //!
@@ -65,8 +65,8 @@ enum Cmd {
     },
     /// Run the heavy numerical tests (ignored by `cargo test --workspace`) in the optimised
     /// `validate` profile: `cargo test --profile validate -p geardyn-models -p geardyn-orbit
-    /// -p geardyn-study --lib --tests -- --ignored --skip fuzz::`, then ARGS (e.g. a test-name
-    /// filter).
+    /// -p geardyn-study -p geardyn-validate --lib --tests -- --ignored --skip fuzz::`, then ARGS
+    /// (e.g. a test-name filter).
     HeavyTests {
         /// Passed to the test binaries after `--ignored` (filters, `--nocapture`, ...).
         #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
@@ -110,6 +110,8 @@ fn heavy_tests(args: &[String]) -> ExitCode {
         "geardyn-orbit",
         "-p",
         "geardyn-study",
+        "-p",
+        "geardyn-validate",
         "--lib",
         "--tests",
         "--",

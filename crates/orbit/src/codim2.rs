@@ -1083,6 +1083,11 @@ pub enum EnvelopeEnd {
     /// The first point of a restart did not converge (the error of
     /// [`OrbitProblem::continue_codim2`]).
     RestartFailed(OrbitError),
+    /// The envelope came back to a double grazing it had already passed, travelling the same
+    /// way in `λ₂`: the restarts went round a cluster of local extrema that lie close to the
+    /// surface together, and would retrace the same pieces again up to the switch cap. The
+    /// pieces of the first round are kept; the last one ends at the repeated double grazing.
+    Cycle,
 }
 
 /// A grazing curve followed along the **global** extremum of its event function
@@ -1102,9 +1107,18 @@ impl GrazingEnvelope {
     /// of a piece that stopped with [`Degeneracy::GrazingNotGlobal`] (there another extremum
     /// already crossed the surface, so that point bounds no contact).
     pub fn points(&self) -> Vec<&Codim2BranchPoint> {
+        self.points_by_piece().into_iter().map(|(_, p)| p).collect()
+    }
+
+    /// [`GrazingEnvelope::points`] with the index of the piece each lies on: the envelope is
+    /// smooth within a piece and has a kink (the double grazing) between two (for
+    /// interpolation between the points, or estimates of its curvature, that stay on one
+    /// smooth piece).
+    pub fn points_by_piece(&self) -> Vec<(usize, &Codim2BranchPoint)> {
         self.pieces
             .iter()
-            .flat_map(|b| {
+            .enumerate()
+            .flat_map(|(k, b)| {
                 let past = matches!(
                     b.stop,
                     StopReason::Degenerate {
@@ -1112,7 +1126,9 @@ impl GrazingEnvelope {
                         ..
                     }
                 );
-                b.points[..b.points.len() - usize::from(past && !b.points.is_empty())].iter()
+                b.points[..b.points.len() - usize::from(past && !b.points.is_empty())]
+                    .iter()
+                    .map(move |p| (k, p))
             })
             .collect()
     }
@@ -1149,9 +1165,12 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     ///   still global), in the opposite direction (the envelope has a corner at the double
     ///   grazing and turns back in `λ₂`).
     ///
-    /// A try counts when its first point is the global extremum. Every other stop reason ends the envelope, and so does a restart
-    /// whose first point is again not global ([`EnvelopeEnd::NoProgress`]) or does not
-    /// converge ([`EnvelopeEnd::RestartFailed`]): the pieces traced are kept.
+    /// A try counts when its first point is the global extremum. Every other stop reason ends
+    /// the envelope, and so does a restart whose first point is again not global
+    /// ([`EnvelopeEnd::NoProgress`]) or does not converge ([`EnvelopeEnd::RestartFailed`]), and
+    /// a double grazing met a second time travelling the same way ([`EnvelopeEnd::Cycle`]: the
+    /// bracketed double grazing within `corrector.locate_tol` of an earlier one in the scaled
+    /// parameters `λ₁/first_scale`, `λ₂/parameter_scale`): the pieces traced are kept.
     ///
     /// # Errors
     /// `start` is not a [`SpecialKind::Grazing`]; `max_switches > MAX_ENVELOPE_SWITCHES`; the
@@ -1190,6 +1209,9 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
                 }
             )
         };
+        // the double grazings passed: (λ₁/first_scale, λ₂/parameter_scale, travelling up in
+        // λ₂), at most `max_switches` of them
+        let mut passed: Vec<(f64, f64, bool)> = Vec::new();
         // each pass pushes one piece or ends: at most `max_switches + 1` pieces
         let end = loop {
             let Some(last) = pieces.last() else {
@@ -1258,6 +1280,19 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
                     };
                 }
             }
+            // a double grazing passed before, the same way: the restarts go round in a cluster
+            let here = (
+                stop.first_parameter / opts.corrector.first_scale,
+                stop.parameter / opts.corrector.parameter_scale,
+                travel > 0.0,
+            );
+            let tol = opts.corrector.locate_tol;
+            if passed.iter().any(|&(a, b, up)| {
+                up == here.2 && (a - here.0).abs() <= tol && (b - here.1).abs() <= tol
+            }) {
+                break EnvelopeEnd::Cycle;
+            }
+            passed.push(here);
             // the extremum that is global at the stop
             let theta = match self
                 .set_parameter(&opts.corrector.first, stop.first_parameter)

@@ -576,6 +576,10 @@ impl Comparison {
             return Verdict::Inconclusive;
         }
         let allowed = self.tolerance.allowed(self.reference.value);
+        // a band that is not finite bounds nothing: no verdict from it
+        if !allowed.is_finite() {
+            return Verdict::Inconclusive;
+        }
         let slack = 1e-12 * self.reference.value.abs().max(allowed);
         if let Some((lo, hi)) = self.interval {
             if !(lo.is_finite() && hi.is_finite()) {
@@ -801,8 +805,14 @@ mod tests {
         assert_eq!(c.verdict(), Verdict::Pass, "boundary is inclusive");
         let c = Comparison::new("f", "Hz", r.clone(), 38.676, tol.clone());
         assert_eq!(c.verdict(), Verdict::Deviation);
-        let c = Comparison::new("f", "Hz", r, f64::NAN, tol);
+        let c = Comparison::new("f", "Hz", r.clone(), f64::NAN, tol);
         assert_eq!(c.verdict(), Verdict::Deviation);
+        // an unbounded or undefined band judges nothing
+        for band in [f64::INFINITY, f64::NAN] {
+            let wide = Tolerance::stated(ToleranceBand::Absolute(band), "t");
+            let c = Comparison::new("f", "Hz", r.clone(), 38.67, wide);
+            assert_eq!(c.verdict(), Verdict::Inconclusive, "{band}");
+        }
     }
 
     /// An interval inside the band passes, one outside is a deviation, one across an edge is
