@@ -10,9 +10,9 @@
 //!   `validation/verdicts.csv` at REV (default: merge base with `main`) and the working tree.
 //! * `cargo xtask study <file.toml>` — run a user study (format in `docs/studies.md`).
 //! * `cargo xtask heavy-tests` — the heavy numerical tests (`#[ignore = "heavy: …"]` in
-//!   `geardyn-models`, `geardyn-orbit`, `geardyn-study` and `geardyn-validate`), optimised: `cargo test --profile
-//!   validate` with `--ignored`. `cargo test --workspace` skips them so that the contributor loop stays short
-//!   (issue 26); `.ci/run` runs both.
+//!   `geardyn-models`, `geardyn-orbit`, `geardyn-study` and `geardyn-validate`), optimised:
+//!   `cargo test --profile validate` with `--ignored`. `cargo test --workspace` skips them so
+//!   that the contributor loop stays short (issue 26); `.ci/run` runs both.
 //!
 //! Both run the code of the `geardyn` command (`cli::validate`, `cli::study`).
 

@@ -24,16 +24,18 @@
 //! not (cells that are not period-1: a chaotic band, where no period-1 orbit is the attractor;
 //! an unstable orbit, which no time integration reaches).
 
-use models::liu2021::{self, LongWindowOptions, Parameters};
+use models::liu2021::{self, LongWindowOptions, Model, Parameters};
 use models::motion::Motion;
 use models::response::window_motion;
 use orbit::{
-    Codim2ContinuationOptions, GrazingEnvelope, OrbitProblem, Parameter, ShootingOptions,
-    SpecialKind,
+    Codim2ContinuationOptions, OrbitProblem, Parameter, ShootingOptions, ShootingPoint,
+    SpecialKind, SpecialPoint,
 };
 use plot::{Curve, CurveStyle, HeatScale, Heatmap};
 
-use super::orbit_branch::{BI, Branch, Liu, Tuning, UNI, speed_branch_at, stop_label};
+use super::orbit_branch::{
+    BI, Branch, Liu, Tuning, UNI, named_branch_at, speed_branch_at, stop_label,
+};
 use super::{base, model, sig};
 use crate::{
     Comparison, Cost, Error, Evidence, Paper, Reference, Study, StudyOutput, Table, Tolerance,
@@ -166,6 +168,10 @@ struct Chart {
     param: &'static str,
     /// Its arclength scale (1 ≈ 1 rad/s in ω1).
     scale: f64,
+    /// The start of a branch in the second parameter at ω1 = 100 rad/s (the chart's left
+    /// edge) and its direction, whose unilateral-onset grazing starts one more codim-2 onset
+    /// curve ([`edge_grazing`]); `None`: no such branch.
+    edge: Option<(f64, f64)>,
 }
 
 fn charts() -> [Chart; 2] {
@@ -177,6 +183,9 @@ fn charts() -> [Chart; 2] {
             set: |p, v| p.load_torque = v,
             param: "load_torque",
             scale: 1.0,
+            // the onset curve from the T2 = 15 N·m slice reaches the left edge itself (it
+            // leaves the ω1 range at T2 ≈ 10.9 N·m)
+            edge: None,
         },
         Chart {
             name: "ak",
@@ -185,6 +194,12 @@ fn charts() -> [Chart; 2] {
             set: |p, v| p.kr = v * p.k0,
             param: "ak",
             scale: 0.01,
+            // the onset boundary meets the left edge at a shallow angle (a_k ≈ 0.46–0.48 over
+            // ω1 = 100–125 rad/s), where several mesh-period maxima graze together: the
+            // envelopes from the slices go round that cluster and end there
+            // (`EnvelopeEnd::Cycle`), and a branch in a_k at 100 rad/s crosses the boundary
+            // steeply
+            edge: Some((0.05, 1.0)),
         },
     ]
 }
@@ -528,20 +543,76 @@ fn agreement(codes: &[f64], xs: &[f64], ys: &[f64], curves: &[Boundary]) -> Agre
 /// second parameter both ways to the ends of its range along the global maximum of the
 /// drive-flank event function ([`OrbitProblem::continue_grazing_envelope`]: the Liu period
 /// holds one local maximum per mesh period, and where another one reaches the flank first the
-/// curve goes on along that one's grazing): `(ω1, y, stable)` in trace order (from the lower
-/// end of `y`), and the stop reasons of the two directions. Started on every slice with a
-/// grazing, so that a curve stopped short is taken up by the one from the next slice, and each
-/// slice's grazing is checked against the curves from the others.
-fn codim2_grazing(
+/// curve goes on along that one's grazing): `(ω1, y, stable, piece)` in trace order (from the
+/// lower end of `y`), and the stop reasons of the two directions. Started on every slice with
+/// a grazing, so that a curve stopped short is taken up by the one from the next slice, and
+/// each slice's grazing is checked against the curves from the others.
+fn codim2_grazing(chart: &Chart, y0: f64, up: &(Branch, f64)) -> Codim2Result {
+    let start =
+        up.0.special
+            .iter()
+            .find(|s| s.kind == UNI)
+            .ok_or("no unilateral-onset grazing on the branch from 100 rad/s up")?;
+    let mut p = base();
+    p.omega1 = OMEGA[0];
+    (chart.set)(&mut p, y0);
+    both_ways(chart, p, start, up.1, false)
+}
+
+/// The unilateral-onset grazing curve by codim-2 continuation from the grazing located on the
+/// branch in the chart's second parameter at ω1 = 100 rad/s from `chart.edge`
+/// ([`named_branch_at`]), traced in ω1 both ways (the second parameter an unknown), as
+/// [`codim2_grazing`]: where the boundary runs along the ω1 axis into the chart's left edge.
+fn edge_grazing(chart: &Chart) -> Codim2Result {
+    let (from, dir) = chart.edge.ok_or("no edge start")?;
+    let mut p = base();
+    p.omega1 = OMEGA[0];
+    let branch = named_branch_at(
+        p,
+        chart.param,
+        from,
+        chart.range,
+        dir,
+        chart.scale,
+        &tuning(),
+    )
+    .map_err(|e| e.to_string())?;
+    let start = branch.special.iter().find(|s| s.kind == UNI).ok_or_else(|| {
+        format!(
+            "no unilateral-onset grazing on the branch in {} at {} rad/s ({} points, stopped: {})",
+            chart.y.0,
+            OMEGA[0],
+            branch.points.len(),
+            stop_label(&branch)
+        )
+    })?;
+    (chart.set)(&mut p, from);
+    let conv = model(&p).map_err(|e| e.to_string())?.omega_c / OMEGA[0];
+    both_ways(chart, p, start, conv, true)
+}
+
+/// The grazing envelope from `start` (a unilateral-onset grazing on a branch of `p`) in both
+/// directions, joined into one curve from its lower end (in ω1 when `along_omega`, else in the
+/// chart's second parameter); the piece numbers ([`Codim2Curve`]): the first piece of each
+/// direction is one piece through the start (0), the others alternate (down 1, 3, …; up 2,
+/// 4, …).
+fn both_ways(
     chart: &Chart,
-    y0: f64,
-    up: &(Branch, f64),
-) -> Result<(Codim2Curve, [String; 2]), String> {
-    let conv = up.1;
+    p: Parameters,
+    start: &SpecialPoint<ShootingPoint>,
+    conv: f64,
+    along_omega: bool,
+) -> Codim2Result {
+    let m = model(&p).map_err(|e| e.to_string())?;
     let mut pieces: Vec<Codim2Curve> = Vec::new();
     let mut stops = [String::new(), String::new()];
     for (k, dir) in [-1.0, 1.0].into_iter().enumerate() {
-        let env = onset_envelope(chart, y0, up, dir)?;
+        let sys = Liu::new(p).map_err(|e| e.to_string())?;
+        let mut prob = OrbitProblem::new(sys, m.period()).map_err(|e| e.to_string())?;
+        let o = envelope_options(chart, &m, conv, along_omega, dir);
+        let env = prob
+            .continue_grazing_envelope(start, &o, MAX_SWITCHES)
+            .map_err(|e| format!("codim-2 continuation: {e}"))?;
         stops[k] = format!(
             "{} piece(s), {} switch(es) of the mesh-period maximum, then {:?} ({:?})",
             env.pieces.len(),
@@ -549,8 +620,6 @@ fn codim2_grazing(
             env.stop().cloned().unwrap_or(orbit::StopReason::MaxPoints),
             env.end
         );
-        // the smooth pieces numbered apart: the first of each direction is one piece through
-        // the start (0), the others alternate (down 1, 3, …; up 2, 4, …)
         let id = |k: usize| match k {
             0 => 0,
             _ if dir < 0.0 => 2 * k - 1,
@@ -560,12 +629,12 @@ fn codim2_grazing(
             .points_by_piece()
             .into_iter()
             .map(|(k, q)| {
-                (
-                    q.first_parameter / conv,
-                    q.parameter,
-                    q.floquet.stable,
-                    id(k),
-                )
+                let (w, y) = if along_omega {
+                    (q.parameter / conv, q.first_parameter)
+                } else {
+                    (q.first_parameter / conv, q.parameter)
+                };
+                (w, y, q.floquet.stable, id(k))
             })
             .collect();
         if dir < 0.0 {
@@ -578,38 +647,41 @@ fn codim2_grazing(
     Ok((pieces.concat(), stops))
 }
 
-/// One direction (`dir` = ±1 in the chart's second parameter) of [`codim2_grazing`]: the
-/// grazing envelope from the unilateral-onset grazing of the branch `up` at the slice `y0`.
-fn onset_envelope(
+/// The codim-2 options of the onset envelopes ([`both_ways`]): ω1 (the base frequency, scaled
+/// by `conv` = ω̄_c per rad/s) and the chart's second parameter, one of them an unknown and the
+/// other traced in direction `dir` (ω1 traced when `along_omega`), within the chart's ranges
+/// (ω1 one rad/s beyond).
+fn envelope_options(
     chart: &Chart,
-    y0: f64,
-    up: &(Branch, f64),
+    m: &Model,
+    conv: f64,
+    along_omega: bool,
     dir: f64,
-) -> Result<GrazingEnvelope, String> {
-    let start =
-        up.0.special
-            .iter()
-            .find(|s| s.kind == UNI)
-            .ok_or("no unilateral-onset grazing on the branch from 100 rad/s up")?;
-    let mut p = base();
-    p.omega1 = OMEGA[0];
-    (chart.set)(&mut p, y0);
-    let m = model(&p).map_err(|e| e.to_string())?;
-    let conv = up.1;
-    let sys = Liu::new(p).map_err(|e| e.to_string())?;
-    let mut prob = OrbitProblem::new(sys, m.period()).map_err(|e| e.to_string())?;
-    let mut o = Codim2ContinuationOptions::codim2(
+) -> Codim2ContinuationOptions {
+    let omega = (
         Parameter::BaseFrequency,
-        Parameter::Named(chart.param.to_owned()),
+        [(OMEGA[0] - 1.0) * conv, (OMEGA[1] + 1.0) * conv],
+        conv,
     );
+    let second = (
+        Parameter::Named(chart.param.to_owned()),
+        chart.range,
+        chart.scale,
+    );
+    let (first, traced) = if along_omega {
+        (second, omega)
+    } else {
+        (omega, second)
+    };
+    let mut o = Codim2ContinuationOptions::codim2(first.0, traced.0);
     o.initial_step = 0.5;
     o.max_step = 2.0;
     o.max_points = CODIM2_POINTS;
-    o.corrector.first_range = [(OMEGA[0] - 1.0) * conv, (OMEGA[1] + 1.0) * conv];
-    o.corrector.first_scale = conv;
-    o.corrector.range = chart.range;
+    o.corrector.first_range = first.1;
+    o.corrector.first_scale = first.2;
+    o.corrector.range = traced.1;
     o.corrector.direction = dir;
-    o.corrector.parameter_scale = chart.scale;
+    o.corrector.parameter_scale = traced.2;
     o.corrector.state_scale = 0.1 * m.backlash;
     o.corrector.shooting = ShootingOptions {
         tol: 1e-8,
@@ -617,9 +689,11 @@ fn onset_envelope(
         ..ShootingOptions::default()
     };
     o.corrector.locate_tol = 1e-3;
-    prob.continue_grazing_envelope(start, &o, MAX_SWITCHES)
-        .map_err(|e| format!("codim-2 continuation: {e}"))
+    o
 }
+
+/// A codim-2 onset curve with the stop reasons of its two directions, or why there is none.
+type Codim2Result = Result<(Codim2Curve, [String; 2]), String>;
 
 /// A codim-2 curve as `(ω1, y, stable, piece)` points: `piece` numbers the smooth pieces of
 /// a grazing envelope (a kink, the double grazing, lies between two).
@@ -633,7 +707,7 @@ const CODIM2_POINTS: usize = 60;
 /// Near T2 ≈ 24 and 36 N·m (ω1 ≈ 138 rad/s) and a_k ≈ 0.46 (ω1 ≈ 120–125 rad/s) the curves
 /// turn among several maxima that lie close to the flank together, and the restarts go round
 /// them; the envelope ends there at the first double grazing met again
-/// ([`orbit::EnvelopeEnd::Cycle`], after 5–10 switches), so the cap only bounds an envelope
+/// ([`orbit::EnvelopeEnd::Cycle`], after 5–11 switches), so the cap only bounds an envelope
 /// that keeps meeting new double grazings.
 const MAX_SWITCHES: usize = 12;
 
@@ -680,6 +754,27 @@ fn crossings(curve: &[(f64, f64, bool, usize)], y: f64) -> Vec<(f64, f64)> {
             (w, err)
         })
         .collect()
+}
+
+/// Whether the point `(ω1, y)` lies within the extent of the codim-2 curve in both ω1 and `y`,
+/// widened by `margin` = (one map cell in ω1, one in `y`): a grazing or a curve point is
+/// compared with a curve only there. The onset boundary can take one value of `y` at several
+/// ω1 (the (ω1, a_k) chart's zigzag at a_k ≈ 0.46–0.48 over 100–125 rad/s), and a curve that
+/// stops short of one of them has no counterpart there; a disagreement of up to a cell beside
+/// the curve's extent is still compared.
+fn spans_point(curve: &[(f64, f64, bool, usize)], w: f64, y: f64, margin: (f64, f64)) -> bool {
+    let (mut w_lo, mut w_hi, mut y_lo, mut y_hi) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for p in curve {
+        (w_lo, w_hi) = (w_lo.min(p.0), w_hi.max(p.0));
+        (y_lo, y_hi) = (y_lo.min(p.1), y_hi.max(p.1));
+    }
+    (w_lo - margin.0..=w_hi + margin.0).contains(&w)
+        && (y_lo - margin.1..=y_hi + margin.1).contains(&y)
 }
 
 /// The band of a comparison of a codim-1 grazing or a curve point with a codim-2 curve whose
@@ -795,21 +890,35 @@ fn run() -> Result<StudyOutput, Error> {
         // the unilateral-onset grazing curve by codim-2 continuation from the grazing of every
         // slice (each curve checked against the grazings of the other slices it reaches)
         let t2 = cpu_now();
-        let slice_ids: Vec<usize> = (0..slices.len()).collect();
-        let codim2: Vec<Result<(Codim2Curve, [String; 2]), String>> = system::sweep::sweep(
-            &slice_ids,
-            |&k| match &slices[k].up {
-                Ok(up) => codim2_grazing(&chart, slices[k].y, up),
-                Err(e) => Err(format!("no branch on the slice: {e}")),
+        // job `slices.len()`: the curve from the chart's left edge ([`edge_grazing`])
+        let jobs: Vec<usize> = (0..=slices.len()).collect();
+        let mut results: Vec<Codim2Result> = system::sweep::sweep(
+            &jobs,
+            |&k| match slices.get(k).map(|s| &s.up) {
+                Some(Ok(up)) => codim2_grazing(&chart, slices[k].y, up),
+                Some(Err(e)) => Err(format!("no branch on the slice: {e}")),
+                None if chart.edge.is_some() => edge_grazing(&chart),
+                None => Err("no edge start".to_owned()),
             },
             None,
         );
         let t_codim2 = cpu_now() - t2;
+        let edge = results.pop().filter(|_| chart.edge.is_some());
+        // every codim-2 curve with where it starts and the slice it started on
+        let codim2: Vec<(String, Option<usize>, &Codim2Result)> = results
+            .iter()
+            .enumerate()
+            .map(|(k, c)| (format!("{} = {}", chart.y.0, sig(slices[k].y)), Some(k), c))
+            .chain(
+                edge.iter()
+                    .map(|c| (format!("ω1 = {} rad/s", sig(OMEGA[0])), None, c)),
+            )
+            .collect();
         // the slices' onset grazings: no chord between two slices whose interval the codim-2
         // curves cover (module docs)
         let spans: Vec<(f64, f64)> = codim2
             .iter()
-            .filter_map(|c| c.as_ref().ok())
+            .filter_map(|c| c.2.as_ref().ok())
             .filter(|(c2, _)| !c2.is_empty())
             .map(|(c2, _)| {
                 c2.iter()
@@ -871,6 +980,11 @@ fn run() -> Result<StudyOutput, Error> {
         let quantity = format!(
             "(ω1, {y}) unilateral-onset grazing: largest |ω1| difference between the codim-1 grazing on each slice and the codim-2 curves started on the other slices, and between those curves where they overlap"
         );
+        // one map cell in ω1 and in y ([`spans_point`])
+        let cell = (
+            (OMEGA[1] - OMEGA[0]) / (N - 1) as f64,
+            (chart.range[1] - chart.range[0]) / (N - 1) as f64,
+        );
         // every comparison as (|Δω1|, interpolation error, text); each is judged against its
         // own band, 2 err + 2e-3 ([`band`])
         let mut all: Vec<(f64, f64, String)> = Vec::new();
@@ -882,58 +996,62 @@ fn run() -> Result<StudyOutput, Error> {
             // the crossing of y = y_k nearest the slice's grazing, over the other slices' curves
             let nearest = codim2
                 .iter()
-                .enumerate()
-                .filter(|(j, _)| *j != k)
-                .filter_map(|(j, c)| c.as_ref().ok().map(|c| (j, c)))
-                .flat_map(|(j, (c2, _))| {
+                .filter(|c| c.1 != Some(k))
+                .filter_map(|c| c.2.as_ref().ok().map(|r| (&c.0, r)))
+                .filter(|(_, (c2, _))| spans_point(c2, w1, s.y, cell))
+                .flat_map(|(from, (c2, _))| {
                     crossings(c2, s.y)
                         .into_iter()
-                        .map(move |(w2, err)| (j, w2, err))
+                        .map(move |(w2, err)| (from, w2, err))
                 })
                 .min_by(|a, b| (a.1 - w1).abs().total_cmp(&(b.1 - w1).abs()));
-            if let Some((j, w2, err)) = nearest {
+            if let Some((from, w2, err)) = nearest {
                 all.push((
                     (w1 - w2).abs(),
                     err,
                     format!(
-                        "{y} = {}: {} vs {} (curve from {y} = {})",
+                        "{y} = {}: {} vs {} (curve from {from})",
                         sig(s.y),
                         sig(w1),
-                        sig(w2),
-                        sig(slices[j].y)
+                        sig(w2)
                     ),
                 ));
             }
         }
-        // and the curves against each other where their ranges of y overlap (one envelope
-        // from two starts): every point of one against the nearest crossing of the other, the
-        // point farthest outside its band (or least inside) for the pair
-        for (i, ci) in codim2.iter().enumerate() {
-            for (j, cj) in codim2.iter().enumerate() {
+        // and the curves against each other where they overlap (one envelope from two
+        // starts): every point of one inside the other's extent against the nearest crossing
+        // of the other, the point farthest outside its band (or least inside) for the pair
+        for (i, (from_i, _, ci)) in codim2.iter().enumerate() {
+            for (j, (from_j, _, cj)) in codim2.iter().enumerate() {
                 let (Ok((ci, _)), Ok((cj, _))) = (ci, cj) else {
                     continue;
                 };
                 if i == j {
                     continue;
                 }
-                let pair = ci
+                let points: Vec<(f64, f64, f64)> = ci
                     .iter()
+                    .filter(|p| spans_point(cj, p.0, p.1, cell))
                     .filter_map(|p| {
                         crossings(cj, p.1)
                             .into_iter()
                             .min_by(|a, b| (a.0 - p.0).abs().total_cmp(&(b.0 - p.0).abs()))
                             .map(|(w2, err)| ((p.0 - w2).abs(), err, p.1))
                     })
-                    .filter(|&(_, err, _)| judged(err))
-                    .max_by(|a, b| (a.0 / band(a.1)).total_cmp(&(b.0 / band(b.1))));
+                    .collect();
+                // a pair with no judged point is shown by its largest difference
+                let pair = points
+                    .iter()
+                    .filter(|&&(_, err, _)| judged(err))
+                    .max_by(|a, b| (a.0 / band(a.1)).total_cmp(&(b.0 / band(b.1))))
+                    .or_else(|| points.iter().max_by(|a, b| a.0.total_cmp(&b.0)))
+                    .copied();
                 if let Some((d, err, at)) = pair {
                     all.push((
                         d,
                         err,
                         format!(
-                            "curves from {y} = {} and {}: {} rad/s at {y} = {} (band ±{})",
-                            sig(slices[i].y),
-                            sig(slices[j].y),
+                            "curves from {from_i} and {from_j}: {} rad/s at {y} = {} (band ±{})",
                             sig(d),
                             sig(at),
                             sig(band(err))
@@ -953,18 +1071,16 @@ fn run() -> Result<StudyOutput, Error> {
         let rows: Vec<&str> = all.iter().map(|c| c.2.as_str()).collect();
         let extents: Vec<String> = codim2
             .iter()
-            .zip(&slices)
-            .map(|(c, s)| match c {
+            .map(|(from, _, c)| match c {
                 Ok((c2, stops)) => format!(
-                    "from {y} = {}: {} points over {y} = {} … {}, stops: {} / {}",
-                    sig(s.y),
+                    "from {from}: {} points over {y} = {} … {}, stops: {} / {}",
                     c2.len(),
                     sig(c2.iter().map(|p| p.1).fold(f64::INFINITY, f64::min)),
                     sig(c2.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max)),
                     stops[0],
                     stops[1]
                 ),
-                Err(e) => format!("from {y} = {}: none ({e})", sig(s.y)),
+                Err(e) => format!("from {from}: none ({e})"),
             })
             .collect();
         out.compare(
@@ -993,10 +1109,10 @@ fn run() -> Result<StudyOutput, Error> {
             )),
         );
         let mut c2_points = 0;
-        for (c, s) in codim2.iter().zip(&slices) {
+        for (from, _, c) in &codim2 {
             let Ok((c2, stops)) = c else { continue };
             c2_points += c2.len();
-            let label = format!("unilateral onset, codim-2 curve from {y} = {}", sig(s.y));
+            let label = format!("unilateral onset, codim-2 curve from {from}");
             for p in c2 {
                 curves_t.push(vec![
                     chart.name.into(),
@@ -1022,7 +1138,7 @@ fn run() -> Result<StudyOutput, Error> {
         cost_t.push(vec![
             chart.name.into(),
             "codim-2 grazing curves".into(),
-            crate::Cell::count(codim2.iter().filter(|c| c.is_ok()).count() as f64),
+            crate::Cell::count(codim2.iter().filter(|c| c.2.is_ok()).count() as f64),
             crate::Cell::count(c2_points as f64),
         ])?;
         let g = agreement(&codes, &xs, &ys, &curves);
@@ -1274,6 +1390,13 @@ mod tests {
         assert_eq!(c.len(), 2);
         assert!((c[0].0 - 0.5).abs() < 1e-12 && (c[1].0 - 1.5).abs() < 1e-12);
         assert!(crossings(&turn, 1.5).is_empty());
+        // the extent of a curve in both coordinates
+        let none = (0.0, 0.0);
+        assert!(spans_point(&turn, 1.5, 0.5, none) && spans_point(&turn, 0.0, 1.0, none));
+        assert!(!spans_point(&turn, 2.5, 0.5, none) && !spans_point(&turn, 1.0, 1.5, none));
+        // widened by a margin
+        assert!(spans_point(&turn, 2.5, 0.5, (0.5, 0.0)));
+        assert!(spans_point(&turn, 1.0, 1.5, (0.0, 0.5)));
     }
 
     /// An envelope with a corner: ω = y on piece 0 up to the double grazing at y = 2, where it
@@ -1330,7 +1453,16 @@ mod tests {
             &tuning(),
         )
         .unwrap();
-        let env = onset_envelope(&chart, y0, &up, 1.0).unwrap();
+        let start = up.0.special.iter().find(|s| s.kind == UNI).unwrap();
+        let mut p = base();
+        p.omega1 = OMEGA[0];
+        (chart.set)(&mut p, y0);
+        let m = model(&p).unwrap();
+        let mut prob = OrbitProblem::new(Liu::new(p).unwrap(), m.period()).unwrap();
+        let o = envelope_options(&chart, &m, up.1, false, 1.0);
+        let env = prob
+            .continue_grazing_envelope(start, &o, MAX_SWITCHES)
+            .unwrap();
         assert_eq!(env.end, orbit::EnvelopeEnd::Cycle, "{:?}", env.stop());
         assert!(env.pieces.len() < MAX_SWITCHES, "{}", env.pieces.len());
         let conv = up.1;

@@ -347,41 +347,20 @@ fn named_branch(
     dir: f64,
     scale: f64,
 ) -> Result<Run, Error> {
-    let mut sys = Liu::new({
-        let mut p = base();
-        p.omega1 = w;
-        p
-    })?;
-    sys.set_parameter(name, start).context("start parameter")?;
-    let (q, v, _) = settle(&sys.m, 199.0, 1.0, 1e-8)?;
-    let period = sys.m.period();
-    let backlash = sys.m.backlash;
-    let mut prob = OrbitProblem::new(sys, period).context("orbit problem")?;
-    let opts = ContinuationOptions {
-        initial_step: 1.0,
-        max_step: 2.0,
-        min_step: 1e-6,
+    let mut p = base();
+    p.omega1 = w;
+    let tuning = Tuning {
         max_points: 300,
-        corrector: ShootingCorrection {
-            parameter: Parameter::Named(name.to_owned()),
-            range,
-            direction: dir,
-            parameter_scale: scale,
-            state_scale: 0.1 * backlash,
-            locate_tol: LOCATE_TOL,
-            locate_samples: LOCATE_SAMPLES,
-            shooting: shooting(),
-            // wanted up to the fold that ends the unilateral branch (the rows "fold that ends
-            // the unilateral period-1 branch"); past it the T2 branch crawled 15 more points
-            // within 2e-4 N·m
-            stop_at: vec![SpecialKind::Fold],
-            ..ShootingCorrection::default()
-        },
-        ..ContinuationOptions::default()
+        max_step: 2.0,
+        locate_tol: LOCATE_TOL,
+        locate_samples: LOCATE_SAMPLES,
+        stall: None,
+        // wanted up to the fold that ends the unilateral branch (the rows "fold that ends the
+        // unilateral period-1 branch"); past it the T2 branch crawled 15 more points within
+        // 2e-4 N·m
+        stop_at: vec![SpecialKind::Fold],
     };
-    let branch = prob
-        .continuation(&[q, v], start, &opts)
-        .context(&format!("continuation in {name}"))?;
+    let branch = named_branch_at(p, name, start, range, dir, scale, &tuning)?;
     Ok(Run {
         label,
         parameter: name,
@@ -389,6 +368,49 @@ fn named_branch(
         scale: 1.0,
         branch,
     })
+}
+
+/// The period-1 branch in the Table 1 entry `name` (`load_torque` or `ak`, [`Liu`]) of the
+/// parameter set `p`, from `start`, where the orbit is settled by 199 periods of time
+/// integration, continued in direction `dir` inside `range` with the arclength scale `scale`
+/// and the step and location settings `t`.
+pub(super) fn named_branch_at(
+    p: Parameters,
+    name: &str,
+    start: f64,
+    range: [f64; 2],
+    dir: f64,
+    scale: f64,
+    t: &Tuning,
+) -> Result<Branch, Error> {
+    let mut sys = Liu::new(p)?;
+    sys.set_parameter(name, start).context("start parameter")?;
+    let (q, v, _) = settle(&sys.m, 199.0, 1.0, 1e-8)?;
+    let period = sys.m.period();
+    let backlash = sys.m.backlash;
+    let mut prob = OrbitProblem::new(sys, period).context("orbit problem")?;
+    let opts = ContinuationOptions {
+        initial_step: 1.0_f64.min(t.max_step),
+        max_step: t.max_step,
+        min_step: 1e-6,
+        max_points: t.max_points,
+        stall: t.stall,
+        corrector: ShootingCorrection {
+            parameter: Parameter::Named(name.to_owned()),
+            range,
+            direction: dir,
+            parameter_scale: scale,
+            state_scale: 0.1 * backlash,
+            locate_tol: t.locate_tol,
+            locate_samples: t.locate_samples,
+            shooting: shooting(),
+            stop_at: t.stop_at.clone(),
+            ..ShootingCorrection::default()
+        },
+        ..ContinuationOptions::default()
+    };
+    prob.continuation(&[q, v], start, &opts)
+        .context(&format!("continuation in {name}"))
 }
 
 /// Short name of a special point: separation from the drive flank (max of `q + b̄` through 0,
