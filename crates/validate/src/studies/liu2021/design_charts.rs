@@ -10,8 +10,12 @@
 //! A slice without a point leaves a gap in its curve and a named row in the `curves` table
 //! (why: the branch stopped, or left the range before reaching it). The unilateral-onset
 //! grazing of every slice is also continued in both parameters (codim-2, along the global
-//! mesh-period maximum of the drive-flank event function), so the onset curve runs between
-//! and past the slices where the continuation holds. Between two slices whose interval of the
+//! mesh-period maximum of the drive-flank event function, switching to another maximum at a
+//! double grazing and ending where it meets one again), so the onset curve runs between and
+//! past the slices where the continuation holds. Where the boundary runs almost along the ω1
+//! axis into the chart's left edge (the (ω1, a_k) chart), one more onset curve starts from the
+//! grazing on a branch in the second parameter at 100 rad/s and is traced in ω1
+//! ([`Chart::edge`]). Between two slices whose interval of the
 //! second parameter the codim-2 curves cover, the slices' onset grazings are not joined by a
 //! straight piece: the continued curve is the boundary there, and a chord across a bending
 //! boundary would be judged as a curve of its own (in the (ω1, T2) chart such a chord runs 3 to
@@ -56,8 +60,10 @@ pub(super) fn study() -> Study {
             orbit in ω1 at fixed T2 or a_k (slices): the unilateral-onset grazing, the grazing \
             of the back flank, the folds and the loss of stability of the bilateral orbits (from \
             220 rad/s down), and the unilateral-onset grazing continued in both parameters \
-            (codim-2, along the global mesh-period maximum) from each slice's grazing. Agreement rows: \
-            each slice's grazing against the codim-2 curves from the other slices, every boundary cell of the map within one cell of \
+            (codim-2, along the global mesh-period maximum) from each slice's grazing and, in \
+            (ω1, a_k), from the grazing of a branch in a_k at 100 rad/s. Agreement rows: \
+            each slice's grazing against the codim-2 curves from the other slices and the curves \
+            against each other, every boundary cell of the map within one cell of \
             a curve or in a named region (cells not period-1: chaotic band), and every curve \
             point separating different states or in a named region (unstable orbit, chaotic \
             band). Consistency of two methods on one model, not a reproduction of the paper.",
@@ -1481,6 +1487,39 @@ mod tests {
             (0.45..0.48).contains(&last.parameter),
             "ends at a_k = {}",
             last.parameter
+        );
+    }
+
+    /// The onset envelopes' options: on the slices ω1 is the unknown and the second parameter
+    /// is traced; for the edge curve the roles swap, each parameter keeping its range and
+    /// arclength scale.
+    #[test]
+    fn envelope_options_swap_the_parameters() {
+        let chart = charts().into_iter().nth(1).unwrap();
+        let mut p = base();
+        p.omega1 = OMEGA[0];
+        let m = model(&p).unwrap();
+        let conv = m.omega_c / OMEGA[0];
+        let omega_range = [(OMEGA[0] - 1.0) * conv, (OMEGA[1] + 1.0) * conv];
+        let ak = Parameter::Named("ak".to_owned());
+        let bits = |a: [f64; 2]| a.map(f64::to_bits);
+        let slice = envelope_options(&chart, &m, conv, false, 1.0).corrector;
+        assert_eq!(slice.first, Parameter::BaseFrequency);
+        assert_eq!(slice.parameter, ak);
+        assert_eq!(bits(slice.first_range), bits(omega_range));
+        assert_eq!(bits(slice.range), bits(chart.range));
+        assert_eq!(
+            [slice.first_scale, slice.parameter_scale, slice.direction].map(f64::to_bits),
+            [conv, chart.scale, 1.0].map(f64::to_bits)
+        );
+        let edge = envelope_options(&chart, &m, conv, true, -1.0).corrector;
+        assert_eq!(edge.first, ak);
+        assert_eq!(edge.parameter, Parameter::BaseFrequency);
+        assert_eq!(bits(edge.first_range), bits(chart.range));
+        assert_eq!(bits(edge.range), bits(omega_range));
+        assert_eq!(
+            [edge.first_scale, edge.parameter_scale, edge.direction].map(f64::to_bits),
+            [chart.scale, conv, -1.0].map(f64::to_bits)
         );
     }
 
