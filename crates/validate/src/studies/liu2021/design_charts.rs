@@ -77,6 +77,8 @@ const N: usize = 40;
 /// The ω1 range of both maps (rad/s): below Liu's unilateral onset to well inside the bilateral
 /// region (Fig. 11: onsets near 135 and 165 rad/s).
 const OMEGA: [f64; 2] = [100.0, 220.0];
+/// The width of a map cell in ω1 (rad/s).
+const CELL_OMEGA: f64 = (OMEGA[1] - OMEGA[0]) / (N - 1) as f64;
 /// Slices (fixed second-parameter values) at which the branch is continued in ω1.
 const SLICES: usize = 5;
 
@@ -795,7 +797,7 @@ fn band(err: f64) -> f64 {
 /// of it is steep and the estimate large: such a comparison resolves nothing at the chart's
 /// resolution and is shown only).
 fn judged(err: f64) -> bool {
-    err.is_finite() && err <= (OMEGA[1] - OMEGA[0]) / (N - 1) as f64
+    err.is_finite() && err <= CELL_OMEGA
 }
 
 /// The first crossing of `y` by the curve ([`crossings`]).
@@ -903,8 +905,7 @@ fn run() -> Result<StudyOutput, Error> {
             |&k| match slices.get(k).map(|s| &s.up) {
                 Some(Ok(up)) => codim2_grazing(&chart, slices[k].y, up),
                 Some(Err(e)) => Err(format!("no branch on the slice: {e}")),
-                None if chart.edge.is_some() => edge_grazing(&chart),
-                None => Err("no edge start".to_owned()),
+                None => edge_grazing(&chart),
             },
             None,
         );
@@ -988,7 +989,7 @@ fn run() -> Result<StudyOutput, Error> {
         );
         // one map cell in ω1 and in y ([`spans_point`])
         let cell = (
-            (OMEGA[1] - OMEGA[0]) / (N - 1) as f64,
+            CELL_OMEGA,
             (chart.range[1] - chart.range[0]) / (N - 1) as f64,
         );
         // every comparison as (|Δω1|, interpolation error, text); each is judged against its
