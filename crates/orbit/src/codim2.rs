@@ -184,8 +184,8 @@ impl ContinuationOptions<Codim2Correction> {
 /// The orbit of a point of a codim-2 curve.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Codim2Point {
-    /// What the curve continues ([`SpecialKind::Grazing`], [`SpecialKind::Fold`] or
-    /// [`SpecialKind::PeriodDoubling`]).
+    /// What the curve continues ([`SpecialKind::Grazing`], [`SpecialKind::Fold`],
+    /// [`SpecialKind::PeriodDoubling`] or [`SpecialKind::ContactChange`]).
     pub curve: SpecialKind,
     /// The first parameter `λ₁` (the second, `λ₂`, is [`BranchPoint::parameter`]).
     pub first_parameter: f64,
@@ -235,8 +235,9 @@ fn sorted(a: f64, b: f64) -> [f64; 2] {
 /// What the augmented system defines.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Curve {
-    /// `(h_i, ḣ_i)(t_g) = 0`, `sgn = +1` for a maximum, `−1` for a minimum.
-    Grazing { event: usize, sgn: f64 },
+    /// `(h_i, ḣ_i)(t_g) = 0`, `sgn = +1` for a maximum, `−1` for a minimum; `local`: a local
+    /// extremum (a contact change), which need not be the global one.
+    Grazing { event: usize, sgn: f64, local: bool },
     /// `g(Φ − σI) = 0` with `σ = +1` (fold) or `−1` (period doubling).
     Bordered { sigma: f64 },
 }
@@ -856,7 +857,7 @@ fn stop_reason(opts: &Codim2Correction, curve: Curve, p: &Codim2BranchPoint) -> 
         })
     };
     match curve {
-        Curve::Grazing { event, sgn } => {
+        Curve::Grazing { event, sgn, local } => {
             let e = p.extrema.get(event).copied().unwrap_or([f64::NAN; 2]);
             let half = 0.5 * (e[1] - e[0]);
             let curv = p.curvature.unwrap_or(f64::NAN);
@@ -871,7 +872,7 @@ fn stop_reason(opts: &Codim2Correction, curve: Curve, p: &Codim2BranchPoint) -> 
             // the tangency value is 0 to the Newton tolerance
             let xs = p.x0.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             let global = sgn * ext <= opts.tangency_tol * half + opts.shooting.tol * (1.0 + xs);
-            if !global {
+            if !global && !local {
                 return degenerate(Degeneracy::GrazingNotGlobal);
             }
             None
@@ -888,8 +889,9 @@ fn stop_reason(opts: &Codim2Correction, curve: Curve, p: &Codim2BranchPoint) -> 
 }
 
 impl<S: SecondOrderSystem> OrbitProblem<S> {
-    /// Continues the special point `start` (a [`SpecialKind::Grazing`], [`SpecialKind::Fold`]
-    /// or [`SpecialKind::PeriodDoubling`] located on a shooting branch in
+    /// Continues the special point `start` (a [`SpecialKind::Grazing`], [`SpecialKind::Fold`],
+    /// [`SpecialKind::PeriodDoubling`] or [`SpecialKind::ContactChange`] — the grazing of a
+    /// local extremum, crate docs — located on a shooting branch in
     /// [`Codim2Correction::first`], [`OrbitProblem::continuation`]) in two parameters: the
     /// augmented system of the crate docs ("Codim-2 continuation") is traced by
     /// [`path::trace`] in the second parameter [`Codim2Correction::parameter`] (starting at
@@ -904,7 +906,8 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     ///
     /// # Errors
     /// Invalid options; a `start` of another kind, of a wrong dimension or event index; the
-    /// first point does not converge.
+    /// first point does not converge; for a contact change, no local extremum grazes within
+    /// its bracket.
     pub fn continue_codim2(
         &mut self,
         start: &SpecialPoint<ShootingPoint>,
@@ -939,7 +942,6 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         theta: Option<f64>,
     ) -> Result<Codim2Branch> {
         options.validate()?;
-        let opts = &options.corrector;
         let curve = match start.kind {
             SpecialKind::Grazing { event, extremum } => {
                 check(
@@ -954,18 +956,100 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
                         Extremum::Max => 1.0,
                         Extremum::Min => -1.0,
                     },
+                    local: false,
                 }
             }
             SpecialKind::Fold => Curve::Bordered { sigma: 1.0 },
             SpecialKind::PeriodDoubling => Curve::Bordered { sigma: -1.0 },
-            SpecialKind::NeimarkSacker | SpecialKind::ContactChange { .. } => {
+            SpecialKind::ContactChange { event } => {
+                check(
+                    event < self.system().n_events(),
+                    "start.kind (contact-change event index)",
+                    "< n_events",
+                    event as f64,
+                )?;
+                return self.contact_change_curve(start, options, event);
+            }
+            SpecialKind::NeimarkSacker => {
                 return Err(OrbitError::InvalidInput {
                     field: "start.kind",
-                    bound: "Grazing, Fold or PeriodDoubling",
+                    bound: "Grazing, Fold, PeriodDoubling or ContactChange",
                     value: f64::NAN,
                 });
             }
         };
+        self.codim2_curve(start, options, curve, theta, None)
+    }
+
+    /// The curve of a [`SpecialKind::ContactChange`] (a local extremum of event function
+    /// `event` touching zero between the two branch points of `start.bracket`): a grazing
+    /// curve of that local extremum, where the global-extremum check
+    /// ([`Degeneracy::GrazingNotGlobal`]) does not apply. The candidates are the local extrema
+    /// of the event function over the orbit of `start.point` other than the global maximum
+    /// and minimum, nearest zero first; the first whose corrected first point lies in
+    /// `start.bracket` (widened by `locate_tol · first_scale` and [`CONTACT_LAG`]) is
+    /// continued. At most
+    /// [`CONTACT_CANDIDATES`] are tried, each from the problem's second parameter as it was
+    /// on entry.
+    fn contact_change_curve(
+        &mut self,
+        start: &SpecialPoint<ShootingPoint>,
+        options: &Codim2ContinuationOptions,
+        event: usize,
+    ) -> Result<Codim2Branch> {
+        let opts = &options.corrector;
+        self.check_state(&start.point.x0)?;
+        let lam2 = self.parameter(&opts.parameter)?;
+        check(lam2.is_finite(), "second parameter value", "finite", lam2)?;
+        self.set_parameter(&opts.first, start.point.parameter)?;
+        let t0 = self.phase();
+        let kt = opts.shooting.periods as f64 * self.period();
+        let fr = self.flow_recorded(t0, &start.point.x0, kt, false)?;
+        let mut ext =
+            crate::flow::local_extrema(self.field(), self.flow_options(), &fr.pieces, event);
+        let top = ext.iter().map(|e| e.1).fold(f64::NEG_INFINITY, f64::max);
+        let bottom = ext.iter().map(|e| e.1).fold(f64::INFINITY, f64::min);
+        // not the global extrema: their zero is a grazing, not a contact change
+        ext.retain(|e| if e.2 > 0.0 { e.1 < top } else { e.1 > bottom });
+        ext.sort_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
+        let widen = |l: f64| opts.locate_tol * opts.first_scale + CONTACT_LAG * l.abs();
+        let (lo, hi) = (
+            start.bracket[0] - widen(start.bracket[0]),
+            start.bracket[1] + widen(start.bracket[1]),
+        );
+        let mut last = OrbitError::NotConverged {
+            what: "contact-change curve (no local extremum of the event function to start from)",
+            iterations: 0,
+            residual: f64::NAN,
+        };
+        for &(tg, _, sgn) in ext.iter().take(CONTACT_CANDIDATES) {
+            self.set_parameter(&opts.parameter, lam2)?;
+            let curve = Curve::Grazing {
+                event,
+                sgn,
+                local: true,
+            };
+            let theta = ((tg - t0) / kt).rem_euclid(1.0);
+            match self.codim2_curve(start, options, curve, Some(theta), Some([lo, hi])) {
+                Ok(b) => return Ok(b),
+                Err(e) => last = e,
+            }
+        }
+        self.set_parameter(&opts.parameter, lam2)?;
+        Err(last)
+    }
+
+    /// The codim-2 curve `curve` from `start` ([`OrbitProblem::codim2_from`]); with
+    /// `first_within`, an error unless the first point's `λ₁` lies in it.
+    fn codim2_curve(
+        &mut self,
+        start: &SpecialPoint<ShootingPoint>,
+        options: &Codim2ContinuationOptions,
+        curve: Curve,
+        theta: Option<f64>,
+        first_within: Option<[f64; 2]>,
+    ) -> Result<Codim2Branch> {
+        let opts = &options.corrector;
         self.check_state(&start.point.x0)?;
         let nn = self.dim();
         let lam1 = start.point.parameter;
@@ -979,7 +1063,7 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         }
         let mut borders = (DVector::zeros(0), DVector::zeros(0));
         match curve {
-            Curve::Grazing { event, sgn } => {
+            Curve::Grazing { event, sgn, .. } => {
                 y[nn] = match theta {
                     Some(th) if th.is_finite() => th.rem_euclid(1.0),
                     _ => self.grazing_phase(&start.point.x0, event, sgn, opts.shooting.periods)?,
@@ -1039,6 +1123,16 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         };
         let reference = &e2 * opts.direction;
         let first = aug.newton(&y, &e2, &reference)?;
+        if let Some([lo, hi]) = first_within {
+            let l1 = first.raw.first_parameter;
+            if !(lo..=hi).contains(&l1) {
+                return Err(OrbitError::NotConverged {
+                    what: "contact-change curve (the local extremum grazes outside the start's bracket)",
+                    iterations: 0,
+                    residual: l1,
+                });
+            }
+        }
         let mut branch = Branch::new(opts.parameter.clone(), opts.shooting.periods);
         branch.points.push(first.raw.clone());
         if let Some(reason) = stop_reason(opts, curve, &first.raw) {
@@ -1056,6 +1150,18 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         Ok(branch)
     }
 }
+
+/// Local extrema tried as the start of a contact-change curve
+/// ([`OrbitProblem::continue_codim2`] from a [`SpecialKind::ContactChange`]).
+pub const CONTACT_CANDIDATES: usize = 3;
+
+/// Relative widening of a contact change's bracket in `λ₁` before a local grazing is accepted
+/// as its start ([`OrbitProblem::continue_codim2`]): the crossing count, on which a contact
+/// change is located, changes only once the two crossings near the tangency lie far enough
+/// apart for the event detection to resolve them, a few `10⁻⁶` (relative) past the tangency in
+/// the closed-form test (`contact_change_curve_matches_closed_form`); `10⁻⁴` leaves a factor
+/// of 20 and still tells apart local extrema that graze elsewhere on the branch.
+const CONTACT_LAG: f64 = 1e-4;
 
 /// Most switches [`OrbitProblem::continue_grazing_envelope`] accepts.
 pub const MAX_ENVELOPE_SWITCHES: usize = 1000;

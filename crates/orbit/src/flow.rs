@@ -1153,6 +1153,61 @@ pub(crate) fn extrema<S: SecondOrderSystem + ?Sized>(
     out
 }
 
+/// Every local extremum of event function `i` along recorded pieces of one orbit as
+/// `(t, value, sgn)` (`sgn = +1` a maximum, `−1` a minimum): the pieces sampled at their start
+/// and three interior points, a sample above (below) both neighbours — the first and last
+/// samples neighbours of each other, the orbit being periodic — refined by golden-section
+/// search inside its piece and the pieces on either side. Extrema refined to within
+/// `10⁻⁹` of the span of one another are listed once. Empty without pieces or events.
+pub(crate) fn local_extrema<S: SecondOrderSystem + ?Sized>(
+    field: Field<'_, S>,
+    opts: &FlowOptions,
+    pieces: &[Piece],
+    i: usize,
+) -> Vec<(f64, f64, f64)> {
+    const SAMPLES: usize = 4;
+    let mut st = Stepper::new(field, opts);
+    let np = pieces.len();
+    if np == 0 || i >= st.field.n_events() {
+        return Vec::new();
+    }
+    let mut s = Vec::with_capacity(np * SAMPLES);
+    for p in pieces {
+        for j in 0..SAMPLES {
+            let th = j as f64 / SAMPLES as f64;
+            let x = st.state_at(p.t, &p.x, th * p.h);
+            let v = st.field.event(i, p.t + th * p.h, &x);
+            s.push(if v.is_finite() { v } else { f64::NAN });
+        }
+    }
+    let n = s.len();
+    let span = pieces[np - 1].t + pieces[np - 1].h - pieces[0].t;
+    let mut out: Vec<(f64, f64, f64)> = Vec::new();
+    for j in 0..n {
+        let (a, b, c) = (s[(j + n - 1) % n], s[j], s[(j + 1) % n]);
+        for sgn in [1.0, -1.0] {
+            if !(sgn * b > sgn * a && sgn * b >= sgn * c) {
+                continue;
+            }
+            let k = j / SAMPLES;
+            let (mut best, mut tbest) = (f64::NEG_INFINITY, f64::NAN);
+            for q in &pieces[k.saturating_sub(1)..=(k + 1).min(np - 1)] {
+                let (th, v) = golden_at(&mut st, i, sgn, q);
+                if v > best {
+                    (best, tbest) = (v, q.t + th * q.h);
+                }
+            }
+            let dup = out
+                .iter()
+                .any(|e| (e.2 - sgn).abs() < 1.0 && (e.0 - tbest).abs() <= 1e-9 * span);
+            if best.is_finite() && !dup {
+                out.push((tbest, sgn * best, sgn));
+            }
+        }
+    }
+    out
+}
+
 /// The time and value of the minimum (`sgn = −1`) or maximum (`sgn = +1`) of event function
 /// `i` along recorded pieces: the sampled extremum refined by golden-section search inside the
 /// pieces around it (as [`extrema`]). `None` without pieces or events.

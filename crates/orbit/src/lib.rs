@@ -199,6 +199,14 @@
 //! [`Degeneracy::SingularBordered`] where the bordered matrix is singular; and
 //! [`StopReason::FirstLeftRange`] where `λ₁` leaves [`Codim2Correction::first_range`].
 //!
+//! A [`SpecialKind::ContactChange`] (a *local* extremum of `h_i` touching zero while the
+//! global ones keep their sign) is continued as the grazing of that local extremum: the same
+//! augmented system at its phase, without the global-extremum check. The start's orbit is
+//! searched for the local extrema of `h_i` other than the global maximum and minimum,
+//! nearest zero first; the first whose corrected point lies in the start's bracket (widened
+//! for the lag of the count-located bracket) is continued, at most
+//! [`CONTACT_CANDIDATES`] tried, else [`OrbitError::NotConverged`].
+//!
 //! The boundary of contact is the envelope of the grazing curves of the event function's local
 //! extrema (for a gear, one per mesh period): [`OrbitProblem::continue_grazing_envelope`]
 //! follows it, starting a new piece at each [`Degeneracy::GrazingNotGlobal`] stop on the
@@ -269,8 +277,8 @@ mod problem;
 mod shooting;
 
 pub use codim2::{
-    Codim2Branch, Codim2BranchPoint, Codim2ContinuationOptions, Codim2Correction, Codim2Point,
-    EnvelopeEnd, GrazingEnvelope, MAX_ENVELOPE_SWITCHES,
+    CONTACT_CANDIDATES, Codim2Branch, Codim2BranchPoint, Codim2ContinuationOptions,
+    Codim2Correction, Codim2Point, EnvelopeEnd, GrazingEnvelope, MAX_ENVELOPE_SWITCHES,
 };
 pub use continuation::{
     ShootingBranch, ShootingBranchPoint, ShootingContinuationOptions, ShootingCorrection,

@@ -1141,3 +1141,120 @@ fn grazing_meets_fold_on_the_duffing_grazing_curve() {
         near.point.extrema
     );
 }
+
+/// A contact change continued in two parameters: undamped and below both resonances the
+/// orbit is `q = f₀ + A cos ωt + B cos 2ωt` (`A = f/(1 − ω²)`, `B = a/(1 − 4ω²)`), whose
+/// local maximum at `ωt = π` (one while `4B > A`) has the value `f₀ − A + B`. With the
+/// second surface `q = −c` (an event without a force change) and the kink far away, the
+/// branch in `f` first grazes `−c` with its two symmetric minima (a global grazing) and then,
+/// at `A − B = f₀ + c`, with the local maximum at `π` while the global maximum lies far above:
+/// the crossings of `q + c` go from four to two per period ([`SpecialKind::ContactChange`];
+/// the branch starts at `f = 0.5`, between the two).
+/// The curve from it is that local grazing, `f/(1 − ω²) − a/(1 − 4ω²) = f₀ + c` (closed form),
+/// at `ωt_g = π`, where a global-extremum check would stop at once; traced down in `a` it
+/// stops with [`orbit::Degeneracy::GrazingCurvature`] where the local maximum flattens out,
+/// `4B = A`, i.e. `B = (f₀ + c)/3`. A contact change whose bracket holds no local grazing is
+/// refused.
+#[test]
+fn contact_change_curve_matches_closed_form() {
+    let w = 0.4;
+    let (ka, kb) = (1.0 - w * w, 1.0 - 4.0 * w * w);
+    let s = TwoSurfaces {
+        zeta: 0.0,
+        d: 10.0,
+        c: 0.3,
+        f0: 0.1,
+        f: 0.5,
+        a: 0.3 * kb,
+        omega: w,
+        reset_f: false,
+    };
+    let gap = s.f0 + s.c;
+    let mut p = OrbitProblem::new(s, 2.0 * PI / w).unwrap();
+    let opts = ContinuationOptions {
+        initial_step: 0.05,
+        max_step: 0.05,
+        corrector: ShootingCorrection {
+            parameter: Parameter::Named("f".into()),
+            range: [0.0, 0.65],
+            locate_tol: 1e-10,
+            locate_contact_changes: true,
+            ..ShootingCorrection::default()
+        },
+        ..Default::default()
+    };
+    let br = p.continuation(&[s.f0, 0.0], s.f, &opts).unwrap();
+    let cc = br
+        .special
+        .iter()
+        .find(|x| x.kind == SpecialKind::ContactChange { event: 1 })
+        .expect("contact change of q + c on the branch")
+        .clone();
+    let f_cc = ka * (gap + 0.3);
+    // located by bisection on the crossing count, which misses a pair of crossings closer
+    // than the event detection resolves: past the tangency by δf the pair lies
+    // ~√(δf/|ḧ|) apart, so the count changes a few 10⁻⁶ late
+    assert!(
+        cc.bracket[0] <= f_cc + 1e-5 && f_cc - 1e-5 <= cc.bracket[1],
+        "bracket {:?} vs {f_cc}",
+        cc.bracket
+    );
+    let residual = |f: f64, a: f64| f / ka - a / kb - gap;
+    for (dir, range) in [(-1.0, [0.0, 0.15]), (1.0, [0.0, 0.15])] {
+        let mut p = OrbitProblem::new(s, 2.0 * PI / w).unwrap();
+        let mut o = named_codim2("f", "a", range);
+        o.corrector.direction = dir;
+        o.max_step = 0.01;
+        let c = p.continue_codim2(&cc, &o).unwrap();
+        assert!(c.points.len() > 3, "{} points", c.points.len());
+        for pt in &c.points {
+            let (f, a) = (pt.first_parameter, pt.parameter);
+            assert!(residual(f, a).abs() < 1e-7, "f = {f}, a = {a}");
+            // the local maximum at ωt = π, not the global one at 0
+            let wt = (w * pt.grazing_time.unwrap()).rem_euclid(2.0 * PI);
+            assert!((wt - PI).abs() < 1e-5, "ωt_g = {wt}");
+            assert!(
+                pt.extrema[1][1] > 1.0,
+                "global max of q + c {}",
+                pt.extrema[1][1]
+            );
+            assert_eq!(pt.curve, SpecialKind::ContactChange { event: 1 });
+        }
+        if dir < 0.0 {
+            let StopReason::Degenerate {
+                parameter,
+                condition,
+            } = c.stop
+            else {
+                panic!("{:?}", c.stop)
+            };
+            assert_eq!(condition, orbit::Degeneracy::GrazingCurvature);
+            // ḧ ∝ A − 4B = f₀ + c − 3B at ωt = π: the stop point (the first degenerate one,
+            // the curve's last) and the one before bracket B = (f₀ + c)/3, to the curvature
+            // threshold
+            let n = c.points.len();
+            let (b_last, b_prev) = (parameter / kb, c.points[n - 2].parameter / kb);
+            assert!(
+                b_last < gap / 3.0 + 1e-3 && b_prev > gap / 3.0 - 1e-3,
+                "stops between B = {b_prev} and {b_last}"
+            );
+            for pt in &c.points[..n - 1] {
+                assert!(
+                    pt.curvature.unwrap() < 0.0,
+                    "a maximum at B = {}",
+                    pt.parameter / kb
+                );
+            }
+        } else {
+            assert_eq!(c.stop, StopReason::ReachedEnd);
+        }
+    }
+    // a contact change whose bracket holds no local grazing is refused, not continued
+    let mut far = cc.clone();
+    far.bracket = [0.1, 0.2];
+    let mut p = OrbitProblem::new(s, 2.0 * PI / w).unwrap();
+    assert!(matches!(
+        p.continue_codim2(&far, &named_codim2("f", "a", [0.0, 0.2])),
+        Err(orbit::OrbitError::NotConverged { .. })
+    ));
+}

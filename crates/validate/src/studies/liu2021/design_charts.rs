@@ -22,6 +22,29 @@
 //! 8 rad/s beside the continued curve). A straight piece stays where no continued curve spans
 //! the interval.
 //!
+//! The folds and the loss of stability are drawn from the slices only, not continued in two
+//! parameters: on these branches both are non-smooth. Measured on the slices (round 26):
+//! * every fold lies at contact changes of the drive flank (a local mesh-period maximum
+//!   touching it): T2 = 15 N·m, fold at 116.7878 rad/s, contact changes at 116.7875–116.7878;
+//!   a_k = 0.2375, fold at 163.2977, contact changes at 163.2958–163.2975. From both the fold
+//!   corrector's first Newton iterate leaves the domain ω1 > 0 (to −148 and −2455 in the
+//!   scaled frequency); at a_k = 0.8 (a fold at 124.48 rad/s after six period doublings from
+//!   119.26 up) neither the fold nor the doublings converge (residuals 0.013–2.6);
+//! * the bilateral orbits lose stability across a contact change of the back flank, where
+//!   the largest multiplier jumps (0.71 at 171.80 rad/s to 26.7 at 169.56, a_k = 0.2375; 0.29
+//!   at 173.30 to 1.12 at 171.80, T2 = 30 N·m), with period doublings and contact changes
+//!   alternating past it (sixteen between 169.16 and 169.56 rad/s at a_k = 0.2375); the
+//!   period-doubling corrector converges from none of them (residuals 0.2–0.8).
+//!
+//! `orbit` continues a contact change as the grazing of its local extremum
+//! ([`OrbitProblem::continue_codim2`]), but not here: at the chart's Newton tolerance (10⁻⁸)
+//! the first point stalls at a residual of 2·10⁻⁶ (a_k = 0.2375); at 10⁻⁶ the nearest local
+//! grazing converges at 168.29 rad/s, outside the branch's bracket of the change
+//! ([169.56, 171.80]: another maximum of the cluster, refused), and from the T2 = 15 fold's
+//! contact change the curve stops within 10⁻⁴ N·m (the corrector at a residual of 8·10⁻⁶).
+//! Several mesh-period maxima lie at the flank together there, each a square-root
+//! non-smoothness of the flow.
+//!
 //! The agreement rows hold the map and the curves against each other: every cell whose rattle
 //! state differs from a 4-neighbour's (a boundary cell) must lie within one cell of a curve,
 //! and every curve must separate cells of different states — or lie where the map names why
