@@ -988,9 +988,8 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
     /// of the event function over the orbit of `start.point` other than the global maximum
     /// and minimum, nearest zero first; the first whose corrected first point lies in
     /// `start.bracket` (widened by `locate_tol · first_scale` and [`CONTACT_LAG`]) is
-    /// continued. At most
-    /// [`CONTACT_CANDIDATES`] are tried, each from the problem's second parameter as it was
-    /// on entry.
+    /// continued. At most [`CONTACT_CANDIDATES`] are tried, each from the problem's second
+    /// parameter as it was on entry.
     fn contact_change_curve(
         &mut self,
         start: &SpecialPoint<ShootingPoint>,
@@ -1009,8 +1008,16 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             crate::flow::local_extrema(self.field(), self.flow_options(), &fr.pieces, event);
         let top = ext.iter().map(|e| e.1).fold(f64::NEG_INFINITY, f64::max);
         let bottom = ext.iter().map(|e| e.1).fold(f64::INFINITY, f64::min);
-        // not the global extrema: their zero is a grazing, not a contact change
-        ext.retain(|e| if e.2 > 0.0 { e.1 < top } else { e.1 > bottom });
+        // not the global extrema (nor their ties to rounding): their zero is a grazing, not a
+        // contact change
+        let tie = 1e-12 * (top - bottom);
+        ext.retain(|e| {
+            if e.2 > 0.0 {
+                e.1 < top - tie
+            } else {
+                e.1 > bottom + tie
+            }
+        });
         ext.sort_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
         let widen = |l: f64| opts.locate_tol * opts.first_scale + CONTACT_LAG * l.abs();
         let (lo, hi) = (
@@ -1126,10 +1133,11 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
         if let Some([lo, hi]) = first_within {
             let l1 = first.raw.first_parameter;
             if !(lo..=hi).contains(&l1) {
+                // the residual: how far outside the bracket
                 return Err(OrbitError::NotConverged {
                     what: "contact-change curve (the local extremum grazes outside the start's bracket)",
                     iterations: 0,
-                    residual: l1,
+                    residual: (lo - l1).max(l1 - hi),
                 });
             }
         }
@@ -1158,9 +1166,9 @@ pub const CONTACT_CANDIDATES: usize = 3;
 /// Relative widening of a contact change's bracket in `λ₁` before a local grazing is accepted
 /// as its start ([`OrbitProblem::continue_codim2`]): the crossing count, on which a contact
 /// change is located, changes only once the two crossings near the tangency lie far enough
-/// apart for the event detection to resolve them, a few `10⁻⁶` (relative) past the tangency in
-/// the closed-form test (`contact_change_curve_matches_closed_form`); `10⁻⁴` leaves a factor
-/// of 20 and still tells apart local extrema that graze elsewhere on the branch.
+/// apart for the event detection to resolve them, `7·10⁻⁶` (relative) past the tangency in the
+/// closed-form test (`contact_change_curve_matches_closed_form`); `10⁻⁴` leaves more than a
+/// factor of ten and still tells apart local extrema that graze elsewhere on the branch.
 const CONTACT_LAG: f64 = 1e-4;
 
 /// Most switches [`OrbitProblem::continue_grazing_envelope`] accepts.

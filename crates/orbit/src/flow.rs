@@ -1157,8 +1157,8 @@ pub(crate) fn extrema<S: SecondOrderSystem + ?Sized>(
 /// `(t, value, sgn)` (`sgn = +1` a maximum, `−1` a minimum): the pieces sampled at their start
 /// and three interior points, a sample above (below) both neighbours — the first and last
 /// samples neighbours of each other, the orbit being periodic — refined by golden-section
-/// search inside its piece and the pieces on either side. Extrema refined to within
-/// `10⁻⁹` of the span of one another are listed once. Empty without pieces or events.
+/// search inside its piece and the pieces on either side. Extrema of one kind refined to
+/// within `10⁻⁹` of the span of one another are listed once. Empty without pieces or events.
 pub(crate) fn local_extrema<S: SecondOrderSystem + ?Sized>(
     field: Field<'_, S>,
     opts: &FlowOptions,
@@ -1197,8 +1197,13 @@ pub(crate) fn local_extrema<S: SecondOrderSystem + ?Sized>(
                     (best, tbest) = (v, q.t + th * q.h);
                 }
             }
+            // found in time order: a duplicate is among the last found, or (across the
+            // orbit's wrap) the first
             let dup = out
                 .iter()
+                .rev()
+                .take(4)
+                .chain(out.iter().take(4))
                 .any(|e| (e.2 - sgn).abs() < 1.0 && (e.0 - tbest).abs() <= 1e-9 * span);
             if best.is_finite() && !dup {
                 out.push((tbest, sgn * best, sgn));
