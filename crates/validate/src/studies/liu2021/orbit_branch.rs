@@ -199,7 +199,11 @@ const TRANSIENT_RTOL: f64 = 1e-8;
 /// study's branches), so a perturbation of the state entering the recorded window dies out
 /// within its first period; the transient then takes about `100^{-1/5}` ≈ 0.4 of the steps it
 /// takes at 1e-10.
-fn settle(m: &Model, periods: f64, record: f64, rtol: f64) -> Result<(f64, f64, bool), Error> {
+///
+/// Returns the last state `(q, q̇)`, whether any contact event was located, and the drift of
+/// `q` over the last period in units of `b̄`, `|q(t_end) − q(t_end − T)|/b̄` (a settled
+/// period-1 orbit: at the integration tolerance; NaN without two samples).
+fn settle(m: &Model, periods: f64, record: f64, rtol: f64) -> Result<(f64, f64, bool, f64), Error> {
     let r = liu2021::integrate(
         m,
         &IntegrationOptions {
@@ -220,8 +224,31 @@ fn settle(m: &Model, periods: f64, record: f64, rtol: f64) -> Result<(f64, f64, 
         *r.v.last()
             .ok_or(Error::Study("empty time response".to_owned()))?,
     );
-    Ok((q, v, r.contact_events > 0))
+    let drift = match r.q.len() {
+        n if n >= 2 => (r.q[n - 1] - r.q[n - 2]).abs() / m.backlash,
+        _ => f64::NAN,
+    };
+    Ok((q, v, r.contact_events > 0, drift))
 }
+
+/// The context of a continuation from a settled start ([`settle`]): its parameter and the
+/// start's drift over its last period, named when the start is not period-1 (a drift above
+/// [`PERIOD_ONE_DRIFT`]), where shooting has no period-1 orbit nearby to converge to.
+fn start_context(what: &str, drift: f64) -> String {
+    if drift > PERIOD_ONE_DRIFT {
+        format!(
+            "continuation in {what} (the settled start is not period-1: q moves by {} b̄ over its last period)",
+            sig(drift)
+        )
+    } else {
+        format!("continuation in {what}")
+    }
+}
+
+/// Drift of `q` over one period (units of `b̄`) above which a start settled by 199 periods is
+/// not period-1: a settled period-1 orbit repeats to the integration tolerance (rtol 1e-8
+/// against `|q| ≈ b̄`), and the free transient has decayed by `e^{-17}` per period.
+const PERIOD_ONE_DRIFT: f64 = 1e-5;
 
 /// One continuation: `(label, parameter name for tables, conversion to the table unit)`.
 struct Run {
@@ -308,7 +335,7 @@ pub(super) fn speed_branch_at(
     p.omega1 = w_start;
     let m = model(&p)?;
     let conv = m.omega_c / w_start; // ω̄_c per rad/s
-    let (q, v, _) = settle(&m, 199.0, 1.0, 1e-8)?;
+    let (q, v, _, drift) = settle(&m, 199.0, 1.0, 1e-8)?;
     let mut prob = OrbitProblem::new(m, m.period()).context("orbit problem")?;
     let opts = ContinuationOptions {
         initial_step: 1.0_f64.min(t.max_step),
@@ -332,7 +359,7 @@ pub(super) fn speed_branch_at(
     };
     let branch = prob
         .continuation(&[q, v], m.omega_c, &opts)
-        .context("continuation in ω1")?;
+        .context(&start_context("ω1", drift))?;
     Ok((branch, conv))
 }
 
@@ -385,7 +412,7 @@ pub(super) fn named_branch_at(
 ) -> Result<Branch, Error> {
     let mut sys = Liu::new(p)?;
     sys.set_parameter(name, start).context("start parameter")?;
-    let (q, v, _) = settle(&sys.m, 199.0, 1.0, 1e-8)?;
+    let (q, v, _, drift) = settle(&sys.m, 199.0, 1.0, 1e-8)?;
     let period = sys.m.period();
     let backlash = sys.m.backlash;
     let mut prob = OrbitProblem::new(sys, period).context("orbit problem")?;
@@ -410,7 +437,7 @@ pub(super) fn named_branch_at(
         ..ContinuationOptions::default()
     };
     prob.continuation(&[q, v], start, &opts)
-        .context(&format!("continuation in {name}"))
+        .context(&start_context(name, drift))
 }
 
 /// Short name of a special point: separation from the drive flank (max of `q + b̄` through 0,
@@ -1059,5 +1086,22 @@ pub(super) fn stop_label(b: &Branch) -> String {
             format!("stalled (its last {points} steps below the stall step on average)")
         }
         other => format!("{other:?}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A failed continuation names a start that is not period-1, and only such a start: a
+    /// drift at the bound, below it or unknown (NaN) leaves the context plain.
+    #[test]
+    fn a_start_that_is_not_period_one_is_named() {
+        let named = start_context("ω1", 0.312);
+        assert!(named.contains("not period-1"), "{named}");
+        assert!(named.contains("0.312 b̄"), "{named}");
+        for d in [PERIOD_ONE_DRIFT, 1e-9, 0.0, f64::NAN] {
+            assert_eq!(start_context("T2", d), "continuation in T2", "drift {d}");
+        }
     }
 }
