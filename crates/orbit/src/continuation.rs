@@ -55,6 +55,13 @@ pub struct ShootingCorrection {
     /// need not go on into what lies past it. Empty (default): no such stop.
     #[cfg_attr(feature = "serde", serde(default))]
     pub stop_at: Vec<SpecialKind>,
+    /// Stop the branch at its first unstable point after a stable one
+    /// ([`StopReason::LostStability`], with that point the branch's last): a branch wanted
+    /// only up to where its orbits stop being attractors (a limit of stable orbits) need not
+    /// go on into the unstable tangle past it. The special points of the step that contains
+    /// the loss are still detected and located. `false` (default): no such stop.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub stop_at_instability: bool,
 }
 
 impl Default for ShootingCorrection {
@@ -75,6 +82,7 @@ impl Default for ShootingCorrection {
             locate_contact_changes: false,
             locate_samples: 1,
             stop_at: Vec::new(),
+            stop_at_instability: false,
         }
     }
 }
@@ -242,6 +250,15 @@ impl<S: SecondOrderSystem> Corrector for Shooter<'_, S> {
                 parameter: sp.point.parameter,
                 kind: sp.kind,
             });
+        if self.stop.is_none()
+            && self.opts.stop_at_instability
+            && a.raw.floquet.stable
+            && !b.raw.floquet.stable
+        {
+            self.stop = Some(StopReason::LostStability {
+                parameter: b.raw.parameter,
+            });
+        }
         Ok(())
     }
 

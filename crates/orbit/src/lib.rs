@@ -114,7 +114,9 @@
 //! where the contact set changes at nearly every step — stops with [`StopReason::Stalled`] when
 //! [`ContinuationOptions::stall`] is set; a shooting branch stops after the first special point
 //! of a kind in [`ShootingCorrection::stop_at`] ([`StopReason::SpecialPoint`], AUTO's `STOP`
-//! list). Every continuation takes the one
+//! list), or at its first unstable point after a stable one when
+//! [`ShootingCorrection::stop_at_instability`] is set ([`StopReason::LostStability`]). Every
+//! continuation takes the one
 //! [`ContinuationOptions<C>`](ContinuationOptions) (step bounds, point cap, predictor, stall) with its
 //! corrector's part `C` ([`ShootingCorrection`], [`HbmCorrection`]). The correctors: the shooting residual
 //! below; the harmonic-balance residual of `hbm` ([`continue_hbm`]: Newton with line search on

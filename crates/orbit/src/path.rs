@@ -453,6 +453,13 @@ pub enum StopReason {
         /// Its kind.
         kind: SpecialKind,
     },
+    /// The branch lost stability
+    /// ([`ShootingCorrection::stop_at_instability`](crate::ShootingCorrection::stop_at_instability)):
+    /// its last point is the first unstable one after a stable one.
+    LostStability {
+        /// Parameter of the first unstable point (the branch's last).
+        parameter: f64,
+    },
     /// The branch crawled ([`ContinuationOptions::stall`]): the mean of its last `points`
     /// accepted steps was below the stall step.
     Stalled {
@@ -511,12 +518,14 @@ impl StopReason {
 
     /// The parameter where the branch stopped ([`LeftRange`](Self::LeftRange),
     /// [`StepTooSmall`](Self::StepTooSmall), [`Stalled`](Self::Stalled), the special point of
-    /// [`SpecialPoint`](Self::SpecialPoint), a codim-2 stop), if the reason carries one.
+    /// [`SpecialPoint`](Self::SpecialPoint), the first unstable point of
+    /// [`LostStability`](Self::LostStability), a codim-2 stop), if the reason carries one.
     pub fn parameter(&self) -> Option<f64> {
         match self {
             Self::LeftRange { parameter }
             | Self::StepTooSmall { parameter, .. }
             | Self::Stalled { parameter, .. }
+            | Self::LostStability { parameter }
             | Self::SpecialPoint { parameter, .. } => Some(*parameter),
             Self::Degenerate { parameter, .. } | Self::FirstLeftRange { parameter, .. } => {
                 Some(*parameter)

@@ -281,6 +281,11 @@ fn shooting_folds(force: f64) -> Vec<f64> {
 /// The shooting branch of the Duffing oscillator at F = 0.2 in ω from 0.8 up to 2 (steps up to
 /// 0.1), stopping at the special points of `stop_at`.
 fn duffing_omega_branch(stop_at: Vec<SpecialKind>) -> orbit::ShootingBranch {
+    duffing_omega_branch_with(stop_at, false)
+}
+
+/// [`duffing_omega_branch`], stopping at its first loss of stability when `unstable`.
+fn duffing_omega_branch_with(stop_at: Vec<SpecialKind>, unstable: bool) -> orbit::ShootingBranch {
     let mut p = OrbitProblem::new(duffing(0.2, 0.8), 2.0 * PI / 0.8).unwrap();
     let sopts = ContinuationOptions {
         initial_step: 0.02,
@@ -289,6 +294,7 @@ fn duffing_omega_branch(stop_at: Vec<SpecialKind>) -> orbit::ShootingBranch {
             parameter: Parameter::BaseFrequency,
             range: [0.7, 2.0],
             stop_at,
+            stop_at_instability: unstable,
             ..ShootingCorrection::default()
         },
         ..Default::default()
@@ -331,6 +337,40 @@ fn a_branch_asked_to_stop_at_its_fold_ends_there_unchanged() {
     let pd = run(vec![SpecialKind::PeriodDoubling]);
     assert_eq!(pd.points, full.points);
     assert_eq!(pd.stop, full.stop);
+}
+
+/// `ShootingCorrection::stop_at_instability`: the Duffing branch in ω loses stability at its
+/// upper fold (the middle branch is a saddle); asked to stop there, it ends with its first
+/// unstable point, which follows a stable one, and everything up to there is the same, bit for
+/// bit, as on the branch that goes on.
+#[test]
+fn a_branch_asked_to_stop_at_its_loss_of_stability_ends_at_its_first_unstable_point() {
+    let full = duffing_omega_branch(vec![]);
+    let stopped = duffing_omega_branch_with(vec![], true);
+    let k = full
+        .points
+        .iter()
+        .position(|p| !p.floquet.stable)
+        .expect("an unstable point on the full branch");
+    assert!(k > 0 && full.points[k - 1].floquet.stable);
+    let fold = full
+        .special
+        .iter()
+        .find(|x| x.kind == SpecialKind::Fold)
+        .unwrap();
+    // the loss of stability is the fold's (a multiplier through +1)
+    assert_eq!(k, fold.after + 1);
+    assert_eq!(
+        stopped.stop,
+        StopReason::LostStability {
+            parameter: full.points[k].parameter
+        }
+    );
+    assert_eq!(stopped.stop.parameter(), Some(full.points[k].parameter));
+    assert_eq!(stopped.points[..], full.points[..=k]);
+    let n_special = full.special.iter().take_while(|x| x.after < k).count();
+    assert_eq!(stopped.special[..], full.special[..n_special]);
+    assert!(full.points.len() > stopped.points.len());
 }
 
 /// The Duffing fold curve in (F, ω) from the upper fold of a shooting branch in ω: every

@@ -107,9 +107,10 @@ const SLICES: usize = 5;
 
 /// The branches of the curves: steps up to 3 rad/s (a map cell is 3.08 rad/s wide), special
 /// points located to 1e-3 rad/s, at most [`MAX_POINTS`] points per branch (enough to pass the
-/// unilateral grazing and the fold from 100 rad/s up, and the loss of stability from 220 rad/s
-/// down; past them the branch enters the non-smooth tangle near 169 rad/s, where
-/// `liu2021-orbit-branch`'s branch crawls by steps below 0.01 rad/s until its stall stop).
+/// unilateral grazing and the fold from 100 rad/s up; past them the branch enters the
+/// non-smooth tangle near 169 rad/s, where `liu2021-orbit-branch`'s branch crawls by steps
+/// below 0.01 rad/s until its stall stop). The branches from 220 rad/s down stop at their
+/// first unstable point ([`down_tuning`]).
 fn tuning() -> Tuning {
     Tuning {
         max_points: MAX_POINTS,
@@ -118,6 +119,20 @@ fn tuning() -> Tuning {
         locate_samples: 4,
         stall: None,
         stop_at: vec![],
+        stop_unstable: false,
+    }
+}
+
+/// [`tuning`] for the branches from 220 rad/s down: they are wanted up to the loss of stability
+/// of the bilateral orbits (the limit curve, [`stability_limit`]: the last stable and the first
+/// unstable point), and end with their first unstable point. Past it they went on into the
+/// tangle of contact changes and period doublings where the multipliers jump (module docs),
+/// locating a dozen or more special points that no curve uses: no fold and no back-flank
+/// grazing of these branches lay past it.
+fn down_tuning() -> Tuning {
+    Tuning {
+        stop_unstable: true,
+        ..tuning()
     }
 }
 
@@ -902,7 +917,8 @@ fn run() -> Result<StudyOutput, Error> {
                 } else {
                     (OMEGA[1], -1.0)
                 };
-                speed_branch_at(p, w, dir, [OMEGA[0] - 1.0, OMEGA[1] + 1.0], &tuning())
+                let t = if up { tuning() } else { down_tuning() };
+                speed_branch_at(p, w, dir, [OMEGA[0] - 1.0, OMEGA[1] + 1.0], &t)
                     .map_err(|e| e.to_string())
             },
             None,

@@ -289,6 +289,7 @@ fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
                 vec![]
             },
             stall: Some(STALL),
+            stop_unstable: false,
         },
     )?;
     Ok(Run {
@@ -318,6 +319,9 @@ pub(super) struct Tuning {
     pub stall: Option<orbit::Stall>,
     /// Stop at the first special point of one of these kinds.
     pub stop_at: Vec<SpecialKind>,
+    /// Stop at the first unstable point after a stable one
+    /// ([`orbit::ShootingCorrection::stop_at_instability`]).
+    pub stop_unstable: bool,
 }
 
 /// The period-1 branch in ω1 of the parameter set `p` (its `omega1` replaced by `w_start`),
@@ -353,6 +357,7 @@ pub(super) fn speed_branch_at(
             locate_samples: t.locate_samples,
             shooting: shooting(),
             stop_at: t.stop_at.clone(),
+            stop_at_instability: t.stop_unstable,
             ..ShootingCorrection::default()
         },
         ..ContinuationOptions::default()
@@ -386,6 +391,7 @@ fn named_branch(
         // unilateral period-1 branch"); past it the T2 branch crawled 15 more points within
         // 2e-4 N·m
         stop_at: vec![SpecialKind::Fold],
+        stop_unstable: false,
     };
     let branch = named_branch_at(p, name, start, range, dir, scale, &tuning)?;
     Ok(Run {
@@ -432,6 +438,7 @@ pub(super) fn named_branch_at(
             locate_samples: t.locate_samples,
             shooting: shooting(),
             stop_at: t.stop_at.clone(),
+            stop_at_instability: t.stop_unstable,
             ..ShootingCorrection::default()
         },
         ..ContinuationOptions::default()
@@ -1085,6 +1092,7 @@ pub(super) fn stop_label(b: &Branch) -> String {
         orbit::StopReason::Stalled { points, .. } => {
             format!("stalled (its last {points} steps below the stall step on average)")
         }
+        orbit::StopReason::LostStability { .. } => "at its first unstable point".to_owned(),
         other => format!("{other:?}"),
     }
 }
