@@ -326,7 +326,20 @@ fn sweep(
     })
 }
 
-/// `run_study(toml_text)` → JSON `{name, columns: [{name, unit}], rows, summary, unsettled}`;
+/// A table row as JSON values (numbers, counts, labels; NaN as null by serde_json).
+fn cells(r: &[study::Cell]) -> Vec<Value> {
+    r.iter()
+        .map(|c| match c {
+            study::Cell::Num(x) | study::Cell::Unsettled(x) => json!(x),
+            study::Cell::Text(t) => json!(t),
+            study::Cell::Count(n) => json!(n),
+            _ => Value::Null,
+        })
+        .collect()
+}
+
+/// `run_study(toml_text)` → JSON `{name, columns: [{name, unit}], rows, summary, unsettled,
+/// tables}` (`tables`: the further tables `[{name, columns, rows}]`);
 /// `unsettled` lists the `[row, column]` of every cell the table marks as not settled
 /// (`Cell::Unsettled`: written as a number, judged as not periodic).
 #[pyfunction]
@@ -348,19 +361,18 @@ fn run_study(py: Python<'_>, text: &str) -> String {
                         .map(move |(j, _)| [i, j])
                 })
                 .collect();
-            let rows: Vec<Vec<Value>> = out
-                .table
-                .rows
+            let rows: Vec<Vec<Value>> = out.table.rows.iter().map(|r| cells(r)).collect();
+            // the further tables (a basin study's fractions, a continuation's special points
+            // and codim-2 curves), by name
+            let tables: Vec<Value> = out
+                .tables
                 .iter()
-                .map(|r| {
-                    r.iter()
-                        .map(|c| match c {
-                            study::Cell::Num(x) | study::Cell::Unsettled(x) => json!(x),
-                            study::Cell::Text(t) => json!(t),
-                            study::Cell::Count(n) => json!(n),
-                            _ => Value::Null,
-                        })
-                        .collect()
+                .map(|t| {
+                    json!({
+                        "name": t.name,
+                        "columns": t.columns,
+                        "rows": t.rows.iter().map(|r| cells(r)).collect::<Vec<_>>(),
+                    })
                 })
                 .collect();
             Ok(json!({
@@ -369,6 +381,7 @@ fn run_study(py: Python<'_>, text: &str) -> String {
                 "rows": rows,
                 "summary": out.summary,
                 "unsettled": unsettled,
+                "tables": tables,
             }))
         })())
     })

@@ -1,6 +1,7 @@
 """Tests of the geardyn Python package (run by .ci/run after `pip install ./python`)."""
 
 import math
+import warnings
 import pathlib
 
 import numpy as np
@@ -120,6 +121,48 @@ method = "kinematics"
     assert f.data.shape[0] == 50 * 4
     with pytest.raises(geardyn.StudyError):
         geardyn.run_study("name = 'x'\nmodel = 'nope'\n[solver]\nmethod = 'hbm'\n")
+
+
+def test_continuation_study_gives_branch_special_points_and_curves():
+    """A [continuation] study: the Liu period-1 branch in omega1 up to the unilateral onset
+    (the drive flank's grazing, 134.809 rad/s in the validation's liu2021-orbit-branch), its
+    special points and the onset's codim-2 curve in (omega1, load_torque), as tables."""
+    text = """
+name = "c"
+model = "liu2021"
+[overrides]
+omega1 = 130.0
+base_radius = "mean"
+[solver]
+method = "shooting"
+[solver.settings]
+transient_periods = 200
+[continuation]
+parameter = "omega1"
+to = 140.0
+max_step = 2.0
+stop_at = ["grazing"]
+[continuation.codim2]
+parameter = "load_torque"
+range = [29.5, 30.5]
+kinds = ["grazing"]
+max_points = 2
+max_curves = 1
+"""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", geardyn.ReliabilityWarning)
+        s = geardyn.run_study(text)
+    assert s.columns[0] == "omega1" and "drive_flank_max" in s.columns
+    assert s.continuation["stop"].startswith("stopped after its first grazing drive flank")
+    sp = s.special_points(as_="list")
+    assert [r["kind"] for r in sp] == ["grazing drive flank (max)"]
+    assert abs(sp[0]["omega1"] - 134.80941) < 4.9e-4
+    curves = s.curves(as_="list")
+    assert {r["direction"] for r in curves} == {-1.0, 1.0}
+    assert all(29.5 - 1e-9 <= r["load_torque"] <= 30.5 + 1e-9 for r in curves)
+    with pytest.raises(ValueError, match="not a continuation study"):
+        geardyn.run_study("name = \"k\"\nmodel = \"karpov2017-kinematics\"\n"
+                          "[solver]\nmethod = \"kinematics\"\n").special_points()
 
 
 def test_basin_study_gives_cells_and_fractions():

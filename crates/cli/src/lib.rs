@@ -434,6 +434,18 @@ pub fn models_markdown() -> String {
             .map(|x| format!("`{}`", x.method.name()))
             .collect();
         let _ = writeln!(s, "Methods: {}.\n", methods.join(", "));
+        let cont = m.continuation_parameters();
+        if !cont.is_empty() {
+            let names: Vec<String> = cont
+                .iter()
+                .map(|(n, u)| format!("`{n}` ({})", cell(u)))
+                .collect();
+            let _ = writeln!(
+                s,
+                "`[continuation]` parameters (with `method = \"shooting\"`): {}.\n",
+                names.join(", ")
+            );
+        }
         let _ = writeln!(s, "| parameter | unit | default |\n| --- | --- | --- |");
         for p in &info.parameters {
             let _ = writeln!(
@@ -598,6 +610,15 @@ pub fn models_text(name: Option<&str>) -> Result<String, Failure> {
             if let Some(i) = meth.initial {
                 let _ = writeln!(s, "    initial = {i}");
             }
+        }
+        let cont = m.continuation_parameters();
+        if !cont.is_empty() {
+            let names: Vec<String> = cont.iter().map(|(n, u)| format!("{n} [{u}]")).collect();
+            let _ = writeln!(
+                s,
+                "  [continuation] (method \"shooting\") parameters: {}",
+                names.join(", ")
+            );
         }
         s.push('\n');
     }

@@ -9,7 +9,9 @@
 //! `docs/studies.md`, limits in `docs/reliability.md`): any model of [`REGISTRY`], parameter
 //! overrides and choices, a sweep over one or two parameters ([`Sweep`]), solver and settings,
 //! the initial state, limits ([`Limits`]) and an optional bifurcation diagram
-//! ([`BifurcationSpec`]) or basin-of-attraction grid ([`BasinSpec`], [`basin`]).
+//! ([`BifurcationSpec`]), basin-of-attraction grid ([`BasinSpec`], [`basin`]) or continuation
+//! of a periodic orbit with codim-2 curves of its special points ([`ContinuationSpec`],
+//! [`continuation`]).
 //!
 //! The flow is *check everything, then compute, then write*: [`UserStudy::parse`] checks every
 //! entry that does not depend on the model; [`prepare`] builds every point through the model's
@@ -41,6 +43,7 @@
 
 pub mod basin;
 pub mod bifurcation;
+pub mod continuation;
 mod error;
 pub mod shard;
 mod spec;
@@ -48,6 +51,9 @@ mod user;
 
 pub use basin::BasinSpec;
 pub use bifurcation::{BifurcationSpec, MAX_BIFURCATION_PERIODS, MAX_BIFURCATION_POINTS};
+pub use continuation::{
+    Codim2Spec, ContinuationSpec, MAX_CODIM2_CURVES, MAX_CONTINUATION_POINTS, MAX_SWITCHES,
+};
 pub use error::Error;
 // the output table of a study is a `plot` table
 pub use models::contract::{

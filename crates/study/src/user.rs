@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::basin::{self, BasinSpec};
 use crate::bifurcation::{self, BifurcationSpec};
+use crate::continuation::{self, ContinuationSpec};
 
 /// One `[overrides]` entry as TOML gives it: a value, or a table of entries (dotted keys).
 #[derive(Deserialize)]
@@ -105,6 +106,10 @@ pub struct UserStudy {
     /// attractor named and clustered, with the basin fractions (see [`crate::basin`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub basin: Option<BasinSpec>,
+    /// A continuation study: the periodic orbit followed in one parameter, its special points
+    /// and optionally their codim-2 curves (see [`crate::continuation`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub continuation: Option<ContinuationSpec>,
 }
 
 impl UserStudy {
@@ -140,6 +145,23 @@ impl UserStudy {
                         .to_owned(),
                 ));
             }
+        }
+        if let Some(c) = &s.continuation {
+            c.request()?;
+            if s.sweep.is_some()
+                || s.sweep2.is_some()
+                || s.bifurcation.is_some()
+                || s.basin.is_some()
+            {
+                return Err(Error::StudyFile(
+                    "a [continuation] study follows one orbit from the parameters of \
+                     [overrides]: remove [sweep], [sweep2], [bifurcation] and [basin] (the \
+                     continued parameters are continuation.parameter and \
+                     continuation.codim2.parameter)"
+                        .to_owned(),
+                ));
+            }
+            return Ok(s);
         }
         if let Some(b) = &s.basin {
             let grid = b.grid()?;
@@ -241,6 +263,9 @@ pub fn prepare(study: &UserStudy) -> Result<Prepared, Error> {
     let spec = model_spec(&study.model)?;
     if let Some(b) = &study.basin {
         return prepare_basin(study, spec, b);
+    }
+    if let Some(c) = &study.continuation {
+        return prepare_continuation(study, spec, c);
     }
     let ctx = registry::Context {
         solver: &study.solver,
@@ -352,6 +377,185 @@ fn prepare_basin(
     })
 }
 
+/// [`prepare`] for a continuation study: the model must have a continuation and know the
+/// parameters, the solver must be shooting (its settings checked by the model's adapter);
+/// no point jobs (the continuation is one computation, [`compute`]).
+fn prepare_continuation(
+    study: &UserStudy,
+    spec: &'static dyn Model,
+    c: &ContinuationSpec,
+) -> Result<Prepared, Error> {
+    let known = spec.continuation_parameters();
+    if known.is_empty() {
+        return Err(Error::StudyFile(format!(
+            "model `{}` has no [continuation] study; models with one: {}",
+            spec.name(),
+            registry::REGISTRY
+                .iter()
+                .filter(|m| !m.continuation_parameters().is_empty())
+                .map(|m| m.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    }
+    let names = || {
+        known
+            .iter()
+            .map(|(n, _)| format!("\"{n}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for (key, name) in std::iter::once(("continuation.parameter", &c.parameter)).chain(
+        c.codim2
+            .iter()
+            .map(|c2| ("continuation.codim2.parameter", &c2.parameter)),
+    ) {
+        if !known.iter().any(|(n, _)| n == name) {
+            return Err(Error::StudyFile(format!(
+                "{key} = \"{name}\" is not a continuation parameter of {}; parameters: {}",
+                spec.name(),
+                names()
+            )));
+        }
+        if study.overrides.contains_key(name.as_str()) {
+            if let Some(v) = study.overrides.get(name.as_str()) {
+                v.check_finite(&format!("override `{name}`"))?;
+            }
+        }
+    }
+    if study.solver.method != Method::Shooting {
+        return Err(Error::StudyFile(
+            "a [continuation] study corrects its orbits by shooting: set [solver] method = \
+             \"shooting\" (its settings: rtol, tol, max_iter, flow_method, transient_periods)"
+                .to_owned(),
+        ));
+    }
+    let ctx = registry::Context {
+        solver: &study.solver,
+        initial: study.initial.as_deref(),
+        limits: study.limits,
+    };
+    // the solver's settings and the initial state, checked as for a shooting study
+    let adapter = spec.build(&ctx)?;
+    Ok(Prepared {
+        study: study.clone(),
+        outputs: adapter.outputs,
+        xs: vec![Value::Num(f64::NAN)],
+        ys: vec![Value::Num(f64::NAN)],
+        jobs: Vec::new(),
+    })
+}
+
+/// Compute a continuation study (one computation under `limits.max_seconds_per_point`) and
+/// render its outputs; a failure is the study's one failed point.
+fn run_continuation(study: &UserStudy) -> UserStudyOutput {
+    let owned = study.clone();
+    let r = model_spec(&study.model)
+        .map_err(|e| e.to_string())
+        .and_then(|spec| {
+            let request = study
+                .continuation
+                .as_ref()
+                .ok_or_else(|| "no [continuation] table".to_owned())?
+                .request()
+                .map_err(|e| e.to_string())?;
+            let seconds = study.limits.max_seconds_per_point;
+            let job = move || {
+                let ctx = registry::Context {
+                    solver: &owned.solver,
+                    initial: owned.initial.as_deref(),
+                    limits: owned.limits,
+                };
+                spec.continuation(&owned.overrides, &ctx, &request)
+                    .map_err(|e| Error::from(e).to_string())
+            };
+            // one point of the run's work account (the cost line counts it)
+            timestep::sweep_owned(vec![job], |job| run_with_time_limit(seconds, job), None)
+                .pop()
+                .unwrap_or_else(|| Err("no result".to_owned()))
+        });
+    let (table, mut tables, figures, cont, failed) = match r {
+        Ok(out) => {
+            let (branch, special, curves) = continuation::tables(&study.name, &out);
+            let mut tables = vec![special];
+            tables.extend(curves);
+            let figs = continuation::figures(&study.name, &out);
+            (
+                branch,
+                tables,
+                figs,
+                continuation::summary(&out),
+                Vec::new(),
+            )
+        }
+        Err(e) => (
+            Table::new(&study.name, &[]),
+            Vec::new(),
+            Vec::new(),
+            serde_json::json!({ "error": e }),
+            vec![FailedPoint {
+                index: 0,
+                at: BTreeMap::new(),
+                error: e,
+            }],
+        ),
+    };
+    tables.retain(|t| !t.columns.is_empty());
+    let stable = table.columns.iter().position(|c| c.name == "stable");
+    let rows = table.rows.len();
+    let unstable = stable.map(|j| {
+        table
+            .rows
+            .iter()
+            .filter(|r| r[j].number().is_some_and(|x| x.abs() < 0.5))
+            .count()
+    });
+    let reliability = Reliability {
+        points: rows.max(failed.len()),
+        failed: failed.len(),
+        unstable,
+        notes: cont
+            .get("stop")
+            .and_then(|s| s.as_str())
+            .map(|s| vec![format!("branch: {s}")])
+            .unwrap_or_default(),
+        ..Reliability::default()
+    };
+    let summary = serde_json::json!({
+        "study": study,
+        "points": reliability.points,
+        "failed_points": failed,
+        "reliability": reliability,
+        "continuation": cont,
+        "significant_digits": plot::SIGNIFICANT_DIGITS,
+    });
+    UserStudyOutput {
+        name: study.name.clone(),
+        outputs: Vec::new(),
+        table,
+        figures,
+        maps: Vec::new(),
+        failed,
+        tables,
+        basins: None,
+        points: reliability.points,
+        reliability,
+        summary,
+    }
+}
+
+/// Refuse to shard a continuation study (one sequential computation).
+fn no_shards(study: &UserStudy) -> Result<(), Error> {
+    if study.continuation.is_some() {
+        return Err(Error::Shard(
+            "a [continuation] study is one sequential computation (each point predicted from \
+             the last): it does not shard; run it whole"
+                .to_owned(),
+        ));
+    }
+    Ok(())
+}
+
 pub(crate) fn panic_message(e: &(dyn std::any::Any + Send)) -> String {
     let m = e
         .downcast_ref::<&str>()
@@ -461,6 +665,13 @@ pub fn compute(
     prepared: Prepared,
     progress: Option<&(dyn Fn(usize, usize) + Sync)>,
 ) -> UserStudyOutput {
+    if prepared.study.continuation.is_some() {
+        let out = run_continuation(&prepared.study);
+        if let Some(p) = progress {
+            p(1, 1);
+        }
+        return out;
+    }
     let (plan, records) = compute_records(prepared, ShardSpec::whole(), Vec::new(), None, progress);
     // The whole study was computed: every record is there, in order.
     let results = records.into_iter().map(record_result).collect();
@@ -665,6 +876,7 @@ pub fn compute_records(
 /// front ends that ship shards to workers (the Python package's Dask path).
 pub fn run_shard_from_str(toml: &str, shard: ShardSpec) -> Result<String, Error> {
     let study = UserStudy::parse(toml)?;
+    no_shards(&study)?;
     let prepared = prepare(&study)?;
     let (plan, records) = compute_records(prepared, shard, Vec::new(), None, None);
     let mut text = shard::header_line(&plan.header(Some(shard)));
@@ -679,6 +891,7 @@ pub fn run_shard_from_str(toml: &str, shard: ShardSpec) -> Result<String, Error>
 /// `.part` files) of the study given as TOML text into its outputs.
 pub fn merge_from_str(toml: &str, parts: &[String]) -> Result<UserStudyOutput, Error> {
     let study = UserStudy::parse(toml)?;
+    no_shards(&study)?;
     let plan = plan_of(prepare(&study)?);
     let mut read = Vec::with_capacity(parts.len());
     for (k, text) in parts.iter().enumerate() {
@@ -1356,6 +1569,15 @@ pub fn run_study_file(
     let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
     let lock = lock_output_dir(&dir)?;
     let prepared = prepare(&study)?;
+    if study.continuation.is_some() {
+        // one computation: no journal to resume from
+        progress.start(1);
+        let output = compute(prepared, None);
+        progress.point(1, 1);
+        progress.finish();
+        let written = write_outputs(&output, &lock)?;
+        return Ok((output, written));
+    }
     // The journal lives beside the output directory (which is replaced atomically at the end)
     // and under the same lock: a run stopped by SIGINT/SIGKILL resumes from it.
     let journal_path = sibling(&dir, "journal");
@@ -1437,6 +1659,7 @@ pub fn run_study_shard_file(
     progress: &dyn Progress,
 ) -> Result<PathBuf, Error> {
     let study = read_study(file)?;
+    no_shards(&study)?;
     let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
     let path = shard_path(&dir, &study, shard);
     if let Some(p) = path.parent() {
@@ -1480,6 +1703,7 @@ pub fn merge_study_files(
     parts: &[PathBuf],
 ) -> Result<(UserStudyOutput, Written), Error> {
     let study = read_study(file)?;
+    no_shards(&study)?;
     let dir = out.map_or_else(|| default_out_dir(file, &study), Path::to_path_buf);
     let plan = plan_of(prepare(&study)?);
     let mut read = Vec::with_capacity(parts.len());

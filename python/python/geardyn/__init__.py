@@ -447,6 +447,7 @@ class StudyResult:
         self.units = [c["unit"] for c in reply["columns"]]
         self.rows = reply["rows"]
         self.summary = reply["summary"]
+        self.tables = {t["name"]: t for t in reply.get("tables", [])}
         self.dims = _tables.study_dims(self.summary, self.columns)
         self.unsettled = np.zeros((len(self.rows), len(self.columns)), dtype=bool)
         self.unsettled_cells = {}
@@ -493,6 +494,30 @@ class StudyResult:
         if as_ not in ("pandas", "list"):
             raise ValueError(f"as_ must be 'pandas' or 'list', got {as_!r}")
         return _tables.basin_fractions(self, as_)
+
+    @property
+    def continuation(self):
+        """A continuation study's result (``summary["continuation"]``: ``parameter``,
+        ``unit``, ``branch_points``, ``stop``, ``special``, ``second``, ``curves``,
+        ``curve_failures``), or ``None`` for any other study. The table itself is the branch,
+        one row per point."""
+        c = self.summary.get("continuation") if isinstance(self.summary, dict) else None
+        return c if isinstance(c, dict) else None
+
+    def special_points(self, as_="pandas"):
+        """A continuation study's special points in branch order (``kind``, the parameter,
+        ``located``, ``precision``, ``stable``, the state): a :class:`pandas.DataFrame`
+        (``as_="pandas"``, units in ``df.attrs["units"]``) or a list of dicts
+        (``as_="list"``). A study without ``[continuation]`` raises ``ValueError``."""
+        return _tables.continuation_table(self, "special", as_)
+
+    def curves(self, as_="pandas"):
+        """A continuation study's codim-2 curves, one row per curve point (``curve``: the
+        index of its start among :meth:`special_points`, ``kind``, ``direction``, the two
+        parameters, ``stable``), as :meth:`special_points`; the stop reason of each curve is in
+        ``continuation["curves"][k]["stop"]``. A study without ``[continuation.codim2]`` raises
+        ``ValueError``."""
+        return _tables.continuation_table(self, "curves", as_)
 
     def column(self, name):
         """One column as a float array (by name)."""

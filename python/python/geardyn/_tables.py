@@ -325,6 +325,29 @@ def basin_fractions(result, as_):
     return df
 
 
+def continuation_table(result, which, as_):
+    """A continuation study's further table ``<name>_special`` or ``<name>_curves`` as a
+    list of dicts or a :class:`pandas.DataFrame`."""
+    if as_ not in ("pandas", "list"):
+        raise ValueError(f"as_ must be 'pandas' or 'list', got {as_!r}")
+    if result.continuation is None:
+        raise ValueError(f"study {result.name!r} is not a continuation study "
+                         "(no [continuation] table)")
+    table = result.tables.get(f"{result.name}_{which}")
+    if table is None:
+        raise ValueError(f"study {result.name!r} has no {which} table"
+                         + (" (no [continuation.codim2] table)" if which == "curves" else ""))
+    names = [c["name"] for c in table["columns"]]
+    rows = [dict(zip(names, row)) for row in table["rows"]]
+    if as_ == "list":
+        return rows
+    pd = require("pandas", "pandas", f"StudyResult.{'special_points' if which == 'special' else 'curves'}()")
+    df = pd.DataFrame(rows, columns=names)
+    df.attrs["units"] = {c["name"]: c["unit"] for c in table["columns"]}
+    df.attrs["study"] = result.name
+    return df
+
+
 def study_frame(result, as_):
     """A :class:`~geardyn.StudyResult` as a DataFrame or a Dataset (see its methods)."""
     names = result.columns

@@ -20,6 +20,7 @@ use std::collections::BTreeMap;
 
 mod accuracy;
 pub mod api;
+pub mod continuation;
 mod describe;
 mod error;
 pub(crate) mod lyapunov;
@@ -141,6 +142,28 @@ pub trait Model: Sync {
         )))
     }
 
+    /// The parameters a continuation ([`Model::continuation`]) can change, `(name, unit)`;
+    /// empty: the model has no continuation.
+    fn continuation_parameters(&self) -> &'static [(&'static str, &'static str)] {
+        &[]
+    }
+
+    /// Continue the periodic orbit of `point` in a parameter (and codim-2 curves of its
+    /// special points) as `request` asks, with the shooting settings of `ctx`'s solver
+    /// ([`continuation::continue_on`]).
+    fn continuation(
+        &self,
+        point: &Point,
+        ctx: &Context<'_>,
+        request: &continuation::ContinuationRequest,
+    ) -> Result<continuation::ContinuationOutput, PointError> {
+        let _ = (point, ctx, request);
+        Err(PointError::Input(format!(
+            "model `{}` has no [continuation] study",
+            self.name()
+        )))
+    }
+
     /// The model's named parameter sets.
     fn presets(&self) -> Vec<Preset> {
         Vec::new()
@@ -208,6 +231,11 @@ pub fn describe_json(m: &dyn Model) -> serde_json::Value {
         "name": m.name(),
         "description": m.description(),
         "info": m.describe(),
+        "continuation_parameters": m
+            .continuation_parameters()
+            .iter()
+            .map(|(n, u)| serde_json::json!({"name": n, "unit": u}))
+            .collect::<Vec<_>>(),
     })
 }
 

@@ -112,6 +112,7 @@ mod harmonic;
 mod integrate;
 mod model;
 mod ode;
+mod parametric;
 mod params;
 mod presets;
 pub mod registry;
@@ -134,6 +135,7 @@ pub use integrate::{
 };
 pub use model::{Model, Rattle, RattleState};
 pub use ode::{TimeSystem, Trig};
+pub use parametric::{PARAMETERS as CONTINUATION_PARAMETERS, Parametric};
 pub use params::{
     BaseRadius, ErrorTerm, Parameters, Readings, RigidAcceleration, RigidSeries, table1,
 };

@@ -305,19 +305,19 @@ fn liu_shoot_settings() -> Vec<SettingDef> {
     contract::shoot::shoot_settings(LIU_SHOOT_TRANSIENT)
 }
 
-/// One Liu point by shooting: the guess from `transient_periods` of time integration, then
-/// Newton on the event-located period map; the columns of [`LIU_SHOOT_OUT`].
-fn liu_shoot(
-    model: liu2021::Model,
+/// The shooting guess of a Liu point: the state after `transient_periods` periods of time
+/// integration from `initial` (default: quasi-static contact with the drive flank).
+fn liu_guess(
+    model: &liu2021::Model,
     s: &Settings,
     initial: Option<(f64, f64)>,
-) -> Result<Record, PointError> {
+) -> Result<[f64; 2], PointError> {
     let b = model.backlash;
     let start = initial.unwrap_or((-b - model.b0, 0.0));
     let transient = s.f("transient_periods");
     let x0 = if transient > 0.0 {
         let r = liu2021::integrate(
-            &model,
+            model,
             &liu2021::IntegrationOptions {
                 transient_periods: (transient - 1.0).max(0.0),
                 record_periods: transient.min(1.0),
@@ -336,6 +336,18 @@ fn liu_shoot(
     } else {
         [start.0, start.1]
     };
+    Ok(x0)
+}
+
+/// One Liu point by shooting: the guess from `transient_periods` of time integration, then
+/// Newton on the event-located period map; the columns of [`LIU_SHOOT_OUT`].
+fn liu_shoot(
+    model: liu2021::Model,
+    s: &Settings,
+    initial: Option<(f64, f64)>,
+) -> Result<Record, PointError> {
+    let b = model.backlash;
+    let x0 = liu_guess(&model, s, initial)?;
     let (p, o, shared) = shoot_on("liu2021", model, model.period(), &x0, s)?;
     let ext = p.event_extrema(&o.x0, 1).context("liu2021 gap extrema")?;
     // e0 = q − b̄ (back flank), e1 = q + b̄ (drive flank): contact while e1 < 0
@@ -384,6 +396,11 @@ pub fn shooting_point(
 }
 
 fn liu_model(p: &Point) -> Result<liu2021::Model, PointError> {
+    liu_params(p)?.model().context("liu2021 parameters")
+}
+
+/// The Liu parameter set of a point (overrides and the `readings` choice on Table 1).
+fn liu_params(p: &Point) -> Result<liu2021::Parameters, PointError> {
     let mut fields = p.clone();
     reject_legacy(
         &fields,
@@ -409,8 +426,7 @@ fn liu_model(p: &Point) -> Result<liu2021::Model, PointError> {
             )));
         }
     }
-    let params = apply_values(&base, &fields)?;
-    params.model().context("liu2021 parameters")
+    apply_values(&base, &fields)
 }
 
 fn liu_initial(ctx: &Context<'_>) -> Result<Option<(f64, f64)>, PointError> {
@@ -425,6 +441,115 @@ fn liu_initial(ctx: &Context<'_>) -> Result<Option<(f64, f64)>, PointError> {
 }
 
 const COORDINATES: &[(&str, &str)] = &[("q", "1"), ("q'", "1")];
+
+/// The continuation parameters of liu2021: the pinion speed and the Table 1 entries of
+/// [`liu2021::CONTINUATION_PARAMETERS`].
+const CONTINUATION_PARAMETERS: [(&str, &str); 5] = [
+    ("omega1", "rad/s"),
+    liu2021::CONTINUATION_PARAMETERS[0],
+    liu2021::CONTINUATION_PARAMETERS[1],
+    liu2021::CONTINUATION_PARAMETERS[2],
+    liu2021::CONTINUATION_PARAMETERS[3],
+];
+
+/// [`contract::Model::continuation`] of liu2021: the point's parameter set as a
+/// [`liu2021::Parametric`] system, the shooting guess of `method = "shooting"`, the state
+/// weighed by `0.1 b̄`; the work (guess, and every branch and curve point's Newton iterations)
+/// bounded by `limits.max_steps`.
+fn liu_continuation(
+    point: &Point,
+    ctx: &Context<'_>,
+    request: &contract::continuation::ContinuationRequest,
+) -> Result<contract::continuation::ContinuationOutput, PointError> {
+    use contract::continuation::{Axis, Setup, continue_on};
+    if ctx.solver.method != Method::Shooting {
+        return Err(PointError::Input(
+            "a [continuation] study corrects its orbits by shooting: set [solver] method = \"shooting\""
+                .into(),
+        ));
+    }
+    let s = Settings::read(
+        "liu2021",
+        Method::Shooting,
+        &liu_shoot_settings(),
+        &ctx.solver.settings,
+        &[],
+    )?;
+    let p = liu_params(point)?;
+    let sys = liu2021::Parametric::new(p).context("liu2021 parameters")?;
+    let m = *sys.model();
+    let axis = |name: &str| -> Result<Axis, PointError> {
+        let unit = CONTINUATION_PARAMETERS
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, u)| (*u).to_owned())
+            .ok_or_else(|| {
+                PointError::Input(format!(
+                    "liu2021 cannot continue in `{name}`; parameters: {}",
+                    CONTINUATION_PARAMETERS
+                        .iter()
+                        .map(|(n, _)| format!("\"{n}\""))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })?;
+        Ok(if name == "omega1" {
+            Axis {
+                name: name.to_owned(),
+                unit,
+                parameter: orbit::Parameter::BaseFrequency,
+                conv: m.omega_c / p.omega1,
+                start: p.omega1,
+            }
+        } else {
+            Axis {
+                name: name.to_owned(),
+                unit,
+                parameter: orbit::Parameter::Named(name.to_owned()),
+                conv: 1.0,
+                start: system::SecondOrderSystem::parameter(&sys, name)
+                    .context("liu2021 parameter")?,
+            }
+        })
+    };
+    let first = axis(&request.parameter)?;
+    let second = match &request.codim2 {
+        Some(c) if c.parameter == request.parameter => {
+            return Err(PointError::Input(format!(
+                "continuation.codim2.parameter must differ from continuation.parameter (both `{}`)",
+                c.parameter
+            )));
+        }
+        Some(c) => Some(axis(&c.parameter)?),
+        None => None,
+    };
+    // the guess's integration, then every branch and curve point a few Newton iterations of
+    // one period (the time stepper's ≈ 0.5 time units per step)
+    let corrections = request.max_points as f64
+        + request
+            .codim2
+            .as_ref()
+            .map_or(0.0, |c| 2.0 * c.max_curves as f64 * c.max_points as f64);
+    let steps =
+        (s.f("transient_periods") + corrections * (s.f("max_iter") + 1.0)) * m.period() / 0.5;
+    ctx.limits.need_steps("liu2021 continuation", steps)?;
+    let guess = liu_guess(&m, &s, liu_initial(ctx)?)?;
+    let setup = Setup {
+        what: "liu2021",
+        period: m.period(),
+        guess: guess.to_vec(),
+        state_scale: 0.1 * m.backlash,
+        coordinates: COORDINATES
+            .iter()
+            .map(|(n, u)| ((*n).to_owned(), (*u).to_owned()))
+            .collect(),
+        // e0 = q − b̄ (back flank), e1 = q + b̄ (drive flank)
+        events: vec!["back flank".to_owned(), "drive flank".to_owned()],
+        axis: first,
+        second,
+    };
+    continue_on(sys, &setup, request, &s)
+}
 
 impl contract::Model for Liu {
     fn name(&self) -> &'static str {
@@ -588,6 +713,22 @@ impl contract::Model for Liu {
 
     fn full_methods(&self) -> &'static [&'static str] {
         &["hbm", "time-stepping", "shooting"]
+    }
+
+    fn continuation_parameters(&self) -> &'static [(&'static str, &'static str)] {
+        &CONTINUATION_PARAMETERS
+    }
+
+    /// Shooting continuation of the period-1 orbit ([`contract::continuation::continue_on`]
+    /// on [`liu2021::Parametric`]): in `omega1` (the base frequency `ω̄_c`) or a Table 1 entry
+    /// of [`liu2021::CONTINUATION_PARAMETERS`], from the shooting guess of the point.
+    fn continuation(
+        &self,
+        point: &Point,
+        ctx: &Context<'_>,
+        request: &contract::continuation::ContinuationRequest,
+    ) -> Result<contract::continuation::ContinuationOutput, PointError> {
+        liu_continuation(point, ctx, request)
     }
 
     fn solve_full(

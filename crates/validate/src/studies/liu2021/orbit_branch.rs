@@ -11,7 +11,7 @@ use orbit::{
 
 pub(super) type Branch = orbit::ShootingBranch;
 pub(super) type SpecialPoint = orbit::SpecialPoint<ShootingPoint>;
-use system::{SecondOrderSystem, SystemError};
+use system::SecondOrderSystem;
 
 use super::{base, model, sig, speed_tolerance};
 use crate::{
@@ -63,120 +63,9 @@ pub(super) const STALL: orbit::Stall = orbit::Stall {
 /// sign more than once within one step; the first change is located down to a piece.
 const LOCATE_SAMPLES: usize = 16;
 
-/// The Liu model with its parameters, so that any Table 1 entry can be a continuation
-/// parameter (`load_torque`, `ak`): the model is rebuilt from the parameters at every change
-/// (no accumulated scaling).
-#[derive(Debug, Clone)]
-pub(super) struct Liu {
-    p: Parameters,
-    m: Model,
-}
-
-impl Liu {
-    /// The model of `p` with `p` kept for rebuilding.
-    pub(super) fn new(p: Parameters) -> Result<Self, Error> {
-        let m = model(&p)?;
-        Ok(Self { p, m })
-    }
-}
-
-impl SecondOrderSystem for Liu {
-    fn n_dof(&self) -> usize {
-        SecondOrderSystem::n_dof(&self.m)
-    }
-    fn mass(&self) -> nalgebra::DMatrix<f64> {
-        SecondOrderSystem::mass(&self.m)
-    }
-    fn damping(&self) -> nalgebra::DMatrix<f64> {
-        SecondOrderSystem::damping(&self.m)
-    }
-    fn stiffness(&self) -> nalgebra::DMatrix<f64> {
-        SecondOrderSystem::stiffness(&self.m)
-    }
-    fn nonlinear_force(&self, t: f64, q: &[f64], qd: &[f64], g: &mut [f64]) {
-        SecondOrderSystem::nonlinear_force(&self.m, t, q, qd, g);
-    }
-    fn forcing(&self, t: f64, f: &mut [f64]) {
-        SecondOrderSystem::forcing(&self.m, t, f);
-    }
-    fn force_jacobian(&self, t: f64, q: &[f64], qd: &[f64], dq: &mut [f64], dv: &mut [f64]) {
-        SecondOrderSystem::force_jacobian(&self.m, t, q, qd, dq, dv);
-    }
-    fn n_events(&self) -> usize {
-        SecondOrderSystem::n_events(&self.m)
-    }
-    fn events(&self, t: f64, q: &[f64], qd: &[f64], e: &mut [f64]) {
-        SecondOrderSystem::events(&self.m, t, q, qd, e);
-    }
-    // the time table and the shared time functions of the model (the same values as the
-    // direct evaluations above, bit for bit: the trait's contract, tested in `liu2021`), so
-    // that the orbit flow takes each `sin`/`cos` of `τ` once per stage time; not the grid
-    // tabulation (`tabulate_grid`), whose quarter-circle form differs at rounding level
-    fn time_table_len(&self) -> usize {
-        SecondOrderSystem::time_table_len(&self.m)
-    }
-    fn fill_time_table(&self, t: f64, row: &mut [f64]) {
-        SecondOrderSystem::fill_time_table(&self.m, t, row);
-    }
-    fn fill_time_functions(&self, t: f64, f: &mut [f64], row: &mut [f64]) {
-        SecondOrderSystem::fill_time_functions(&self.m, t, f, row);
-    }
-    fn nonlinear_force_tabulated(&self, t: f64, row: &[f64], q: &[f64], qd: &[f64], g: &mut [f64]) {
-        SecondOrderSystem::nonlinear_force_tabulated(&self.m, t, row, q, qd, g);
-    }
-    fn force_jacobian_tabulated(
-        &self,
-        t: f64,
-        row: &[f64],
-        q: &[f64],
-        qd: &[f64],
-        dq: &mut [f64],
-        dv: &mut [f64],
-    ) {
-        SecondOrderSystem::force_jacobian_tabulated(&self.m, t, row, q, qd, dq, dv);
-    }
-    fn events_tabulated(&self, t: f64, row: &[f64], q: &[f64], qd: &[f64], e: &mut [f64]) {
-        SecondOrderSystem::events_tabulated(&self.m, t, row, q, qd, e);
-    }
-    fn event_direction(&self, index: usize) -> system::Direction {
-        SecondOrderSystem::event_direction(&self.m, index)
-    }
-    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), SystemError> {
-        let mut p = self.p;
-        match name {
-            "load_torque" => p.load_torque = value,
-            "ak" => p.kr = value * p.k0,
-            _ => return Err(SystemError::invalid(name, "load_torque or ak", value)),
-        }
-        let mut m = p
-            .model()
-            .map_err(|_| SystemError::invalid(name, "a valid Liu parameter set", value))?;
-        // the period stays: neither parameter moves ω̄_c; after a change of the base frequency
-        // (a codim-2 curve in ω1 and this parameter) the model keeps the present ω̄_c
-        if m.omega_c.to_bits() != self.m.omega_c.to_bits() {
-            m = m
-                .with_omega_c(self.m.omega_c)
-                .map_err(|_| SystemError::invalid(name, "a valid ω̄_c", value))?;
-        }
-        self.p = p;
-        self.m = m;
-        Ok(())
-    }
-    fn set_base_frequency(&mut self, omega: f64) -> Result<(), SystemError> {
-        self.m = self
-            .m
-            .with_omega_c(omega)
-            .map_err(|_| SystemError::invalid("liu2021.omega_c", "> 0", omega))?;
-        Ok(())
-    }
-    fn parameter(&self, name: &str) -> Result<f64, SystemError> {
-        match name {
-            "load_torque" => Ok(self.p.load_torque),
-            "ak" => Ok(self.p.kr / self.p.k0),
-            _ => Err(SystemError::invalid(name, "load_torque or ak", f64::NAN)),
-        }
-    }
-}
+/// The Liu model with named continuation parameters (`load_torque`, `ak`, …): the one home of
+/// it is [`liu2021::Parametric`].
+pub(super) type Liu = liu2021::Parametric;
 
 /// The tolerance of the discarded transient of [`settle`] (the nominal tolerance of the Liu
 /// studies).
@@ -420,11 +309,11 @@ pub(super) fn named_branch_at(
     scale: f64,
     t: &Tuning,
 ) -> Result<Branch, Error> {
-    let mut sys = Liu::new(p)?;
+    let mut sys = Liu::new(p).context("liu2021 parameters")?;
     sys.set_parameter(name, start).context("start parameter")?;
-    let (q, v, _, drift) = settle(&sys.m, 199.0, 1.0, 1e-8)?;
-    let period = sys.m.period();
-    let backlash = sys.m.backlash;
+    let (q, v, _, drift) = settle(sys.model(), 199.0, 1.0, 1e-8)?;
+    let period = sys.model().period();
+    let backlash = sys.model().backlash;
     let mut prob = OrbitProblem::new(sys, period).context("orbit problem")?;
     let opts = ContinuationOptions {
         initial_step: 1.0_f64.min(t.max_step),
