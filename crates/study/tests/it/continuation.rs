@@ -19,12 +19,12 @@ const ONSET: &str = r#"
 name = "onset"
 model = "liu2021"
 [overrides]
-omega1 = 128.0
+omega1 = 132.0
 base_radius = "mean"   # the constant-b̄ reading of the validation
 [solver]
 method = "shooting"
 [solver.settings]
-transient_periods = 200
+transient_periods = 10   # the free transient decays by e^-17 a period (Table 1 damping)
 [continuation]
 parameter = "omega1"
 to = 145.0
@@ -37,6 +37,7 @@ kinds = ["grazing"]
 max_step = 0.5
 max_points = 3
 max_curves = 1
+max_switches = 1
 "#;
 
 /// The unilateral onset by bisection on time integration, `liu2021-orbit-branch`'s committed
