@@ -110,14 +110,18 @@ pub fn run_with_time_limit<T: Send + 'static>(
     let budget =
         std::time::Duration::try_from_secs_f64(limit.max(0.0)).unwrap_or(std::time::Duration::MAX);
     let (tx, rx) = std::sync::mpsc::sync_channel(1);
+    // the point's thread charges the caller's work account (steps, RHS calls, CPU time)
+    let account = system::account::current();
     let spawned = std::thread::Builder::new()
         .name("geardyn-point".to_owned())
         .spawn(move || {
             let start = std::time::Instant::now();
             let deadline = start.checked_add(budget);
-            let r = system::deadline::scope(deadline, || {
-                std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
-                    .unwrap_or_else(|p| Err(crate::user::panic_message(p.as_ref())))
+            let r = system::account::scope_opt(account.as_ref(), || {
+                system::deadline::scope(deadline, || {
+                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(job))
+                        .unwrap_or_else(|p| Err(crate::user::panic_message(p.as_ref())))
+                })
             });
             let r = if start.elapsed() >= budget {
                 Err(match r {
@@ -153,5 +157,31 @@ pub fn run_with_time_limit<T: Send + 'static>(
         Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
             Err("internal error: the point's thread ended without a result".to_owned())
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A point under a time limit runs on a thread of its own: its work is still charged to
+    /// the caller's account (the cost line of `geardyn study` and the validation's table).
+    #[test]
+    fn a_time_limited_point_charges_the_callers_account() {
+        let account = system::account::Account::new("test");
+        for seconds in [None, Some(30.0)] {
+            let r = system::account::scope(&account, || {
+                run_with_time_limit(seconds, || {
+                    system::account::record_steps(5, 1, 30);
+                    Ok(7)
+                })
+            });
+            assert_eq!(r, Ok(7));
+        }
+        let u = account.usage();
+        assert_eq!(
+            (u.steps_accepted, u.steps_rejected, u.rhs_calls),
+            (10, 2, 60)
+        );
     }
 }

@@ -154,7 +154,7 @@ pub enum SystemError {
         name: String,
     },
     /// A parameter (or base frequency) value is outside what the model can take.
-    #[error("{name} must be {bound}, got {value}")]
+    #[error("{name} must be {bound}, got {}", shown(*value))]
     InvalidParameter {
         /// Name of the parameter (dotted path, e.g. `liu2021.omega_c`).
         name: String,
@@ -163,6 +163,16 @@ pub enum SystemError {
         /// The offending value.
         value: f64,
     },
+}
+
+/// A value in a message: as Rust prints it, in scientific notation beyond `1e16` or below
+/// `1e-5` in magnitude (`1e300`, not three hundred digits).
+fn shown(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-5..1e16).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
 }
 
 impl SystemError {
@@ -445,6 +455,16 @@ pub fn gap_edges(x: f64, b: f64, e: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_invalid_value_is_shown_short() {
+        let e = |v: f64| SystemError::invalid("x", "> 0", v).to_string();
+        assert_eq!(e(-2e300), "x must be > 0, got -2e300");
+        assert_eq!(e(0.584504), "x must be > 0, got 0.584504");
+        assert_eq!(e(-1.0), "x must be > 0, got -1");
+        assert_eq!(e(1e-300), "x must be > 0, got 1e-300");
+        assert_eq!(e(f64::NAN), "x must be > 0, got NaN");
+    }
 
     struct Cubic;
     impl SecondOrderSystem for Cubic {
