@@ -335,26 +335,14 @@ pub fn continue_on<S: SecondOrderSystem + Clone>(
             request.to, ax.start, ax.name
         )));
     }
-    let segments = s.u("segments").unwrap_or(1) as usize;
-    if request.codim2.is_some() && segments != 1 {
+    let shooting = super::shoot::shooting_options(s);
+    if request.codim2.is_some() && shooting.segments != 1 {
         return Err(PointError::Input(format!(
-            "codim-2 curves use single shooting: set segments = 1 (got {segments})"
+            "codim-2 curves use single shooting: set segments = 1 (got {})",
+            shooting.segments
         )));
     }
-    let flow = orbit::FlowOptions {
-        rtol: s.f("rtol"),
-        method: match s.name("flow_method") {
-            "dop853" => orbit::FlowMethod::Dop853,
-            _ => orbit::FlowMethod::DormandPrince54,
-        },
-        ..orbit::FlowOptions::default()
-    };
-    let shooting = orbit::ShootingOptions {
-        tol: s.f("tol"),
-        max_iter: s.u("max_iter").unwrap_or(20) as usize,
-        segments,
-        ..orbit::ShootingOptions::default()
-    };
+    let flow = super::shoot::flow_options(s);
     let problem = |sys: S| {
         orbit::OrbitProblem::new(sys, setup.period)
             .and_then(|p| p.with_flow_options(flow))

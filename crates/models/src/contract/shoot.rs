@@ -90,6 +90,28 @@ pub(crate) const SHOOT_OUT: &[(&str, &str)] = &[
     ("residual", "1"),
 ];
 
+/// The flow options of the shooting settings (`rtol`, `flow_method`).
+pub(crate) fn flow_options(s: &Settings) -> orbit::FlowOptions {
+    orbit::FlowOptions {
+        rtol: s.f("rtol"),
+        method: match s.name("flow_method") {
+            "dop853" => orbit::FlowMethod::Dop853,
+            _ => orbit::FlowMethod::DormandPrince54,
+        },
+        ..orbit::FlowOptions::default()
+    }
+}
+
+/// The Newton options of the shooting settings (`tol`, `max_iter`, `segments`).
+pub(crate) fn shooting_options(s: &Settings) -> orbit::ShootingOptions {
+    orbit::ShootingOptions {
+        tol: s.f("tol"),
+        max_iter: s.u("max_iter").unwrap_or(20) as usize,
+        segments: s.u("segments").unwrap_or(1) as usize,
+        ..orbit::ShootingOptions::default()
+    }
+}
+
 /// Shoot the periodic orbit of `sys` (period `period`) from `guess` with the settings of
 /// [`shoot_settings`]: the problem, the orbit and the record of [`SHOOT_OUT`].
 pub(crate) fn shoot_on<S: system::SecondOrderSystem>(
@@ -99,23 +121,10 @@ pub(crate) fn shoot_on<S: system::SecondOrderSystem>(
     guess: &[f64],
     s: &Settings,
 ) -> Result<(orbit::OrbitProblem<S>, orbit::PeriodicOrbit, Record), PointError> {
-    let flow = orbit::FlowOptions {
-        rtol: s.f("rtol"),
-        method: match s.name("flow_method") {
-            "dop853" => orbit::FlowMethod::Dop853,
-            _ => orbit::FlowMethod::DormandPrince54,
-        },
-        ..orbit::FlowOptions::default()
-    };
     let p = orbit::OrbitProblem::new(sys, period)
-        .and_then(|p| p.with_flow_options(flow))
+        .and_then(|p| p.with_flow_options(flow_options(s)))
         .map_err(|e| PointError::Compute(format!("{what} orbit problem: {e}")))?;
-    let opts = orbit::ShootingOptions {
-        tol: s.f("tol"),
-        max_iter: s.u("max_iter").unwrap_or(20) as usize,
-        segments: s.u("segments").unwrap_or(1) as usize,
-        ..orbit::ShootingOptions::default()
-    };
+    let opts = shooting_options(s);
     let o = p
         .shoot(guess, &opts)
         .map_err(|e| PointError::Compute(format!("{what} shooting: {e}")))?;

@@ -301,6 +301,17 @@ const LIU_SHOOT_TRANSIENT: SettingDef = SettingDef {
 };
 
 /// The shooting settings of Liu.
+/// The settings of `method = "shooting"`, each checked against its bound.
+fn liu_shoot_read(given: &BTreeMap<String, Value>) -> Result<Settings, PointError> {
+    Settings::read(
+        "liu2021",
+        Method::Shooting,
+        &liu_shoot_settings(),
+        given,
+        &[],
+    )
+}
+
 fn liu_shoot_settings() -> Vec<SettingDef> {
     contract::shoot::shoot_settings(LIU_SHOOT_TRANSIENT)
 }
@@ -385,13 +396,7 @@ pub fn shooting_point(
     given: &BTreeMap<String, Value>,
     initial: Option<(f64, f64)>,
 ) -> Result<Record, PointError> {
-    let s = Settings::read(
-        "liu2021",
-        Method::Shooting,
-        &liu_shoot_settings(),
-        given,
-        &[],
-    )?;
+    let s = liu_shoot_read(given)?;
     liu_shoot(model, &s, initial)
 }
 
@@ -468,13 +473,7 @@ fn liu_continuation(
                 .into(),
         ));
     }
-    let s = Settings::read(
-        "liu2021",
-        Method::Shooting,
-        &liu_shoot_settings(),
-        &ctx.solver.settings,
-        &[],
-    )?;
+    let s = liu_shoot_read(&ctx.solver.settings)?;
     let p = liu_params(point)?;
     let sys = liu2021::Parametric::new(p).context("liu2021 parameters")?;
     let m = *sys.model();
@@ -1096,13 +1095,7 @@ fn hbm_reliability(
 
 fn shooting(ctx: &Context<'_>) -> Result<Adapter, PointError> {
     let limits = ctx.limits;
-    let s = Settings::read(
-        "liu2021",
-        Method::Shooting,
-        &liu_shoot_settings(),
-        &ctx.solver.settings,
-        &[],
-    )?;
+    let s = liu_shoot_read(&ctx.solver.settings)?;
     let initial = liu_initial(ctx)?;
     let s = Arc::new(s);
     Ok(Adapter {

@@ -4,7 +4,6 @@
 #![allow(clippy::float_cmp)]
 
 use geardyn_study::shard::ShardSpec;
-use geardyn_study::{RunOptions, UserStudyOutput, run_study_from_str};
 
 /// A 2 × 2 Liu basin at ε = 0, 160 rad/s with short, coarse windows (20 periods from the start,
 /// none discarded, rtol 1e-5, samples every 1.0: a mechanics test, not a settled answer), so that
@@ -20,16 +19,7 @@ fn liu_basin(extra: &str) -> String {
     )
 }
 
-fn run(text: &str) -> UserStudyOutput {
-    run_study_from_str(text, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}\n{text}"))
-}
-
-fn err(text: &str) -> String {
-    match run_study_from_str(text, &RunOptions::default()) {
-        Ok(_) => panic!("expected an error for\n{text}"),
-        Err(e) => e.to_string(),
-    }
-}
+use crate::user_study::{err, run};
 
 #[test]
 fn every_cell_is_labelled_and_the_fractions_sum_to_one() {

@@ -1,18 +1,9 @@
 //! `[continuation]` study files: the Liu period-1 branch in ω1 with its unilateral-onset
 //! grazing, and that grazing continued in (ω1, T2); the checks of the table.
 
-use geardyn_study::{Cell, RunOptions, UserStudyOutput, run_study_from_str, shard::ShardSpec};
+use geardyn_study::{Cell, shard::ShardSpec};
 
-fn run(text: &str) -> UserStudyOutput {
-    run_study_from_str(text, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}\n{text}"))
-}
-
-fn err(text: &str) -> String {
-    match run_study_from_str(text, &RunOptions::default()) {
-        Ok(_) => panic!("expected an error for\n{text}"),
-        Err(e) => e.to_string(),
-    }
-}
+use crate::user_study::{err, run};
 
 /// Below Liu's unilateral onset (Table 1, the validation's constant-b̄ reading) up to it, and the onset in (ω1, T2).
 const ONSET: &str = r#"

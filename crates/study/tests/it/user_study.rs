@@ -7,11 +7,13 @@
 use geardyn_study::{RunOptions, UserStudy, UserStudyOutput, run_study_from_str, run_user_study};
 use math::DetMath;
 
-fn run(text: &str) -> UserStudyOutput {
+/// Run a study text that must succeed.
+pub(crate) fn run(text: &str) -> UserStudyOutput {
     run_study_from_str(text, &RunOptions::default()).unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
-fn err(text: &str) -> String {
+/// The error of a study text that must fail.
+pub(crate) fn err(text: &str) -> String {
     match run_study_from_str(text, &RunOptions::default()) {
         Ok(_) => panic!("expected an error for\n{text}"),
         Err(e) => e.to_string(),
