@@ -417,11 +417,6 @@ fn prepare_continuation(
                 names()
             )));
         }
-        if study.overrides.contains_key(name.as_str()) {
-            if let Some(v) = study.overrides.get(name.as_str()) {
-                v.check_finite(&format!("override `{name}`"))?;
-            }
-        }
     }
     if study.solver.method != Method::Shooting {
         return Err(Error::StudyFile(

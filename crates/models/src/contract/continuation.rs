@@ -313,6 +313,37 @@ pub struct Setup {
     pub second: Option<Axis>,
 }
 
+/// Check `request` against the start values of its parameters (cheap: a model calls it
+/// before its start's time integration; [`continue_on`] calls it again): the branch's range
+/// must hold more than its start, and a codim-2 range must hold the second parameter's start.
+///
+/// # Errors
+/// [`PointError::Input`] naming the key, its bound and the start value.
+pub fn check_request(
+    axis: &Axis,
+    second: Option<&Axis>,
+    request: &ContinuationRequest,
+) -> Result<(), PointError> {
+    let width = (request.to - axis.start).abs();
+    if width == 0.0 || !width.is_finite() {
+        return Err(PointError::Input(format!(
+            "continuation.to = {} must differ from the start value {} of `{}`",
+            request.to, axis.start, axis.name
+        )));
+    }
+    if let (Some(c2), Some(ax2)) = (&request.codim2, second) {
+        let [lo, hi] = c2.range;
+        if !(lo <= ax2.start && ax2.start <= hi) {
+            return Err(PointError::Input(format!(
+                "continuation.codim2.range = [{lo}, {hi}] must contain the start value {} of \
+                 `{}` (its value in [overrides], or the model's default)",
+                ax2.start, ax2.name
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Continue the orbit of `sys` as `request` asks, with the shooting settings `s` (`rtol`,
 /// `tol`, `max_iter`, `segments`, `flow_method`).
 ///
@@ -328,13 +359,8 @@ pub fn continue_on<S: SecondOrderSystem + Clone>(
 ) -> Result<ContinuationOutput, PointError> {
     let what = setup.what;
     let ax = &setup.axis;
+    check_request(ax, setup.second.as_ref(), request)?;
     let width = (request.to - ax.start).abs();
-    if width == 0.0 || !width.is_finite() {
-        return Err(PointError::Input(format!(
-            "continuation.to = {} must differ from the start value {} of `{}`",
-            request.to, ax.start, ax.name
-        )));
-    }
     let shooting = super::shoot::shooting_options(s);
     if request.codim2.is_some() && shooting.segments != 1 {
         return Err(PointError::Input(format!(
@@ -482,7 +508,7 @@ pub fn continue_on<S: SecondOrderSystem + Clone>(
                         format!(
                             "{stop}; {} piece(s), {} switch(es) of the extremum, envelope end {:?}",
                             env.pieces.len(),
-                            env.pieces.len() - 1,
+                            env.pieces.len().saturating_sub(1),
                             env.end
                         ),
                     ))

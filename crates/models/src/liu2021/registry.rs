@@ -532,6 +532,7 @@ fn liu_continuation(
     let steps =
         (s.f("transient_periods") + corrections * (s.f("max_iter") + 1.0)) * m.period() / 0.5;
     ctx.limits.need_steps("liu2021 continuation", steps)?;
+    contract::continuation::check_request(&first, second.as_ref(), request)?;
     let guess = liu_guess(&m, &s, liu_initial(ctx)?)?;
     let setup = Setup {
         what: "liu2021",

@@ -185,4 +185,16 @@ fn a_continuation_that_cannot_start_is_one_failed_point() {
         out.failed[0].error
     );
     assert!(out.all_failed());
+    // a codim-2 range without the second parameter's start value (T2 = 30 N·m, Table 1)
+    let out = run(
+        "name = \"x\"\nmodel = \"liu2021\"\n[overrides]\nomega1 = 150.0\n[solver]\n\
+         method = \"shooting\"\n[continuation]\nparameter = \"omega1\"\nto = 160.0\n\
+         [continuation.codim2]\nparameter = \"load_torque\"\nrange = [40.0, 60.0]\n",
+    );
+    assert_eq!(out.failed.len(), 1);
+    let e = &out.failed[0].error;
+    assert!(
+        e.contains("continuation.codim2.range") && e.contains("30"),
+        "{e}"
+    );
 }
