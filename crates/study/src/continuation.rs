@@ -383,7 +383,7 @@ pub fn figures(name: &str, out: &ContinuationOutput) -> Vec<Figure> {
                     c.points.iter().map(|&(a, b, _, _)| (a, b)).collect();
                 if c.direction < 0.0 {
                     piece.reverse();
-                } else if !pts.is_empty() {
+                } else if !pts.is_empty() && !piece.is_empty() {
                     // the start is the first point of both directions
                     piece.remove(0);
                 }
@@ -492,5 +492,86 @@ mod tests {
             let e = spec(bad).unwrap_err().to_string();
             assert!(e.contains(key), "{bad}: {e}");
         }
+    }
+
+    /// Tables and figures of a synthetic result, with the edge cases a run can give: a curve
+    /// with no point, a start with one direction only, a point without event extrema.
+    #[test]
+    fn tables_and_figures_take_every_shape() {
+        use models::contract::continuation::{BranchRow, CurveRow, SpecialRow};
+        let row = |v: f64, stable: bool| BranchRow {
+            value: v,
+            state: vec![v, -v],
+            max_multiplier: 0.5,
+            stable,
+            events: 2,
+            extrema: vec![[-1.0, 0.5]],
+        };
+        let curve =
+            |special: usize, direction: f64, points: Vec<(f64, f64, bool, usize)>| CurveRow {
+                special,
+                kind: "fold".into(),
+                direction,
+                points,
+                stop: "point cap reached".into(),
+            };
+        let out = ContinuationOutput {
+            parameter: ("w".into(), "rad/s".into()),
+            coordinates: vec![("q".into(), "1".into()), ("q'".into(), "1".into())],
+            events: vec!["back flank".into(), "drive flank".into()],
+            points: vec![row(1.0, true), row(2.0, false)],
+            special: vec![SpecialRow {
+                kind: "fold".into(),
+                value: 1.5,
+                located: true,
+                precision: 1e-6,
+                state: vec![1.5, -1.5],
+                stable: false,
+            }],
+            stop: "reached the end of the range".into(),
+            second: Some(("t".into(), "N·m".into())),
+            curves: vec![
+                curve(0, -1.0, vec![(1.5, 30.0, true, 0), (1.4, 29.0, true, 0)]),
+                curve(0, 1.0, vec![]),
+                curve(1, 1.0, vec![(1.0, 30.0, false, 0), (1.1, 31.0, false, 1)]),
+            ],
+            curve_failures: vec!["fold at 2 rad/s (direction -1): no".into()],
+        };
+        let (branch, special, curves) = tables("n", &out);
+        let names: Vec<&str> = branch.columns.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "w",
+                "q",
+                "q'",
+                "max_multiplier",
+                "stable",
+                "events_per_period",
+                "back_flank_min",
+                "back_flank_max",
+                "drive_flank_min",
+                "drive_flank_max"
+            ]
+        );
+        // the missing extrema of the second event are NaN cells, not a short row
+        assert!(branch.rows.iter().all(|r| r.len() == names.len()));
+        assert_eq!(special.rows.len(), 1);
+        assert_eq!(curves.unwrap().rows.len(), 4);
+        let figs = figures("n", &out);
+        let names: Vec<&str> = figs.iter().map(|f| f.name.as_str()).collect();
+        assert_eq!(names, ["n_branch_q", "n_branch_qp", "n_curves"]);
+        // one line per start, the −1 direction reversed
+        assert_eq!(figs[2].series.len(), 2);
+        assert_eq!(figs[2].series[0].points, [(1.4, 29.0), (1.5, 30.0)]);
+        for f in &figs {
+            f.to_svg().unwrap();
+        }
+        let j = summary(&out);
+        assert_eq!(
+            j["curves"][2]["points"][1],
+            serde_json::json!([1.1, 31.0, false, 1])
+        );
+        assert_eq!(j["curve_failures"].as_array().unwrap().len(), 1);
     }
 }
