@@ -13,7 +13,11 @@
 //!   (default), this crate's DOP853 (order 8, 7th-order dense output; fastest at tight
 //!   tolerances), fixed-step RK4, or `ode_solvers` 0.6 `Dopri5` / `Dop853`. DP5 and DOP853
 //!   share one driver (step control, event location, restarts, output, deadline, statistics);
-//!   they differ only in the stepper and its controller constants.
+//!   they differ only in the stepper and its controller constants. [`integrate_streamed`]
+//!   hands each sample of the [`Output`] grid to a closure as it is computed instead of storing
+//!   it (the same samples, events and final state, bit for bit), for consumers that reduce a
+//!   long record as it comes; [`Output::last_sample`] gives the time of the last sample before
+//!   the run.
 //! * **Events**: event functions `g_i(t, y)` — e.g. the backlash switching surfaces
 //!   `q = ±b` of the dead-zone function `f(q)` (Liu et al. 2021, Eq. 12; helper [`gap_edges`])
 //!   or a user Poincaré surface. After each accepted step a sign change is located on the
@@ -156,7 +160,7 @@ pub use bifurcation::{
     BifurcationOptions, BifurcationPoint, MAX_PERIODS, MAX_SECTION_POINTS, Start,
     bifurcation_point, bifurcation_sweep,
 };
-pub use driver::integrate;
+pub use driver::{integrate, integrate_streamed};
 pub use error::{Error, Result};
 pub use metrics::{
     fourier_projection, fourier_projection_at, harmonic_amplitudes_of_projection, peak_to_peak, rms,

@@ -54,6 +54,49 @@ pub enum Output {
     Times(Vec<f64>),
 }
 
+impl Output {
+    /// Sample `k` of [`Output::Uniform`] from `t0`: `t0 + k·dt` (the recorder's formula).
+    pub(crate) fn uniform_time(t0: f64, k: usize, dt: f64) -> f64 {
+        t0 + k as f64 * dt
+    }
+
+    /// Whether a uniform sample time `tg` lies in a run that ends at `t_end` (to `10⁻⁹ dt`).
+    pub(crate) fn uniform_within(tg: f64, t_end: f64, dt: f64) -> bool {
+        tg <= t_end + 1e-9 * dt
+    }
+
+    /// The time of the last sample a completed run from `t0` to `t_end` (`t0 ≤ t_end`) records:
+    /// for [`Output::Uniform`] the last `t0 + k·dt` within `t_end + 10⁻⁹ dt`, for
+    /// [`Output::Times`] the last listed time in `[t0, t_end]`, for [`Output::Steps`] `t_end`;
+    /// `None` for [`Output::Final`], an invalid `dt`, non-finite or reversed ends, no listed
+    /// time in the interval, or a grid of more than 2⁵² samples. A consumer of
+    /// [`crate::integrate_streamed`] that must know a window's end before its samples arrive
+    /// reads it here.
+    pub fn last_sample(&self, t0: f64, t_end: f64) -> Option<f64> {
+        if !(t0.is_finite() && t_end.is_finite() && t0 <= t_end) {
+            return None;
+        }
+        match self {
+            Output::Uniform { dt } => {
+                let dt = *dt;
+                let span = (t_end - t0) / dt;
+                if !(dt > 0.0 && span.is_finite() && span < 4.5e15) {
+                    return None;
+                }
+                // the grid is monotone in k: start above the last sample, step down to it
+                let mut k = span.ceil() as usize + 2;
+                while k > 0 && !Self::uniform_within(Self::uniform_time(t0, k, dt), t_end, dt) {
+                    k -= 1;
+                }
+                Some(Self::uniform_time(t0, k, dt))
+            }
+            Output::Times(ts) => ts.iter().rev().copied().find(|&t| t >= t0 && t <= t_end),
+            Output::Steps => Some(t_end),
+            Output::Final => None,
+        }
+    }
+}
+
 /// Options of [`crate::integrate`]. Build with [`Options::default`] and the `with_*` setters.
 #[derive(Debug, Clone, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -183,5 +226,65 @@ impl Options {
             _ => {}
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`Output::last_sample`] against the recorder's own enumeration (`t0 + k·dt` for
+    /// `k = 0, 1, …` while within `t_end + 10⁻⁹ dt`), on grids that end exactly on, a rounding
+    /// error short of, and between samples past `t_end`, including the Liu windows' grids
+    /// (`dt = T/⌈T/0.1⌉`, windows of 20 and 50 periods after 5 and 10); degenerate inputs give
+    /// `None`.
+    #[test]
+    fn last_sample_is_the_recorders_last() {
+        let period = std::f64::consts::TAU / 0.003_235_4;
+        let liu_dt = period / (period / 0.1f64).ceil();
+        let mut cases = vec![
+            (0.0, 1.0, 0.1),
+            (0.0, 1.0, 0.3),
+            (2.5, 2.5, 0.1),
+            (-3.0, 7.0, 1e-3),
+        ];
+        for (before, window) in [(5.0, 20.0), (10.0, 50.0), (60.0, 50.0)] {
+            let t0 = before * period;
+            cases.push((t0, t0 + window * period, liu_dt));
+        }
+        for (t0, t_end, dt) in cases {
+            let within =
+                |k: usize| Output::uniform_within(Output::uniform_time(t0, k, dt), t_end, dt);
+            let mut k = 0;
+            while within(k + 1) {
+                k += 1;
+            }
+            let expected = Output::uniform_time(t0, k, dt);
+            let got = Output::Uniform { dt }.last_sample(t0, t_end);
+            assert_eq!(
+                got.map(f64::to_bits),
+                Some(expected.to_bits()),
+                "{t0} {t_end} {dt}"
+            );
+        }
+        let times = Output::Times(vec![0.5, 1.0, 2.0]);
+        assert_eq!(times.last_sample(0.0, 1.5), Some(1.0));
+        assert_eq!(times.last_sample(3.0, 4.0), None);
+        assert_eq!(Output::Steps.last_sample(0.0, 2.0), Some(2.0));
+        assert_eq!(Output::Final.last_sample(0.0, 2.0), None);
+        for (t0, t_end, dt) in [
+            (0.0, 1.0, 0.0),
+            (0.0, 1.0, -0.1),
+            (0.0, 1.0, f64::NAN),
+            (1.0, 0.0, 0.1),
+            (0.0, f64::INFINITY, 0.1),
+            (0.0, 1e300, 1e-300),
+        ] {
+            assert_eq!(
+                Output::Uniform { dt }.last_sample(t0, t_end),
+                None,
+                "{t0} {t_end} {dt}"
+            );
+        }
     }
 }

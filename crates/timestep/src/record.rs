@@ -5,8 +5,11 @@ use crate::options::Output;
 use crate::solution::{Event, Stats};
 use crate::system::{Direction, OdeSystem};
 
-/// Stores the requested samples.
-pub(crate) struct Recorder {
+/// A consumer of samples `(t, y)` in ascending `t` ([`crate::integrate_streamed`]).
+pub(crate) type Sink<'a> = &'a mut dyn FnMut(f64, &[f64]);
+
+/// Stores the requested samples, or hands each one to a sink.
+pub(crate) struct Recorder<'a> {
     dim: usize,
     output: Output,
     t0: f64,
@@ -14,10 +17,18 @@ pub(crate) struct Recorder {
     next: usize,
     pub(crate) t: Vec<f64>,
     pub(crate) y: Vec<f64>,
+    /// Where the samples go instead of `t` and `y` (`None`: they are stored).
+    sink: Option<Sink<'a>>,
 }
 
-impl Recorder {
-    pub(crate) fn new(dim: usize, output: &Output, t0: f64, t_end: f64) -> Self {
+impl<'a> Recorder<'a> {
+    pub(crate) fn new(
+        dim: usize,
+        output: &Output,
+        t0: f64,
+        t_end: f64,
+        sink: Option<Sink<'a>>,
+    ) -> Self {
         Self {
             dim,
             output: output.clone(),
@@ -26,14 +37,15 @@ impl Recorder {
             next: 0,
             t: Vec::new(),
             y: Vec::new(),
+            sink,
         }
     }
 
     fn next_time(&self) -> Option<f64> {
         match &self.output {
             Output::Uniform { dt } => {
-                let tg = self.t0 + self.next as f64 * dt;
-                (tg <= self.t_end + 1e-9 * dt).then_some(tg)
+                let tg = Output::uniform_time(self.t0, self.next, *dt);
+                Output::uniform_within(tg, self.t_end, *dt).then_some(tg)
             }
             Output::Times(ts) => {
                 let mut i = self.next;
@@ -110,8 +122,8 @@ impl Recorder {
                         1.0
                     };
                     dense(theta, buf);
-                    self.t.push(tg);
-                    self.y.extend_from_slice(&buf[..self.dim]);
+                    let dim = self.dim;
+                    self.push(tg, &buf[..dim]);
                     self.next += 1;
                 }
             }
@@ -119,8 +131,13 @@ impl Recorder {
     }
 
     fn push(&mut self, t: f64, y: &[f64]) {
-        self.t.push(t);
-        self.y.extend_from_slice(y);
+        match &mut self.sink {
+            Some(sink) => sink(t, y),
+            None => {
+                self.t.push(t);
+                self.y.extend_from_slice(y);
+            }
+        }
     }
 }
 

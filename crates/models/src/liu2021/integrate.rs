@@ -183,10 +183,30 @@ pub(super) fn run(
     t1: f64,
     opts: timestep::Options,
 ) -> Result<timestep::Solution, Error> {
+    run_to(model, t0, y0, t1, opts, None)
+}
+
+/// Where [`run_to`] hands its samples (`None`: they are stored).
+pub(super) type Sink<'a> = Option<&'a mut dyn FnMut(f64, &[f64])>;
+
+/// [`run`], with the samples handed to `sink(t, [q, q'])` instead of stored
+/// (`timestep::integrate_streamed`).
+pub(super) fn run_to(
+    model: &Model,
+    t0: f64,
+    y0: &[f64],
+    t1: f64,
+    opts: timestep::Options,
+    sink: Sink<'_>,
+) -> Result<timestep::Solution, Error> {
     // the model's system description made explicit, lean (`TimeSystem`; with `Trig::Libm` bit
     // for bit as `FirstOrder(Mechanical(model))`)
     let sys = TimeSystem::new(*model);
-    let sol = timestep::integrate(&sys, t0, y0, t1, &opts).map_err(Error::from)?;
+    let sol = match sink {
+        Some(sink) => timestep::integrate_streamed(&sys, t0, y0, t1, &opts, sink),
+        None => timestep::integrate(&sys, t0, y0, t1, &opts),
+    }
+    .map_err(Error::from)?;
     if !sol.status.is_success() {
         return Err(Error::Solver(format!(
             "liu2021 integration ended with {:?}",

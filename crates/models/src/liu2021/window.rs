@@ -2,10 +2,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::integrate::{Stepping, run, system};
+use super::integrate::{Stepping, run, run_to, system};
 use super::model::Model;
 use crate::Error;
-use crate::response::{Crossing, Flank, Robust, WindowOptions, WindowStats, window_stats};
+use crate::response::{Crossing, Flank, Robust, WindowAccumulator, WindowOptions, WindowStats};
 
 /// Settings of [`long_window`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -175,14 +175,39 @@ fn record(
         }
         let t0 = t_rec + (w * o.periods) as f64 * period;
         let t1 = t0 + o.periods as f64 * period;
-        let mut rec = run(
+        // the samples are reduced as they are computed (`WindowAccumulator`, bit for bit
+        // `window_stats` of the stored samples): the window's last sample is the uniform
+        // grid's last within t1, or the final state where the grid stops a rounding error short
+        let output = timestep::Output::Uniform { dt };
+        let grid_last = output.last_sample(t0, t1).ok_or_else(|| {
+            Error::Solver(format!("long window: no uniform grid from {t0} to {t1}"))
+        })?;
+        let close = grid_last < t1 - 1e-9 * period;
+        let t_last = if close { t1 } else { grid_last };
+        // a constant gap (constant b̄) needs no evaluation of the backlash law per sample
+        let constant = model.readings.base_radius == super::BaseRadius::Mean;
+        let gap = |tau: f64| {
+            if constant {
+                model.backlash
+            } else {
+                model.backlash_at(tau)
+            }
+        };
+        let mut acc = WindowAccumulator::new(t0, t_last, gap, &wo)?;
+        acc.reserve(((t1 - t0) / dt) as usize + 2);
+        let mut sink = |t: f64, y: &[f64]| acc.push(t, y[0], y[1]);
+        let rec = run_to(
             model,
             t0,
             &y,
             t1,
-            base.clone().with_output(timestep::Output::Uniform { dt }),
+            base.clone().with_output(output),
+            Some(&mut sink),
         )?;
         work.add(&rec.stats);
+        if close {
+            acc.push(rec.t_final, rec.y_final[0], rec.y_final[1]);
+        }
         let crossings: Vec<Crossing> = rec
             .events
             .iter()
@@ -203,30 +228,7 @@ fn record(
                 }
             })
             .collect();
-        let (mut q, mut v) = (rec.component(0), rec.component(1));
-        let mut t = std::mem::take(&mut rec.t);
-        // the uniform grid may stop a rounding error short of t1: close it with the final state
-        if t.last().is_some_and(|&tl| tl < t1 - 1e-9 * period) {
-            t.push(rec.t_final);
-            q.push(rec.y_final[0]);
-            v.push(rec.y_final[1]);
-        }
-        // a constant gap (constant b̄) needs no evaluation of the backlash law per sample
-        let constant = model.readings.base_radius == super::BaseRadius::Mean;
-        let stats = window_stats(
-            &t,
-            &q,
-            &v,
-            |tau| {
-                if constant {
-                    model.backlash
-                } else {
-                    model.backlash_at(tau)
-                }
-            },
-            &crossings,
-            &wo,
-        )?;
+        let stats = acc.finish(&crossings)?;
         y = rec.y_final;
         keeper.offer(stats, w);
     }
@@ -446,6 +448,105 @@ mod tests {
         p.omega1 = omega1;
         p.readings.base_radius = BaseRadius::Mean;
         p.model().unwrap()
+    }
+
+    /// A record reduces its samples while it integrates (`WindowAccumulator` fed by
+    /// `timestep::integrate_streamed`); the result is, bit for bit, that of storing the samples
+    /// and calling `window_stats` on them, as the record did before: in bilateral rattle
+    /// (located crossings on both flanks) with a constant gap, and in unilateral rattle with
+    /// the gap law evaluated at every sample.
+    #[test]
+    fn a_streamed_window_is_the_stored_one_bit_for_bit() {
+        for (omega1, mean) in [(200.0, true), (160.0, false)] {
+            let mut p = table1();
+            p.omega1 = omega1;
+            if mean {
+                p.readings.base_radius = BaseRadius::Mean;
+            }
+            let m = p.model().unwrap();
+            let o = LongWindowOptions {
+                transient_periods: 1.0,
+                periods: 20,
+                settle_windows: 0,
+                sample_step: 0.5,
+                rtol: 1e-6,
+                ..LongWindowOptions::default()
+            };
+            let streamed = settled_window(&m, &o, None).unwrap();
+
+            // the stored path
+            let period = m.period();
+            let dt = section_step(period, o.sample_step);
+            let io = super::super::IntegrationOptions {
+                rtol: o.rtol,
+                max_step: o.max_step,
+                method: o.stepping,
+                sample_step: dt,
+                ..super::super::IntegrationOptions::default()
+            };
+            let (_, base) = system(&m, &io).unwrap();
+            let t0 = o.transient_periods * period;
+            let y0 = [m.static_position(0.0), 0.0];
+            let warm = run(
+                &m,
+                0.0,
+                &y0,
+                t0,
+                base.clone().with_output(timestep::Output::Final),
+            )
+            .unwrap();
+            let back = warm.events.iter().any(|e| e.index == 0);
+            let base = base.with_method(o.stepping.long_window_method(o.rtol, back));
+            let t1 = t0 + o.periods as f64 * period;
+            let rec = run(
+                &m,
+                t0,
+                &warm.y_final,
+                t1,
+                base.with_output(timestep::Output::Uniform { dt }),
+            )
+            .unwrap();
+            let crossings: Vec<Crossing> = rec
+                .events
+                .iter()
+                .map(|e| {
+                    let flank = if e.index == 0 {
+                        Flank::Back
+                    } else {
+                        Flank::Drive
+                    };
+                    let entering =
+                        (flank == Flank::Back) == (e.direction == system::Direction::Rising);
+                    Crossing {
+                        t: e.t,
+                        flank,
+                        entering,
+                    }
+                })
+                .collect();
+            assert!(!crossings.is_empty(), "{omega1}: no crossing exercised");
+            let stored = crate::response::window_stats(
+                &rec.t,
+                &rec.component(0),
+                &rec.component(1),
+                |tau| if mean { m.backlash } else { m.backlash_at(tau) },
+                &crossings,
+                &WindowOptions {
+                    period,
+                    min_depth: o.min_depth,
+                    lines: [1, m.z2],
+                },
+            )
+            .unwrap();
+            let json = |w: &WindowStats| serde_json::to_string(w).unwrap();
+            assert_eq!(json(&streamed.stats), json(&stored), "{omega1}");
+            assert_eq!(streamed.stats.ppv.to_bits(), stored.ppv.to_bits());
+            assert_eq!(
+                streamed.stats.line_coherent.map(f64::to_bits),
+                stored.line_coherent.map(f64::to_bits)
+            );
+            assert!(stored.drive.count + stored.back.count > 0);
+        }
     }
 
     /// A synthetic window: `P` periodic, `T` the end of a transient (its last half periodic),

@@ -23,7 +23,8 @@
 //!   [`settled_lyapunov_batches`], whose spread [`lyapunov_batch_spread`] is the finite-time
 //!   fluctuation of the exponent), beside the 0–1 test.
 //!
-//! [`window_stats`] computes them from uniform samples `(t, q, q')` of one record; [`Robust`]
+//! [`window_stats`] computes them from uniform samples `(t, q, q')` of one record (fed one
+//! sample at a time, while a record integrates, through a [`WindowAccumulator`]); [`Robust`]
 //! combines the statistics of several records of the same point (two tolerances, two windows,
 //! two initial states) into intervals, so that a verdict can say whether its statistic is robust;
 //! [`window_motion`] and [`window_unsettled`] say whether a window's answer is settled (one
@@ -49,6 +50,6 @@ pub use settle::{
     motion_label, section_confirmed, window_motion, window_unsettled,
 };
 pub use window::{
-    Crossing, Flank, FlankImpacts, Robust, WindowOptions, WindowStats, student_t_975, window_stats,
-    zero_one_test,
+    Crossing, Flank, FlankImpacts, Robust, WindowAccumulator, WindowOptions, WindowStats,
+    student_t_975, window_stats, zero_one_test,
 };
