@@ -88,82 +88,25 @@ fn integrate_to<S: OdeSystem + ?Sized>(
         });
     }
     check_finite_slice("y0", y0)?;
+    // one driver for every own stepper; the match picks the stepper and its work arrays
+    macro_rules! go {
+        ($stepper:expr, $fixed_h:expr) => {
+            Ok(run(sys, t0, y0, t_end, opts, $stepper, $fixed_h, sink))
+        };
+    }
     match opts.method {
         // fixed-size work arrays for the small dimensions (bit-identical to the `Vec` stepper)
-        Method::DormandPrince54 => Ok(match n {
-            2 => run(
-                sys,
-                t0,
-                y0,
-                t_end,
-                opts,
-                DormandPrince::<[f64; 2]>::new(n),
-                None,
-                sink,
-            ),
-            4 => run(
-                sys,
-                t0,
-                y0,
-                t_end,
-                opts,
-                DormandPrince::<[f64; 4]>::new(n),
-                None,
-                sink,
-            ),
-            _ => run(
-                sys,
-                t0,
-                y0,
-                t_end,
-                opts,
-                DormandPrince::<Vec<f64>>::new(n),
-                None,
-                sink,
-            ),
-        }),
-        Method::Dop853 => Ok(match n {
-            2 => run(
-                sys,
-                t0,
-                y0,
-                t_end,
-                opts,
-                Dop853::<[f64; 2]>::new(n),
-                None,
-                sink,
-            ),
-            4 => run(
-                sys,
-                t0,
-                y0,
-                t_end,
-                opts,
-                Dop853::<[f64; 4]>::new(n),
-                None,
-                sink,
-            ),
-            _ => run(
-                sys,
-                t0,
-                y0,
-                t_end,
-                opts,
-                Dop853::<Vec<f64>>::new(n),
-                None,
-                sink,
-            ),
-        }),
-        Method::Rk4 { h } => Ok(run(
-            sys,
-            t0,
-            y0,
-            t_end,
-            opts,
-            ClassicRk4::new(n),
-            Some(h),
-            sink,
-        )),
+        Method::DormandPrince54 => match n {
+            2 => go!(DormandPrince::<[f64; 2]>::new(n), None),
+            4 => go!(DormandPrince::<[f64; 4]>::new(n), None),
+            _ => go!(DormandPrince::<Vec<f64>>::new(n), None),
+        },
+        Method::Dop853 => match n {
+            2 => go!(Dop853::<[f64; 2]>::new(n), None),
+            4 => go!(Dop853::<[f64; 4]>::new(n), None),
+            _ => go!(Dop853::<Vec<f64>>::new(n), None),
+        },
+        Method::Rk4 { h } => go!(ClassicRk4::new(n), Some(h)),
         Method::OdeSolversDopri5 | Method::OdeSolversDop853 => {
             let mut sol = crate::odesolvers::run(sys, t0, y0, t_end, opts);
             if let Some(sink) = sink {
@@ -643,6 +586,18 @@ mod tests {
         (osc.zeta, osc.kappa, osc.omega) = (0.05, 0.2, 1.5);
         (osc.f_mean, osc.f_amp) = (0.1, 0.5);
         let sys = FirstOrder(osc);
+        fn go<St: Stepper>(sys: &FirstOrder<DeadZoneOscillator>, o: &Options, st: St) -> Solution {
+            run(sys, 0.0, &[1.1, 0.0], 200.0, o, st, None, None)
+        }
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let same = |a: &Solution, v: &Solution| {
+            assert_eq!(bits(&a.y), bits(&v.y));
+            assert_eq!(bits(&a.t), bits(&v.t));
+            assert_eq!(bits(&a.y_final), bits(&v.y_final));
+            assert_eq!(a.events, v.events);
+            assert_eq!(a.stats, v.stats);
+            assert_eq!(a.h_last.to_bits(), v.h_last.to_bits());
+        };
         for (events, output) in [
             (true, Output::Uniform { dt: 0.37 }),
             (true, Output::Steps),
@@ -650,62 +605,14 @@ mod tests {
             (true, Output::Times(vec![0.5, 3.0, 77.7, 199.0])),
         ] {
             let o = Options::default().with_events(events).with_output(output);
-            let y0 = [1.1, 0.0];
-            let a = run(
-                &sys,
-                0.0,
-                &y0,
-                200.0,
-                &o,
-                DormandPrince::<[f64; 2]>::new(2),
-                None,
-                None,
-            );
-            let v = run(
-                &sys,
-                0.0,
-                &y0,
-                200.0,
-                &o,
-                DormandPrince::<Vec<f64>>::new(2),
-                None,
-                None,
-            );
+            let a = go(&sys, &o, DormandPrince::<[f64; 2]>::new(2));
+            let v = go(&sys, &o, DormandPrince::<Vec<f64>>::new(2));
             assert!(a.stats.n_accepted > 100 && (!events || a.stats.n_events > 10));
-            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(&a.y), bits(&v.y));
-            assert_eq!(bits(&a.t), bits(&v.t));
-            assert_eq!(bits(&a.y_final), bits(&v.y_final));
-            assert_eq!(a.events, v.events);
-            assert_eq!(a.stats, v.stats);
-            assert_eq!(a.h_last.to_bits(), v.h_last.to_bits());
-            let a = run(
-                &sys,
-                0.0,
-                &y0,
-                200.0,
-                &o,
-                Dop853::<[f64; 2]>::new(2),
-                None,
-                None,
-            );
-            let v = run(
-                &sys,
-                0.0,
-                &y0,
-                200.0,
-                &o,
-                Dop853::<Vec<f64>>::new(2),
-                None,
-                None,
-            );
+            same(&a, &v);
+            let a = go(&sys, &o, Dop853::<[f64; 2]>::new(2));
+            let v = go(&sys, &o, Dop853::<Vec<f64>>::new(2));
             assert!(a.stats.n_accepted > 20 && (!events || a.stats.n_events > 10));
-            assert_eq!(bits(&a.y), bits(&v.y));
-            assert_eq!(bits(&a.t), bits(&v.t));
-            assert_eq!(bits(&a.y_final), bits(&v.y_final));
-            assert_eq!(a.events, v.events);
-            assert_eq!(a.stats, v.stats);
-            assert_eq!(a.h_last.to_bits(), v.h_last.to_bits());
+            same(&a, &v);
         }
     }
 }

@@ -145,4 +145,7 @@ pub use strategy::{
     is_stable_multiplier, max_multiplier, solve_point, solve_sweep, time_reference,
 };
 pub use table::TimeTable;
-pub use window::{LongWindowOptions, SettledWindow, long_window, robust_window, settled_window};
+pub use window::{
+    LongWindowOptions, MAX_WINDOW_SAMPLES, SettledWindow, long_window, robust_window,
+    settled_window,
+};

@@ -129,6 +129,35 @@ pub(crate) fn section_step(period: f64, sample_step: f64) -> f64 {
     period / (period / sample_step).ceil().max(1.0)
 }
 
+/// The most samples one window may hold (`periods · T / Δτ`; 800 MB of kept `t` and `q'`): a
+/// larger request is an error before any integration, not an allocation failure after it. The
+/// validation's windows hold about 10⁶ (50 periods at `Δτ = 0.1`).
+pub const MAX_WINDOW_SAMPLES: f64 = 5e7;
+
+/// The gap-edge crossings of a run's events (`system::gap_edges`: event 0 the back flank
+/// `q = b̄`, event 1 the drive flank `q = −b̄`), entering where the motion enters contact.
+fn crossings(events: &[timestep::Event]) -> Vec<Crossing> {
+    events
+        .iter()
+        .map(|e| {
+            let flank = if e.index == 0 {
+                Flank::Back
+            } else {
+                Flank::Drive
+            };
+            let entering = match flank {
+                Flank::Back => e.direction == system::Direction::Rising,
+                Flank::Drive => e.direction == system::Direction::Falling,
+            };
+            Crossing {
+                t: e.t,
+                flank,
+                entering,
+            }
+        })
+        .collect()
+}
+
 /// One record of `windows` consecutive windows after the transient, from `start`, at `rtol`:
 /// the statistics of the kept windows ([`Keeper`]), the periods integrated before the first of
 /// them, and the work of the whole run.
@@ -141,6 +170,18 @@ fn record(
 ) -> Result<(Vec<WindowStats>, f64, timestep::Stats), Error> {
     let period = model.period();
     let dt = section_step(period, o.sample_step);
+    // the accumulator keeps `t` and `q'` of every sample of a window (16 bytes each)
+    let samples = o.periods as f64 * period / dt;
+    if samples.is_nan() || samples > MAX_WINDOW_SAMPLES {
+        return Err(Error::invalid(
+            "liu2021.long_window.sample_step",
+            format!(
+                "at least periods·T/{MAX_WINDOW_SAMPLES:e} = {:e} (a window of at most {MAX_WINDOW_SAMPLES:e} samples)",
+                o.periods as f64 * period / MAX_WINDOW_SAMPLES
+            ),
+            o.sample_step,
+        ));
+    }
     let mut io = super::IntegrationOptions {
         rtol,
         max_step: o.max_step,
@@ -208,27 +249,7 @@ fn record(
         if close {
             acc.push(rec.t_final, rec.y_final[0], rec.y_final[1]);
         }
-        let crossings: Vec<Crossing> = rec
-            .events
-            .iter()
-            .map(|e| {
-                let flank = if e.index == 0 {
-                    Flank::Back
-                } else {
-                    Flank::Drive
-                };
-                let entering = match flank {
-                    Flank::Back => e.direction == system::Direction::Rising,
-                    Flank::Drive => e.direction == system::Direction::Falling,
-                };
-                Crossing {
-                    t: e.t,
-                    flank,
-                    entering,
-                }
-            })
-            .collect();
-        let stats = acc.finish(&crossings)?;
+        let stats = acc.finish(&crossings(&rec.events))?;
         y = rec.y_final;
         keeper.offer(stats, w);
     }
@@ -506,24 +527,7 @@ mod tests {
                 base.with_output(timestep::Output::Uniform { dt }),
             )
             .unwrap();
-            let crossings: Vec<Crossing> = rec
-                .events
-                .iter()
-                .map(|e| {
-                    let flank = if e.index == 0 {
-                        Flank::Back
-                    } else {
-                        Flank::Drive
-                    };
-                    let entering =
-                        (flank == Flank::Back) == (e.direction == system::Direction::Rising);
-                    Crossing {
-                        t: e.t,
-                        flank,
-                        entering,
-                    }
-                })
-                .collect();
+            let crossings = crossings(&rec.events);
             assert!(!crossings.is_empty(), "{omega1}: no crossing exercised");
             let stored = crate::response::window_stats(
                 &rec.t,
@@ -547,6 +551,25 @@ mod tests {
             );
             assert!(stored.drive.count + stored.back.count > 0);
         }
+    }
+
+    /// A window of more samples than [`MAX_WINDOW_SAMPLES`] is refused before any integration,
+    /// naming the sample step and its bound; one at the limit's order is accepted.
+    #[test]
+    fn an_absurd_window_is_an_error_not_an_allocation() {
+        let m = model(160.0);
+        let o = LongWindowOptions {
+            periods: 100_000,
+            sample_step: 1e-3,
+            ..LongWindowOptions::default()
+        };
+        match settled_window(&m, &o, None) {
+            Err(Error::InvalidParameter { field, .. }) => {
+                assert_eq!(field, "liu2021.long_window.sample_step");
+            }
+            other => panic!("expected an invalid sample step, got {other:?}"),
+        }
+        assert!(long_window(&m, &o).is_err());
     }
 
     /// A synthetic window: `P` periodic, `T` the end of a transient (its last half periodic),
