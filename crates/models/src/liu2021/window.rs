@@ -17,7 +17,8 @@ pub struct LongWindowOptions {
     pub periods: usize,
     /// Largest output sampling interval; the interval used is the largest `Δτ ≤ sample_step`
     /// that divides the period, so the section falls on the period starts (impact speeds are interpolated between samples; the
-    /// state uses the located crossings, so no contact is missed).
+    /// state uses the located crossings, so no contact is missed). A window holds at most
+    /// [`MAX_WINDOW_SAMPLES`] samples (`periods · T / Δτ`); more is an error naming this field.
     pub sample_step: f64,
     /// Largest integrator step.
     pub max_step: f64,

@@ -215,11 +215,13 @@ pub fn window_stats(
         }
     }
     let mut acc = WindowAccumulator::new(t[0], t[n - 1], gap, options)?;
-    acc.reserve(n);
+    // the in-window samples are the first `n_in` of the slices: read there, not copied
+    acc.store = false;
     for i in 0..n {
         acc.push(t[i], q[i], v[i]);
     }
-    acc.finish(crossings)
+    let n_in = acc.n_in;
+    acc.finish_on(crossings, &t[..n_in], &v[..n_in])
 }
 
 /// The in-window sample whose line term waits for the next sample's time (the trapezoid
@@ -278,9 +280,12 @@ pub struct WindowAccumulator<G: Fn(f64) -> f64> {
     pending: Option<Pending>,
     /// A sample past the window's end was pushed: later ones are only checked.
     closed: bool,
-    /// `t` and `q'` of the samples in the window.
+    /// `t` and `q'` of the samples in the window (kept when `store`; [`window_stats`] reads
+    /// them from its slices instead), and how many samples lie in the window.
     ts: Vec<f64>,
     vs: Vec<f64>,
+    store: bool,
+    n_in: usize,
     /// The latest in-window sample `(t, q, q', b)`, for the impacts found between samples.
     last_in: Option<(f64, f64, f64, f64)>,
     drive_scan: Vec<(f64, f64)>,
@@ -348,6 +353,8 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
             closed: false,
             ts: Vec::new(),
             vs: Vec::new(),
+            store: true,
+            n_in: 0,
             last_in: None,
             drive_scan: Vec::new(),
             back_scan: Vec::new(),
@@ -452,8 +459,11 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
             self.pending = Some(Pending { t, q, step });
         }
         self.last_in = Some((t, q, v, b));
-        self.ts.push(t);
-        self.vs.push(v);
+        self.n_in += 1;
+        if self.store {
+            self.ts.push(t);
+            self.vs.push(v);
+        }
     }
 
     /// The line term of an in-window sample, with the time of the sample after it (`next`;
@@ -503,6 +513,17 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
     /// An invalid sample ([`WindowAccumulator`]), fewer than two samples, a last sample not at
     /// the announced time, or a non-finite crossing time.
     pub fn finish(mut self, crossings: &[Crossing]) -> Result<WindowStats, Error> {
+        let (ts, vs) = (std::mem::take(&mut self.ts), std::mem::take(&mut self.vs));
+        self.finish_on(crossings, &ts, &vs)
+    }
+
+    /// [`WindowAccumulator::finish`] with `t` and `q'` of the in-window samples from `ts`, `vs`.
+    fn finish_on(
+        mut self,
+        crossings: &[Crossing],
+        ts: &[f64],
+        vs: &[f64],
+    ) -> Result<WindowStats, Error> {
         if let Some(e) = self.error.take() {
             return Err(e);
         }
@@ -523,7 +544,14 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
         }
         let (t0, period, periods) = (self.t0, self.period, self.periods);
         let period_of = |tt: f64| (((tt - t0) / period).floor().max(0.0) as usize).min(periods - 1);
-        let (ts, vs) = (&self.ts, &self.vs);
+        if ts.len() != self.n_in || vs.len() != self.n_in || self.n_in == 0 {
+            return Err(Error::Solver(format!(
+                "response window: {} samples in the window, {} times and {} speeds kept",
+                self.n_in,
+                ts.len(),
+                vs.len()
+            )));
+        }
         let last = ts.len() - 1;
         // the first sample after `tc`, searched from the one found for the crossing before
         // (the crossings come in time order, a few hundred samples apart: a gallop from there
