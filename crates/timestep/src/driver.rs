@@ -3,12 +3,17 @@
 use crate::control::PiController;
 use crate::dop853::Dop853;
 use crate::error::{Error, Result, check_finite, check_finite_slice};
-use crate::options::{Method, Options};
+use crate::options::{Method, Options, Output};
 use crate::record::{EventMonitor, Recorder, Sink};
 use crate::solution::{Solution, Stats, Status};
 use crate::stepper::{ClassicRk4, DormandPrince, Stepper};
 use crate::system::{EventAction, OdeSystem};
 use math::DetMath;
+
+/// Most values (`t` and the `dim` components of each sample) that a uniform output
+/// ([`Output::Uniform`]) of [`integrate`] may store: `2²⁸`, 2 GiB. A grid of more is an error
+/// naming `output dt` before the run; [`integrate_streamed`] stores none and has no such bound.
+pub const MAX_STORED_VALUES: f64 = 268_435_456.0;
 
 /// Integrates `y' = F(t, y)` from `(t0, y0)` to `t_end` (`t_end >= t0`) with event location.
 ///
@@ -25,7 +30,8 @@ use math::DetMath;
 /// grazing excursion shorter than a step) are not seen; bound the step with `Options::h_max`
 /// if such excursions matter.
 ///
-/// Errors only for invalid input; how the run ended is [`Solution::status`].
+/// Errors only for invalid input (a stored uniform output of more than [`MAX_STORED_VALUES`]
+/// values among them); how the run ended is [`Solution::status`].
 pub fn integrate<S: OdeSystem + ?Sized>(
     sys: &S,
     t0: f64,
@@ -88,6 +94,24 @@ fn integrate_to<S: OdeSystem + ?Sized>(
         });
     }
     check_finite_slice("y0", y0)?;
+    // a uniform grid that would be stored is bounded before the run (a tiny `dt` over a long
+    // span is an error, not an allocation failure); the `ode_solvers` backends store their
+    // samples also with a sink
+    let stores = sink.is_none()
+        || matches!(
+            opts.method,
+            Method::OdeSolversDopri5 | Method::OdeSolversDop853
+        );
+    if let (true, Output::Uniform { dt }) = (stores, &opts.output) {
+        let values = ((t_end - t0) / dt + 1.0) * (n + 1) as f64;
+        if values > MAX_STORED_VALUES {
+            return Err(Error::InvalidParameter {
+                name: "output dt",
+                bound: "at least (t_end - t0)·(dim + 1)/MAX_STORED_VALUES (a stored uniform output of at most 2^28 values; integrate_streamed stores none)",
+                value: *dt,
+            });
+        }
+    }
     // one driver for every own stepper; the match picks the stepper and its work arrays
     macro_rules! go {
         ($stepper:expr, $fixed_h:expr) => {
@@ -423,9 +447,48 @@ fn run<S: OdeSystem + ?Sized, St: Stepper>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::options::Output;
     use crate::problems::DeadZoneOscillator;
     use crate::system::FirstOrder;
+
+    /// A stored uniform output of more than [`MAX_STORED_VALUES`] values is an error naming
+    /// `output dt` before the run (it was an allocation failure); the same grid streamed is
+    /// run (here stopped by `max_steps`), and a grid just under the bound is accepted.
+    #[test]
+    fn a_stored_grid_beyond_the_bound_is_an_error_not_an_allocation() {
+        let mut osc = DeadZoneOscillator::free(1.0);
+        (osc.zeta, osc.f_amp) = (0.05, 0.5);
+        let sys = FirstOrder(osc);
+        // 3 values per sample: (t_end - t0)/dt + 1 samples
+        let dt = 1e-6;
+        let t_end = (MAX_STORED_VALUES / 3.0) * dt;
+        let opts = Options::default()
+            .with_output(Output::Uniform { dt })
+            .with_max_steps(10);
+        match integrate(&sys, 0.0, &[0.0, 0.0], t_end, &opts) {
+            Err(Error::InvalidParameter { name, value, .. }) => {
+                assert_eq!(name, "output dt");
+                assert_eq!(value.to_bits(), dt.to_bits());
+            }
+            other => panic!("expected an invalid output dt, got {other:?}"),
+        }
+        let mut n = 0usize;
+        let sol =
+            integrate_streamed(&sys, 0.0, &[0.0, 0.0], t_end, &opts, &mut |_, _| n += 1).unwrap();
+        assert!(
+            matches!(sol.status, Status::MaxSteps { .. }),
+            "{:?}",
+            sol.status
+        );
+        assert!(n > 0);
+        // one sample fewer than the bound allows: the run starts (and stops at max_steps)
+        let under = (MAX_STORED_VALUES / 3.0 - 2.0) * dt;
+        let sol = integrate(&sys, 0.0, &[0.0, 0.0], under, &opts).unwrap();
+        assert!(
+            matches!(sol.status, Status::MaxSteps { .. }),
+            "{:?}",
+            sol.status
+        );
+    }
 
     /// [`integrate_streamed`] hands the sink exactly the samples [`integrate`] stores, in order,
     /// and changes nothing else (events, final state, statistics), for every method and every

@@ -160,7 +160,7 @@ pub use bifurcation::{
     BifurcationOptions, BifurcationPoint, MAX_PERIODS, MAX_SECTION_POINTS, Start,
     bifurcation_point, bifurcation_sweep,
 };
-pub use driver::{integrate, integrate_streamed};
+pub use driver::{MAX_STORED_VALUES, integrate, integrate_streamed};
 pub use error::{Error, Result};
 pub use metrics::{
     fourier_projection, fourier_projection_at, harmonic_amplitudes_of_projection, peak_to_peak, rms,

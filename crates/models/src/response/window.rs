@@ -217,9 +217,7 @@ pub fn window_stats(
     let mut acc = WindowAccumulator::new(t[0], t[n - 1], gap, options)?;
     // the in-window samples are the first `n_in` of the slices: read there, not copied
     acc.store = false;
-    for i in 0..n {
-        acc.push(t[i], q[i], v[i]);
-    }
+    acc.push_many(t, q, v);
     let n_in = acc.n_in;
     acc.finish_on(crossings, &t[..n_in], &v[..n_in])
 }
@@ -233,9 +231,69 @@ struct Pending {
     step: f64,
 }
 
+/// The phase `e^{−ikΩ(t−t0)}` of the two lines at the latest in-window sample: it advances by
+/// a rotation, recomputed exactly at every period start and whenever the sample step changes,
+/// so no rounding accumulates beyond one period.
+#[derive(Debug, Clone, Copy)]
+struct Phase {
+    t0: f64,
+    t_end: f64,
+    period: f64,
+    omega: f64,
+    ks: [f64; 2],
+    lines: [u32; 2],
+    rot: [(f64, f64); 2],
+    cur: [(f64, f64); 2],
+    last_dt: f64,
+    last_period: usize,
+}
+
+impl Phase {
+    /// Adds the line term of the in-window sample `s` of period `p` to that period's sums
+    /// `re`, `im`, with the time of the sample after it (`next`; NaN: none, the weight is 0).
+    #[inline(always)]
+    fn term(&mut self, s: Pending, next: f64, p: usize, re: &mut [f64; 2], im: &mut [f64; 2]) {
+        let dt = if next.is_nan() {
+            0.0
+        } else {
+            (next.min(self.t_end) - s.t).max(0.0)
+        };
+        // a uniform grid's steps differ in their last bits: reuse the rotation when the
+        // step agrees to 1e-9 (phase error ≤ 2πk·1e-9 over a period, reset every period)
+        let same_step = (s.step - self.last_dt).abs() <= 1e-9 * self.last_dt.abs();
+        let exact = p != self.last_period || !same_step;
+        // the trapezoid weight of a line k ≠ 0 (factor 2; `(2·dt)/T` as written per line
+        // before, one division per sample instead of two)
+        let w_two = 2.0 * dt / self.period;
+        for j in 0..2 {
+            if exact {
+                let (sn, cs) = (self.ks[j] * self.omega * (s.t - self.t0)).dsin_cos();
+                self.cur[j] = (cs, -sn);
+                let (rs, rc) = (self.ks[j] * self.omega * s.step).dsin_cos();
+                self.rot[j] = (rc, -rs);
+            } else {
+                let (a, b2) = self.cur[j];
+                let (c, d) = self.rot[j];
+                self.cur[j] = (a * c - b2 * d, a * d + b2 * c);
+            }
+            let w = if self.lines[j] == 0 {
+                1.0 * dt / self.period
+            } else {
+                w_two
+            };
+            re[j] += w * s.q * self.cur[j].0;
+            im[j] += w * s.q * self.cur[j].1;
+        }
+        self.last_period = p;
+        self.last_dt = s.step;
+    }
+}
+
 /// [`window_stats`] fed one sample at a time: announce the window by its first and last
 /// sample times ([`WindowAccumulator::new`]), [`WindowAccumulator::push`] every sample in
-/// ascending time, then [`WindowAccumulator::finish`] with the located crossings. The result
+/// ascending time (or [`WindowAccumulator::push_many`] batches of them, the faster way: the
+/// per-sample state stays in registers over a batch), then [`WindowAccumulator::finish`] with
+/// the located crossings. The result
 /// is [`window_stats`] of the same samples, bit for bit (that function is this one fed from
 /// slices); what it keeps is `t` and `q'` of the samples inside the window (the speeds at the
 /// located crossings interpolate them) and a few numbers per period, not the samples.
@@ -258,19 +316,16 @@ pub struct WindowAccumulator<G: Fn(f64) -> f64> {
     t_end: f64,
     t_stop: f64,
     t_last_line: f64,
-    omega: f64,
-    ks: [f64; 2],
-    lines: [u32; 2],
+    /// The phase of the lines (kept in registers while [`WindowAccumulator::push_many`] runs).
+    phase: Phase,
     state: Vec<usize>,
     q_min: f64,
     q_max: f64,
     max_depth: f64,
+    /// `(q, b)` of the sample that set `max_depth` (NaN before one did).
+    deepest: (f64, f64),
     line_re: Vec<[f64; 2]>,
     line_im: Vec<[f64; 2]>,
-    rot: [(f64, f64); 2],
-    cur: [(f64, f64); 2],
-    last_dt: f64,
-    last_period: usize,
     /// The period of the latest in-window sample, and the start of the next one.
     p: usize,
     next_start: f64,
@@ -328,23 +383,29 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
             t_end,
             t_stop: t_end + 1e-9 * period,
             t_last_line: t_end - 1e-9 * period,
-            omega: std::f64::consts::TAU / period,
-            ks: options.lines.map(f64::from),
-            lines: options.lines,
+            phase: Phase {
+                t0,
+                t_end,
+                period,
+                omega: std::f64::consts::TAU / period,
+                ks: options.lines.map(f64::from),
+                lines: options.lines,
+                rot: [(1.0f64, 0.0f64); 2],
+                cur: [(1.0f64, 0.0f64); 2],
+                last_dt: f64::NAN,
+                last_period: usize::MAX,
+            },
             state: vec![0usize; periods],
             q_min: f64::INFINITY,
             q_max: f64::NEG_INFINITY,
             max_depth: f64::MIN,
+            deepest: (f64::NAN, f64::NAN),
             // per period: complex amplitudes of the lines (trapezoid weights on the sample
             // grid); the phase e^{−ikΩ(t−t0)} advances by a rotation, recomputed exactly at
             // every period start and whenever the sample step changes, so no rounding
             // accumulates beyond one period
             line_re: vec![[0.0f64; 2]; periods],
             line_im: vec![[0.0f64; 2]; periods],
-            rot: [(1.0f64, 0.0f64); 2],
-            cur: [(1.0f64, 0.0f64); 2],
-            last_dt: f64::NAN,
-            last_period: usize::MAX,
             p: 0,
             next_start: t0 + period,
             n: 0,
@@ -370,139 +431,163 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
         self.vs.reserve(additional);
     }
 
-    /// The next sample, at a time after the one before.
+    /// The next sample, at a time after the one before ([`WindowAccumulator::push_many`] of
+    /// one sample).
     pub fn push(&mut self, t: f64, q: f64, v: f64) {
+        self.push_many(&[t], &[q], &[v]);
+    }
+
+    /// The next samples `(ts[i], qs[i], vs[i])`, in ascending time after the ones before: the
+    /// same as [`WindowAccumulator::push`] of each in turn, bit for bit, with the running
+    /// state held in locals over the batch (the lines' phase rotation and sums are a chain of
+    /// dependent operations per sample that otherwise goes through memory). Slices of
+    /// different lengths are an invalid sample.
+    pub fn push_many(&mut self, ts: &[f64], qs: &[f64], vs: &[f64]) {
         if self.error.is_some() {
             return;
         }
-        self.n += 1;
-        if !(t.is_finite() && q.is_finite() && v.is_finite()) {
-            self.error = Some(Error::invalid("response.window.sample", "finite", f64::NAN));
-            return;
-        }
-        if self.n == 1 && t.to_bits() != self.t0.to_bits() {
+        if qs.len() != ts.len() || vs.len() != ts.len() {
             self.error = Some(Error::invalid(
-                "response.window.t",
-                "the first sample at the announced start",
-                t,
+                "response.window.sample",
+                format!("q and q' as many as t ({})", ts.len()),
+                qs.len().max(vs.len()) as f64,
             ));
             return;
         }
-        if self.n > 1 && t <= self.t_prev {
-            self.error = Some(Error::invalid("response.window.t", "strictly ascending", t));
-            return;
-        }
-        self.t_prev = t;
-        if self.closed {
-            return;
-        }
-        if let Some(pending) = self.pending.take() {
-            self.line_term(pending, t);
-        }
-        if t > self.t_stop {
-            self.closed = true;
-            return;
-        }
-        let b = (self.gap)(t);
-        if !b.is_finite() || b < 0.0 {
-            self.error = Some(Error::invalid("response.window.gap", ">= 0 and finite", b));
-            return;
-        }
-        // the period index advances with the (ascending) samples: no division per sample
-        while self.p + 1 < self.periods && t >= self.next_start {
-            self.p += 1;
-            self.next_start = self.t0 + (self.p + 1) as f64 * self.period;
-        }
-        self.q_min = self.q_min.min(q);
-        self.q_max = self.q_max.max(q);
-        let depth = if b > 0.0 { (q + b) / b } else { f64::INFINITY };
-        self.max_depth = self.max_depth.max(depth);
-        let s = if q > b {
-            2
-        } else if q + b > self.min_depth * b {
-            1
-        } else {
-            0
-        };
-        self.state[self.p] = self.state[self.p].max(s);
-        // impacts between samples (used when no crossing is located): sign changes of the
-        // distances to the edges
-        if let Some((ta, qa, va, ba)) = self.last_in {
-            // drive flank entry: q + b goes from ≥ 0 to < 0
-            let (da, db) = (qa + ba, q + b);
-            if da >= 0.0 && db < 0.0 {
-                let a = da / (da - db);
-                self.drive_scan
-                    .push((ta + a * (t - ta), (va + a * (v - va)).abs()));
-            }
-            let (ea, eb) = (qa - ba, q - b);
-            if ea <= 0.0 && eb > 0.0 {
-                let a = ea / (ea - eb);
-                self.back_scan
-                    .push((ta + a * (t - ta), (va + a * (v - va)).abs()));
-            }
-        }
+        let mut phase = self.phase;
+        // the line sums of one period (`line_period`), written back when another is summed
+        let mut line_period = usize::MAX;
+        let (mut re, mut im) = ([0.0f64; 2], [0.0f64; 2]);
+        let (mut n, mut t_prev, mut closed) = (self.n, self.t_prev, self.closed);
+        let (mut p, mut next_start) = (self.p, self.next_start);
+        let (mut q_min, mut q_max, mut max_depth) = (self.q_min, self.q_max, self.max_depth);
+        let mut deepest = self.deepest;
+        let (mut pending, mut last_in, mut n_in) = (self.pending, self.last_in, self.n_in);
+        let mut next_section = self.next_section;
+        let periods = self.periods;
         // stroboscopic section: the first sample at or after each period start (to 1e-9 T; one
         // point per period, so that a sample a rounding error short of a period start is not
         // taken twice); a period start that a sampling interval longer than the period skips
         // has none
         let start = |k: usize| self.t0 + k as f64 * self.period - 1e-9 * self.period;
-        if self.next_section < self.periods && t >= start(self.next_section) {
-            self.section.push(q);
-            self.next_section += 1;
-            while self.next_section < self.periods && t >= start(self.next_section) {
-                self.next_section += 1;
+        let mut section_at = start(next_section);
+        let mut error = None;
+        for ((&t, &q), &v) in ts.iter().zip(qs).zip(vs) {
+            n += 1;
+            if !(t.is_finite() && q.is_finite() && v.is_finite()) {
+                error = Some(Error::invalid("response.window.sample", "finite", f64::NAN));
+                break;
             }
-        }
-        if t < self.t_last_line {
-            let step = self.last_in.map_or(f64::NAN, |(ta, ..)| t - ta);
-            self.pending = Some(Pending { t, q, step });
-        }
-        self.last_in = Some((t, q, v, b));
-        self.n_in += 1;
-        if self.store {
-            self.ts.push(t);
-            self.vs.push(v);
-        }
-    }
-
-    /// The line term of an in-window sample, with the time of the sample after it (`next`;
-    /// NaN: none, the weight is 0).
-    fn line_term(&mut self, s: Pending, next: f64) {
-        let dt = if next.is_nan() {
-            0.0
-        } else {
-            (next.min(self.t_end) - s.t).max(0.0)
-        };
-        let p = self.p;
-        // a uniform grid's steps differ in their last bits: reuse the rotation when the
-        // step agrees to 1e-9 (phase error ≤ 2πk·1e-9 over a period, reset every period)
-        let same_step = (s.step - self.last_dt).abs() <= 1e-9 * self.last_dt.abs();
-        let exact = p != self.last_period || !same_step;
-        // the trapezoid weight of a line k ≠ 0 (factor 2; `(2·dt)/T` as written per line
-        // before, one division per sample instead of two)
-        let w_two = 2.0 * dt / self.period;
-        for j in 0..2 {
-            if exact {
-                let (sn, cs) = (self.ks[j] * self.omega * (s.t - self.t0)).dsin_cos();
-                self.cur[j] = (cs, -sn);
-                let (rs, rc) = (self.ks[j] * self.omega * s.step).dsin_cos();
-                self.rot[j] = (rc, -rs);
-            } else {
-                let (a, b2) = self.cur[j];
-                let (c, d) = self.rot[j];
-                self.cur[j] = (a * c - b2 * d, a * d + b2 * c);
+            if n == 1 && t.to_bits() != self.t0.to_bits() {
+                error = Some(Error::invalid(
+                    "response.window.t",
+                    "the first sample at the announced start",
+                    t,
+                ));
+                break;
             }
-            let w = if self.lines[j] == 0 {
-                1.0 * dt / self.period
+            if n > 1 && t <= t_prev {
+                error = Some(Error::invalid("response.window.t", "strictly ascending", t));
+                break;
+            }
+            t_prev = t;
+            if closed {
+                continue;
+            }
+            if let Some(s) = pending.take() {
+                if p != line_period {
+                    if line_period != usize::MAX {
+                        self.line_re[line_period] = re;
+                        self.line_im[line_period] = im;
+                    }
+                    line_period = p;
+                    re = self.line_re[p];
+                    im = self.line_im[p];
+                }
+                phase.term(s, t, p, &mut re, &mut im);
+            }
+            if t > self.t_stop {
+                closed = true;
+                continue;
+            }
+            let b = (self.gap)(t);
+            if !b.is_finite() || b < 0.0 {
+                error = Some(Error::invalid("response.window.gap", ">= 0 and finite", b));
+                break;
+            }
+            // the period index advances with the (ascending) samples: no division per sample
+            while p + 1 < periods && t >= next_start {
+                p += 1;
+                next_start = self.t0 + (p + 1) as f64 * self.period;
+            }
+            q_min = q_min.min(q);
+            q_max = q_max.max(q);
+            // `(q + b)/b` is monotone in `q` at one `b` (rounded addition and division are):
+            // a sample below the deepest one at the same `b` cannot raise the maximum
+            if !(b.to_bits() == deepest.1.to_bits() && q <= deepest.0) {
+                let depth = if b > 0.0 { (q + b) / b } else { f64::INFINITY };
+                if depth > max_depth {
+                    deepest = (q, b);
+                }
+                max_depth = max_depth.max(depth);
+            }
+            let s = if q > b {
+                2
+            } else if q + b > self.min_depth * b {
+                1
             } else {
-                w_two
+                0
             };
-            self.line_re[p][j] += w * s.q * self.cur[j].0;
-            self.line_im[p][j] += w * s.q * self.cur[j].1;
+            self.state[p] = self.state[p].max(s);
+            // impacts between samples (used when no crossing is located): sign changes of the
+            // distances to the edges
+            if let Some((ta, qa, va, ba)) = last_in {
+                // drive flank entry: q + b goes from ≥ 0 to < 0
+                let (da, db) = (qa + ba, q + b);
+                if da >= 0.0 && db < 0.0 {
+                    let a = da / (da - db);
+                    self.drive_scan
+                        .push((ta + a * (t - ta), (va + a * (v - va)).abs()));
+                }
+                let (ea, eb) = (qa - ba, q - b);
+                if ea <= 0.0 && eb > 0.0 {
+                    let a = ea / (ea - eb);
+                    self.back_scan
+                        .push((ta + a * (t - ta), (va + a * (v - va)).abs()));
+                }
+            }
+            if next_section < periods && t >= section_at {
+                self.section.push(q);
+                next_section += 1;
+                section_at = start(next_section);
+                while next_section < periods && t >= section_at {
+                    next_section += 1;
+                    section_at = start(next_section);
+                }
+            }
+            if t < self.t_last_line {
+                let step = last_in.map_or(f64::NAN, |(ta, ..)| t - ta);
+                pending = Some(Pending { t, q, step });
+            }
+            last_in = Some((t, q, v, b));
+            n_in += 1;
+            if self.store {
+                self.ts.push(t);
+                self.vs.push(v);
+            }
         }
-        self.last_period = p;
-        self.last_dt = s.step;
+        if line_period != usize::MAX {
+            self.line_re[line_period] = re;
+            self.line_im[line_period] = im;
+        }
+        self.phase = phase;
+        (self.n, self.t_prev, self.closed) = (n, t_prev, closed);
+        (self.p, self.next_start) = (p, next_start);
+        (self.q_min, self.q_max, self.max_depth) = (q_min, q_max, max_depth);
+        self.deepest = deepest;
+        (self.pending, self.last_in, self.n_in) = (pending, last_in, n_in);
+        self.next_section = next_section;
+        self.error = error;
     }
 
     /// The statistics of the pushed samples with the located gap-edge crossings `crossings` of
@@ -540,7 +625,10 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
             )));
         }
         if let Some(pending) = self.pending.take() {
-            self.line_term(pending, f64::NAN);
+            let p = self.p;
+            let (mut re, mut im) = (self.line_re[p], self.line_im[p]);
+            self.phase.term(pending, f64::NAN, p, &mut re, &mut im);
+            (self.line_re[p], self.line_im[p]) = (re, im);
         }
         let (t0, period, periods) = (self.t0, self.period, self.periods);
         let period_of = |tt: f64| (((tt - t0) / period).floor().max(0.0) as usize).min(periods - 1);
@@ -1309,6 +1397,67 @@ mod tests {
         }
         acc.push(1.2, f64::NAN, 0.0);
         assert!(acc.finish(&[]).is_err());
+    }
+
+    /// `push_many` is `push` of each sample, bit for bit, wherever the batches break: the
+    /// state it holds in locals (the lines' phase and the sums of the period being summed,
+    /// the deepest sample, the section time) is written back between batches. A rattle with
+    /// both flanks, a period-varying gap, a sampling step that changes mid-window and
+    /// samples past the end; batches of 1, 2, 7, 64 and 1000 samples, and a batch that
+    /// breaks at each period start. A mismatch of the slices' lengths is an invalid sample.
+    #[test]
+    fn batches_are_single_pushes_bit_for_bit() {
+        let period = 2.0;
+        let o = WindowOptions {
+            lines: [1, 3],
+            ..WindowOptions::new(period)
+        };
+        let gap = |t: f64| 0.5 + 0.1 * (std::f64::consts::TAU * t / period).dcos();
+        // 6 periods at step 0.01, then 0.013 to past the end
+        let mut t: Vec<f64> = (0..=600).map(|k| k as f64 * 0.01).collect();
+        t.extend((1..=40).map(|k| 6.0 + k as f64 * 0.013));
+        let q: Vec<f64> = t
+            .iter()
+            .map(|&x| 0.8 * (3.1 * x).dsin() - 0.2 + 0.05 * (17.0 * x).dcos())
+            .collect();
+        let v: Vec<f64> = t
+            .iter()
+            .map(|&x| 0.8 * 3.1 * (3.1 * x).dcos() - 0.85 * (17.0 * x).dsin())
+            .collect();
+        let t_last = *t.last().unwrap();
+        let stats = |cuts: &[usize]| {
+            let mut acc = WindowAccumulator::new(0.0, t_last, gap, &o).unwrap();
+            let mut from = 0;
+            for &c in cuts.iter().chain(std::iter::once(&t.len())) {
+                let c = c.min(t.len());
+                acc.push_many(&t[from..c], &q[from..c], &v[from..c]);
+                from = c.max(from);
+            }
+            acc.finish(&[]).unwrap()
+        };
+        let run = |cuts: &[usize]| format!("{:?}", stats(cuts));
+        let single: Vec<usize> = (1..t.len()).collect();
+        let w1 = stats(&single);
+        // both flanks are reached (the scans between samples run) in every period
+        assert_eq!(w1.periods, 3);
+        assert!(w1.drive.count >= 3 && w1.back.count >= 3, "{w1:?}");
+        assert_eq!(w1.state, RattleState::Bilateral);
+        let reference = format!("{w1:?}");
+        for size in [2, 7, 64, 1000] {
+            let cuts: Vec<usize> = (1..=t.len() / size).map(|k| k * size).collect();
+            assert_eq!(run(&cuts), reference, "batches of {size}");
+        }
+        let at_starts: Vec<usize> = (1..6).map(|k| k * 200).collect();
+        assert_eq!(run(&at_starts), reference);
+        // the slice path is the same accumulator
+        let w = window_stats(&t, &q, &v, gap, &[], &o).unwrap();
+        assert_eq!(format!("{w:?}"), reference);
+        let mut acc = WindowAccumulator::new(0.0, t_last, gap, &o).unwrap();
+        acc.push_many(&t[..3], &q[..2], &v[..3]);
+        assert!(matches!(
+            acc.finish(&[]),
+            Err(Error::InvalidParameter { field, .. }) if field == "response.window.sample"
+        ));
     }
 
     /// Located crossings decide the period state and the impact count, with the speed
