@@ -12,7 +12,8 @@ use math::DetMath;
 
 /// Most values (`t` and the `dim` components of each sample) that a uniform output
 /// ([`Output::Uniform`]) of [`integrate`] may store: `2²⁸`, 2 GiB. A grid of more is an error
-/// naming `output dt` before the run; [`integrate_streamed`] stores none and has no such bound.
+/// naming `output dt` before the run. [`integrate_streamed`] stores none and has no such bound,
+/// except with the `ode_solvers` backends, which store their samples also with a sink.
 pub const MAX_STORED_VALUES: f64 = 268_435_456.0;
 
 /// Integrates `y' = F(t, y)` from `(t0, y0)` to `t_end` (`t_end >= t0`) with event location.

@@ -104,6 +104,8 @@
 //!
 //! ## Limitations
 //! * Forward integration only (`t_end ≥ t0`).
+//! * A stored uniform output holds at most [`MAX_STORED_VALUES`] values (2 GiB); a finer grid
+//!   is an error naming `output dt`. Stream it ([`integrate_streamed`]) instead.
 //! * Two crossings of the same event function inside one accepted step (a grazing excursion
 //!   shorter than a step) are not seen; bound the step with [`Options::h_max`] if that matters.
 //! * Event times are as accurate as the integration itself (dense-output error ~ tolerance);
