@@ -237,14 +237,7 @@ fn record(
         };
         let mut acc = WindowAccumulator::new(t0, t_last, gap, &wo)?;
         acc.reserve(((t1 - t0) / dt) as usize + 2);
-        // the samples go to the accumulator in batches (`push_many`, bit for bit `push` of
-        // each)
-        let mut batch = Batch::default();
-        let mut sink = |t: f64, y: &[f64]| {
-            if batch.add(t, y[0], y[1]) {
-                batch.flush(&mut acc);
-            }
-        };
+        let mut sink = |t: f64, y: &[f64]| acc.push(t, y[0], y[1]);
         let rec = run_to(
             model,
             t0,
@@ -252,9 +245,7 @@ fn record(
             t1,
             base.clone().with_output(output),
             Some(&mut sink),
-        );
-        batch.flush(&mut acc);
-        let rec = rec?;
+        )?;
         work.add(&rec.stats);
         if close {
             acc.push(rec.t_final, rec.y_final[0], rec.y_final[1]);
@@ -267,46 +258,6 @@ fn record(
     // periods integrated before the first kept window
     let before = kept_at.map_or(f64::NAN, |w| o.transient_periods + (w * o.periods) as f64);
     Ok((out, before, work))
-}
-
-/// Samples of a long window on their way to the [`WindowAccumulator`]: they are handed over
-/// [`Batch::LEN`] at a time, so the accumulator's per-sample loop runs on locals.
-struct Batch {
-    t: [f64; Batch::LEN],
-    q: [f64; Batch::LEN],
-    v: [f64; Batch::LEN],
-    len: usize,
-}
-
-impl Default for Batch {
-    fn default() -> Self {
-        Self {
-            t: [0.0; Batch::LEN],
-            q: [0.0; Batch::LEN],
-            v: [0.0; Batch::LEN],
-            len: 0,
-        }
-    }
-}
-
-impl Batch {
-    const LEN: usize = 256;
-
-    /// Adds a sample; true when the batch is full.
-    #[inline]
-    fn add(&mut self, t: f64, q: f64, v: f64) -> bool {
-        self.t[self.len] = t;
-        self.q[self.len] = q;
-        self.v[self.len] = v;
-        self.len += 1;
-        self.len == Self::LEN
-    }
-
-    fn flush<G: Fn(f64) -> f64>(&mut self, acc: &mut WindowAccumulator<G>) {
-        let n = self.len;
-        acc.push_many(&self.t[..n], &self.q[..n], &self.v[..n]);
-        self.len = 0;
-    }
 }
 
 /// The choice of the kept windows of one record, window by window.

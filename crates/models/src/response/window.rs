@@ -231,6 +231,41 @@ struct Pending {
     step: f64,
 }
 
+/// Samples pushed one at a time, on their way to [`WindowAccumulator::push_many`]'s loop.
+#[derive(Debug)]
+struct Queue {
+    t: [f64; Queue::LEN],
+    q: [f64; Queue::LEN],
+    v: [f64; Queue::LEN],
+    len: usize,
+}
+
+impl Default for Queue {
+    fn default() -> Self {
+        Self {
+            t: [0.0; Queue::LEN],
+            q: [0.0; Queue::LEN],
+            v: [0.0; Queue::LEN],
+            len: 0,
+        }
+    }
+}
+
+impl Queue {
+    /// Samples reduced at a time.
+    const LEN: usize = 256;
+
+    /// Adds a sample; true when the queue is full.
+    #[inline]
+    fn add(&mut self, t: f64, q: f64, v: f64) -> bool {
+        self.t[self.len] = t;
+        self.q[self.len] = q;
+        self.v[self.len] = v;
+        self.len += 1;
+        self.len == Self::LEN
+    }
+}
+
 /// The phase `e^{−ikΩ(t−t0)}` of the two lines at the latest in-window sample: it advances by
 /// a rotation, recomputed exactly at every period start and whenever the sample step changes,
 /// so no rounding accumulates beyond one period.
@@ -291,8 +326,8 @@ impl Phase {
 
 /// [`window_stats`] fed one sample at a time: announce the window by its first and last
 /// sample times ([`WindowAccumulator::new`]), [`WindowAccumulator::push`] every sample in
-/// ascending time (or [`WindowAccumulator::push_many`] batches of them, the faster way: the
-/// per-sample state stays in registers over a batch), then [`WindowAccumulator::finish`] with
+/// ascending time (or [`WindowAccumulator::push_many`] slices of them; either way they are reduced in
+/// batches, with the per-sample state in registers), then [`WindowAccumulator::finish`] with
 /// the located crossings. The result
 /// is [`window_stats`] of the same samples, bit for bit (that function is this one fed from
 /// slices); what it keeps is `t` and `q'` of the samples inside the window (the speeds at the
@@ -348,6 +383,8 @@ pub struct WindowAccumulator<G: Fn(f64) -> f64> {
     section: Vec<f64>,
     next_section: usize,
     error: Option<Error>,
+    /// Pushed samples not yet reduced (`None` only while they are).
+    queue: Option<Box<Queue>>,
 }
 
 impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
@@ -422,6 +459,7 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
             section: Vec::with_capacity(periods),
             next_section: 0,
             error: None,
+            queue: Some(Box::default()),
         })
     }
 
@@ -431,18 +469,41 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
         self.vs.reserve(additional);
     }
 
-    /// The next sample, at a time after the one before ([`WindowAccumulator::push_many`] of
-    /// one sample).
+    /// The next sample, at a time after the one before. It is queued and reduced with the
+    /// queued ones before it, 256 at a time ([`WindowAccumulator::push_many`]).
+    #[inline]
     pub fn push(&mut self, t: f64, q: f64, v: f64) {
-        self.push_many(&[t], &[q], &[v]);
+        if let Some(queue) = self.queue.as_mut()
+            && queue.add(t, q, v)
+        {
+            self.flush();
+        }
     }
 
     /// The next samples `(ts[i], qs[i], vs[i])`, in ascending time after the ones before: the
-    /// same as [`WindowAccumulator::push`] of each in turn, bit for bit, with the running
-    /// state held in locals over the batch (the lines' phase rotation and sums are a chain of
-    /// dependent operations per sample that otherwise goes through memory). Slices of
-    /// different lengths are an invalid sample.
+    /// same as [`WindowAccumulator::push`] of each in turn, bit for bit. Slices of different
+    /// lengths are an invalid sample.
     pub fn push_many(&mut self, ts: &[f64], qs: &[f64], vs: &[f64]) {
+        self.flush();
+        self.reduce(ts, qs, vs);
+    }
+
+    /// Reduces the queued samples.
+    fn flush(&mut self) {
+        if let Some(mut queue) = self.queue.take() {
+            let n = queue.len;
+            if n > 0 {
+                self.reduce(&queue.t[..n], &queue.q[..n], &queue.v[..n]);
+                queue.len = 0;
+            }
+            self.queue = Some(queue);
+        }
+    }
+
+    /// The samples reduced, with the running state held in locals over the batch (the lines'
+    /// phase rotation and sums are a chain of dependent operations per sample that otherwise
+    /// goes through memory).
+    fn reduce(&mut self, ts: &[f64], qs: &[f64], vs: &[f64]) {
         if self.error.is_some() {
             return;
         }
@@ -598,6 +659,7 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
     /// An invalid sample ([`WindowAccumulator`]), fewer than two samples, a last sample not at
     /// the announced time, or a non-finite crossing time.
     pub fn finish(mut self, crossings: &[Crossing]) -> Result<WindowStats, Error> {
+        self.flush();
         let (ts, vs) = (std::mem::take(&mut self.ts), std::mem::take(&mut self.vs));
         self.finish_on(crossings, &ts, &vs)
     }
