@@ -489,6 +489,20 @@ pub fn constant_part_grid(
     })
 }
 
+/// What [`ChenFractal::ratio`] and [`ChenFractal::value_and_derivative`] keep per thread: the
+/// law's bits, its ratio `λ^{D−2}`, and the last time and its `(z, z')`.
+#[derive(Clone, Copy)]
+struct Kept {
+    law: (u64, u64, u32),
+    ratio: f64,
+    /// The bits of the last `t` of [`ChenFractal::value_and_derivative`] and its `(z, z')`.
+    last: Option<(u64, (f64, f64))>,
+}
+
+thread_local! {
+    static CHEN_KEPT: std::cell::Cell<Option<Kept>> = const { std::cell::Cell::new(None) };
+}
+
 /// Most terms of [`ChenFractal`] (the limit of [`ChenFractal::for_tolerance`] too).
 pub const CHEN_MAX_TERMS: u32 = 1_000_000;
 
@@ -549,7 +563,7 @@ impl ChenFractal {
     /// z(t), truncated. `t` must be finite (non-finite gives NaN, use [`Self::try_value`]).
     /// At most [`CHEN_MAX_TERMS`] terms are summed even if the public field says more.
     pub fn value(&self, t: f64) -> f64 {
-        let r = self.gamma.dpowf(self.d - 2.0);
+        let r = self.ratio();
         let (mut a, mut w, mut s) = (1.0, 1.0, 0.0);
         for _ in 0..self.n_terms.min(CHEN_MAX_TERMS) {
             s += a * (w * t).dsin();
@@ -560,8 +574,26 @@ impl ChenFractal {
     }
 
     /// `(z(t), z'(t))`, `z'(t) = Σ λ^{(D−1)k} cos(λ^k t)`, truncated as [`Self::value`].
+    ///
+    /// The last `t` asked on a thread and its values are kept for that thread with the
+    /// ratio ([`Self::ratio`]): a time stepping asks the same `t` two or three times in a row
+    /// (the last stage of a step, the first-same-as-last stage, its events), and a kept value
+    /// is the one this call would compute, bit for bit (keyed on the bits of `λ`, `D`, the
+    /// number of terms and `t`).
     pub fn value_and_derivative(&self, t: f64) -> (f64, f64) {
-        let r = self.gamma.dpowf(self.d - 2.0);
+        let key = self.key();
+        let kept = CHEN_KEPT.with(std::cell::Cell::get);
+        let r = match kept {
+            Some(k) if k.law == key => {
+                if let Some((kt, z)) = k.last
+                    && kt == t.to_bits()
+                {
+                    return z;
+                }
+                k.ratio
+            }
+            _ => self.gamma.dpowf(self.d - 2.0),
+        };
         let (mut a, mut w, mut s, mut ds) = (1.0, 1.0, 0.0, 0.0);
         for _ in 0..self.n_terms.min(CHEN_MAX_TERMS) {
             let (sn, cs) = (w * t).dsin_cos();
@@ -570,7 +602,19 @@ impl ChenFractal {
             a *= r;
             w *= self.gamma;
         }
+        CHEN_KEPT.with(|c| {
+            c.set(Some(Kept {
+                law: key,
+                ratio: r,
+                last: Some((t.to_bits(), (s, ds))),
+            }));
+        });
         (s, ds)
+    }
+
+    /// The bits that determine [`Self::ratio`] and [`Self::value_and_derivative`].
+    fn key(&self) -> (u64, u64, u32) {
+        (self.gamma.to_bits(), self.d.to_bits(), self.n_terms)
     }
 
     /// Checked [`Self::value`].
@@ -578,9 +622,32 @@ impl ChenFractal {
         Ok(self.value(finite("t", t)?))
     }
 
+    /// The amplitude ratio `λ^{D−2}` of consecutive terms.
+    ///
+    /// The last `(λ, D)` asked on a thread and its ratio are kept for that thread, so the
+    /// evaluations of one law (a time stepping calls [`Self::value_and_derivative`] at every
+    /// right-hand side, with the same `λ` and `D`) compute the power once, not per call. The
+    /// key is the bits of `λ` and `D`: the kept ratio is the one this call would compute, bit
+    /// for bit, and a struct whose public fields change is never served a stale one.
+    pub fn ratio(&self) -> f64 {
+        let key = self.key();
+        CHEN_KEPT.with(|kept| match kept.get() {
+            Some(k) if k.law == key => k.ratio,
+            _ => {
+                let ratio = self.gamma.dpowf(self.d - 2.0);
+                kept.set(Some(Kept {
+                    law: key,
+                    ratio,
+                    last: None,
+                }));
+                ratio
+            }
+        })
+    }
+
     /// Uniform bound of the neglected tail: λ^{(D−2)n} / (1 − λ^{D−2}).
     pub fn truncation_bound(&self) -> f64 {
-        let r = self.gamma.dpowf(self.d - 2.0);
+        let r = self.ratio();
         r.powi(self.n_terms as i32) / (1.0 - r)
     }
 }
@@ -638,6 +705,65 @@ mod tests {
             .sum::<f64>()
             / n as f64;
         assert!((direct - m.value).abs() <= 1e-10 * direct);
+    }
+
+    /// The ratio kept per thread is the power this call would compute, bit for bit: laws that
+    /// alternate, a public field changed between calls, a NaN field, and other threads.
+    #[test]
+    fn kept_chen_ratio_is_never_stale() {
+        let direct = |c: &ChenFractal| c.gamma.dpowf(c.d - 2.0);
+        let reference = |c: &ChenFractal, t: f64| {
+            let r = direct(c);
+            let (mut a, mut w, mut s, mut ds) = (1.0, 1.0, 0.0, 0.0);
+            for _ in 0..c.n_terms {
+                let (sn, cs) = (w * t).dsin_cos();
+                s += a * sn;
+                ds += a * w * cs;
+                a *= r;
+                w *= c.gamma;
+            }
+            (s.to_bits(), ds.to_bits())
+        };
+        let bits = |(a, b): (f64, f64)| (a.to_bits(), b.to_bits());
+        let mut a = ChenFractal::new(1.3, 1.5, 12).unwrap();
+        let b = ChenFractal::new(1.7, 1.5, 12).unwrap();
+        for k in 0..20 {
+            let t = 0.37 * f64::from(k);
+            for c in [&a, &b, &a, &a, &b] {
+                assert_eq!(c.ratio().to_bits(), direct(c).to_bits());
+                assert_eq!(bits(c.value_and_derivative(t)), reference(c, t));
+                assert_eq!(c.value(t).to_bits(), reference(c, t).0);
+            }
+        }
+        // a public field changed after the ratio was kept
+        assert_eq!(a.ratio().to_bits(), direct(&a).to_bits());
+        a.d = 1.31;
+        assert_eq!(a.ratio().to_bits(), direct(&a).to_bits());
+        a.gamma = 2.0;
+        assert_eq!(bits(a.value_and_derivative(0.9)), reference(&a, 0.9));
+        a.d = f64::NAN;
+        assert!(a.ratio().is_nan() && a.value(0.9).is_nan());
+        a.d = 1.31;
+        assert_eq!(a.ratio().to_bits(), direct(&a).to_bits());
+        // the same time twice, then another time, then the first again: the kept values are
+        // served only for the same bits (a time one ulp off is evaluated)
+        let c = ChenFractal::new(1.4, 1.5, 12).unwrap();
+        let t = 2.5_f64;
+        let t_next = f64::from_bits(t.to_bits() + 1);
+        for u in [t, t, t_next, t, -0.0, 0.0, f64::NAN, t] {
+            let got = bits(c.value_and_derivative(u));
+            let want = reference(&c, u);
+            if u.is_nan() {
+                assert!(f64::from_bits(got.0).is_nan() && f64::from_bits(want.0).is_nan());
+            } else {
+                assert_eq!(got, want, "t = {u:e}");
+            }
+        }
+        // another thread keeps its own
+        std::thread::scope(|s| {
+            s.spawn(|| assert_eq!(b.ratio().to_bits(), direct(&b).to_bits()));
+        });
+        assert_eq!(a.ratio().to_bits(), direct(&a).to_bits());
     }
 
     #[test]

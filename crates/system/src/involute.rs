@@ -25,6 +25,35 @@
 //! ```
 
 use math::DetMath;
+use std::cell::Cell;
+
+thread_local! {
+    /// The last `(α0 bits, cos α0)` of [`cos_standard_angle`] on this thread.
+    static COS_ALPHA0: Cell<Option<(u64, f64)>> = const { Cell::new(None) };
+    /// The last key of [`PairGeometry::delta_p_with`] under [`Beta0::LawAtRest`] on this
+    /// thread and its `tan α(a0)`.
+    static TAN_AT_REST: Cell<Option<(RestKey, f64)>> = const { Cell::new(None) };
+}
+
+/// The bits of `a0` and `α0` and the law: what `tan α(a0)` depends on.
+type RestKey = (u64, u64, PressureAngleLaw);
+
+/// `cos α0`: the same double as `α0.dcos()` (`geardyn-math`), kept per thread for the last
+/// `α0` asked (keyed on its bits). The pair's laws ask it several times in every evaluation
+/// (the cosine numerator `c`, the base radii, Δp of Eq. 7), and the time stepping of a model
+/// evaluates them at every right-hand side with one `α0`.
+#[inline]
+pub fn cos_standard_angle(alpha0: f64) -> f64 {
+    let key = alpha0.to_bits();
+    COS_ALPHA0.with(|kept| match kept.get() {
+        Some((k, c)) if k == key => c,
+        _ => {
+            let c = alpha0.dcos();
+            kept.set(Some((key, c)));
+            c
+        }
+    })
+}
 /// Law of the operating pressure angle `α(a)` of a spur pair (reading `R-YU-EQ16`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -48,7 +77,9 @@ impl PressureAngleLaw {
     #[inline]
     pub fn cosine_numerator(self, a0: f64, alpha0: f64) -> f64 {
         match self {
-            PressureAngleLaw::Involute | PressureAngleLaw::Constant => a0 * alpha0.dcos(),
+            PressureAngleLaw::Involute | PressureAngleLaw::Constant => {
+                a0 * cos_standard_angle(alpha0)
+            }
             PressureAngleLaw::PrintedEq16 => a0,
         }
     }
@@ -170,7 +201,7 @@ impl PairGeometry {
     /// Base radii `(R_p cos α_0, R_g cos α_0)` (m).
     #[inline]
     pub fn base_radii(&self) -> (f64, f64) {
-        let c = self.alpha0.dcos();
+        let c = cos_standard_angle(self.alpha0);
         (self.r_p * c, self.r_g * c)
     }
 
@@ -183,13 +214,13 @@ impl PairGeometry {
     /// Pinion base radius R_pb = R_p cos α_0 (m) (Yu Eq. 7).
     #[inline]
     pub fn r_pb(&self) -> f64 {
-        self.r_p * self.alpha0.dcos()
+        self.r_p * cos_standard_angle(self.alpha0)
     }
 
     /// Sum of base radii R_pb + R_gb = a_0 cos α_0 (m).
     #[inline]
     pub fn base_sum(&self) -> f64 {
-        self.a0() * self.alpha0.dcos()
+        self.a0() * cos_standard_angle(self.alpha0)
     }
 
     /// Actual centre distance a (Yu Eq. 8, printed sign) and Δa = a − a_0 (Eq. 9), with
@@ -246,7 +277,18 @@ impl PairGeometry {
         let r_pb = self.r_pb();
         let t0 = match beta0 {
             Beta0::Nominal => self.alpha0.dtan(),
-            Beta0::LawAtRest => self.pressure_angle(self.a0(), law).0.dtan(),
+            Beta0::LawAtRest => {
+                // a constant of the pair and the law: kept per thread for the last pair asked
+                let key = (self.a0().to_bits(), self.alpha0.to_bits(), law);
+                TAN_AT_REST.with(|kept| match kept.get() {
+                    Some((k, t)) if k == key => t,
+                    _ => {
+                        let t = self.pressure_angle(self.a0(), law).0.dtan();
+                        kept.set(Some((key, t)));
+                        t
+                    }
+                })
+            }
         };
         let (beta_c_sq, d) = if a > c {
             (a * a / (c * c) - 1.0, 2.0 * a / (c * c))
@@ -314,6 +356,60 @@ pub enum Beta0 {
 #[allow(clippy::float_cmp)] // exact values: the clamped branches and a 3-4-5 triangle
 mod tests {
     use super::*;
+
+    /// The values kept per thread are the ones computed afresh, bit for bit: pairs and laws
+    /// that alternate, a public field changed between calls, and another thread.
+    #[test]
+    fn kept_constants_are_never_stale() {
+        // the law constant `c` and `R_pb` computed afresh (no kept value)
+        let fresh = |g: &PairGeometry, law: PressureAngleLaw| {
+            let c = match law {
+                PressureAngleLaw::PrintedEq16 => g.a0(),
+                _ => g.a0() * g.alpha0.dcos(),
+            };
+            (c, g.r_p * g.alpha0.dcos())
+        };
+        let mut g = PairGeometry::new(0.094, 0.094, 20f64.to_radians()).unwrap();
+        let h = PairGeometry::new(0.05, 0.12, 25f64.to_radians()).unwrap();
+        let laws = [PressureAngleLaw::Involute, PressureAngleLaw::PrintedEq16];
+        let check = |g: &PairGeometry, law: PressureAngleLaw| {
+            let (c, r_pb) = fresh(g, law);
+            assert_eq!(g.law_constant(law).to_bits(), c.to_bits());
+            assert_eq!(g.r_pb().to_bits(), r_pb.to_bits());
+            assert_eq!(
+                cos_standard_angle(g.alpha0).to_bits(),
+                g.alpha0.dcos().to_bits()
+            );
+            // Δp at a displaced centre distance, against the same law with β0 computed afresh
+            let a = g.a0() * 1.001;
+            let got = g.delta_p_with(a, law, Beta0::LawAtRest);
+            let cold = {
+                TAN_AT_REST.with(|k| k.set(None));
+                COS_ALPHA0.with(|k| k.set(None));
+                g.delta_p_with(a, law, Beta0::LawAtRest)
+            };
+            assert_eq!(
+                (got.0.to_bits(), got.1.to_bits()),
+                (cold.0.to_bits(), cold.1.to_bits())
+            );
+        };
+        for _ in 0..3 {
+            for law in laws {
+                check(&g, law);
+                check(&h, law);
+                check(&g, law);
+            }
+        }
+        // a public field changed after the values were kept
+        g.alpha0 = 22f64.to_radians();
+        check(&g, PressureAngleLaw::Involute);
+        g.r_g = 0.2;
+        check(&g, PressureAngleLaw::Involute);
+        std::thread::scope(|s| {
+            s.spawn(|| check(&h, PressureAngleLaw::Involute));
+        });
+        check(&g, PressureAngleLaw::Involute);
+    }
 
     #[test]
     fn pressure_angle_laws() {

@@ -76,7 +76,6 @@ fn tick(done: &AtomicUsize, total: usize, progress: Progress<'_>) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use math::DetMath;
 
     #[test]
     fn results_keep_input_order_and_progress_counts_every_point() {
@@ -96,6 +95,7 @@ mod tests {
     #[cfg(feature = "parallel")]
     #[test]
     fn bit_identical_for_any_thread_count() {
+        use math::DetMath;
         let xs: Vec<f64> = (0..500).map(|i| 0.01 * f64::from(i)).collect();
         let f = |x: &f64| (0..100).fold(*x, |a, k| (a + f64::from(k)).dsin());
         let run = |n: usize| {

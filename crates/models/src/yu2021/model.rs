@@ -414,7 +414,7 @@ impl Yu2021Model {
     /// `leaf_and_model_dynamic_backlash_are_the_same_number`).
     pub fn dynamic_backlash_law(&self) -> backlash::DynamicBacklash {
         let p = &self.params;
-        let r_p = p.base_radius_p / p.alpha0.dcos();
+        let r_p = p.base_radius_p / system::involute::cos_standard_angle(p.alpha0);
         backlash::DynamicBacklash {
             geometry: backlash::PairGeometry {
                 r_p,
