@@ -84,6 +84,13 @@ pub struct BacklashEval {
     pub radicand: f64,
     /// Operating pressure angle α (rad) under the law in use (involute law for the involute form).
     pub alpha: f64,
+    /// `dα/da` (rad/m) of [`alpha`](Self::alpha)'s law at `a`; 0 where the angle is clamped
+    /// (`a` at or below the law's `c`).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub alpha_slope: f64,
+    /// ∂a/∂(x_p, y_p, x_g, y_g) of the centre distance (dimensionless, Eq. 8; 0 at `a = 0`).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub centre_gradient: [f64; 4],
     /// ∂B/∂(x_p, y_p, x_g, y_g) (dimensionless). Where Δb has a kink (r = 0, or a clamped
     /// branch) the derivative of the clamped branch (0) is returned.
     pub grad: [f64; 4],
@@ -160,6 +167,7 @@ impl DynamicBacklash {
         let mut out = BacklashEval {
             a,
             delta_a,
+            centre_gradient: da,
             ..BacklashEval::default()
         };
         let db_da = match self.form {
@@ -173,6 +181,8 @@ impl DynamicBacklash {
                     let s = ((a - cb) * (a + cb)).sqrt();
                     let alpha = (cb / a).dacos();
                     out.alpha = alpha;
+                    // dα/da = c/(a √(a² − c²)) with the root above
+                    out.alpha_slope = cb / (a * s);
                     out.b_dy = cb * (s / cb - alpha - inv0);
                     s / a
                 } else {
@@ -184,15 +194,17 @@ impl DynamicBacklash {
                 let (alpha, dalpha) = g.pressure_angle(a, self.law);
                 let (sa, ca) = alpha.dsin_cos();
                 out.alpha = alpha;
+                out.alpha_slope = dalpha;
                 out.b_dy = delta_a * sa;
                 sa + delta_a * ca * dalpha
             }
             DynamicForm::YuEq10 => {
-                let (alpha, _) = g.pressure_angle(a, self.law);
+                let (alpha, dalpha) = g.pressure_angle(a, self.law);
                 let (dp, ddp) = g.delta_p_with(a, self.law, self.beta0);
                 let r = delta_a * delta_a - dp * dp;
                 let dr = 2.0 * delta_a - 2.0 * dp * ddp;
                 out.alpha = alpha;
+                out.alpha_slope = dalpha;
                 out.delta_p = dp;
                 out.radicand = r;
                 out.radicand_negative = r < 0.0;

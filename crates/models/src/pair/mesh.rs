@@ -36,8 +36,44 @@ pub fn line_of_action(
     centre_velocity: &[f64],
 ) -> LineOfAction {
     let (a, centre_change, grad) = geometry.centre_distance_with(c, form);
-    let a_rate: f64 = grad.iter().zip(centre_velocity).map(|(g, v)| g * v).sum();
     let (alpha, dalpha_da) = geometry.pressure_angle(a, law);
+    line(alpha, dalpha_da, centre_change, &grad, centre_velocity)
+}
+
+/// The line of action from a dynamic backlash's evaluation at the same displacement, where
+/// that law's angle is the one of the line ([`backlash::DynamicForm::YuEq10`] and
+/// [`backlash::DynamicForm::LineOfAction`] under the pressure-angle law `law` and centre
+/// distance form of [`line_of_action`]): the same numbers as [`line_of_action`], bit for bit,
+/// without computing the centre distance and the angle a second time. `None` for
+/// [`backlash::DynamicForm::Involute`], whose angle is the involute law's whatever `law` says.
+#[inline]
+pub fn line_of_action_from(
+    law: &backlash::DynamicBacklash,
+    eval: &backlash::BacklashEval,
+    centre_velocity: &[f64],
+) -> Option<LineOfAction> {
+    match law.form {
+        backlash::DynamicForm::YuEq10 | backlash::DynamicForm::LineOfAction => Some(line(
+            eval.alpha,
+            eval.alpha_slope,
+            eval.delta_a,
+            &eval.centre_gradient,
+            centre_velocity,
+        )),
+        _ => None,
+    }
+}
+
+/// `α' = (dα/da) (∇a · c')`: the one arithmetic of both constructions.
+#[inline]
+fn line(
+    alpha: f64,
+    dalpha_da: f64,
+    centre_change: f64,
+    grad: &[f64; 4],
+    centre_velocity: &[f64],
+) -> LineOfAction {
+    let a_rate: f64 = grad.iter().zip(centre_velocity).map(|(g, v)| g * v).sum();
     LineOfAction {
         alpha,
         alpha_rate: dalpha_da * a_rate,
@@ -75,6 +111,72 @@ pub fn transmission_error(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The line read from a dynamic backlash's evaluation is [`line_of_action`]'s, bit for bit,
+    /// under every pressure-angle law and Eq. (8) sign, for the two forms whose angle is the
+    /// law's; the involute form (the involute law's angle) is declined. The evaluation also
+    /// hands over `dα/da` and `∇a` consistent with their definitions (finite differences).
+    #[test]
+    fn line_from_a_backlash_evaluation_is_the_direct_one() {
+        use backlash::{DynamicBacklash, DynamicForm, RadicandPolicy};
+        let g = PairGeometry::new(0.05, 0.07, 20f64.to_radians()).unwrap();
+        let v = [0.3, -0.2, 0.1, 0.4];
+        for form in [
+            DynamicForm::YuEq10,
+            DynamicForm::LineOfAction,
+            DynamicForm::Involute,
+        ] {
+            for law in [
+                PressureAngleLaw::Involute,
+                PressureAngleLaw::PrintedEq16,
+                PressureAngleLaw::Constant,
+            ] {
+                for cd in [
+                    CentreDistanceForm::Consistent,
+                    CentreDistanceForm::PrintedEq8,
+                ] {
+                    let d = DynamicBacklash::new(g, 1e-4, form, law, RadicandPolicy::ClampZero)
+                        .unwrap()
+                        .with_centre_distance(cd);
+                    for shift in [[3e-5, -2e-5, -1e-5, 4e-5], [-0.01, 0.0, 0.01, 0.0]] {
+                        let c = CentreDisplacement::from_array(shift);
+                        let e = d.eval(&c).unwrap();
+                        let direct = line_of_action(&g, cd, law, &c, &v);
+                        match line_of_action_from(&d, &e, &v) {
+                            Some(l) => {
+                                assert_ne!(form, DynamicForm::Involute);
+                                let b = |l: &LineOfAction| {
+                                    [l.alpha, l.alpha_rate, l.centre_change].map(f64::to_bits)
+                                };
+                                assert_eq!(b(&l), b(&direct), "{form:?} {law:?} {cd:?}");
+                            }
+                            None => assert_eq!(form, DynamicForm::Involute),
+                        }
+                        // dα/da and ∇a against central differences of the evaluation
+                        let h = 1e-9;
+                        for k in 0..4 {
+                            let (mut up, mut dn) = (shift, shift);
+                            up[k] += h;
+                            dn[k] -= h;
+                            let (eu, ed) = (
+                                d.eval(&CentreDisplacement::from_array(up)).unwrap(),
+                                d.eval(&CentreDisplacement::from_array(dn)).unwrap(),
+                            );
+                            let da = (eu.a - ed.a) / (2.0 * h);
+                            assert!((da - e.centre_gradient[k]).abs() < 1e-6, "{da}");
+                            let dalpha = (eu.alpha - ed.alpha) / (2.0 * h);
+                            assert!(
+                                (dalpha - e.alpha_slope * e.centre_gradient[k]).abs()
+                                    < 1e-5 * (1.0 + e.alpha_slope.abs()),
+                                "{form:?} {law:?}: {dalpha} vs {}",
+                                e.alpha_slope * e.centre_gradient[k]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     /// With the centres at rest the line of action is the nominal one and `δ = u − e`; a pure
     /// translation of both centres together changes neither `a` nor `δ`.

@@ -465,23 +465,38 @@ impl Yu2021Model {
     pub fn geometry(&self, omega: f64, tau: f64, s: &[f64; STATE_LEN]) -> MeshGeometry {
         let p = &self.params;
         let c = backlash::CentreDisplacement::new(s[1], s[2], s[3], s[4]);
-        let gap = self
-            .backlash_law(omega)
-            .half_gap(tau, &c)
-            .map_or(f64::NAN, |g| g.b);
-        let (alpha, alpha_rate, centre_change) = match self.options.kind {
-            ModelKind::KahramanSingh | ModelKind::ChenFractal => (p.alpha0, 0.0, 0.0),
+        let (gap, (alpha, alpha_rate, centre_change)) = match self.options.kind {
+            ModelKind::KahramanSingh | ModelKind::ChenFractal => {
+                let gap = self.backlash_law(omega).half_gap(tau, &c);
+                (gap.map_or(f64::NAN, |g| g.b), (p.alpha0, 0.0, 0.0))
+            }
             ModelKind::Yu => {
-                // Eq. (8)–(9), (16): the pair's one mesh kinematics on the leaf's geometry
+                // Eq. (8)–(9), (16): the pair's one mesh kinematics on the leaf's geometry.
+                // With the dynamic backlash on, its evaluation (the half gap of
+                // `backlash_law`, `Backlash::Dynamic`) has computed the centre distance and
+                // the angle already: the line of action reads them (the same numbers). The
+                // half gap mirrors `backlash_law` for this kind (`Off`: the constant `b_s`);
+                // `geometry_is_the_separate_constructions_bit_for_bit` keeps the two in step
                 let law = self.dynamic_backlash_law();
-                let line = crate::pair::mesh::line_of_action(
-                    &law.geometry,
-                    law.centre_distance,
-                    law.law,
-                    &c,
-                    &s[6..10],
-                );
-                (line.alpha, line.alpha_rate, line.centre_change)
+                let (gap, eval) = match self.options.dynamic_backlash {
+                    DynamicBacklashLaw::Off => (p.backlash, None),
+                    _ => match law.eval(&c) {
+                        Ok(e) => (e.b, Some(e)),
+                        Err(_) => (f64::NAN, None),
+                    },
+                };
+                let line = eval
+                    .and_then(|e| crate::pair::mesh::line_of_action_from(&law, &e, &s[6..10]))
+                    .unwrap_or_else(|| {
+                        crate::pair::mesh::line_of_action(
+                            &law.geometry,
+                            law.centre_distance,
+                            law.law,
+                            &c,
+                            &s[6..10],
+                        )
+                    });
+                (gap, (line.alpha, line.alpha_rate, line.centre_change))
             }
         };
         MeshGeometry {
@@ -756,13 +771,10 @@ mod tests {
         s
     }
 
-    /// The model's dynamic backlash is the `backlash` leaf's number (the half gap), for every
-    /// law and both Eq. (8) signs, and the line-of-action form agrees with the leaf's exact
-    /// involute half gap to second order in Δa (R-BACKLASH-HALF-GAP).
-    #[test]
-    fn leaf_and_model_dynamic_backlash_are_the_same_number() {
-        let params = Yu2021Params::table1();
-        for dynamic_backlash in [DynamicBacklashLaw::Eq10, DynamicBacklashLaw::Involute] {
+    /// Every pressure-angle law and Eq. (8) sign under each of the `dynamic` backlash laws.
+    fn option_grid(dynamic: &[DynamicBacklashLaw]) -> Vec<Options> {
+        let mut out = Vec::new();
+        for &dynamic_backlash in dynamic {
             for pressure_angle in [
                 PressureAngleLaw::Involute,
                 PressureAngleLaw::PrintedEq16,
@@ -772,30 +784,108 @@ mod tests {
                     CentreDistanceForm::Consistent,
                     CentreDistanceForm::PrintedEq8,
                 ] {
-                    let o = Options {
+                    out.push(Options {
                         dynamic_backlash,
                         pressure_angle,
                         centre_distance,
                         ..Options::default()
-                    };
-                    let m = Yu2021Model::new(&params, o).unwrap();
-                    let s = state(0.4, -0.2, -0.3, 0.1);
-                    let g = m.geometry(1.0, 0.0, &s);
-                    let leaf = m
-                        .dynamic_backlash_law()
-                        .eval(&backlash::CentreDisplacement::new(0.4, -0.2, -0.3, 0.1))
-                        .unwrap();
-                    assert!(
-                        (g.dynamic_part - leaf.b_dy).abs() <= 1e-15 * m.params.backlash,
-                        "{o:?}"
-                    );
-                    assert_eq!(g.centre_change.to_bits(), leaf.delta_a.to_bits());
-                    assert_eq!(
-                        g.backlash.to_bits(),
-                        (m.params.backlash + leaf.b_dy).max(0.0).to_bits()
-                    );
+                    });
                 }
             }
+        }
+        out
+    }
+
+    /// The geometry reads the line of action from the dynamic backlash's evaluation: the
+    /// numbers of the two separate constructions (the half gap of [`Yu2021Model::backlash_law`]
+    /// and [`crate::pair::mesh::line_of_action`]), bit for bit, for every dynamic law,
+    /// pressure-angle law and Eq. (8) sign, centres that move apart and together, the
+    /// angle clamped (at and below the law's `c`), and a non-finite state.
+    #[test]
+    fn geometry_is_the_separate_constructions_bit_for_bit() {
+        let params = Yu2021Params::table1();
+        let bits = |g: &MeshGeometry| {
+            [
+                g.alpha,
+                g.alpha_rate,
+                g.centre_change,
+                g.dynamic_part,
+                g.backlash,
+            ]
+            .map(f64::to_bits)
+        };
+        let all = [
+            DynamicBacklashLaw::Eq10,
+            DynamicBacklashLaw::Involute,
+            DynamicBacklashLaw::Off,
+        ];
+        for o in option_grid(&all) {
+            let m = Yu2021Model::new(&params, o).unwrap();
+            let a0 = m.params.centre_distance;
+            for centres in [
+                [0.4, -0.2, -0.3, 0.1],
+                [-0.4, 0.2, 0.3, -0.1],
+                [1e-9, 0.0, 0.0, 0.0],
+                [0.0; 4],
+                // the centres pulled together by a tenth of a0: below the involute
+                // law's c = a0 cos α0, where the angle is clamped
+                [0.05 * a0, 0.0, -0.05 * a0, 0.0],
+                [-0.05 * a0, 0.0, 0.05 * a0, 0.0],
+                [f64::NAN, 0.0, 0.0, 0.0],
+            ] {
+                let mut s = state(centres[0], centres[1], centres[2], centres[3]);
+                s[0] = 0.7;
+                let c = backlash::CentreDisplacement::new(
+                    centres[0], centres[1], centres[2], centres[3],
+                );
+                let gap = m
+                    .backlash_law(1.3)
+                    .half_gap(0.4, &c)
+                    .map_or(f64::NAN, |g| g.b);
+                let law = m.dynamic_backlash_law();
+                let line = crate::pair::mesh::line_of_action(
+                    &law.geometry,
+                    law.centre_distance,
+                    law.law,
+                    &c,
+                    &s[6..10],
+                );
+                let want = MeshGeometry {
+                    alpha: line.alpha,
+                    alpha_rate: line.alpha_rate,
+                    centre_change: line.centre_change,
+                    dynamic_part: gap - m.params.backlash,
+                    backlash: gap.max(0.0),
+                };
+                let got = m.geometry(1.3, 0.4, &s);
+                assert_eq!(bits(&got), bits(&want), "{o:?} {centres:?}");
+            }
+        }
+    }
+
+    /// The model's dynamic backlash is the `backlash` leaf's number (the half gap), for every
+    /// law and both Eq. (8) signs, and the line-of-action form agrees with the leaf's exact
+    /// involute half gap to second order in Δa (R-BACKLASH-HALF-GAP).
+    #[test]
+    fn leaf_and_model_dynamic_backlash_are_the_same_number() {
+        let params = Yu2021Params::table1();
+        for o in option_grid(&[DynamicBacklashLaw::Eq10, DynamicBacklashLaw::Involute]) {
+            let m = Yu2021Model::new(&params, o).unwrap();
+            let s = state(0.4, -0.2, -0.3, 0.1);
+            let g = m.geometry(1.0, 0.0, &s);
+            let leaf = m
+                .dynamic_backlash_law()
+                .eval(&backlash::CentreDisplacement::new(0.4, -0.2, -0.3, 0.1))
+                .unwrap();
+            assert!(
+                (g.dynamic_part - leaf.b_dy).abs() <= 1e-15 * m.params.backlash,
+                "{o:?}"
+            );
+            assert_eq!(g.centre_change.to_bits(), leaf.delta_a.to_bits());
+            assert_eq!(
+                g.backlash.to_bits(),
+                (m.params.backlash + leaf.b_dy).max(0.0).to_bits()
+            );
         }
         // half gap: the model's Δa sin α and the leaf's exact involute half change
         // (R_pb + R_gb)(inv α' − inv α_0) agree to O(Δa²); the full gap change is twice that.
