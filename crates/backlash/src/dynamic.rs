@@ -84,8 +84,8 @@ pub struct BacklashEval {
     pub radicand: f64,
     /// Operating pressure angle α (rad) under the law in use (involute law for the involute form).
     pub alpha: f64,
-    /// `dα/da` (rad/m) of [`alpha`](Self::alpha)'s law at `a`; 0 where the angle is clamped
-    /// (`a` at or below the law's `c`).
+    /// `dα/da` (rad per unit of `a`) of [`alpha`](Self::alpha)'s law at `a`; 0 where the
+    /// angle is clamped (`a` at or below the law's `c`) and under the constant law.
     #[cfg_attr(feature = "serde", serde(default))]
     pub alpha_slope: f64,
     /// ∂a/∂(x_p, y_p, x_g, y_g) of the centre distance (dimensionless, Eq. 8; 0 at `a = 0`).
