@@ -44,13 +44,22 @@ type RestKey = (u64, u64, PressureAngleLaw);
 /// evaluates them at every right-hand side with one `α0`.
 #[inline]
 pub fn cos_standard_angle(alpha0: f64) -> f64 {
-    let key = alpha0.to_bits();
-    COS_ALPHA0.with(|kept| match kept.get() {
-        Some((k, c)) if k == key => c,
+    kept(&COS_ALPHA0, alpha0.to_bits(), || alpha0.dcos())
+}
+
+/// The value kept in `slot` for `key`, or `value()` computed, kept and returned.
+#[inline]
+fn kept<K: Copy + PartialEq + 'static>(
+    slot: &'static std::thread::LocalKey<Cell<Option<(K, f64)>>>,
+    key: K,
+    value: impl FnOnce() -> f64,
+) -> f64 {
+    slot.with(|slot| match slot.get() {
+        Some((k, v)) if k == key => v,
         _ => {
-            let c = alpha0.dcos();
-            kept.set(Some((key, c)));
-            c
+            let v = value();
+            slot.set(Some((key, v)));
+            v
         }
     })
 }
@@ -280,13 +289,8 @@ impl PairGeometry {
             Beta0::LawAtRest => {
                 // a constant of the pair and the law: kept per thread for the last pair asked
                 let key = (self.a0().to_bits(), self.alpha0.to_bits(), law);
-                TAN_AT_REST.with(|kept| match kept.get() {
-                    Some((k, t)) if k == key => t,
-                    _ => {
-                        let t = self.pressure_angle(self.a0(), law).0.dtan();
-                        kept.set(Some((key, t)));
-                        t
-                    }
+                kept(&TAN_AT_REST, key, || {
+                    self.pressure_angle(self.a0(), law).0.dtan()
                 })
             }
         };

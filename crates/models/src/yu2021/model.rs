@@ -465,38 +465,33 @@ impl Yu2021Model {
     pub fn geometry(&self, omega: f64, tau: f64, s: &[f64; STATE_LEN]) -> MeshGeometry {
         let p = &self.params;
         let c = backlash::CentreDisplacement::new(s[1], s[2], s[3], s[4]);
-        let (gap, (alpha, alpha_rate, centre_change)) = match self.options.kind {
-            ModelKind::KahramanSingh | ModelKind::ChenFractal => {
-                let gap = self.backlash_law(omega).half_gap(tau, &c);
-                (gap.map_or(f64::NAN, |g| g.b), (p.alpha0, 0.0, 0.0))
-            }
+        // A dynamic backlash's evaluation has computed the centre distance and the angle of
+        // the line of action already: the line reads them (the same numbers, Eq. 8–9, 16)
+        let (gap, line) = match self.backlash_law(omega) {
+            backlash::Backlash::Dynamic(law) => match law.eval(&c) {
+                Ok(e) => (
+                    e.b,
+                    crate::pair::mesh::line_of_action_from(&law, &e, &s[6..10]),
+                ),
+                Err(_) => (f64::NAN, None),
+            },
+            other => (other.half_gap(tau, &c).map_or(f64::NAN, |g| g.b), None),
+        };
+        let (alpha, alpha_rate, centre_change) = match self.options.kind {
+            ModelKind::KahramanSingh | ModelKind::ChenFractal => (p.alpha0, 0.0, 0.0),
             ModelKind::Yu => {
-                // Eq. (8)–(9), (16): the pair's one mesh kinematics on the leaf's geometry.
-                // With the dynamic backlash on, its evaluation (the half gap of
-                // `backlash_law`, `Backlash::Dynamic`) has computed the centre distance and
-                // the angle already: the line of action reads them (the same numbers). The
-                // half gap mirrors `backlash_law` for this kind (`Off`: the constant `b_s`);
-                // `geometry_is_the_separate_constructions_bit_for_bit` keeps the two in step
-                let law = self.dynamic_backlash_law();
-                let (gap, eval) = match self.options.dynamic_backlash {
-                    DynamicBacklashLaw::Off => (p.backlash, None),
-                    _ => match law.eval(&c) {
-                        Ok(e) => (e.b, Some(e)),
-                        Err(_) => (f64::NAN, None),
-                    },
-                };
-                let line = eval
-                    .and_then(|e| crate::pair::mesh::line_of_action_from(&law, &e, &s[6..10]))
-                    .unwrap_or_else(|| {
-                        crate::pair::mesh::line_of_action(
-                            &law.geometry,
-                            law.centre_distance,
-                            law.law,
-                            &c,
-                            &s[6..10],
-                        )
-                    });
-                (gap, (line.alpha, line.alpha_rate, line.centre_change))
+                // Eq. (8)–(9), (16): the pair's one mesh kinematics on the leaf's geometry
+                let line = line.unwrap_or_else(|| {
+                    let law = self.dynamic_backlash_law();
+                    crate::pair::mesh::line_of_action(
+                        &law.geometry,
+                        law.centre_distance,
+                        law.law,
+                        &c,
+                        &s[6..10],
+                    )
+                });
+                (line.alpha, line.alpha_rate, line.centre_change)
             }
         };
         MeshGeometry {
