@@ -220,6 +220,50 @@ pub(super) fn run_to(
 /// at every gap-edge crossing `q = ±b̄(τ)`), discard `transient_periods` and return the
 /// recorded window with its rattle state and ppv.
 pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResponse, Error> {
+    integrate_after(model, options, None).map(|(response, _)| response)
+}
+
+/// The discarded transient of one [`integrate`] run: the run from the start over
+/// `transient_periods` (its final state and work counters), with the inputs it depends on.
+/// Two runs whose model, start, transient length, tolerances, step bound and pair agree bit
+/// for bit integrate the same transient step for step; [`integrate_after`] records after a
+/// kept transient instead of integrating it again when they do, and integrates it afresh
+/// when they do not.
+#[derive(Debug, Clone)]
+pub(super) struct Transient {
+    /// The `Debug` text of the model and the bits of the inputs of the transient run.
+    key: (String, [u64; 6], timestep::Method),
+    run: timestep::Solution,
+}
+
+impl Transient {
+    fn key(model: &Model, options: &IntegrationOptions) -> (String, [u64; 6], timestep::Method) {
+        let (q0, v0) = options.initial.unwrap_or((model.static_position(0.0), 0.0));
+        let rtol = options.transient_rtol.unwrap_or(options.rtol);
+        (
+            format!("{model:?}"),
+            [
+                q0.to_bits(),
+                v0.to_bits(),
+                options.transient_periods.to_bits(),
+                rtol.to_bits(),
+                options.max_step.to_bits(),
+                model.period().to_bits(),
+            ],
+            options.method.method(rtol),
+        )
+    }
+}
+
+/// [`integrate`], recording after `kept` where it is the transient of these inputs
+/// ([`Transient`]); returns the response and its own transient, for a later run to share.
+/// Bit for bit [`integrate`]'s response either way, work counters included (they count the
+/// transient the response stands on, also when it was integrated once for two runs).
+pub(super) fn integrate_after(
+    model: &Model,
+    options: &IntegrationOptions,
+    kept: Option<Transient>,
+) -> Result<(TimeResponse, Transient), Error> {
     positive("record_periods", options.record_periods)?;
     positive("sample_step", options.sample_step)?;
     if !(options.transient_periods >= 0.0 && options.transient_periods.is_finite()) {
@@ -233,25 +277,32 @@ pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResp
     let (_, base) = system(model, options)?;
     let (q0, v0) = options.initial.unwrap_or((model.static_position(0.0), 0.0));
     let t_rec = options.transient_periods * period;
-    let warm_opts = match options.transient_rtol {
-        Some(rtol) => {
-            positive("transient_rtol", rtol)?;
-            system(model, &IntegrationOptions { rtol, ..*options })?.1
+    let key = Transient::key(model, options);
+    let warm = match kept {
+        Some(t) if t.key == key => t,
+        _ => {
+            let warm_opts = match options.transient_rtol {
+                Some(rtol) => {
+                    positive("transient_rtol", rtol)?;
+                    system(model, &IntegrationOptions { rtol, ..*options })?.1
+                }
+                None => base.clone(),
+            };
+            let run = run(
+                model,
+                0.0,
+                &[q0, v0],
+                t_rec,
+                warm_opts.with_output(timestep::Output::Final),
+            )?;
+            Transient { key, run }
         }
-        None => base.clone(),
     };
-    let warm = run(
-        model,
-        0.0,
-        &[q0, v0],
-        t_rec,
-        warm_opts.with_output(timestep::Output::Final),
-    )?;
     let t_end = t_rec + options.record_periods * period;
     let rec = run(
         model,
         t_rec,
-        &warm.y_final,
+        &warm.run.y_final,
         t_end,
         base.with_output(timestep::Output::Uniform {
             dt: options.sample_step,
@@ -269,16 +320,20 @@ pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResp
         };
         rattle.state = rattle.state.max(s);
     }
-    let stats = crate::error::total_stats(&[&warm, &rec]);
-    Ok(TimeResponse {
-        tau: rec.t,
-        q,
-        v,
-        rattle,
-        contact_events: rec.events.len(),
-        rhs_evaluations: warm.stats.n_rhs + rec.stats.n_rhs,
-        stats,
-    })
+    let stats = crate::error::total_stats(&[&warm.run, &rec]);
+    let rhs_evaluations = warm.run.stats.n_rhs + rec.stats.n_rhs;
+    Ok((
+        TimeResponse {
+            tau: rec.t,
+            q,
+            v,
+            rattle,
+            contact_events: rec.events.len(),
+            rhs_evaluations,
+            stats,
+        },
+        warm,
+    ))
 }
 
 #[cfg(test)]
@@ -387,5 +442,81 @@ mod tests {
             let d_libm = max_diff(&lr.component(0), &q);
             assert!(d_libm <= d_tol, "{omega1}: libm {d_libm:e} vs {d_tol:e}");
         }
+    }
+
+    /// A run that records after a kept transient is the run that integrates it, bit for bit
+    /// (samples, rattle, work counters); a transient of other inputs (another length, start,
+    /// tolerance, step bound, pair or model) is not used but integrated afresh.
+    #[test]
+    fn a_kept_transient_gives_the_same_run_bit_for_bit() {
+        let bits = |r: &TimeResponse| {
+            let mut b: Vec<u64> = [&r.tau, &r.q, &r.v]
+                .iter()
+                .flat_map(|x| x.iter().map(|v| v.to_bits()))
+                .collect();
+            b.extend([r.rattle.ppv, r.rattle.q_min, r.rattle.q_max].map(f64::to_bits));
+            b.extend([
+                r.stats.n_accepted,
+                r.stats.n_rejected,
+                r.stats.n_rhs,
+                r.stats.n_events,
+            ]);
+            b.extend([r.rhs_evaluations, r.contact_events as u64]);
+            b
+        };
+        let mut p = table1();
+        p.omega1 = 180.0;
+        let m = p.model().unwrap();
+        p.omega1 = 181.0;
+        let other_model = p.model().unwrap();
+        let o = IntegrationOptions {
+            transient_periods: 0.5,
+            record_periods: 0.25,
+            sample_step: 0.5,
+            ..IntegrationOptions::default()
+        };
+        // the section's run: another window and sampling over the same transient
+        let section = IntegrationOptions {
+            record_periods: 0.5,
+            sample_step: 7.0,
+            ..o
+        };
+        let (_, kept) = integrate_after(&m, &section, None).unwrap();
+        let direct = integrate(&m, &o).unwrap();
+        let (shared, _) = integrate_after(&m, &o, Some(kept.clone())).unwrap();
+        assert_eq!(bits(&shared), bits(&direct));
+        assert!(direct.stats.n_accepted > 100 && direct.contact_events > 0);
+
+        // other inputs: the kept transient is not theirs, so each run is its own direct run
+        let others = [
+            IntegrationOptions {
+                transient_periods: 0.4,
+                ..o
+            },
+            IntegrationOptions {
+                initial: Some((0.0, 0.0)),
+                ..o
+            },
+            IntegrationOptions { rtol: 1e-7, ..o },
+            IntegrationOptions {
+                transient_rtol: Some(1e-6),
+                ..o
+            },
+            IntegrationOptions {
+                max_step: 0.25,
+                ..o
+            },
+            IntegrationOptions {
+                method: Stepping::Dop853,
+                ..o
+            },
+        ];
+        for other in &others {
+            let (r, _) = integrate_after(&m, other, Some(kept.clone())).unwrap();
+            assert_eq!(bits(&r), bits(&integrate(&m, other).unwrap()), "{other:?}");
+            assert_ne!(bits(&r), bits(&direct), "{other:?}");
+        }
+        let (r, _) = integrate_after(&other_model, &o, Some(kept)).unwrap();
+        assert_eq!(bits(&r), bits(&integrate(&other_model, &o).unwrap()));
     }
 }

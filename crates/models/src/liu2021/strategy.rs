@@ -46,7 +46,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::harmonic::{HbmOptions, HbmResponse, HbmStart, PreparedHbm, solve_hbm_with};
-use super::integrate::{IntegrationOptions, TimeResponse, integrate};
+use super::integrate::{IntegrationOptions, TimeResponse, Transient, integrate, integrate_after};
 use super::model::{Model, Rattle};
 use super::params::Parameters;
 use super::window::LongWindowOptions;
@@ -400,15 +400,17 @@ fn time_reference_runs_uncached(
     }
     let mut opts = strategy.integration;
     // the section after the transient; lengthened while it does not repeat with margin
-    // (`settle_rounds`: a bounded loop)
-    let section = |opts: &IntegrationOptions| -> Result<(Motion, f64), Error> {
-        let strobe = integrate(
+    // (`settle_rounds`: a bounded loop). The transient of the last section is the transient
+    // of the nominal run below (the same start, length and tolerances): integrated once.
+    let section = |opts: &IntegrationOptions| -> Result<(Motion, f64, Transient), Error> {
+        let (strobe, transient) = integrate_after(
             model,
             &IntegrationOptions {
                 record_periods: strategy.poincare_periods as f64,
                 sample_step: model.period(),
                 ..*opts
             },
+            None,
         )?;
         let scale = (strobe.rattle.ppv + model.backlash.abs()).max(f64::MIN_POSITIVE);
         let motion = classify_section(&strobe.q, &strobe.v, strategy.poincare_tol, scale);
@@ -419,18 +421,18 @@ fn time_reference_runs_uncached(
             strategy.poincare_tol,
             scale,
         );
-        Ok((motion, margin))
+        Ok((motion, margin, transient))
     };
-    let (mut motion, mut section_margin) = section(&opts)?;
+    let (mut motion, mut section_margin, mut transient) = section(&opts)?;
     for _ in 0..strategy.settle_rounds {
         // a NaN margin is not settled: it goes on to the next round
         if section_margin <= strategy.settle_margin {
             break;
         }
         opts.transient_periods += strategy.settle_periods;
-        (motion, section_margin) = section(&opts)?;
+        (motion, section_margin, transient) = section(&opts)?;
     }
-    let ti = integrate(model, &opts)?;
+    let (ti, _) = integrate_after(model, &opts, Some(transient))?;
     let refined_opts = IntegrationOptions {
         rtol: opts.rtol / strategy.refine_factor,
         ..opts
