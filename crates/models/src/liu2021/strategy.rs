@@ -92,7 +92,9 @@ pub struct SweepStrategy {
     /// inside or outside the margin, so the reference (and the warm starts seeded from it)
     /// flipped between a confirmed and an unconfirmed periodic orbit under a retune of the
     /// step-size controller. A chaotic point never settles and costs the extra rounds.
-    /// `settle_rounds = 0` switches it off.
+    /// `settle_rounds = 0` switches it off. Each round integrates its transient from the
+    /// start; the nominal run records after the last round's transient instead of
+    /// integrating it again (the same start, length, tolerances and pair: the same steps).
     #[serde(default = "default_settle_rounds")]
     pub settle_rounds: usize,
     /// Periods added to the transient per settling round (see `settle_rounds`).
