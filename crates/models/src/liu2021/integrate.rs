@@ -231,13 +231,14 @@ pub fn integrate(model: &Model, options: &IntegrationOptions) -> Result<TimeResp
 /// when they do not.
 #[derive(Debug, Clone)]
 pub(super) struct Transient {
-    /// The `Debug` text of the model and the bits of the inputs of the transient run.
-    key: (String, [u64; 6], timestep::Method),
+    /// The `Debug` text of the model (its period follows from its fields) and the bits of the other
+    /// inputs of the transient run.
+    key: (String, [u64; 5], timestep::Method),
     run: timestep::Solution,
 }
 
 impl Transient {
-    fn key(model: &Model, options: &IntegrationOptions) -> (String, [u64; 6], timestep::Method) {
+    fn key(model: &Model, options: &IntegrationOptions) -> (String, [u64; 5], timestep::Method) {
         let (q0, v0) = options.initial.unwrap_or((model.static_position(0.0), 0.0));
         let rtol = options.transient_rtol.unwrap_or(options.rtol);
         (
@@ -248,7 +249,6 @@ impl Transient {
                 options.transient_periods.to_bits(),
                 rtol.to_bits(),
                 options.max_step.to_bits(),
-                model.period().to_bits(),
             ],
             options.method.method(rtol),
         )
