@@ -71,6 +71,39 @@ pub(super) type Liu = liu2021::Parametric;
 /// studies).
 const TRANSIENT_RTOL: f64 = 1e-8;
 
+/// The discarded transient of every run of the onset bisections ([`ti_bisection_in`]), in
+/// periods. Near the onsets bisected here the period-1 orbits have Floquet multipliers of
+/// modulus below 1e-5 (this study's branches) and the free transient decays by `e^{-17}` a
+/// period, so the state entering the 8 recorded periods is the steady state to far below the
+/// integration error after a few periods; 20 leave a wide margin. With 200 (until round 32)
+/// every bracket of the three bisections was the same bit for bit (`validate --only
+/// liu2021-orbit-branch`: no committed output changed but this text), at 0.78× the study's CPU
+/// time: the bisections are chains of 14 runs, one after the other, and so the study's serial
+/// tail.
+const BISECTION_TRANSIENT: f64 = 20.0;
+
+/// The transient of the bifurcation diagram's runs where their section has settled
+/// ([`section_settled`]), in periods (the free transient decays by `e^{-17}` a period).
+const DIAGRAM_FIRST: f64 = 20.0;
+
+/// The transient of the bifurcation diagram's runs whose section after [`DIAGRAM_FIRST`]
+/// periods has not settled (chaotic bands, slow transients near bifurcations): the run from
+/// the same start over this many periods, as every run of the diagram took until round 32.
+const DIAGRAM_TRANSIENT: f64 = 200.0;
+
+/// The section of `r` (one sample a period) repeats with a period `n ≤ 4` to within
+/// [`liu2021::SweepStrategy`]'s `settle_margin` of its classification tolerance (`poincare_tol`
+/// of the ppv plus the gap): the test by which the sweeps' time reference counts as settled.
+/// Its points are then those of the longer transient to the integration error, and a section
+/// that does not repeat, or only near the tolerance, takes the longer transient.
+fn section_settled(m: &Model, r: &liu2021::TimeResponse) -> bool {
+    let s = liu2021::SweepStrategy::default();
+    let scale = (r.rattle.ppv + m.backlash.abs()).max(f64::MIN_POSITIVE);
+    let motion = models::motion::classify_section(&r.q, &r.v, s.poincare_tol, scale);
+    let margin = models::motion::section_margin(&r.q, &r.v, motion, s.poincare_tol, scale);
+    matches!(motion, models::motion::Motion::Periodic(_)) && margin <= s.settle_margin
+}
+
 /// Steady state after `periods` periods from the quasi-static contact position, and whether
 /// the last `record` periods have any gap-edge crossing.
 ///
@@ -425,26 +458,39 @@ fn run() -> Result<StudyOutput, Error> {
     .into_iter()
     .collect::<Result<_, Error>>()?;
 
-    // time-integration bifurcation diagram: q on the section t = kT over 16 periods after 200
+    // time-integration bifurcation diagram: q on the section t = kT over 16 periods after
+    // [`DIAGRAM_FIRST`] periods, or after [`DIAGRAM_TRANSIENT`] where that section has not
+    // settled
     let xs: Vec<f64> = (0..=60).map(|i| 100.0 + 2.0 * f64::from(i)).collect();
-    let diagram: Vec<Vec<(f64, f64)>> = timestep::sweep(
+    // each speed's section points, and whether they took the longer transient
+    let diagram: Vec<(Vec<(f64, f64)>, bool)> = timestep::sweep(
         &xs,
         |&w| {
             let mut p = base();
             p.omega1 = w;
             let m = model(&p)?;
-            let r = liu2021::integrate(
-                &m,
-                &IntegrationOptions {
-                    transient_periods: 200.0,
-                    record_periods: 16.0,
-                    sample_step: m.period(),
-                    initial: Some((-m.backlash - m.b0, 0.0)),
-                    ..IntegrationOptions::default()
-                },
-            )
-            .context("time integration")?;
-            Ok(r.q.iter().skip(1).map(|&q| (w, q / m.backlash)).collect())
+            let section = |transient: f64| {
+                liu2021::integrate(
+                    &m,
+                    &IntegrationOptions {
+                        transient_periods: transient,
+                        record_periods: 16.0,
+                        sample_step: m.period(),
+                        initial: Some((-m.backlash - m.b0, 0.0)),
+                        ..IntegrationOptions::default()
+                    },
+                )
+                .context("time integration")
+            };
+            let first = section(DIAGRAM_FIRST)?;
+            let longer = !section_settled(&m, &first);
+            let r = if longer {
+                section(DIAGRAM_TRANSIENT)?
+            } else {
+                first
+            };
+            let points = r.q.iter().skip(1).map(|&q| (w, q / m.backlash)).collect();
+            Ok((points, longer))
         },
         None,
     )
@@ -489,8 +535,12 @@ fn run() -> Result<StudyOutput, Error> {
     );
     fig = fig.with(
         Series::markers(
-            "time integration (200 periods from contact, 16 section points)",
-            diagram.iter().flatten().copied().collect(),
+            format!(
+                "time integration from contact (16 section points after {DIAGRAM_FIRST} periods; after {DIAGRAM_TRANSIENT} at the {} of {} speeds not settled by then)",
+                diagram.iter().filter(|(_, longer)| *longer).count(),
+                diagram.len()
+            ),
+            diagram.iter().flat_map(|(p, _)| p).copied().collect(),
         )
         .colour(6),
     );
@@ -601,7 +651,7 @@ fn run() -> Result<StudyOutput, Error> {
     if let Some(g) = first(&up.branch, UNI) {
         let w = g.point.parameter / up.scale;
         let (lo, hi) = (g.bracket[0] / up.scale, g.bracket[1] / up.scale);
-        // bisection on time integration (any gap-edge crossing over 8 periods after 200) from
+        // bisection on time integration (any gap-edge crossing over 8 periods after 20) from
         // a bracket not centred on the grazing, so that no midpoint falls on it
         let ti = ti_bisection(w - 1.7, w + 2.3, 12)?;
         out.compare(grazing_row(
@@ -610,7 +660,7 @@ fn run() -> Result<StudyOutput, Error> {
             g,
             up.scale,
             ti,
-            "bisection in ω1 on time integration (200 + 8 periods from drive-flank contact, any gap-edge crossing)",
+            "bisection in ω1 on time integration (20 + 8 periods from drive-flank contact, any gap-edge crossing)",
         ));
         out.compare(onset_row(
             uni_p,
@@ -737,7 +787,7 @@ fn run() -> Result<StudyOutput, Error> {
             g,
             1.0,
             ti,
-            "bisection in T2 on time integration (200 + 8 periods from drive-flank contact, any gap-edge crossing)",
+            "bisection in T2 on time integration (20 + 8 periods from drive-flank contact, any gap-edge crossing)",
         ));
         out.compare(onset_row(
             from,
@@ -786,7 +836,7 @@ fn run() -> Result<StudyOutput, Error> {
             g,
             1.0,
             ti,
-            "bisection in a_k on time integration (200 + 8 periods from drive-flank contact, any gap-edge crossing)",
+            "bisection in a_k on time integration (20 + 8 periods from drive-flank contact, any gap-edge crossing)",
         ));
     }
     // the branches and their special points past the first loss of stability move with the
@@ -885,7 +935,8 @@ fn pd_scan(w_from: f64, x_from: &[f64], w_to: f64, dw: f64) -> Result<Vec<ScanPo
 }
 
 /// `[lo, hi]` in ω1 bracketing the first gap-edge crossing of the time-integrated steady state
-/// (200 periods from drive-flank contact, 8 recorded), from `[a, b]` after `n` halvings.
+/// ([`BISECTION_TRANSIENT`] periods from drive-flank contact, 8 recorded), from `[a, b]` after
+/// `n` halvings.
 fn ti_bisection(a: f64, b: f64, n: usize) -> Result<(f64, f64), Error> {
     ti_bisection_in(|p, w| p.omega1 = w, a, b, n)
 }
@@ -902,7 +953,7 @@ fn ti_bisection_in(
         let mut p = base();
         set(&mut p, x);
         let m = model(&p)?;
-        Ok(settle(&m, 200.0, 8.0, 1e-10)?.2)
+        Ok(settle(&m, BISECTION_TRANSIENT, 8.0, 1e-10)?.2)
     };
     let (mut lo, mut hi) = (a, b);
     if crosses(lo)? || !crosses(hi)? {
