@@ -1244,7 +1244,7 @@ fn contact_change_curve_matches_closed_form() {
         let mut p = OrbitProblem::new(s, 2.0 * PI / w).unwrap();
         let mut o = named_codim2("f", "a", range);
         o.corrector.direction = dir;
-        o.max_step = 0.01;
+        o.max_step = 0.02;
         let c = p.continue_codim2(&cc, &o).unwrap();
         assert!(c.points.len() > 3, "{} points", c.points.len());
         for pt in &c.points {
