@@ -75,11 +75,10 @@ const TRANSIENT_RTOL: f64 = 1e-8;
 /// periods. Near the onsets bisected here the period-1 orbits have Floquet multipliers of
 /// modulus below 1e-5 (this study's branches) and the free transient decays by `e^{-17}` a
 /// period, so the state entering the 8 recorded periods is the steady state to far below the
-/// integration error after a few periods; 20 leave a wide margin. With 200 (until round 32)
-/// every bracket of the three bisections was the same bit for bit (`validate --only
-/// liu2021-orbit-branch`: no committed output changed but this text), at 0.78× the study's CPU
-/// time: the bisections are chains of 14 runs, one after the other, and so the study's serial
-/// tail.
+/// integration error after a few periods; 20 leave a wide margin. 200 periods give every
+/// bracket of the three bisections bit for bit (`validate --only liu2021-orbit-branch`, the
+/// two values side by side). The bisections are chains of 14 runs, one after the other: the
+/// study's serial tail.
 const BISECTION_TRANSIENT: f64 = 20.0;
 
 /// The transient of the bifurcation diagram's runs where their section has settled
@@ -88,19 +87,21 @@ const DIAGRAM_FIRST: f64 = 20.0;
 
 /// The transient of the bifurcation diagram's runs whose section after [`DIAGRAM_FIRST`]
 /// periods has not settled (chaotic bands, slow transients near bifurcations): the run from
-/// the same start over this many periods, as every run of the diagram took until round 32.
+/// the same start over this many periods. At the speeds that settle, the diagram's points
+/// after [`DIAGRAM_FIRST`] and after this many periods agree at their printed precision (all
+/// 61 speeds, the two ways side by side).
 const DIAGRAM_TRANSIENT: f64 = 200.0;
 
-/// The section of `r` (one sample a period) repeats with a period `n ≤ 4` to within
-/// [`liu2021::SweepStrategy`]'s `settle_margin` of its classification tolerance (`poincare_tol`
-/// of the ppv plus the gap): the test by which the sweeps' time reference counts as settled.
-/// Its points are then those of the longer transient to the integration error, and a section
-/// that does not repeat, or only near the tolerance, takes the longer transient.
-fn section_settled(m: &Model, r: &liu2021::TimeResponse) -> bool {
+/// The section `(q, v)` (one sample a period) of a response with peak-to-peak `ppv` in the gap
+/// `backlash` repeats with a period `n ≤ 4` to within [`liu2021::SweepStrategy`]'s
+/// `settle_margin` of its classification tolerance (`poincare_tol` of the ppv plus the gap):
+/// the test by which the sweeps' time reference counts as settled. A section that does not
+/// repeat, repeats only near the tolerance, or holds a non-finite value has not settled.
+fn section_settled(q: &[f64], v: &[f64], ppv: f64, backlash: f64) -> bool {
     let s = liu2021::SweepStrategy::default();
-    let scale = (r.rattle.ppv + m.backlash.abs()).max(f64::MIN_POSITIVE);
-    let motion = models::motion::classify_section(&r.q, &r.v, s.poincare_tol, scale);
-    let margin = models::motion::section_margin(&r.q, &r.v, motion, s.poincare_tol, scale);
+    let scale = (ppv + backlash.abs()).max(f64::MIN_POSITIVE);
+    let motion = models::motion::classify_section(q, v, s.poincare_tol, scale);
+    let margin = models::motion::section_margin(q, v, motion, s.poincare_tol, scale);
     matches!(motion, models::motion::Motion::Periodic(_)) && margin <= s.settle_margin
 }
 
@@ -483,7 +484,7 @@ fn run() -> Result<StudyOutput, Error> {
                 .context("time integration")
             };
             let first = section(DIAGRAM_FIRST)?;
-            let longer = !section_settled(&m, &first);
+            let longer = !section_settled(&first.q, &first.v, first.rattle.ppv, m.backlash);
             let r = if longer {
                 section(DIAGRAM_TRANSIENT)?
             } else {
@@ -651,7 +652,8 @@ fn run() -> Result<StudyOutput, Error> {
     if let Some(g) = first(&up.branch, UNI) {
         let w = g.point.parameter / up.scale;
         let (lo, hi) = (g.bracket[0] / up.scale, g.bracket[1] / up.scale);
-        // bisection on time integration (any gap-edge crossing over 8 periods after 20) from
+        // bisection on time integration (any gap-edge crossing over 8 periods after
+        // BISECTION_TRANSIENT) from
         // a bracket not centred on the grazing, so that no midpoint falls on it
         let ti = ti_bisection(w - 1.7, w + 2.3, 12)?;
         out.compare(grazing_row(
@@ -660,7 +662,9 @@ fn run() -> Result<StudyOutput, Error> {
             g,
             up.scale,
             ti,
-            "bisection in ω1 on time integration (20 + 8 periods from drive-flank contact, any gap-edge crossing)",
+            &format!(
+                "bisection in ω1 on time integration ({BISECTION_TRANSIENT} + 8 periods from drive-flank contact, any gap-edge crossing)"
+            ),
         ));
         out.compare(onset_row(
             uni_p,
@@ -787,7 +791,9 @@ fn run() -> Result<StudyOutput, Error> {
             g,
             1.0,
             ti,
-            "bisection in T2 on time integration (20 + 8 periods from drive-flank contact, any gap-edge crossing)",
+            &format!(
+                "bisection in T2 on time integration ({BISECTION_TRANSIENT} + 8 periods from drive-flank contact, any gap-edge crossing)"
+            ),
         ));
         out.compare(onset_row(
             from,
@@ -836,7 +842,9 @@ fn run() -> Result<StudyOutput, Error> {
             g,
             1.0,
             ti,
-            "bisection in a_k on time integration (20 + 8 periods from drive-flank contact, any gap-edge crossing)",
+            &format!(
+                "bisection in a_k on time integration ({BISECTION_TRANSIENT} + 8 periods from drive-flank contact, any gap-edge crossing)"
+            ),
         ));
     }
     // the branches and their special points past the first loss of stability move with the
@@ -1055,5 +1063,36 @@ mod tests {
         for d in [PERIOD_ONE_DRIFT, 1e-9, 0.0, f64::NAN] {
             assert_eq!(start_context("T2", d), "continuation in T2", "drift {d}");
         }
+    }
+
+    /// The diagram keeps the short transient only for a section that repeats well inside its
+    /// tolerance (`poincare_tol · (ppv + b)` = 1e-4 · 2 here, the settle margin 1e-3 of it):
+    /// period 1 and period 2 to rounding, not a section still drifting by 1e-6 a period (a
+    /// slow transient, half a percent of the tolerance), not an aperiodic one, not one with a
+    /// NaN, and not one too short to test.
+    #[test]
+    fn only_a_settled_section_keeps_the_short_transient() {
+        let n = 17;
+        let one = vec![0.3; n];
+        assert!(section_settled(&one, &one, 1.0, 1.0));
+        let two: Vec<f64> = (0..n)
+            .map(|k| if k % 2 == 0 { 0.3 } else { -0.2 })
+            .collect();
+        assert!(section_settled(&two, &one, 1.0, 1.0));
+        let drifting: Vec<f64> = (0..n).map(|k| 0.3 + 1e-6 * k as f64).collect();
+        assert!(!section_settled(&drifting, &one, 1.0, 1.0));
+        // the logistic map at r = 4: no period up to 4
+        let mut x = 0.3;
+        let chaotic: Vec<f64> = (0..n)
+            .map(|_| {
+                x = 4.0 * x * (1.0 - x);
+                x
+            })
+            .collect();
+        assert!(!section_settled(&chaotic, &chaotic, 1.0, 1.0));
+        let mut nan = one.clone();
+        nan[n - 1] = f64::NAN;
+        assert!(!section_settled(&nan, &one, 1.0, 1.0));
+        assert!(!section_settled(&one[..2], &one[..2], 1.0, 1.0));
     }
 }
