@@ -133,7 +133,7 @@ pub use karpov::{
     CentreDistance, CentrodeDeviation, CentrodeDeviationParams, DesignCheck, KarpovPair,
     KarpovPairParams, SpeedFluctuationForm,
 };
-pub use liu::{NfgPair, NfgPairParams, RigidAccelerationForm};
+pub use liu::{NfgPair, NfgPairParams, RigidAccelerationForm, rigid_acceleration_coefficient};
 pub use system::{CentreDistanceForm, PressureAngleLaw};
 pub use yu::{SpurPair, SpurPairParams, involute_arc_length, roll_angle};
 

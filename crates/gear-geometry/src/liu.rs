@@ -228,16 +228,7 @@ impl NfgPair {
         n: u32,
         wc_bar: f64,
     ) -> f64 {
-        if n == 0 {
-            return 0.0;
-        }
-        let e = self.p.eccentricity;
-        let sign = if n % 2 == 1 { 1.0 } else { -1.0 };
-        let en = e.powi(n as i32);
-        match form {
-            RigidAccelerationForm::Derived => 2.0 * f64::from(n) * sign * en * wc_bar * wc_bar,
-            RigidAccelerationForm::PrintedEq20 => 2.0 * (1.0 - e * e) * sign * en * wc_bar,
-        }
+        rigid_acceleration_coefficient(self.p.eccentricity, form, n, wc_bar)
     }
 
     /// The same coefficient computed numerically: trapezoidal rule with `samples` points over one
@@ -271,6 +262,28 @@ impl NfgPair {
     pub fn rigid_acceleration_b1_first_harmonic(&self, wc_bar: f64) -> f64 {
         let e = self.p.eccentricity;
         self.base_radius_variation() * (1.0 - e * e) / (1.0 + e * e) * wc_bar * wc_bar
+    }
+}
+
+/// [`NfgPair::rigid_acceleration_coefficient`] of a pair with eccentric ratio `eccentricity`
+/// (the coefficient reads nothing else of the pair): `Bn = 2n(−1)ⁿ⁺¹ εⁿ ω̄c²` derived,
+/// `Bn = 2(1 − ε²)(−1)ⁿ⁺¹ εⁿ ω̄c` printed Eq. (20); `0` for `n = 0`. A model that changes its
+/// speed recomputes its amplitudes with it, bit for bit those of a model built at that speed.
+pub fn rigid_acceleration_coefficient(
+    eccentricity: f64,
+    form: RigidAccelerationForm,
+    n: u32,
+    wc_bar: f64,
+) -> f64 {
+    if n == 0 {
+        return 0.0;
+    }
+    let e = eccentricity;
+    let sign = if n % 2 == 1 { 1.0 } else { -1.0 };
+    let en = e.powi(n as i32);
+    match form {
+        RigidAccelerationForm::Derived => 2.0 * f64::from(n) * sign * en * wc_bar * wc_bar,
+        RigidAccelerationForm::PrintedEq20 => 2.0 * (1.0 - e * e) * sign * en * wc_bar,
     }
 }
 

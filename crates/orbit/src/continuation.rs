@@ -43,6 +43,16 @@ pub struct ShootingCorrection {
     /// Also locate [`SpecialKind::ContactChange`] points (bisection on the crossing count; an
     /// orbit spanning many mesh cycles can have dozens per branch, so off by default).
     pub locate_contact_changes: bool,
+    /// Locate only special points of these kinds; the others are detected (the step that
+    /// holds them, [`SpecialPoint::located`] false) but not located. A caller that reads
+    /// only some kinds (say, the grazings of one event function) saves the corrector runs
+    /// of the rest: locating a period doubling or a fold on a non-smooth branch can cost
+    /// more than the branch. `None` (default): every kind (contact changes as
+    /// [`locate_contact_changes`](Self::locate_contact_changes) says). The branch's points,
+    /// its folds from the tangent ([`Branch::folds`](crate::Branch::folds)) and its stop are
+    /// the same either way.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub locate_only: Option<Vec<SpecialKind>>,
     /// Before locating, the step is sampled at this many equal arclength pieces and the
     /// location runs in the first piece where the test function (crossing count) has left
     /// `a`'s side: on a non-smooth branch a multiplier can cross `−1` several times within one
@@ -80,6 +90,7 @@ impl Default for ShootingCorrection {
             locate: true,
             locate_tol: 1e-8,
             locate_contact_changes: false,
+            locate_only: None,
             locate_samples: 1,
             stop_at: Vec::new(),
             stop_at_instability: false,
@@ -547,7 +558,8 @@ impl<S: SecondOrderSystem> OrbitProblem<S> {
             };
             let wanted = opts.locate
                 && (opts.locate_contact_changes
-                    || !matches!(kind, SpecialKind::ContactChange { .. }));
+                    || !matches!(kind, SpecialKind::ContactChange { .. }))
+                && opts.locate_only.as_ref().is_none_or(|k| k.contains(&kind));
             let sp = if wanted {
                 self.locate_special(opts, (a, b), ds, kind).map_or(
                     detected,

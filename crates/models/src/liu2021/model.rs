@@ -114,23 +114,27 @@ impl Model {
     }
 
     /// The same model at another speed: `ω̄_c → omega_c` with `ω̄_e = Z₂ ω̄_c` and the Eq. (22)
-    /// amplitudes rescaled (`B₁`, `B₂ ∝ ω̄_c²` derived or `∝ ω̄_c` printed Eq. 20; `B₃ ∝ ω̄_e²`).
+    /// amplitudes at that speed (`B₁`, `B₂ ∝ ω̄_c²` derived or `∝ ω̄_c` printed Eq. 20;
+    /// `B₃ = (e_r/L) ω̄_e²`), computed from the model's eccentric ratio and error amplitude by
+    /// the formulas of [`Model::new`]: bit for bit the model built at that speed, whatever
+    /// speeds the model had before. (Scaling the present amplitudes by the ratio of the speeds
+    /// would carry the rounding of every earlier change into the next, so a continuation's
+    /// model would depend on how many corrector and location steps had set the speed.)
     /// `ω₁` scales with `ω̄_c` (`ω̄_c = ω₁/(i_j ω_n)`); used by frequency continuation.
     pub fn with_omega_c(&self, omega_c: f64) -> Result<Model, Error> {
         if !(omega_c > 0.0 && omega_c.is_finite()) {
             return Err(Error::invalid("liu2021.omega_c", "> 0", omega_c));
         }
-        let r = omega_c / self.omega_c;
-        let rigid = match self.readings.rigid_acceleration {
-            RigidAcceleration::PrintedEq20 => r,
-            _ => r * r, // Derived (others are rejected by `Model::new`)
-        };
+        let form = self.readings.rigid_acceleration;
+        let coefficient =
+            |n| gear_geometry::rigid_acceleration_coefficient(self.eccentricity, form, n, omega_c);
+        let omega_e = f64::from(self.z2) * omega_c;
         Ok(Model {
             omega_c,
-            omega_e: f64::from(self.z2) * omega_c,
-            b1: self.b1 * rigid,
-            b2: self.b2 * rigid,
-            b3: self.b3 * r * r,
+            omega_e,
+            b1: coefficient(1),
+            b2: coefficient(2),
+            b3: self.error * omega_e * omega_e,
             ..*self
         })
     }
@@ -743,15 +747,33 @@ mod tests {
             p.omega1 = 217.0;
             let fresh = p.model().unwrap();
             let moved = m.with_omega_c(fresh.omega_c).unwrap();
-            for (a, b) in [
-                (moved.omega_e, fresh.omega_e),
-                (moved.b1, fresh.b1),
-                (moved.b2, fresh.b2),
-                (moved.b3, fresh.b3),
-            ] {
-                assert!((a / b - 1.0).abs() < 1e-12, "{ra:?}: {a} vs {b}");
+            // bit for bit the fresh model, also after a detour through other speeds (the
+            // rounding of earlier changes is not carried: a continuation's model is a function
+            // of its present speed)
+            let mut detour = m;
+            for w in [150.0, 100.1, 219.9, 133.3] {
+                p.omega1 = w;
+                detour = detour.with_omega_c(p.model().unwrap().omega_c).unwrap();
+            }
+            let detour = detour.with_omega_c(fresh.omega_c).unwrap();
+            for other in [moved, detour] {
+                assert_eq!(
+                    serde_json::to_string(&other).unwrap(),
+                    serde_json::to_string(&fresh).unwrap(),
+                    "{ra:?}"
+                );
+                for (a, b) in [
+                    (other.omega_e, fresh.omega_e),
+                    (other.b1, fresh.b1),
+                    (other.b2, fresh.b2),
+                    (other.b3, fresh.b3),
+                ] {
+                    assert_eq!(a.to_bits(), b.to_bits(), "{ra:?}: {a} vs {b}");
+                }
             }
         }
         assert!(table1().model().unwrap().with_omega_c(f64::NAN).is_err());
+        assert!(table1().model().unwrap().with_omega_c(-1.0).is_err());
+        assert!(table1().model().unwrap().with_omega_c(0.0).is_err());
     }
 }

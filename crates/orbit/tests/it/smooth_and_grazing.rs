@@ -137,6 +137,32 @@ fn duffing_folds_are_located_with_a_unit_multiplier() {
             pt.parameter
         );
     }
+    // locating only other kinds (`locate_only`) leaves the folds detected, not located, and
+    // the branch the same bit for bit: its points, the tangent's folds and its stop
+    let mut p3 = OrbitProblem::new(s, 2.0 * PI / 0.8).unwrap();
+    let unlocated = ContinuationOptions {
+        corrector: ShootingCorrection {
+            locate_only: Some(vec![SpecialKind::PeriodDoubling]),
+            ..opts.corrector.clone()
+        },
+        ..opts.clone()
+    };
+    let br3 = p3.continuation(&[0.3, 0.0], 0.8, &unlocated).unwrap();
+    assert_eq!(br3.points, br.points);
+    assert_eq!(br3.folds, br.folds);
+    assert_eq!(br3.stop, br.stop);
+    let f3: Vec<_> = br3
+        .special
+        .iter()
+        .filter(|s| s.kind == SpecialKind::Fold)
+        .collect();
+    assert_eq!(f3.len(), 2);
+    for (f, located) in f3.iter().zip(&folds) {
+        assert!(!f.located);
+        assert_eq!(f.after, located.after);
+        // the detected point is the end of the step that holds the fold
+        assert_eq!(f.point, br3.points[f.after + 1]);
+    }
 }
 
 trait Dist {

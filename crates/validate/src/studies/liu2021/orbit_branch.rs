@@ -217,6 +217,7 @@ fn speed_branch(w_start: f64, dir: f64) -> Result<Run, Error> {
             },
             stall: Some(STALL),
             stop_unstable: false,
+            locate_only: None,
         },
     )?;
     Ok(Run {
@@ -249,6 +250,9 @@ pub(super) struct Tuning {
     /// Stop at the first unstable point after a stable one
     /// ([`orbit::ShootingCorrection::stop_at_instability`]).
     pub stop_unstable: bool,
+    /// Locate only special points of these kinds
+    /// ([`orbit::ShootingCorrection::locate_only`]; `None`: all).
+    pub locate_only: Option<Vec<SpecialKind>>,
 }
 
 /// The period-1 branch in ω1 of the parameter set `p` (its `omega1` replaced by `w_start`),
@@ -285,6 +289,7 @@ pub(super) fn speed_branch_at(
             shooting: shooting(),
             stop_at: t.stop_at.clone(),
             stop_at_instability: t.stop_unstable,
+            locate_only: t.locate_only.clone(),
             ..ShootingCorrection::default()
         },
         ..ContinuationOptions::default()
@@ -319,6 +324,7 @@ fn named_branch(
         // 2e-4 N·m
         stop_at: vec![SpecialKind::Fold],
         stop_unstable: false,
+        locate_only: None,
     };
     let branch = named_branch_at(p, name, start, range, dir, scale, &tuning)?;
     Ok(Run {
@@ -366,6 +372,7 @@ pub(super) fn named_branch_at(
             shooting: shooting(),
             stop_at: t.stop_at.clone(),
             stop_at_instability: t.stop_unstable,
+            locate_only: t.locate_only.clone(),
             ..ShootingCorrection::default()
         },
         ..ContinuationOptions::default()
