@@ -23,7 +23,10 @@
 //! the interval.
 //!
 //! The folds and the loss of stability are drawn from the slices only, not continued in two
-//! parameters: on these branches both are non-smooth. Measured on the slices:
+//! parameters: on these branches both are non-smooth. Measured on the slices with every special
+//! point located (the charts locate only the grazings, [`tuning`]). Where the branches meet
+//! contact changes, their steps move with changes of the model at rounding level (the folds
+//! estimated from the tangent by up to 0.3 rad/s), so the figures below hold to about that:
 //! * every fold lies at contact changes of the drive flank (a local mesh-period maximum
 //!   touching it): T2 = 15 N·m, fold at 116.7878 rad/s, contact changes at 116.7875–116.7878;
 //!   a_k = 0.2375, fold at 163.2977, contact changes at 163.2958–163.2975. From both the fold
