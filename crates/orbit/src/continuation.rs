@@ -48,9 +48,12 @@ pub struct ShootingCorrection {
     /// only some kinds (say, the grazings of one event function) saves the corrector runs
     /// of the rest: locating a period doubling or a fold on a non-smooth branch can cost
     /// more than the branch. `None` (default): every kind (contact changes as
-    /// [`locate_contact_changes`](Self::locate_contact_changes) says). The branch's points,
-    /// its folds from the tangent ([`Branch::folds`](crate::Branch::folds)) and its stop are
-    /// the same either way.
+    /// [`locate_contact_changes`](Self::locate_contact_changes) says). The branch's points
+    /// and its folds from the tangent ([`Branch::folds`](crate::Branch::folds)) are the same
+    /// either way when the system's parameter setting depends on the value alone (a location
+    /// sets the parameter back and forth; a system that carried rounding from one setting to
+    /// the next would continue from a different model). A [`stop_at`](Self::stop_at) kind
+    /// that is not located stops the branch at the detected point (the end of the step).
     #[cfg_attr(feature = "serde", serde(default))]
     pub locate_only: Option<Vec<SpecialKind>>,
     /// Before locating, the step is sampled at this many equal arclength pieces and the

@@ -120,7 +120,9 @@ const SLICES: usize = 5;
 /// tangent's ([`folds_on`]) and the limit of stability the points' ([`stability_limit`]). The
 /// period doublings and folds of the strongly modulated slices were located to no use: at
 /// a_k = 0.6125 (from 220 rad/s down) and 0.8 (from 100 up) that took 22 of the chart's 77 CPU
-/// s of branches. The branches' points, folds and stops are the same.
+/// s of branches (one thread, `docs/performance.md`). The outputs are the same, bit for bit, as
+/// with every special point located: the model's speed is set from the value alone
+/// ([`liu2021::Model::with_omega_c`]), so a location leaves nothing in the branch's model.
 fn tuning() -> Tuning {
     Tuning {
         max_points: MAX_POINTS,
