@@ -364,7 +364,10 @@ fn missing(b: &Result<(Branch, f64), String>, what: &str) -> String {
             stop_label(br),
             sig(br.points.last().map_or(f64::NAN, |p| p.parameter / conv))
         ),
-        Err(e) => format!("the branch failed: {e}"),
+        Err(e) => format!(
+            "the branch failed: {}",
+            system::format::round_numbers_in(e, 4)
+        ),
     }
 }
 
@@ -672,12 +675,17 @@ fn both_ways(
         let env = prob
             .continue_grazing_envelope(start, &o, MAX_SWITCHES)
             .map_err(|e| format!("codim-2 continuation: {e}"))?;
-        stops[k] = format!(
-            "{} piece(s), {} switch(es) of the mesh-period maximum, then {:?} ({:?})",
-            env.pieces.len(),
-            env.pieces.len() - 1,
-            env.stop().cloned().unwrap_or(orbit::StopReason::MaxPoints),
-            env.end
+        // the solver's values in the stop to 4 digits: a rounding-level change of the run is
+        // no change of the note
+        stops[k] = system::format::round_numbers_in(
+            &format!(
+                "{} piece(s), {} switch(es) of the mesh-period maximum, then {:?} ({:?})",
+                env.pieces.len(),
+                env.pieces.len() - 1,
+                env.stop().cloned().unwrap_or(orbit::StopReason::MaxPoints),
+                env.end
+            ),
+            4,
         );
         let id = |k: usize| match k {
             0 => 0,
