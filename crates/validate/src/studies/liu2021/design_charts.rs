@@ -64,7 +64,7 @@ use orbit::{
 use plot::{Curve, CurveStyle, HeatScale, Heatmap};
 
 use super::orbit_branch::{
-    BI, Branch, Liu, Tuning, UNI, named_branch_at, speed_branch_at, stop_label,
+    BI, Branch, Liu, Tuning, UNI, named_branch_at, shooting, speed_branch_at, stop_label,
 };
 use super::{base, model, sig};
 use crate::{
@@ -133,12 +133,13 @@ fn tuning() -> Tuning {
         stop_at: vec![],
         stop_unstable: false,
         locate_only: Some(vec![UNI, BI]),
+        max_iter: super::orbit_branch::CORRECTOR_MAX_ITER,
     }
 }
 
 /// [`tuning`] for the branches from 220 rad/s down: they are wanted up to the loss of stability
-/// of the bilateral orbits (the limit curve, [`stability_limit`]: the last stable and the first
-/// unstable point), and end with their first unstable point. Past it they went on into the
+/// of the bilateral orbits (the limit curve, [`stability_limit`]: located between the last
+/// stable and the first unstable point), and end with their first unstable point. Past it they went on into the
 /// tangle of contact changes and period doublings where the multipliers jump (module docs),
 /// locating a dozen or more special points that no curve uses: no fold and no back-flank
 /// grazing of these branches lay past it.
@@ -274,7 +275,13 @@ struct Slice {
     y: f64,
     up: Result<(Branch, f64), String>,
     down: Result<(Branch, f64), String>,
+    /// The loss of stability of `down`, located ([`stability_limit`]).
+    limit: Option<f64>,
 }
+
+/// A slice's branch job: the branch, and for a branch from 220 rad/s down its located
+/// stability limit ([`stability_limit`]).
+type SliceJob = (Result<(Branch, f64), String>, Option<f64>);
 
 /// A curve of a chart: its name, style and one point per slice (NaN: none on that slice, with
 /// the reason in `why`); `stable[k]`: the orbit at the point is stable; `breaks[k]`: no piece
@@ -345,15 +352,66 @@ fn folds_on(b: &(Branch, f64)) -> Vec<f64> {
     b.0.folds.iter().map(|f| f.parameter / b.1).collect()
 }
 
-/// The loss of stability of the branch from 220 rad/s down: the midpoint of the last stable and
-/// the first unstable continuation point (steps ≤ 2 rad/s, under a map cell).
-fn stability_limit(b: &(Branch, f64)) -> Option<f64> {
+/// Bisections of the bracket of the stability limit ([`stability_limit`]).
+const LIMIT_BISECTIONS: usize = 6;
+
+/// The loss of stability of the branch from 220 rad/s down, located: the bracket of the last
+/// stable and the first unstable continuation point (up to a step, 3 rad/s, apart: a map cell)
+/// bisected [`LIMIT_BISECTIONS`] times in ω1 (to 1/64 of the step). At each midpoint the orbit
+/// is shot at that speed ([`OrbitProblem::shoot`], the Newton options of the branch's first
+/// orbit) from the mean of the bracket's two orbit states, and its multipliers decide the half.
+/// The bisection ends early, at the bracket it has, where the shooting fails or its orbit lies
+/// farther from the guess than the bracket's two orbits lie apart (another branch). The
+/// midpoint of the final bracket is the limit. Before round 34 the limit was the midpoint of
+/// the continuation's own bracket, so it moved with the branch's steps: in round 34 a change
+/// of the corrector's iterations moved it at a_k = 0.05 from 168.8 to 169.9 rad/s, across a
+/// map cell. Where stability changes more than once inside the bracket (contact changes and
+/// period doublings alternate there, module docs) the bisection finds one of the changes, so
+/// the limit holds to the width of that tangle: at a_k = 0.05, 169.6 rad/s with the corrector
+/// at 10 iterations and 169.8 at 20 (other brackets). `p`: the slice's parameters.
+fn stability_limit(p: &Parameters, b: &(Branch, f64)) -> Option<f64> {
     let pts = &b.0.points;
-    let k = pts.iter().position(|p| !p.floquet.stable)?;
+    let k = pts.iter().position(|q| !q.floquet.stable)?;
     if k == 0 {
         return None;
     }
-    Some(0.5 * (pts[k - 1].parameter + pts[k].parameter) / b.1)
+    let (mut ws, mut xs) = (pts[k - 1].parameter / b.1, pts[k - 1].x0.clone());
+    let (mut wu, mut xu) = (pts[k].parameter / b.1, pts[k].x0.clone());
+    for _ in 0..LIMIT_BISECTIONS {
+        let wm = 0.5 * (ws + wu);
+        let guess: Vec<f64> = xs.iter().zip(&xu).map(|(a, c)| 0.5 * (a + c)).collect();
+        let spread = xs
+            .iter()
+            .zip(&xu)
+            .map(|(a, c)| (a - c).abs())
+            .fold(0.0, f64::max);
+        let mut q = *p;
+        q.omega1 = wm;
+        let Some(orbit) = model(&q)
+            .ok()
+            .and_then(|m| OrbitProblem::new(m, m.period()).ok())
+            .and_then(|prob| prob.shoot(&guess, &shooting()).ok())
+        else {
+            break;
+        };
+        let off = orbit
+            .x0
+            .iter()
+            .zip(&guess)
+            .map(|(a, c)| (a - c).abs())
+            .fold(0.0, f64::max);
+        // (false for a NaN distance too)
+        let same_branch = off <= spread;
+        if !same_branch {
+            break;
+        }
+        if orbit.floquet.stable {
+            (ws, xs) = (wm, orbit.x0);
+        } else {
+            (wu, xu) = (wm, orbit.x0);
+        }
+    }
+    Some(0.5 * (ws + wu))
 }
 
 fn missing(b: &Result<(Branch, f64), String>, what: &str) -> String {
@@ -434,7 +492,7 @@ fn boundaries(slices: &[Slice]) -> Vec<Boundary> {
         breaks: Vec::new(),
     };
     for s in slices {
-        match s.down.as_ref().ok().and_then(stability_limit) {
+        match s.limit {
             Some(w) => {
                 limit.points.push((w, s.y));
                 // the stable side of the limit is what the map sees
@@ -928,7 +986,8 @@ fn run() -> Result<StudyOutput, Error> {
             .flat_map(|&y| [(y, true), (y, false)])
             .collect();
         let t1 = cpu_now();
-        let branches: Vec<Result<(Branch, f64), String>> = system::sweep::sweep(
+        // each job: the branch, and for a branch from 220 down its located stability limit
+        let branches: Vec<SliceJob> = system::sweep::sweep(
             &jobs,
             |&(y, up)| {
                 let mut p = base();
@@ -939,19 +998,26 @@ fn run() -> Result<StudyOutput, Error> {
                     (OMEGA[1], -1.0)
                 };
                 let t = if up { tuning() } else { down_tuning() };
-                speed_branch_at(p, w, dir, [OMEGA[0] - 1.0, OMEGA[1] + 1.0], &t)
-                    .map_err(|e| e.to_string())
+                let b = speed_branch_at(p, w, dir, [OMEGA[0] - 1.0, OMEGA[1] + 1.0], &t)
+                    .map_err(|e| e.to_string());
+                let limit = if up {
+                    None
+                } else {
+                    b.as_ref().ok().and_then(|b| stability_limit(&p, b))
+                };
+                (b, limit)
             },
             None,
         );
         let t_curves = cpu_now() - t1;
         let mut it = branches.into_iter();
+        let no_job = || (Err("no job".to_owned()), None);
         let slices: Vec<Slice> = slice_ys
             .iter()
-            .map(|&y| Slice {
-                y,
-                up: it.next().unwrap_or_else(|| Err("no job".to_owned())),
-                down: it.next().unwrap_or_else(|| Err("no job".to_owned())),
+            .map(|&y| {
+                let (up, _) = it.next().unwrap_or_else(no_job);
+                let (down, limit) = it.next().unwrap_or_else(no_job);
+                Slice { y, up, down, limit }
             })
             .collect();
         let mut curves = boundaries(&slices);
@@ -964,7 +1030,10 @@ fn run() -> Result<StudyOutput, Error> {
             &jobs,
             |&k| match slices.get(k).map(|s| &s.up) {
                 Some(Ok(up)) => codim2_grazing(&chart, slices[k].y, up),
-                Some(Err(e)) => Err(format!("no branch on the slice: {e}")),
+                Some(Err(e)) => Err(format!(
+                    "no branch on the slice: {}",
+                    system::format::round_numbers_in(e, 4)
+                )),
                 None => edge_grazing(&chart),
             },
             None,
