@@ -139,8 +139,9 @@ fn tuning() -> Tuning {
 
 /// [`tuning`] for the branches from 220 rad/s down: they are wanted up to the loss of stability
 /// of the bilateral orbits (the limit curve, [`stability_limit`]: located between the last
-/// stable and the first unstable point), and end with their first unstable point. Past it they went on into the
-/// tangle of contact changes and period doublings where the multipliers jump (module docs),
+/// stable and the first unstable point), and end with their first unstable point. Past it they
+/// went on into the tangle of contact changes and period doublings where the multipliers jump
+/// (module docs),
 /// locating a dozen or more special points that no curve uses: no fold and no back-flank
 /// grazing of these branches lay past it.
 fn down_tuning() -> Tuning {
@@ -358,8 +359,9 @@ const LIMIT_BISECTIONS: usize = 6;
 /// The loss of stability of the branch from 220 rad/s down, located: the bracket of the last
 /// stable and the first unstable continuation point (up to a step, 3 rad/s, apart: a map cell)
 /// bisected [`LIMIT_BISECTIONS`] times in ω1 (to 1/64 of the step). At each midpoint the orbit
-/// is shot at that speed ([`OrbitProblem::shoot`], the Newton options of the branch's first
-/// orbit) from the mean of the bracket's two orbit states, and its multipliers decide the half.
+/// is shot at that speed ([`OrbitProblem::shoot`] with [`shooting`]'s options, 20 Newton
+/// iterations) from the mean of the bracket's two orbit states, and its multipliers decide the
+/// half.
 /// The bisection ends early, at the bracket it has, where the shooting fails or its orbit lies
 /// farther from the guess than the bracket's two orbits lie apart (another branch). The
 /// midpoint of the final bracket is the limit. Before round 34 the limit was the midpoint of
