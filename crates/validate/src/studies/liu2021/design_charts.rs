@@ -364,10 +364,11 @@ const LIMIT_BISECTIONS: usize = 6;
 /// half.
 /// The bisection ends early, at the bracket it has, where the shooting fails or its orbit lies
 /// farther from the guess than the bracket's two orbits lie apart (another branch). The
-/// midpoint of the final bracket is the limit. Before round 34 the limit was the midpoint of
-/// the continuation's own bracket, so it moved with the branch's steps: in round 34 a change
-/// of the corrector's iterations moved it at a_k = 0.05 from 168.8 to 169.9 rad/s, across a
-/// map cell. Where stability changes more than once inside the bracket (contact changes and
+/// midpoint of the final bracket is the limit. The midpoint of the continuation's own bracket
+/// would move with the branch's steps: a change of the corrector's iteration limit moves it
+/// at a_k = 0.05 from 168.8 to 169.9 rad/s, across a map cell. (The bracket's states are
+/// carried into each guess, which [`system::numeric::bisect`], a scalar root finder, does
+/// not.) Where stability changes more than once inside the bracket (contact changes and
 /// period doublings alternate there, module docs) the bisection finds one of the changes, so
 /// the limit holds to the width of that tangle: at a_k = 0.05, 169.6 rad/s with the corrector
 /// at 10 iterations and 169.8 at 20 (other brackets). `p`: the slice's parameters.

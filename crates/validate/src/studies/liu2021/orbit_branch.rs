@@ -262,7 +262,7 @@ pub(super) struct Tuning {
 /// [`Tuning::max_iter`] of the branches of this study and of the design charts: 10. Where the
 /// flow's contacts change inside a step the shooting map is not smooth, Newton's iteration
 /// stalls at residuals of 10⁻⁷–10⁻⁸ and the step fails, however many iterations it is given.
-/// Counted in round 34 with a limit of 20 (the continuation steps, not the locations): of the
+/// Counted with a limit of 20 (the continuation steps, not the locations): of the
 /// design charts' 828 accepted corrector calls 819 converged within 10 iterations (most in
 /// 2); their 222 failed calls took 63 % of the iterations, and 123 of them ran all 20. In this
 /// study 156 of 163 accepted calls converged within 10, and the 83 failed ones took 74 % of the
