@@ -49,14 +49,18 @@
 //! ## Limitations
 //!
 //! Speed: musl's algorithms are about as fast as glibc's for `sin`, `cos`, `exp`, `ln`, and
-//! slower for `powf` (see the README for the measured instruction counts). The models keep their
-//! own short kernels where those are faster (`geardyn-models`' `trig` and `fastlog`), which are
-//! pure Rust as well and fall back to this crate.
+//! slower for `powf` (see the README for the measured instruction counts). The inner loops take
+//! the short [`short::sin_cos`] of this crate where it is faster (a Cody–Waite reduction and
+//! Taylor polynomials, within a few `10⁻¹⁶` of [`sin_cos`], not the same bits), and
+//! `geardyn-models` keeps its own `fastlog`; both are pure Rust as well and fall back to this
+//! crate.
 
 #![no_std]
 
 #[cfg(feature = "c-symbols")]
 pub mod c_symbols;
+
+pub mod short;
 
 /// `sin x` (musl's algorithm: Payne–Hanek/Cody–Waite reduction, polynomial on `[−π/4, π/4]`).
 #[inline]
