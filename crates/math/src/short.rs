@@ -18,6 +18,7 @@
 //! let (s0, c0) = geardyn_math::sin_cos(1.0);
 //! assert!((s - s0).abs() <= 3e-16 && (c - c0).abs() <= 3e-16);
 //! ```
+
 /// `π/2` to 33 bits.
 const P1: f64 = 1.570_796_326_734_125_6;
 /// The next 33 bits of `π/2`.
