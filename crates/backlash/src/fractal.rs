@@ -511,9 +511,10 @@ pub const CHEN_MAX_TERMS: u32 = 1_000_000;
 /// z(t) = Σ_{k=0}^{n−1} λ^{(D−2)k} sin(λ^k t), truncated to `n_terms` terms. Dimensionless.
 ///
 /// Each term's `sin` (and `cos`, for `z'`) comes from [`math::short::sin_cos`], a Cody–Waite
-/// reduction and Taylor polynomials within a few `10⁻¹⁶` of `geardyn-math`'s `sin_cos`: the
-/// terms dominate the right-hand side of the Yu time stepping (with musl's `sin_cos` they took
-/// 44 % of `yu2021-df-rms-sweeps`; with the short kernel that study takes 0.84× the CPU time).
+/// reduction and Taylor polynomials within a few `10⁻¹⁶` of `geardyn-math`'s `sin_cos`. The
+/// terms dominate the right-hand side of the Yu time stepping: on musl's `sin_cos` they would
+/// take 44 % of `yu2021-df-rms-sweeps`, and the short kernel runs that study in 0.84× the CPU
+/// time (`docs/performance.md`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ChenFractal {
