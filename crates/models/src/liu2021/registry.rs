@@ -1081,6 +1081,8 @@ fn hbm_reliability(
         let o = liu2021::LongWindowOptions {
             transient_periods: USER_TRANSIENT,
             settle_windows: ((USER_MAX_TRANSIENT - USER_TRANSIENT) / 50.0).floor() as usize,
+            // the confirmation reads the motion, the state and the ppv only
+            detail: crate::response::WindowDetail::Motion,
             ..liu2021::LongWindowOptions::default()
         };
         let w = liu2021::settled_window(model, &o, Some((q[0], v[0])))

@@ -5,7 +5,9 @@ use serde::{Deserialize, Serialize};
 use super::integrate::{Stepping, run, run_to, system};
 use super::model::Model;
 use crate::Error;
-use crate::response::{Crossing, Flank, Robust, WindowAccumulator, WindowOptions, WindowStats};
+use crate::response::{
+    Crossing, Flank, Robust, WindowAccumulator, WindowDetail, WindowOptions, WindowStats,
+};
 
 /// Settings of [`long_window`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -49,6 +51,10 @@ pub struct LongWindowOptions {
     /// transient is seen.
     #[serde(default = "default_settle_windows")]
     pub settle_windows: usize,
+    /// What each window measures ([`WindowDetail`]): everything by default; a caller that
+    /// reads only the motion (state, ppv, section tests) saves the lines and impact speeds.
+    #[serde(default)]
+    pub detail: WindowDetail,
 }
 
 fn default_settle_windows() -> usize {
@@ -67,6 +73,7 @@ impl Default for LongWindowOptions {
             refine_factor: crate::contract::TIGHTER,
             min_depth: 0.0,
             settle_windows: default_settle_windows(),
+            detail: WindowDetail::Full,
         }
     }
 }
@@ -203,6 +210,7 @@ fn record(
         period,
         min_depth: o.min_depth,
         lines: [1, model.z2],
+        detail: o.detail,
     };
     // the windows' pair: the transient tells whether the back flank is reached
     let back_flank = warm.events.iter().any(|e| e.index == 0);
@@ -540,6 +548,7 @@ mod tests {
                     period,
                     min_depth: o.min_depth,
                     lines: [1, m.z2],
+                    detail: o.detail,
                 },
             )
             .unwrap();
@@ -551,6 +560,85 @@ mod tests {
                 stored.line_coherent.map(f64::to_bits)
             );
             assert!(stored.drive.count + stored.back.count > 0);
+        }
+    }
+
+    /// [`WindowDetail::Motion`] measures the motion bit for bit as [`WindowDetail::Full`] does
+    /// (state, fractions, extremes, depth, impact counts, section tests, the windows a transient
+    /// discards), and leaves the lines and impact speeds NaN: at a bilateral (200 rad/s) and a
+    /// unilateral (160 rad/s) point, with and without the constant gap, with a window that may
+    /// be discarded as a transient.
+    #[test]
+    fn motion_detail_is_the_full_motion_bit_for_bit() {
+        for (omega1, mean) in [(200.0, true), (160.0, false), (180.0, true)] {
+            let mut p = table1();
+            p.omega1 = omega1;
+            if mean {
+                p.readings.base_radius = BaseRadius::Mean;
+            }
+            let m = p.model().unwrap();
+            let full = LongWindowOptions {
+                transient_periods: 1.0,
+                periods: 20,
+                settle_windows: 1,
+                rtol: 1e-6,
+                ..LongWindowOptions::default()
+            };
+            let motion = LongWindowOptions {
+                detail: WindowDetail::Motion,
+                ..full
+            };
+            let (a, b) = (
+                settled_window(&m, &full, None).unwrap(),
+                settled_window(&m, &motion, None).unwrap(),
+            );
+            let (f, w) = (&a.stats, &b.stats);
+            let bits = |x: &WindowStats| {
+                let mut v = vec![
+                    x.ppv,
+                    x.q_min,
+                    x.q_max,
+                    x.max_depth,
+                    x.chaos_k,
+                    x.drive.rate,
+                    x.back.rate,
+                ];
+                v.extend(x.fraction);
+                v.into_iter().map(f64::to_bits).collect::<Vec<_>>()
+            };
+            assert_eq!(bits(f), bits(w), "{omega1}");
+            assert_eq!(
+                (f.state, f.periods, f.tail_regular, f.period_multiple),
+                (w.state, w.periods, w.tail_regular, w.period_multiple),
+                "{omega1}"
+            );
+            assert_eq!(
+                (f.drive.count, f.back.count),
+                (w.drive.count, w.back.count),
+                "{omega1}"
+            );
+            assert_eq!(a.transient_periods.to_bits(), b.transient_periods.to_bits());
+            assert_eq!(
+                a.work.n_accepted, b.work.n_accepted,
+                "{omega1}: the same steps"
+            );
+            assert!(
+                f.drive.count + f.back.count > 0,
+                "{omega1}: impacts exercised"
+            );
+            assert!(f.line_incoherent.iter().all(|x| x.is_finite()));
+            assert!(f.drive.mean_speed.is_finite() && f.drive.max_speed.is_finite());
+            assert!(
+                w.line_coherent
+                    .iter()
+                    .chain(&w.line_incoherent)
+                    .all(|x| x.is_nan())
+            );
+            assert!(
+                [w.drive, w.back]
+                    .iter()
+                    .all(|i| i.mean_speed.is_nan() && i.max_speed.is_nan())
+            );
         }
     }
 

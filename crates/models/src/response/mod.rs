@@ -50,6 +50,6 @@ pub use settle::{
     motion_label, section_confirmed, window_motion, window_unsettled,
 };
 pub use window::{
-    Crossing, Flank, FlankImpacts, Robust, WindowAccumulator, WindowOptions, WindowStats,
-    student_t_975, window_stats, zero_one_test,
+    Crossing, Flank, FlankImpacts, Robust, WindowAccumulator, WindowDetail, WindowOptions,
+    WindowStats, student_t_975, window_stats, zero_one_test,
 };

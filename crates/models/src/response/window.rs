@@ -31,6 +31,26 @@ pub struct Crossing {
     pub entering: bool,
 }
 
+/// What a window measures ([`WindowOptions::detail`]).
+///
+/// The lines and the impact speeds cost work per sample: the line sums rotate two phases and
+/// add two complex terms, and the speeds need the time and `q'` of every sample kept (16 bytes
+/// each) until the window's crossings are known. A caller that reads only the motion (a map
+/// cell, a basin cell) leaves both out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[non_exhaustive]
+pub enum WindowDetail {
+    /// Every statistic of [`WindowStats`].
+    #[default]
+    Full,
+    /// The motion only. The rattle state, the fractions of periods per state, `q_min`,
+    /// `q_max`, the ppv, the deepest separation, the impact counts and rates, the section tests
+    /// (`period_multiple`, `tail_regular`, `chaos_k`) are bit for bit those of
+    /// [`WindowDetail::Full`]. The lines and the impact speeds are NaN.
+    Motion,
+}
+
 /// Settings of [`window_stats`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct WindowOptions {
@@ -43,6 +63,9 @@ pub struct WindowOptions {
     /// Harmonic numbers `k` of the phase-locked lines `k·2π/T` to measure (at most
     /// [`WindowOptions::MAX_LINES`]; `0` is the mean).
     pub lines: [u32; 2],
+    /// What the window measures (default: everything).
+    #[serde(default)]
+    pub detail: WindowDetail,
 }
 
 impl WindowOptions {
@@ -55,6 +78,7 @@ impl WindowOptions {
             period,
             min_depth: 0.0,
             lines: [1, 2],
+            detail: WindowDetail::Full,
         }
     }
 
@@ -80,9 +104,10 @@ pub struct FlankImpacts {
     pub count: usize,
     /// Impacts per forcing period.
     pub rate: f64,
-    /// Mean impact speed `|q'|` at entry (0 without impacts).
+    /// Mean impact speed `|q'|` at entry (0 without impacts; NaN under
+    /// [`WindowDetail::Motion`]).
     pub mean_speed: f64,
-    /// Largest impact speed (0 without impacts).
+    /// Largest impact speed (0 without impacts; NaN under [`WindowDetail::Motion`]).
     pub max_speed: f64,
 }
 
@@ -108,9 +133,11 @@ pub struct WindowStats {
     /// Impacts on the back flank.
     pub back: FlankImpacts,
     /// Coherent amplitude of each line: `|mean over periods of c_k|`, with
-    /// `c_k = (2/T)∫ q e^{−ikΩt} dt` over one period (`c_0` the mean, factor 1).
+    /// `c_k = (2/T)∫ q e^{−ikΩt} dt` over one period (`c_0` the mean, factor 1); NaN under
+    /// [`WindowDetail::Motion`].
     pub line_coherent: [f64; 2],
-    /// Incoherent amplitude of each line: the mean over periods of `|c_k|`.
+    /// Incoherent amplitude of each line: the mean over periods of `|c_k|`; NaN under
+    /// [`WindowDetail::Motion`].
     pub line_incoherent: [f64; 2],
     /// 0–1 test `K` on the stroboscopic section (NaN below 20 periods).
     pub chaos_k: f64,
@@ -375,6 +402,8 @@ pub struct WindowAccumulator<G: Fn(f64) -> f64> {
     ts: Vec<f64>,
     vs: Vec<f64>,
     store: bool,
+    /// [`WindowDetail::Full`]: the lines summed and the impact speeds measured.
+    full: bool,
     n_in: usize,
     /// The latest in-window sample `(t, q, q', b)`, for the impacts found between samples.
     last_in: Option<(f64, f64, f64, f64)>,
@@ -451,7 +480,8 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
             closed: false,
             ts: Vec::new(),
             vs: Vec::new(),
-            store: true,
+            store: options.detail == WindowDetail::Full,
+            full: options.detail == WindowDetail::Full,
             n_in: 0,
             last_in: None,
             drive_scan: Vec::new(),
@@ -463,10 +493,13 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
         })
     }
 
-    /// Room for `additional` more samples (an allocation up front instead of regrowth).
+    /// Room for `additional` more samples (an allocation up front instead of regrowth; none
+    /// under [`WindowDetail::Motion`], which keeps no samples).
     pub fn reserve(&mut self, additional: usize) {
-        self.ts.reserve(additional);
-        self.vs.reserve(additional);
+        if self.store {
+            self.ts.reserve(additional);
+            self.vs.reserve(additional);
+        }
     }
 
     /// The next sample, at a time after the one before. It is queued and reduced with the
@@ -555,6 +588,7 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
             if closed {
                 continue;
             }
+            // (never set under `WindowDetail::Motion`)
             if let Some(s) = pending.take() {
                 if p != line_period {
                     if line_period != usize::MAX {
@@ -626,7 +660,7 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
                     section_at = start(next_section);
                 }
             }
-            if t < self.t_last_line {
+            if self.full && t < self.t_last_line {
                 let step = last_in.map_or(f64::NAN, |(ta, ..)| t - ta);
                 pending = Some(Pending { t, q, step });
             }
@@ -694,7 +728,8 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
         }
         let (t0, period, periods) = (self.t0, self.period, self.periods);
         let period_of = |tt: f64| (((tt - t0) / period).floor().max(0.0) as usize).min(periods - 1);
-        if ts.len() != self.n_in || vs.len() != self.n_in || self.n_in == 0 {
+        // the kept samples give the impact speeds (`WindowDetail::Full` only)
+        if self.n_in == 0 || (self.full && (ts.len() != self.n_in || vs.len() != self.n_in)) {
             return Err(Error::Solver(format!(
                 "response window: {} samples in the window, {} times and {} speeds kept",
                 self.n_in,
@@ -702,7 +737,7 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
                 vs.len()
             )));
         }
-        let last = ts.len() - 1;
+        let last = ts.len().saturating_sub(1);
         // the first sample after `tc`, searched from the one found for the crossing before
         // (the crossings come in time order, a few hundred samples apart: a gallop from there
         // reads the samples near it instead of jumping across all of them; any order is
@@ -750,7 +785,7 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
                 if c.t < t0 || c.t > self.t_end || !c.entering {
                     continue;
                 }
-                let sp = speed_at(c.t);
+                let sp = if self.full { speed_at(c.t) } else { f64::NAN };
                 match c.flank {
                     Flank::Drive => drive.push((c.t, sp)),
                     Flank::Back => back.push((c.t, sp)),
@@ -763,16 +798,22 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
             let p = period_of(tc);
             state[p] = 2;
         }
+        let full = self.full;
         let impacts = |list: &[(f64, f64)]| {
             let count = list.len();
             let (sum, max) = list
                 .iter()
                 .fold((0.0, 0.0f64), |(s, m), &(_, sp)| (s + sp, m.max(sp)));
+            let (mean_speed, max_speed) = match (full, count) {
+                (false, _) => (f64::NAN, f64::NAN),
+                (true, 0) => (0.0, max),
+                (true, _) => (sum / count as f64, max),
+            };
             FlankImpacts {
                 count,
                 rate: count as f64 / periods as f64,
-                mean_speed: if count > 0 { sum / count as f64 } else { 0.0 },
-                max_speed: max,
+                mean_speed,
+                max_speed,
             }
         };
         let mut counts = [0usize; 3];
@@ -783,6 +824,10 @@ impl<G: Fn(f64) -> f64> WindowAccumulator<G> {
         let mut line_coherent = [0.0; 2];
         let mut line_incoherent = [0.0; 2];
         for j in 0..2 {
+            if !full {
+                (line_coherent[j], line_incoherent[j]) = (f64::NAN, f64::NAN);
+                continue;
+            }
             let (mut re, mut im, mut inc) = (0.0, 0.0, 0.0);
             for p in 0..periods {
                 re += self.line_re[p][j];
@@ -1578,5 +1623,86 @@ mod tests {
         let e = window_stats(&t, &q, &v, |_| 1.0, &ends, &WindowOptions::new(1.0)).unwrap();
         assert_eq!(e.back.max_speed.to_bits(), 0.0f64.to_bits());
         assert_eq!(e.drive.max_speed.to_bits(), 8.0f64.to_bits());
+    }
+
+    /// [`WindowDetail::Motion`] gives every statistic but the lines and the impact speeds bit
+    /// for bit, with located crossings and with the impacts found between samples (whose
+    /// interpolated times may fall in the period before the sample that shows the contact), on
+    /// the stored path and through the accumulator; the lines and speeds are NaN.
+    #[test]
+    fn motion_detail_keeps_the_motion_and_drops_lines_and_speeds() {
+        // a rattle across both edges (|q| up to 1.3, gap ±1) with a slowly drifting amplitude,
+        // 24 periods of 2π, sampled at 0.05
+        let t = grid(24, 126, std::f64::consts::TAU);
+        let q: Vec<f64> = t
+            .iter()
+            .map(|&x| (1.0 + 0.3 * (0.05 * x).dsin()) * x.dsin() - 0.2)
+            .collect();
+        let v: Vec<f64> = t.iter().map(|&x| x.dcos()).collect();
+        let crossings: Vec<Crossing> = t
+            .windows(2)
+            .zip(q.windows(2))
+            .filter(|(_, qq)| {
+                (qq[0] - 1.0) * (qq[1] - 1.0) < 0.0 || (qq[0] + 1.0) * (qq[1] + 1.0) < 0.0
+            })
+            .map(|(tt, qq)| Crossing {
+                t: 0.5 * (tt[0] + tt[1]),
+                flank: if qq[0].max(qq[1]) > 1.0 {
+                    Flank::Back
+                } else {
+                    Flank::Drive
+                },
+                entering: qq[1].abs() > 1.0,
+            })
+            .collect();
+        let full = WindowOptions::new(std::f64::consts::TAU);
+        let motion = WindowOptions {
+            detail: WindowDetail::Motion,
+            ..full
+        };
+        for cs in [&crossings[..], &[]] {
+            let f = window_stats(&t, &q, &v, |_| 1.0, cs, &full).unwrap();
+            let w = window_stats(&t, &q, &v, |_| 1.0, cs, &motion).unwrap();
+            let mut acc = WindowAccumulator::new(t[0], t[t.len() - 1], |_| 1.0, &motion).unwrap();
+            acc.reserve(t.len());
+            acc.push_many(&t, &q, &v);
+            let a = acc.finish(cs).unwrap();
+            let bits = |x: &WindowStats| {
+                let mut b = vec![x.ppv, x.q_min, x.q_max, x.max_depth, x.chaos_k];
+                b.extend([x.drive.rate, x.back.rate]);
+                b.extend(x.fraction);
+                b.into_iter().map(f64::to_bits).collect::<Vec<_>>()
+            };
+            let rest = |x: &WindowStats| {
+                (
+                    x.state,
+                    x.periods,
+                    x.tail_regular,
+                    x.period_multiple,
+                    x.drive.count,
+                    x.back.count,
+                )
+            };
+            assert!(
+                f.back.count > 0 && f.drive.count > 0,
+                "both flanks exercised"
+            );
+            assert!(f.line_incoherent.iter().all(|x| x.is_finite()));
+            for m in [&w, &a] {
+                assert_eq!(bits(&f), bits(m));
+                assert_eq!(rest(&f), rest(m));
+                assert!(
+                    m.line_coherent
+                        .iter()
+                        .chain(&m.line_incoherent)
+                        .all(|x| x.is_nan())
+                );
+                assert!(
+                    [m.drive, m.back]
+                        .iter()
+                        .all(|i| i.mean_speed.is_nan() && i.max_speed.is_nan())
+                );
+            }
+        }
     }
 }

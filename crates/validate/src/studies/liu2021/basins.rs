@@ -66,7 +66,11 @@ pub(super) fn eps0_basins() -> Result<LiuBasins, Error> {
     let mut p = base();
     p.eccentricity = 0.0;
     let m = model(&p)?;
-    let wo = LongWindowOptions::default();
+    // a cell's signature reads the state, the motion and the ppv only
+    let wo = LongWindowOptions {
+        detail: models::response::WindowDetail::Motion,
+        ..LongWindowOptions::default()
+    };
     let bbar = m.backlash_at(0.0);
     let axis = |(a, b): (f64, f64)| Axis::new(a * bbar, b * bbar, STEPS);
     let grid = BasinGrid::new(axis(Q_RANGE), axis(V_RANGE))

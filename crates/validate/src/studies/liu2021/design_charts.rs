@@ -56,7 +56,7 @@
 
 use models::liu2021::{self, LongWindowOptions, Model, Parameters};
 use models::motion::Motion;
-use models::response::window_motion;
+use models::response::{WindowDetail, window_motion};
 use orbit::{
     Codim2ContinuationOptions, OrbitProblem, Parameter, ShootingOptions, ShootingPoint,
     SpecialKind, SpecialPoint,
@@ -182,6 +182,8 @@ fn window_options() -> LongWindowOptions {
         periods: models::response::MIN_CLASSIFIED_PERIODS,
         settle_windows: 1,
         rtol: 1e-6,
+        // a cell reads the state and the motion only
+        detail: WindowDetail::Motion,
         ..LongWindowOptions::default()
     }
 }

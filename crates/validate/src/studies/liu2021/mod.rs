@@ -1046,11 +1046,7 @@ mod tests {
         let t: Vec<f64> = (0..=400).map(|i| f64::from(i) * 0.05).collect();
         let q: Vec<f64> = t.iter().map(|&t| -2.0 + 0.1 * t.dsin()).collect();
         let v: Vec<f64> = t.iter().map(|&t| 0.1 * t.dcos()).collect();
-        let o = WindowOptions {
-            period: std::f64::consts::TAU,
-            min_depth: 0.0,
-            lines: [1, 2],
-        };
+        let o = WindowOptions::new(std::f64::consts::TAU);
         let base = window_stats(&t, &q, &v, |_| 1.0, &[], &o).unwrap();
         let with = |ppv: f64| models::response::WindowStats { ppv, ..base };
         (0..5)
