@@ -472,11 +472,19 @@ mod tests {
     use super::super::params::{BaseRadius, table1};
     use super::*;
     use crate::liu2021::RattleState;
+    use crate::response::{assert_motion_only, motion_fields};
 
     fn model(omega1: f64) -> Model {
+        model_with(omega1, true)
+    }
+
+    /// Table 1 at `omega1`, with the mean base radius (a constant gap) when `mean`.
+    fn model_with(omega1: f64, mean: bool) -> Model {
         let mut p = table1();
         p.omega1 = omega1;
-        p.readings.base_radius = BaseRadius::Mean;
+        if mean {
+            p.readings.base_radius = BaseRadius::Mean;
+        }
         p.model().unwrap()
     }
 
@@ -488,12 +496,7 @@ mod tests {
     #[test]
     fn a_streamed_window_is_the_stored_one_bit_for_bit() {
         for (omega1, mean) in [(200.0, true), (160.0, false)] {
-            let mut p = table1();
-            p.omega1 = omega1;
-            if mean {
-                p.readings.base_radius = BaseRadius::Mean;
-            }
-            let m = p.model().unwrap();
+            let m = model_with(omega1, mean);
             let o = LongWindowOptions {
                 transient_periods: 1.0,
                 periods: 20,
@@ -571,12 +574,7 @@ mod tests {
     #[test]
     fn motion_detail_is_the_full_motion_bit_for_bit() {
         for (omega1, mean) in [(200.0, true), (160.0, false), (180.0, true)] {
-            let mut p = table1();
-            p.omega1 = omega1;
-            if mean {
-                p.readings.base_radius = BaseRadius::Mean;
-            }
-            let m = p.model().unwrap();
+            let m = model_with(omega1, mean);
             let full = LongWindowOptions {
                 transient_periods: 1.0,
                 periods: 20,
@@ -593,30 +591,7 @@ mod tests {
                 settled_window(&m, &motion, None).unwrap(),
             );
             let (f, w) = (&a.stats, &b.stats);
-            let bits = |x: &WindowStats| {
-                let mut v = vec![
-                    x.ppv,
-                    x.q_min,
-                    x.q_max,
-                    x.max_depth,
-                    x.chaos_k,
-                    x.drive.rate,
-                    x.back.rate,
-                ];
-                v.extend(x.fraction);
-                v.into_iter().map(f64::to_bits).collect::<Vec<_>>()
-            };
-            assert_eq!(bits(f), bits(w), "{omega1}");
-            assert_eq!(
-                (f.state, f.periods, f.tail_regular, f.period_multiple),
-                (w.state, w.periods, w.tail_regular, w.period_multiple),
-                "{omega1}"
-            );
-            assert_eq!(
-                (f.drive.count, f.back.count),
-                (w.drive.count, w.back.count),
-                "{omega1}"
-            );
+            assert_eq!(motion_fields(f), motion_fields(w), "{omega1}");
             assert_eq!(a.transient_periods.to_bits(), b.transient_periods.to_bits());
             assert_eq!(
                 a.work.n_accepted, b.work.n_accepted,
@@ -628,17 +603,7 @@ mod tests {
             );
             assert!(f.line_incoherent.iter().all(|x| x.is_finite()));
             assert!(f.drive.mean_speed.is_finite() && f.drive.max_speed.is_finite());
-            assert!(
-                w.line_coherent
-                    .iter()
-                    .chain(&w.line_incoherent)
-                    .all(|x| x.is_nan())
-            );
-            assert!(
-                [w.drive, w.back]
-                    .iter()
-                    .all(|i| i.mean_speed.is_nan() && i.max_speed.is_nan())
-            );
+            assert_motion_only(w);
         }
     }
 

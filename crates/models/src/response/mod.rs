@@ -53,3 +53,5 @@ pub use window::{
     Crossing, Flank, FlankImpacts, Robust, WindowAccumulator, WindowDetail, WindowOptions,
     WindowStats, student_t_975, window_stats, zero_one_test,
 };
+#[cfg(test)]
+pub(crate) use window::{assert_motion_only, motion_fields};

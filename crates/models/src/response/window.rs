@@ -1216,6 +1216,33 @@ impl Robust {
     }
 }
 
+/// The statistics that [`WindowDetail::Motion`] keeps, as bits and counts (for the tests that
+/// compare it with [`WindowDetail::Full`]).
+#[cfg(test)]
+pub(crate) fn motion_fields(x: &WindowStats) -> (Vec<u64>, RattleState, [usize; 4], bool) {
+    let mut v = vec![x.ppv, x.q_min, x.q_max, x.max_depth, x.chaos_k];
+    v.extend([x.drive.rate, x.back.rate]);
+    v.extend(x.fraction);
+    (
+        v.into_iter().map(f64::to_bits).collect(),
+        x.state,
+        [x.periods, x.period_multiple, x.drive.count, x.back.count],
+        x.tail_regular,
+    )
+}
+
+/// The lines and impact speeds of `x` are NaN (what [`WindowDetail::Motion`] leaves out).
+#[cfg(test)]
+pub(crate) fn assert_motion_only(x: &WindowStats) {
+    let lines = x.line_coherent.iter().chain(&x.line_incoherent);
+    assert!(lines.into_iter().all(|v| v.is_nan()), "lines of {x:?}");
+    let speeds = [x.drive, x.back].map(|i| [i.mean_speed, i.max_speed]);
+    assert!(
+        speeds.as_flattened().iter().all(|v| v.is_nan()),
+        "speeds of {x:?}"
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1667,41 +1694,14 @@ mod tests {
             acc.reserve(t.len());
             acc.push_many(&t, &q, &v);
             let a = acc.finish(cs).unwrap();
-            let bits = |x: &WindowStats| {
-                let mut b = vec![x.ppv, x.q_min, x.q_max, x.max_depth, x.chaos_k];
-                b.extend([x.drive.rate, x.back.rate]);
-                b.extend(x.fraction);
-                b.into_iter().map(f64::to_bits).collect::<Vec<_>>()
-            };
-            let rest = |x: &WindowStats| {
-                (
-                    x.state,
-                    x.periods,
-                    x.tail_regular,
-                    x.period_multiple,
-                    x.drive.count,
-                    x.back.count,
-                )
-            };
             assert!(
                 f.back.count > 0 && f.drive.count > 0,
                 "both flanks exercised"
             );
             assert!(f.line_incoherent.iter().all(|x| x.is_finite()));
             for m in [&w, &a] {
-                assert_eq!(bits(&f), bits(m));
-                assert_eq!(rest(&f), rest(m));
-                assert!(
-                    m.line_coherent
-                        .iter()
-                        .chain(&m.line_incoherent)
-                        .all(|x| x.is_nan())
-                );
-                assert!(
-                    [m.drive, m.back]
-                        .iter()
-                        .all(|i| i.mean_speed.is_nan() && i.max_speed.is_nan())
-                );
+                assert_eq!(motion_fields(&f), motion_fields(m));
+                assert_motion_only(m);
             }
         }
     }
