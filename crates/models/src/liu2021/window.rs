@@ -568,9 +568,9 @@ mod tests {
 
     /// [`WindowDetail::Motion`] measures the motion bit for bit as [`WindowDetail::Full`] does
     /// (state, fractions, extremes, depth, impact counts, section tests, the windows a transient
-    /// discards), and leaves the lines and impact speeds NaN: at a bilateral (200 rad/s) and a
-    /// unilateral (160 rad/s) point, with and without the constant gap, with a window that may
-    /// be discarded as a transient.
+    /// discards), and leaves the lines and impact speeds NaN: at bilateral points (200 and
+    /// 180 rad/s, constant gap) and a unilateral one (160 rad/s, the gap law per sample), each
+    /// with one more window allowed for a transient.
     #[test]
     fn motion_detail_is_the_full_motion_bit_for_bit() {
         for (omega1, mean) in [(200.0, true), (160.0, false), (180.0, true)] {
