@@ -58,7 +58,7 @@
 //! readings). [`render_stats`] gives the uncommitted `validation/stats/` (every column at 6
 //! significant digits).
 //! `cargo xtask validate --check` regenerates everything in memory and fails if any byte differs
-//! from the committed files, or if [`audit`] finds a deviation/inconclusive row without a reading
+//! from the committed files, or if [`audit()`] finds a deviation/inconclusive row without a reading
 //! or cause, two outputs sharing a file name, or a verdict resting on a flagged point.
 //!
 //! # Example: a complete study
