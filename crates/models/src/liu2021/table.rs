@@ -102,7 +102,7 @@ impl TimeTable {
         // polynomials of exactly those points in monomials, in double-double
         let nodes: [f64; NC] =
             std::array::from_fn(|j| (std::f64::consts::PI * (j as f64 + 0.5) / NC as f64).dcos());
-        let lagrange = lagrange_monomials(&nodes);
+        let lagrange = lagrange_monomials(&nodes).map(|row| row.map(SplitDd::of));
         let mut data = Vec::with_capacity(pieces * STRIDE);
         let mut values = [[0.0; NC]; 3];
         for i in 0..pieces {
@@ -118,21 +118,20 @@ impl TimeTable {
                 }
             }
             data.push(centre);
-            let mono: Vec<[f64; NC]> = values
-                .iter()
-                .map(|v| {
-                    std::array::from_fn(|l| {
-                        let mut acc = Dd::default();
-                        for (j, &fj) in v.iter().enumerate() {
-                            acc.add_dd_product(lagrange[j][l], fj);
-                        }
-                        acc.value()
-                    })
-                })
-                .collect();
-            for l in 0..NC {
-                for m in &mono {
-                    data.push(m[l]);
+            // m_{k,l} = Σ_j L[j][l] f_{k,j}, each sum over `j` in ascending order; the 3 × NC
+            // sums side by side (independent chains), the splits of `L` and of the values once
+            let mut acc = [[Dd::default(); 3]; NC];
+            for (j, row) in lagrange.iter().enumerate() {
+                let f: [Split; 3] = std::array::from_fn(|k| Split::of(values[k][j]));
+                for (a, sums) in row.iter().zip(acc.iter_mut()) {
+                    for (sum, fk) in sums.iter_mut().zip(&f) {
+                        sum.add_split_product(a, fk);
+                    }
+                }
+            }
+            for sums in &acc {
+                for sum in sums {
+                    data.push(sum.value());
                 }
             }
         }
@@ -311,7 +310,9 @@ impl Dd {
         Self::renorm(q1, q2)
     }
 
-    /// `self += a b` for a double-double `a` and a double `b`.
+    /// `self += a b` for a double-double `a` and a double `b` (the reference of
+    /// [`add_split_product`](Self::add_split_product) in the tests).
+    #[cfg(test)]
     fn add_dd_product(&mut self, a: Dd, b: f64) {
         let (p, e) = two_product(a.hi, b);
         let (s, f) = two_sum(self.hi, p);
@@ -321,12 +322,94 @@ impl Dd {
     fn value(self) -> f64 {
         self.hi + self.lo
     }
+
+    /// `self += a b` for a double-double `a` and a double `b`: Dekker's product `a.hi b = p + e`
+    /// with the splits of `a.hi` and `b` done beforehand, then `(s, f) = two_sum(hi, p)` and
+    /// `renorm(s, lo + e + f + a.lo b)`.
+    fn add_split_product(&mut self, a: &SplitDd, b: &Split) {
+        let p = a.hi.value * b.value;
+        let e = a.hi.lo * b.lo - (((p - a.hi.hi * b.hi) - a.hi.lo * b.hi) - a.hi.hi * b.lo);
+        let (s, f) = two_sum(self.hi, p);
+        *self = Self::renorm(s, self.lo + e + f + a.lo * b.value);
+    }
+}
+
+/// A double with its Dekker split ([`split`]).
+#[derive(Debug, Clone, Copy)]
+struct Split {
+    value: f64,
+    hi: f64,
+    lo: f64,
+}
+
+impl Split {
+    fn of(value: f64) -> Self {
+        let (hi, lo) = split(value);
+        Self { value, hi, lo }
+    }
+}
+
+/// A double-double whose leading part comes with its split.
+#[derive(Debug, Clone, Copy)]
+struct SplitDd {
+    hi: Split,
+    lo: f64,
+}
+
+impl SplitDd {
+    fn of(a: Dd) -> Self {
+        Self {
+            hi: Split::of(a.hi),
+            lo: a.lo,
+        }
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::params::{BaseRadius, RigidSeries, table1};
     use super::*;
+
+    /// The transform of [`TimeTable::new`] (the 3 × `NC` sums side by side, the splits done
+    /// once) gives the bits of the plain one: per function and degree, `Σ_j L[j][l] f_j` by
+    /// [`Dd::add_dd_product`] in ascending `j`.
+    #[test]
+    fn the_transform_is_the_plain_double_double_sum() {
+        let mut p = table1();
+        p.omega1 = 170.0;
+        p.eccentricity = 0.6;
+        let model = Model::new(&p).expect("model");
+        let table = TimeTable::new(&model).expect("table");
+        let nodes: [f64; NC] =
+            std::array::from_fn(|j| (std::f64::consts::PI * (j as f64 + 0.5) / NC as f64).dcos());
+        let lagrange = lagrange_monomials(&nodes);
+        let width = model.period() / table.pieces as f64;
+        let half = 0.5 * width;
+        for i in [0, 1, table.pieces / 2, table.pieces - 1] {
+            let centre = (i as f64 + 0.5) * width;
+            let values: [[f64; 3]; NC] = std::array::from_fn(|j| {
+                let (p, e) = two_product(half, nodes[j]);
+                let (t, f) = two_sum(centre, p);
+                model.time_functions_accurate_at(t, f + e)
+            });
+            let piece = &table.data[i * STRIDE..(i + 1) * STRIDE];
+            assert_eq!(piece[0].to_bits(), centre.to_bits());
+            for l in 0..NC {
+                for k in 0..3 {
+                    let mut acc = Dd::default();
+                    for (j, v) in values.iter().enumerate() {
+                        acc.add_dd_product(lagrange[j][l], v[k]);
+                    }
+                    let stored = piece[1 + 3 * l + k];
+                    assert_eq!(
+                        stored.to_bits(),
+                        acc.value().to_bits(),
+                        "piece {i}, l {l}, k {k}"
+                    );
+                }
+            }
+        }
+    }
 
     #[test]
     fn the_piece_width_bound_holds() {

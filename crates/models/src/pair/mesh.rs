@@ -24,6 +24,61 @@ pub struct LineOfAction {
     pub centre_change: f64,
 }
 
+/// The part of a line of action that depends on the centre displacements alone: the angle
+/// `α`, its slope `dα/da`, the centre-distance change `Δa` and its gradient `∇a` (with respect
+/// to `[x_p, y_p, x_g, y_g]`). [`LinePosition::with_velocity`] completes it to a
+/// [`LineOfAction`]; a caller that holds the positions and varies the velocities (a
+/// finite-difference Jacobian) computes this part once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinePosition {
+    /// Operating pressure angle `α` \[rad\].
+    pub alpha: f64,
+    /// `dα/da`.
+    pub dalpha_da: f64,
+    /// Change of the centre distance `Δa = a − a₀`.
+    pub centre_change: f64,
+    /// `∇a`.
+    pub grad: [f64; 4],
+}
+
+impl LinePosition {
+    /// The line of action for the centre velocities `[x_p', y_p', x_g', y_g']`:
+    /// `α' = (dα/da) (∇a · c')`, the one arithmetic of every construction here.
+    #[inline]
+    pub fn with_velocity(&self, centre_velocity: &[f64]) -> LineOfAction {
+        let a_rate: f64 = self
+            .grad
+            .iter()
+            .zip(centre_velocity)
+            .map(|(g, v)| g * v)
+            .sum();
+        LineOfAction {
+            alpha: self.alpha,
+            alpha_rate: self.dalpha_da * a_rate,
+            centre_change: self.centre_change,
+        }
+    }
+}
+
+/// The position part of [`line_of_action`]: the centre distance by the `form` of Eq. (8) and
+/// the pressure angle by `law` (both the `backlash` leaf's, [`PairGeometry`]).
+#[inline]
+pub fn line_position(
+    geometry: &PairGeometry,
+    form: CentreDistanceForm,
+    law: PressureAngleLaw,
+    c: &CentreDisplacement,
+) -> LinePosition {
+    let (a, centre_change, grad) = geometry.centre_distance_with(c, form);
+    let (alpha, dalpha_da) = geometry.pressure_angle(a, law);
+    LinePosition {
+        alpha,
+        dalpha_da,
+        centre_change,
+        grad,
+    }
+}
+
 /// The line of action for centre displacements `c` and their velocities
 /// `centre_velocity = [x_p', y_p', x_g', y_g']`: the centre distance by the `form` of Eq. (8)
 /// and the pressure angle by `law` (both the `backlash` leaf's, [`PairGeometry`]).
@@ -35,9 +90,25 @@ pub fn line_of_action(
     c: &CentreDisplacement,
     centre_velocity: &[f64],
 ) -> LineOfAction {
-    let (a, centre_change, grad) = geometry.centre_distance_with(c, form);
-    let (alpha, dalpha_da) = geometry.pressure_angle(a, law);
-    line(alpha, dalpha_da, centre_change, &grad, centre_velocity)
+    line_position(geometry, form, law, c).with_velocity(centre_velocity)
+}
+
+/// The position part of [`line_of_action_from`]: `None` for
+/// [`backlash::DynamicForm::Involute`].
+#[inline]
+pub fn line_position_from(
+    law: &backlash::DynamicBacklash,
+    eval: &backlash::BacklashEval,
+) -> Option<LinePosition> {
+    match law.form {
+        backlash::DynamicForm::YuEq10 | backlash::DynamicForm::LineOfAction => Some(LinePosition {
+            alpha: eval.alpha,
+            dalpha_da: eval.alpha_slope,
+            centre_change: eval.delta_a,
+            grad: eval.centre_gradient,
+        }),
+        _ => None,
+    }
 }
 
 /// The line of action from a dynamic backlash's evaluation at the same displacement, where
@@ -52,33 +123,7 @@ pub fn line_of_action_from(
     eval: &backlash::BacklashEval,
     centre_velocity: &[f64],
 ) -> Option<LineOfAction> {
-    match law.form {
-        backlash::DynamicForm::YuEq10 | backlash::DynamicForm::LineOfAction => Some(line(
-            eval.alpha,
-            eval.alpha_slope,
-            eval.delta_a,
-            &eval.centre_gradient,
-            centre_velocity,
-        )),
-        _ => None,
-    }
-}
-
-/// `α' = (dα/da) (∇a · c')`: the one arithmetic of both constructions.
-#[inline]
-fn line(
-    alpha: f64,
-    dalpha_da: f64,
-    centre_change: f64,
-    grad: &[f64; 4],
-    centre_velocity: &[f64],
-) -> LineOfAction {
-    let a_rate: f64 = grad.iter().zip(centre_velocity).map(|(g, v)| g * v).sum();
-    LineOfAction {
-        alpha,
-        alpha_rate: dalpha_da * a_rate,
-        centre_change,
-    }
+    line_position_from(law, eval).map(|p| p.with_velocity(centre_velocity))
 }
 
 /// The static transmission error `(e, e') = (e_r cos ψ, −e_r ω sin ψ)`, `ψ = ω t + φ`.
@@ -93,15 +138,29 @@ pub fn static_error(amplitude: f64, omega: f64, phase: f64, t: f64) -> (f64, f64
 /// their velocities, the line of action and the static error `(e, e')`.
 #[inline]
 pub fn transmission_error(
+    u: (f64, f64),
+    centres: &[f64],
+    velocities: &[f64],
+    line: &LineOfAction,
+    static_error: (f64, f64),
+) -> (f64, f64) {
+    let sin_cos = line.alpha.dsin_cos();
+    transmission_error_sin_cos(u, centres, velocities, line, sin_cos, static_error)
+}
+
+/// [`transmission_error`] with `(sin α, cos α)` of `line.alpha` given (by a caller that needs
+/// them for the force directions too: the same bits, one `sin_cos` fewer).
+#[inline]
+pub fn transmission_error_sin_cos(
     (u, u_rate): (f64, f64),
     centres: &[f64],
     velocities: &[f64],
     line: &LineOfAction,
+    (sa, ca): (f64, f64),
     (e, e_rate): (f64, f64),
 ) -> (f64, f64) {
     let (dx, dy) = (centres[0] - centres[2], centres[1] - centres[3]);
     let (dvx, dvy) = (velocities[0] - velocities[2], velocities[1] - velocities[3]);
-    let (sa, ca) = line.alpha.dsin_cos();
     (
         dx * sa + dy * ca + u - e,
         dvx * sa + dvy * ca + line.alpha_rate * (dx * ca - dy * sa) + u_rate - e_rate,

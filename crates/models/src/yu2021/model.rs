@@ -249,6 +249,53 @@ pub struct MeshGeometry {
     pub backlash: f64,
 }
 
+/// The terms of [`Yu2021Model::rhs`] that depend on `τ` and the displacements alone (not on
+/// the velocities), for callers that vary only the velocities or `u` (the 6-DOF system's
+/// finite-difference Jacobian).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PositionTerms {
+    /// The half gap before the clamp at 0.
+    gap: f64,
+    /// `gap − b_s`.
+    dynamic_part: f64,
+    /// The line of action's position part (Yu's model; `None` for the torsional ones).
+    line: Option<crate::pair::mesh::LinePosition>,
+    /// `α₀`, the angle without a line.
+    alpha0: f64,
+    /// `(sin α, cos α)` where the right-hand side reads them.
+    sin_cos: Option<(f64, f64)>,
+}
+
+impl PositionTerms {
+    /// The geometry of the state `s` (its velocities `s[6..10]` complete the line).
+    #[inline]
+    fn geometry(&self, s: &[f64; STATE_LEN]) -> MeshGeometry {
+        let (alpha, alpha_rate, centre_change) = match &self.line {
+            Some(l) => {
+                let line = l.with_velocity(&s[6..10]);
+                (line.alpha, line.alpha_rate, line.centre_change)
+            }
+            None => (self.alpha0, 0.0, 0.0),
+        };
+        MeshGeometry {
+            alpha,
+            alpha_rate,
+            centre_change,
+            dynamic_part: self.dynamic_part,
+            backlash: self.gap.max(0.0),
+        }
+    }
+}
+
+/// The terms of [`Yu2021Model::rhs`] that depend on `τ` alone.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TimeTerms {
+    /// `k/k_am` of Eq. (17).
+    stiffness: f64,
+    /// `(e, e')` of the static error where the DTE is on the line of action.
+    static_error: Option<(f64, f64)>,
+}
+
 /// A dimensionless Yu 2021 model: parameters plus options. `Send + Sync + Copy`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Yu2021Model {
@@ -463,43 +510,78 @@ impl Yu2021Model {
     /// ([`backlash::BacklashLaw::half_gap`]), clamped at 0; a non-finite state gives a
     /// non-finite backlash (the engines report it).
     pub fn geometry(&self, omega: f64, tau: f64, s: &[f64; STATE_LEN]) -> MeshGeometry {
+        self.position_terms(omega, tau, s, false).geometry(s)
+    }
+
+    /// The terms of the right-hand side that depend on `τ` and the displacements `s[1..5]`
+    /// alone: the half gap, the line of action's position part, and with `sin_cos` the angle's
+    /// `(sin α, cos α)` where the right-hand side reads them.
+    pub(crate) fn position_terms(
+        &self,
+        omega: f64,
+        tau: f64,
+        s: &[f64; STATE_LEN],
+        sin_cos: bool,
+    ) -> PositionTerms {
         let p = &self.params;
         let c = backlash::CentreDisplacement::new(s[1], s[2], s[3], s[4]);
         // A dynamic backlash's evaluation has computed the centre distance and the angle of
         // the line of action already: the line reads them (the same numbers, Eq. 8–9, 16)
         let (gap, line) = match self.backlash_law(omega) {
             backlash::Backlash::Dynamic(law) => match law.eval(&c) {
-                Ok(e) => (
-                    e.b,
-                    crate::pair::mesh::line_of_action_from(&law, &e, &s[6..10]),
-                ),
+                Ok(e) => (e.b, crate::pair::mesh::line_position_from(&law, &e)),
                 Err(_) => (f64::NAN, None),
             },
             other => (other.half_gap(tau, &c).map_or(f64::NAN, |g| g.b), None),
         };
-        let (alpha, alpha_rate, centre_change) = match self.options.kind {
-            ModelKind::KahramanSingh | ModelKind::ChenFractal => (p.alpha0, 0.0, 0.0),
+        let line = match self.options.kind {
+            ModelKind::KahramanSingh | ModelKind::ChenFractal => None,
             ModelKind::Yu => {
                 // Eq. (8)–(9), (16): the pair's one mesh kinematics on the leaf's geometry
-                let line = line.unwrap_or_else(|| {
+                Some(line.unwrap_or_else(|| {
                     let law = self.dynamic_backlash_law();
-                    crate::pair::mesh::line_of_action(
+                    crate::pair::mesh::line_position(
                         &law.geometry,
                         law.centre_distance,
                         law.law,
                         &c,
-                        &s[6..10],
                     )
-                });
-                (line.alpha, line.alpha_rate, line.centre_change)
+                }))
             }
         };
-        MeshGeometry {
-            alpha,
-            alpha_rate,
-            centre_change,
+        let alpha = line.map_or(p.alpha0, |l| l.alpha);
+        let sin_cos = sin_cos.then(|| alpha.dsin_cos());
+        PositionTerms {
+            gap,
             dynamic_part: gap - p.backlash,
-            backlash: gap.max(0.0),
+            line,
+            alpha0: p.alpha0,
+            sin_cos,
+        }
+    }
+
+    /// Whether the right-hand side reads `(sin α, cos α)`: for the transmission error or the
+    /// force directions.
+    pub(crate) fn rhs_reads_sin_cos(&self) -> bool {
+        self.six_dof() || self.transmission_error_on_line()
+    }
+
+    /// Whether the DTE is the line-of-action projection of Eq. (13)–(15) (Yu's consistent
+    /// form) rather than the state's own coordinate.
+    fn transmission_error_on_line(&self) -> bool {
+        self.options.kind == ModelKind::Yu && self.options.form == EquationForm::Consistent
+    }
+
+    /// The terms of the right-hand side that depend on `τ` alone: the mesh stiffness of
+    /// Eq. (17) and the static error.
+    #[inline]
+    pub(crate) fn time_terms(&self, omega: f64, tau: f64) -> TimeTerms {
+        let p = &self.params;
+        TimeTerms {
+            stiffness: self.mesh_stiffness_law(omega).stiffness(tau),
+            static_error: self
+                .transmission_error_on_line()
+                .then(|| crate::pair::mesh::static_error(p.ste, omega, p.phase, tau)),
         }
     }
 
@@ -512,33 +594,80 @@ impl Yu2021Model {
         g: &MeshGeometry,
         b: f64,
     ) -> (f64, f64, f64) {
+        let sin_cos = self
+            .transmission_error_on_line()
+            .then(|| g.alpha.dsin_cos());
+        self.mesh_with(s, g, b, &self.time_terms(omega, tau), sin_cos)
+    }
+
+    /// The DTE `δ*` of a state and its backlash `B` (the event functions' inputs): what
+    /// [`Self::geometry`] and [`Self::mesh`] give, without the mesh stiffness.
+    pub(crate) fn dte_and_backlash(
+        &self,
+        omega: f64,
+        tau: f64,
+        s: &[f64; STATE_LEN],
+    ) -> (f64, f64) {
+        let on_line = self.transmission_error_on_line();
+        let position = self.position_terms(omega, tau, s, on_line);
+        let g = position.geometry(s);
+        let static_error = on_line.then(|| {
+            crate::pair::mesh::static_error(self.params.ste, omega, self.params.phase, tau)
+        });
+        (
+            self.dte(s, &g, static_error, position.sin_cos).0,
+            g.backlash,
+        )
+    }
+
+    /// [`Self::mesh`] from the time terms and `(sin α, cos α)`.
+    #[inline]
+    fn mesh_with(
+        &self,
+        s: &[f64; STATE_LEN],
+        g: &MeshGeometry,
+        b: f64,
+        time: &TimeTerms,
+        sin_cos: Option<(f64, f64)>,
+    ) -> (f64, f64, f64) {
         let p = &self.params;
-        let w = omega;
-        let (delta, delta_rate) = if self.options.kind == ModelKind::Yu
-            && self.options.form == EquationForm::Consistent
-        {
-            // Eq. (13)–(15): the pair's one mesh kinematics (`crate::pair::mesh`)
-            let line = crate::pair::mesh::LineOfAction {
-                alpha: g.alpha,
-                alpha_rate: g.alpha_rate,
-                centre_change: g.centre_change,
-            };
-            crate::pair::mesh::transmission_error(
-                (s[0], s[5]),
-                &s[1..5],
-                &s[6..10],
-                &line,
-                crate::pair::mesh::static_error(p.ste, w, p.phase, tau),
-            )
-        } else {
-            (s[0], s[5])
-        };
-        let k = self.mesh_stiffness_law(w).stiffness(tau);
+        let (delta, delta_rate) = self.dte(s, g, time.static_error, sin_cos);
         (
             delta,
             delta_rate,
-            k * dead_zone(delta, b) + p.zeta * delta_rate,
+            time.stiffness * dead_zone(delta, b) + p.zeta * delta_rate,
         )
+    }
+
+    /// `(δ*, δ*')` of Eq. (13)–(15) from the geometry, the static error and `(sin α, cos α)`
+    /// (both given where the DTE is on the line of action); the state's own `(q, q')` else.
+    #[inline]
+    fn dte(
+        &self,
+        s: &[f64; STATE_LEN],
+        g: &MeshGeometry,
+        static_error: Option<(f64, f64)>,
+        sin_cos: Option<(f64, f64)>,
+    ) -> (f64, f64) {
+        match (static_error, sin_cos) {
+            (Some(static_error), Some(sin_cos)) if self.transmission_error_on_line() => {
+                // Eq. (13)–(15): the pair's one mesh kinematics (`crate::pair::mesh`)
+                let line = crate::pair::mesh::LineOfAction {
+                    alpha: g.alpha,
+                    alpha_rate: g.alpha_rate,
+                    centre_change: g.centre_change,
+                };
+                crate::pair::mesh::transmission_error_sin_cos(
+                    (s[0], s[5]),
+                    &s[1..5],
+                    &s[6..10],
+                    &line,
+                    sin_cos,
+                    static_error,
+                )
+            }
+            _ => (s[0], s[5]),
+        }
     }
 
     /// Right-hand side `ds/dτ`. `held` is the backlash held over a step (Fig. 8 as printed);
@@ -550,36 +679,52 @@ impl Yu2021Model {
         s: &[f64; STATE_LEN],
         held: Option<f64>,
     ) -> [f64; STATE_LEN] {
+        let position = self.position_terms(omega, tau, s, self.rhs_reads_sin_cos());
+        self.rhs_with(omega, tau, s, held, &self.time_terms(omega, tau), &position)
+    }
+
+    /// [`Self::rhs`] from its time and position terms (of the same `τ` and `s[1..5]`).
+    pub(crate) fn rhs_with(
+        &self,
+        omega: f64,
+        tau: f64,
+        s: &[f64; STATE_LEN],
+        held: Option<f64>,
+        time: &TimeTerms,
+        position: &PositionTerms,
+    ) -> [f64; STATE_LEN] {
         let p = &self.params;
-        let g = self.geometry(omega, tau, s);
+        let g = position.geometry(s);
         let b = held.unwrap_or(g.backlash);
-        let (_, _, force) = self.mesh(omega, tau, s, &g, b);
+        let (_, _, force) = self.mesh_with(s, &g, b, time, position.sin_cos);
         let w = omega;
-        let ph = w * tau + p.phase;
         let mut d = [0.0; STATE_LEN];
         d[..5].copy_from_slice(&s[5..]);
         let consistent = self.options.form == EquationForm::Consistent;
         d[5] = match (self.options.kind, consistent) {
             (ModelKind::Yu, true) => p.load - force,
-            (_, true) => p.load + w * w * p.ste * ph.dcos() - force,
-            (_, false) => p.load + p.ste * ph.dcos() - force,
+            (_, true) => p.load + w * w * p.ste * (w * tau + p.phase).dcos() - force,
+            (_, false) => p.load + p.ste * (w * tau + p.phase).dcos() - force,
         };
-        if self.six_dof() {
-            let (sa, ca) = g.alpha.dsin_cos();
-            let dirs = [sa, ca, -sa, -ca];
-            let mu = [
-                p.mass_ratio[0],
-                p.mass_ratio[0],
-                p.mass_ratio[1],
-                p.mass_ratio[1],
-            ];
-            for i in 0..4 {
-                d[6 + i] =
-                    -p.zeta_bearing[i] * s[6 + i] - p.kappa[i] * s[1 + i] - mu[i] * force * dirs[i];
+        match (self.six_dof(), position.sin_cos) {
+            (true, Some((sa, ca))) => {
+                let dirs = [sa, ca, -sa, -ca];
+                let mu = [
+                    p.mass_ratio[0],
+                    p.mass_ratio[0],
+                    p.mass_ratio[1],
+                    p.mass_ratio[1],
+                ];
+                for i in 0..4 {
+                    d[6 + i] = -p.zeta_bearing[i] * s[6 + i]
+                        - p.kappa[i] * s[1 + i]
+                        - mu[i] * force * dirs[i];
+                }
             }
-        } else {
-            d[1..5].fill(0.0);
-            d[6..].fill(0.0);
+            _ => {
+                d[1..5].fill(0.0);
+                d[6..].fill(0.0);
+            }
         }
         d
     }
