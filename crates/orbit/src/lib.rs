@@ -58,7 +58,7 @@
 //!
 //! ## Floquet multipliers
 //!
-//! [`floquet`]: the eigenvalues `μ` of the monodromy (real Schur form), each with its
+//! [`floquet()`]: the eigenvalues `μ` of the monodromy (real Schur form), each with its
 //! condition number `κ(μ) = ‖x‖‖y‖/|yᴴx|` (right and left eigenvectors by inverse iteration):
 //! an error `E` in `Φ` moves `μ` by about `κ ‖E‖`. Stable if `max |μ| ≤ 1 + 10⁻⁶`. The test
 //! functions `det(Φ + I)` (a real multiplier at `−1`), `det(Φ − I)` (at `+1`) and

@@ -66,7 +66,7 @@
 //!   harmonics of a frequency ([`fourier_projection`]). The gear metrics built on them (rattle
 //!   state, dynamic factor, RMS over harmonics) are in `geardyn_models::response`: this crate
 //!   knows no gears.
-//! * **Sweeps** ([`sweep`], [`sweep_with_threads`]): rayon over a parameter list, results in
+//! * **Sweeps** ([`sweep()`], [`sweep_with_threads`]): rayon over a parameter list, results in
 //!   input order, bit-identical for any thread count, progress callback.
 //!
 //! ## Which method when

@@ -170,7 +170,7 @@ impl<F: Fn(f64, &[f64], &mut [f64])> OdeSystem for FnSystem<F> {
 const STACK_DOF: usize = 16;
 
 /// Adapter that integrates a model written once for the shared system description
-/// [`system::SecondOrderSystem`](::system::SecondOrderSystem),
+/// [`system::SecondOrderSystem`],
 /// `M q'' + C q' + K q + g(t, q, q') = f(t)`, as an [`ExplicitSecondOrder`]
 ///
 /// ```text

@@ -737,7 +737,7 @@ impl Kernel {
     }
 
     /// [`Kernel::panel_est`] and the partial sums over `[t, t + k·r.h/DENSE]`,
-    /// `k = 1 … DENSE − 1`, from the same nodes ([`DENSE_WEIGHTS`]).
+    /// `k = 1 … DENSE − 1`, from the same nodes (`DENSE_WEIGHTS`).
     pub(super) fn panel_dense(
         &self,
         t: f64,

@@ -39,7 +39,7 @@
 //!   continuation with [`Model::with_omega_c`]), reporting folds (the jumps) and stability
 //!   ([`BranchStability`], by default the period map of the ODE: [`shooting_multipliers`],
 //!   the shooting monodromy of `orbit` at the harmonic-balance state).
-//! * [`integrate`] — the `timestep` engine (adaptive Dormand–Prince with the gap edges
+//! * [`integrate()`] — the `timestep` engine (adaptive Dormand–Prince with the gap edges
 //!   `q = ±b̄` as located events) over whole periods `T = 2π/ω̄_c`, on [`TimeSystem`] (Eq. 9
 //!   written lean; [`Trig`] chooses the platform's `sin`/`cos`, bit-identical to the generic
 //!   adapter, or the default short kernel, rounding-level different and about twice as fast).

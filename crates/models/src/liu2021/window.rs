@@ -128,7 +128,7 @@ impl LongWindowOptions {
 
 /// The sampling interval of a window: the largest `Δτ ≤ sample_step` that divides the period
 /// `T`, `Δτ = T/⌈T/sample_step⌉`, so that sample `k·T/Δτ` of a window falls on the start of
-/// period `k` (to rounding). The stroboscopic section of [`window_stats`] is then the state at
+/// period `k` (to rounding). The stroboscopic section of [`window_stats`](crate::response::window_stats) is then the state at
 /// `τ₀ + kT` itself: with a step that does not divide `T` the section point of period `k` lies
 /// up to `Δτ` after the period start, at a phase that drifts from period to period, so that a
 /// periodic orbit with fast impacts (Liu Fig. 11 above 185 rad/s: 63 impacts per period) did
