@@ -528,7 +528,8 @@ mod tests {
 
     /// The 6-DOF Jacobian with its terms of `τ` and of the displacements computed once is the
     /// default central differences of `nonlinear_force`, bit for bit, and the event functions
-    /// are the gap edges about [`Yu2021Model::mesh`]'s DTE: every dynamic law, both
+    /// are the gap edges about [`Yu2021Model::mesh`]'s DTE, and the right-hand side is the same
+    /// from position terms without `(sin α, cos α)`: every dynamic law, both
     /// equation forms, both pressure-angle and centre-distance readings, locked centres, the
     /// torsional models through the time-stepping wrapper, states in and out of the gap.
     #[test]
@@ -594,6 +595,11 @@ mod tests {
                 let (delta, _, _) = m.mesh(0.83, t, x, &g, g.backlash);
                 let want = [delta - g.backlash, delta + g.backlash];
                 assert_eq!(e.map(f64::to_bits), want.map(f64::to_bits), "{o:?}: events");
+                // position terms without `(sin α, cos α)`: the right-hand side computes them
+                let bare = m.position_terms(0.83, t, x, false);
+                let d = m.rhs_with(0.83, t, x, None, &m.time_terms(0.83, t), &bare);
+                let want = m.rhs(0.83, t, x, None);
+                assert_eq!(d.map(f64::to_bits), want.map(f64::to_bits), "{o:?}: rhs");
             }
         }
     }

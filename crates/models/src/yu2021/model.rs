@@ -649,8 +649,11 @@ impl Yu2021Model {
         static_error: Option<(f64, f64)>,
         sin_cos: Option<(f64, f64)>,
     ) -> (f64, f64) {
-        match (static_error, sin_cos) {
-            (Some(static_error), Some(sin_cos)) if self.transmission_error_on_line() => {
+        match static_error {
+            // given exactly where the DTE is on the line of action ([`Self::time_terms`],
+            // [`Self::dte_and_backlash`]); `(sin α, cos α)` computed here if not given
+            Some(static_error) => {
+                let sin_cos = sin_cos.unwrap_or_else(|| g.alpha.dsin_cos());
                 // Eq. (13)–(15): the pair's one mesh kinematics (`crate::pair::mesh`)
                 let line = crate::pair::mesh::LineOfAction {
                     alpha: g.alpha,
@@ -666,7 +669,7 @@ impl Yu2021Model {
                     static_error,
                 )
             }
-            _ => (s[0], s[5]),
+            None => (s[0], s[5]),
         }
     }
 
@@ -706,25 +709,23 @@ impl Yu2021Model {
             (_, true) => p.load + w * w * p.ste * (w * tau + p.phase).dcos() - force,
             (_, false) => p.load + p.ste * (w * tau + p.phase).dcos() - force,
         };
-        match (self.six_dof(), position.sin_cos) {
-            (true, Some((sa, ca))) => {
-                let dirs = [sa, ca, -sa, -ca];
-                let mu = [
-                    p.mass_ratio[0],
-                    p.mass_ratio[0],
-                    p.mass_ratio[1],
-                    p.mass_ratio[1],
-                ];
-                for i in 0..4 {
-                    d[6 + i] = -p.zeta_bearing[i] * s[6 + i]
-                        - p.kappa[i] * s[1 + i]
-                        - mu[i] * force * dirs[i];
-                }
+        if self.six_dof() {
+            // computed with the position terms ([`Self::rhs_reads_sin_cos`]), else here
+            let (sa, ca) = position.sin_cos.unwrap_or_else(|| g.alpha.dsin_cos());
+            let dirs = [sa, ca, -sa, -ca];
+            let mu = [
+                p.mass_ratio[0],
+                p.mass_ratio[0],
+                p.mass_ratio[1],
+                p.mass_ratio[1],
+            ];
+            for i in 0..4 {
+                d[6 + i] =
+                    -p.zeta_bearing[i] * s[6 + i] - p.kappa[i] * s[1 + i] - mu[i] * force * dirs[i];
             }
-            _ => {
-                d[1..5].fill(0.0);
-                d[6..].fill(0.0);
-            }
+        } else {
+            d[1..5].fill(0.0);
+            d[6..].fill(0.0);
         }
         d
     }
