@@ -351,20 +351,20 @@ impl system::SecondOrderSystem for Yu2021SixDof {
             let d = m.rhs_with(self.omega, t, s, None, &time, position);
             std::array::from_fn(|i| -d[N + i])
         };
+        // `u = q[0]` is not a displacement of the centres: its perturbations keep `base`
+        let perturbed = |s: &[f64; STATE_LEN], j: usize| {
+            if j == 0 {
+                force(s, &base)
+            } else {
+                force(s, &m.position_terms(self.omega, t, s, sin_cos))
+            }
+        };
         for j in 0..N {
             let h = 6e-6 * (1.0 + q[j].abs());
             s[j] = q[j] + h;
-            let gp = if j == 0 {
-                force(&s, &base)
-            } else {
-                force(&s, &m.position_terms(self.omega, t, &s, sin_cos))
-            };
+            let gp = perturbed(&s, j);
             s[j] = q[j] - h;
-            let gm = if j == 0 {
-                force(&s, &base)
-            } else {
-                force(&s, &m.position_terms(self.omega, t, &s, sin_cos))
-            };
+            let gm = perturbed(&s, j);
             s[j] = q[j];
             for i in 0..N {
                 dg_dq[i * N + j] = (gp[i] - gm[i]) / (2.0 * h);

@@ -576,13 +576,18 @@ impl Yu2021Model {
     /// Eq. (17) and the static error.
     #[inline]
     pub(crate) fn time_terms(&self, omega: f64, tau: f64) -> TimeTerms {
-        let p = &self.params;
         TimeTerms {
             stiffness: self.mesh_stiffness_law(omega).stiffness(tau),
-            static_error: self
-                .transmission_error_on_line()
-                .then(|| crate::pair::mesh::static_error(p.ste, omega, p.phase, tau)),
+            static_error: self.static_error_on_line(omega, tau),
         }
+    }
+
+    /// `(e, e')` of the static error where the DTE is on the line of action, else `None`.
+    #[inline]
+    fn static_error_on_line(&self, omega: f64, tau: f64) -> Option<(f64, f64)> {
+        let p = &self.params;
+        self.transmission_error_on_line()
+            .then(|| crate::pair::mesh::static_error(p.ste, omega, p.phase, tau))
     }
 
     /// DTE `δ*`, its rate, and the mesh force `F*` for a state and a backlash `b` (Eq. 13–15).
@@ -611,9 +616,7 @@ impl Yu2021Model {
         let on_line = self.transmission_error_on_line();
         let position = self.position_terms(omega, tau, s, on_line);
         let g = position.geometry(s);
-        let static_error = on_line.then(|| {
-            crate::pair::mesh::static_error(self.params.ste, omega, self.params.phase, tau)
-        });
+        let static_error = self.static_error_on_line(omega, tau);
         (
             self.dte(s, &g, static_error, position.sin_cos).0,
             g.backlash,
