@@ -360,7 +360,7 @@ impl system::SecondOrderSystem for Yu2021SixDof {
             }
         };
         for j in 0..N {
-            let h = 6e-6 * (1.0 + q[j].abs());
+            let h = system::finite_difference_step(q[j]);
             s[j] = q[j] + h;
             let gp = perturbed(&s, j);
             s[j] = q[j] - h;
@@ -369,7 +369,7 @@ impl system::SecondOrderSystem for Yu2021SixDof {
             for i in 0..N {
                 dg_dq[i * N + j] = (gp[i] - gm[i]) / (2.0 * h);
             }
-            let h = 6e-6 * (1.0 + qd[j].abs());
+            let h = system::finite_difference_step(qd[j]);
             s[N + j] = qd[j] + h;
             let gp = force(&s, &base);
             s[N + j] = qd[j] - h;

@@ -599,10 +599,8 @@ impl Yu2021Model {
         g: &MeshGeometry,
         b: f64,
     ) -> (f64, f64, f64) {
-        let sin_cos = self
-            .transmission_error_on_line()
-            .then(|| g.alpha.dsin_cos());
-        self.mesh_with(s, g, b, &self.time_terms(omega, tau), sin_cos)
+        // `(sin α, cos α)`: computed by [`Self::dte`] where the DTE is on the line of action
+        self.mesh_with(s, g, b, &self.time_terms(omega, tau), None)
     }
 
     /// The DTE `δ*` of a state and its backlash `B` (the event functions' inputs): what
@@ -613,14 +611,9 @@ impl Yu2021Model {
         tau: f64,
         s: &[f64; STATE_LEN],
     ) -> (f64, f64) {
-        let on_line = self.transmission_error_on_line();
-        let position = self.position_terms(omega, tau, s, on_line);
-        let g = position.geometry(s);
+        let g = self.position_terms(omega, tau, s, false).geometry(s);
         let static_error = self.static_error_on_line(omega, tau);
-        (
-            self.dte(s, &g, static_error, position.sin_cos).0,
-            g.backlash,
-        )
+        (self.dte(s, &g, static_error, None).0, g.backlash)
     }
 
     /// [`Self::mesh`] from the time terms and `(sin α, cos α)`.
@@ -642,8 +635,9 @@ impl Yu2021Model {
         )
     }
 
-    /// `(δ*, δ*')` of Eq. (13)–(15) from the geometry, the static error and `(sin α, cos α)`
-    /// (both given where the DTE is on the line of action); the state's own `(q, q')` else.
+    /// `(δ*, δ*')` of Eq. (13)–(15) from the geometry and the static error (given exactly where
+    /// the DTE is on the line of action), with `(sin α, cos α)` if the caller has them (computed
+    /// here if not); the state's own `(q, q')` else.
     #[inline]
     fn dte(
         &self,
