@@ -21,7 +21,9 @@
 //!   (first in, first out), which costs a recomputation, never a different result. Errors are
 //!   not stored.
 //!
-//! [`stats`] gives the hits and misses per function, for the cost report.
+//! [`stats`] gives the hits, the misses and the CPU time of the computations per function, for
+//! the cost report: it is how the validation tells what share of its CPU the shared responses
+//! take, and what the memo saves.
 
 use std::any::Any;
 use std::collections::{BTreeMap, HashMap, VecDeque};
@@ -39,7 +41,44 @@ struct Store {
     capacity: usize,
     map: HashMap<(&'static str, String), Entry>,
     order: VecDeque<(&'static str, String)>,
-    counts: BTreeMap<&'static str, (u64, u64)>,
+    counts: BTreeMap<&'static str, Counts>,
+}
+
+/// The counters of one memoised function.
+#[derive(Debug, Default, Clone, Copy)]
+struct Counts {
+    hits: u64,
+    misses: u64,
+    cpu_ns: u64,
+}
+
+/// What one memoised function cost and saved since the first open session ([`stats`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MemoStats {
+    /// The function's name (the `name` of [`cached`]).
+    pub name: &'static str,
+    /// Calls answered from the memo.
+    pub hits: u64,
+    /// Calls computed (a failed computation included).
+    pub misses: u64,
+    /// CPU seconds of the computed calls: the calling thread's CPU clock
+    /// ([`system::account::thread_cpu_ns`]) read before and after each computation. Inclusive:
+    /// a memoised computation inside another one counts in both, and so does whatever the
+    /// thread ran while it waited inside the computation (rayon's work stealing). The
+    /// functions memoised today compute serially.
+    pub cpu_seconds: f64,
+}
+
+impl MemoStats {
+    /// The CPU seconds the hits would have cost, estimated at the mean of the computed calls
+    /// (0 without a computed call).
+    pub fn saved_cpu_seconds(&self) -> f64 {
+        if self.misses == 0 {
+            0.0
+        } else {
+            self.cpu_seconds * self.hits as f64 / self.misses as f64
+        }
+    }
 }
 
 static STORE: Mutex<Option<Store>> = Mutex::new(None);
@@ -87,10 +126,19 @@ impl Drop for Session {
     }
 }
 
-/// Hits and misses per memoised function since the first open session, in name order.
-pub fn stats() -> Vec<(&'static str, u64, u64)> {
+/// Hits, misses and CPU time per memoised function since the first open session, in name
+/// order.
+pub fn stats() -> Vec<MemoStats> {
     lock().as_ref().map_or_else(Vec::new, |s| {
-        s.counts.iter().map(|(k, &(h, m))| (*k, h, m)).collect()
+        s.counts
+            .iter()
+            .map(|(k, c)| MemoStats {
+                name: k,
+                hits: c.hits,
+                misses: c.misses,
+                cpu_seconds: c.cpu_ns as f64 * 1e-9,
+            })
+            .collect()
     })
 }
 
@@ -118,14 +166,21 @@ where
                 .and_then(|e| e.downcast_ref::<V>().cloned());
             let c = s.counts.entry(name).or_default();
             if let Some(v) = hit {
-                c.0 += 1;
+                c.hits += 1;
                 return Ok(v);
             }
-            c.1 += 1;
+            c.misses += 1;
         }
     }
-    let v = compute()?;
+    let cpu0 = system::account::thread_cpu_ns();
+    let result = compute();
+    let cpu = system::account::thread_cpu_ns().saturating_sub(cpu0);
     let mut g = lock();
+    if let Some(s) = g.as_mut() {
+        let c = s.counts.entry(name).or_default();
+        c.cpu_ns = c.cpu_ns.saturating_add(cpu);
+    }
+    let v = result?;
     if let Some(s) = g.as_mut() {
         let k = (name, key);
         if !s.map.contains_key(&k) {
@@ -180,11 +235,45 @@ mod tests {
             // errors are not stored
             let e = || cached::<u32, &str>("fails", || "k".into(), || Err("no"));
             assert_eq!(e(), Err("no"));
-            assert_eq!(stats(), vec![("fails", 0, 1), ("square", 1, 4)]);
+            let counts: Vec<_> = stats().iter().map(|m| (m.name, m.hits, m.misses)).collect();
+            assert_eq!(counts, vec![("fails", 0, 1), ("square", 1, 4)]);
             assert_eq!(e(), Err("no"));
             // the same key under another name is another entry
             let g = cached::<u32, ()>("other", || "3".into(), || Ok(0));
             assert_eq!(g, Ok(0));
+            // the CPU time of a computation is counted, that of a hit is not
+            let burn = || {
+                cached::<f64, ()>(
+                    "burn",
+                    || "1".into(),
+                    || {
+                        let t0 = system::account::thread_cpu_ns();
+                        let mut x = 1.0f64;
+                        while system::account::thread_cpu_ns() - t0 < 5_000_000 {
+                            for _ in 0..1000 {
+                                x = std::hint::black_box(x.sqrt() + 1.0);
+                            }
+                        }
+                        Ok(x)
+                    },
+                )
+            };
+            let burnt = |st: Vec<MemoStats>| st.into_iter().find(|m| m.name == "burn").unwrap();
+            burn().unwrap();
+            let once = burnt(stats());
+            // the clock reads 0 where it cannot be read: then no time is counted at all
+            if system::account::thread_cpu_ns() > 0 {
+                assert!(once.cpu_seconds >= 5e-3, "{once:?}");
+            }
+            assert_eq!(once.saved_cpu_seconds().to_bits(), 0.0f64.to_bits());
+            burn().unwrap();
+            let twice = burnt(stats());
+            assert_eq!((twice.hits, twice.misses), (1, 1));
+            assert_eq!(twice.cpu_seconds.to_bits(), once.cpu_seconds.to_bits());
+            assert_eq!(
+                twice.saved_cpu_seconds().to_bits(),
+                once.cpu_seconds.to_bits()
+            );
         }
         // closed: cleared and off
         assert!(stats().is_empty());

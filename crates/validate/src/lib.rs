@@ -132,7 +132,7 @@ pub use error::{Error, ResultExt};
 /// The step-statistic columns of a time-stepping record (from the model contract).
 pub use models::contract::STEP_STATISTICS;
 pub use output::{
-    COST_FILE, STATS_DIR, Shard, ValidationSummary, diff_against, run_validation,
+    COST_FILE, MEMO_FILE, STATS_DIR, Shard, ValidationSummary, diff_against, run_validation,
     run_validation_sharded, study_selected,
 };
 pub use plot::{
@@ -145,8 +145,8 @@ pub(crate) use plot::{figure, format, table};
 pub use published::{Published, PublishedClaim, PublishedValue};
 pub use render::{
     ReadingsIndex, STATS_DIGEST_FILE, StudyCost, StudyResult, comparisons_csv,
-    comparisons_csv_full, cost_csv, cost_text, insta_snap, render_all, render_stats, report,
-    run_studies, run_studies_with, snapshot_body, stats_digest,
+    comparisons_csv_full, cost_csv, cost_text, insta_snap, memo_csv, memo_text, render_all,
+    render_stats, report, run_studies, run_studies_with, snapshot_body, stats_digest,
 };
 pub use schedule::{
     ProgressMeter, RunProgress, UNKNOWN_CPU_SECONDS, expected_cpu_seconds, longest_first,

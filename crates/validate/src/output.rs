@@ -196,6 +196,10 @@ pub fn run_validation_sharded(
         &cost_path,
         crate::cost_csv(&results, elapsed.as_secs_f64()).as_bytes(),
     )?;
+    write_atomic(
+        &vdir.join(STATS_DIR).join(MEMO_FILE),
+        crate::memo_csv(&memo_stats).as_bytes(),
+    )?;
 
     let mut warnings = Vec::new();
     let (mut p, mut d, mut i) = (0, 0, 0);
@@ -258,12 +262,7 @@ pub fn run_validation_sharded(
         cost_table: format!(
             "{}{}",
             crate::cost_text(&results, elapsed.as_secs_f64()),
-            memo_stats
-                .iter()
-                .map(|(f, hits, misses)| format!(
-                    "memo {f}: {hits} computations saved, {misses} computed\n"
-                ))
-                .collect::<String>()
+            crate::memo_text(&memo_stats)
         ),
     };
     summary.message = if let (true, Some(sh)) = (check, shard) {
@@ -358,6 +357,10 @@ pub const STATS_DIR: &str = "stats";
 
 /// The cost table of the last run under [`STATS_DIR`] ([`crate::cost_csv`]).
 pub const COST_FILE: &str = "cost.csv";
+
+/// The in-run memo's computations, their CPU and what it saved, of the last run under
+/// [`STATS_DIR`] ([`crate::memo_csv`]).
+pub const MEMO_FILE: &str = "memo.csv";
 
 fn write_stats(vdir: &Path, stats: &BTreeMap<String, Vec<u8>>, prune: bool) -> Result<(), Error> {
     let dir = vdir.join(STATS_DIR);
@@ -749,6 +752,39 @@ mod tests {
         assert_eq!(last.studies_done, 3);
         assert_eq!(last.work_done.to_bits(), last.work_total.to_bits());
         assert!(last.work_total > 0.0);
+    }
+
+    /// The memo's table: per function what it computed at what CPU, and the hits' estimated
+    /// CPU at the mean of the computed calls.
+    #[test]
+    fn memo_table_states_computed_and_saved_cpu() {
+        let stats = [
+            models::memo::MemoStats {
+                name: "liu2021::long_window",
+                hits: 2,
+                misses: 4,
+                cpu_seconds: 10.0,
+            },
+            models::memo::MemoStats {
+                name: "never_computed",
+                hits: 0,
+                misses: 0,
+                cpu_seconds: 0.0,
+            },
+        ];
+        assert_eq!(
+            crate::memo_csv(&stats),
+            "function,computed,cpu_seconds,saved,saved_cpu_seconds_estimate\n\
+             liu2021::long_window,4,10.000,2,5.000\n\
+             never_computed,0,0.000,0,0.000\n"
+        );
+        let text = crate::memo_text(&stats);
+        assert!(
+            text.starts_with(
+                "memo liu2021::long_window: 4 computed in 10.0 CPU s; 2 computations saved (≈ 5.0 CPU s)\n"
+            ),
+            "{text}"
+        );
     }
 
     #[test]

@@ -155,6 +155,42 @@ pub fn cost_csv(results: &[StudyResult], run_wall_seconds: f64) -> String {
     s
 }
 
+/// The in-run memo's share of a run (`validation/stats/memo.csv`): per memoised function
+/// ([`models::memo::MemoStats`]) its computed calls and their CPU seconds, the calls answered from
+/// the memo and the CPU seconds they would have cost at the mean of the computed ones.
+pub fn memo_csv(stats: &[models::memo::MemoStats]) -> String {
+    let mut s = String::from("function,computed,cpu_seconds,saved,saved_cpu_seconds_estimate\n");
+    for m in stats {
+        s.push_str(&format!(
+            "{},{},{:.3},{},{:.3}\n",
+            m.name,
+            m.misses,
+            m.cpu_seconds,
+            m.hits,
+            m.saved_cpu_seconds()
+        ));
+    }
+    s
+}
+
+/// The memo's lines under the cost table: per function what was computed and at what CPU, and
+/// what the memo saved.
+pub fn memo_text(stats: &[models::memo::MemoStats]) -> String {
+    stats
+        .iter()
+        .map(|m| {
+            format!(
+                "memo {}: {} computed in {:.1} CPU s; {} computations saved (≈ {:.1} CPU s)\n",
+                m.name,
+                m.misses,
+                m.cpu_seconds,
+                m.hits,
+                m.saved_cpu_seconds()
+            )
+        })
+        .collect()
+}
+
 /// The cost table as aligned text for the terminal (most expensive study first by CPU).
 pub fn cost_text(results: &[StudyResult], run_wall_seconds: f64) -> String {
     let mut rows: Vec<&StudyResult> = results.iter().collect();
