@@ -362,22 +362,60 @@ pub fn time_reference(
     time_reference_runs(model, strategy).map(|(t, nominal, _)| (t, nominal))
 }
 
+/// The fields of a [`SweepStrategy`] that the time reference reads, and all that its
+/// computation is given: so its memo key holds every input and nothing else. A study without
+/// long windows (or with other harmonic-balance settings) shares the references of a study
+/// with them (`liu2021-readings-speed-thresholds`' constant-b̄ row and the speed sweep).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ReferenceSettings {
+    integration: IntegrationOptions,
+    poincare_periods: usize,
+    poincare_tol: f64,
+    refine_factor: f64,
+    ppv_rel_tol: f64,
+    settle_rounds: usize,
+    settle_periods: f64,
+    settle_margin: f64,
+}
+
+impl ReferenceSettings {
+    fn of(s: &SweepStrategy) -> Self {
+        Self {
+            integration: s.integration,
+            poincare_periods: s.poincare_periods,
+            poincare_tol: s.poincare_tol,
+            refine_factor: s.refine_factor,
+            ppv_rel_tol: s.ppv_rel_tol,
+            settle_rounds: s.settle_rounds,
+            settle_periods: s.settle_periods,
+            settle_margin: s.settle_margin,
+        }
+    }
+
+    /// The memo key of the reference of `model` under these settings.
+    fn key(&self, model: &Model) -> String {
+        format!("{model:?}|{self:?}")
+    }
+}
+
 /// [`time_reference`] with the recorded response of the refined run as well. Memoised while a
-/// [`crate::memo::Session`] is open (key: the model and the strategy).
+/// [`crate::memo::Session`] is open (key: the model and the strategy's fields that the
+/// reference reads, [`ReferenceSettings`]).
 fn time_reference_runs(
     model: &Model,
     strategy: &SweepStrategy,
 ) -> Result<(TimeReference, TimeResponse, TimeResponse), Error> {
+    let settings = ReferenceSettings::of(strategy);
     crate::memo::cached(
         "liu2021::time_reference",
-        || format!("{model:?}|{strategy:?}"),
-        || time_reference_runs_uncached(model, strategy),
+        || settings.key(model),
+        || time_reference_runs_uncached(model, &settings),
     )
 }
 
 fn time_reference_runs_uncached(
     model: &Model,
-    strategy: &SweepStrategy,
+    strategy: &ReferenceSettings,
 ) -> Result<(TimeReference, TimeResponse, TimeResponse), Error> {
     if strategy.settle_rounds > 100 {
         return Err(Error::invalid(
@@ -620,6 +658,87 @@ fn fill_from_neighbours(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The time reference's memo key: the same for strategies that differ only in what the
+    /// reference does not read (long windows, harmonic balance, continuation, stability,
+    /// anchors), different when any field it reads changes.
+    #[test]
+    fn time_reference_key_holds_exactly_the_fields_it_reads() {
+        let m = super::super::table1().model().unwrap();
+        let base = SweepStrategy::default();
+        let key = |s: &SweepStrategy| ReferenceSettings::of(s).key(&m);
+        let same = [
+            SweepStrategy {
+                long_window: Some(LongWindowOptions::default()),
+                ..base
+            },
+            SweepStrategy {
+                full_basis: None,
+                neighbour_passes: 1,
+                stability: false,
+                anchor_margin: 0.5,
+                ..base
+            },
+            SweepStrategy {
+                paper_hbm: HbmOptions {
+                    max_iter: base.paper_hbm.max_iter + 1,
+                    ..base.paper_hbm
+                },
+                ..base
+            },
+        ];
+        for s in &same {
+            assert_eq!(key(s), key(&base), "{s:?}");
+        }
+        let io = base.integration;
+        let other = [
+            SweepStrategy {
+                integration: IntegrationOptions {
+                    rtol: io.rtol / 2.0,
+                    ..io
+                },
+                ..base
+            },
+            SweepStrategy {
+                poincare_periods: base.poincare_periods + 1,
+                ..base
+            },
+            SweepStrategy {
+                poincare_tol: base.poincare_tol * 2.0,
+                ..base
+            },
+            SweepStrategy {
+                refine_factor: base.refine_factor * 2.0,
+                ..base
+            },
+            SweepStrategy {
+                ppv_rel_tol: base.ppv_rel_tol * 2.0,
+                ..base
+            },
+            SweepStrategy {
+                settle_rounds: base.settle_rounds + 1,
+                ..base
+            },
+            SweepStrategy {
+                settle_periods: base.settle_periods + 1.0,
+                ..base
+            },
+            SweepStrategy {
+                settle_margin: base.settle_margin * 2.0,
+                ..base
+            },
+        ];
+        for s in &other {
+            assert_ne!(key(s), key(&base), "{s:?}");
+        }
+        // another model, another key
+        let mut p = super::super::table1();
+        p.omega1 += 1.0;
+        assert_ne!(
+            ReferenceSettings::of(&base).key(&p.model().unwrap()),
+            key(&base)
+        );
+    }
 
     /// Liu Fig. 11 at 180 rad/s (Table 1, constant b̄): after the 10-period transient the
     /// 6-period section is still far from repeating (the free transient near the bilateral
