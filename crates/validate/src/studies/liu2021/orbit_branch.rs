@@ -126,7 +126,23 @@ fn section_settled(q: &[f64], v: &[f64], ppv: f64, backlash: f64) -> bool {
 /// Returns the last state `(q, q̇)`, whether any contact event was located, and the drift of
 /// `q` over the last period in units of `b̄`, `|q(t_end) − q(t_end − T)|/b̄` (a settled
 /// period-1 orbit: at the integration tolerance; NaN without two samples).
+///
+/// Memoised while a [`models::memo::Session`] is open (key: the model and the three numbers):
+/// the design charts start branches from orbits that this study settles too.
 fn settle(m: &Model, periods: f64, record: f64, rtol: f64) -> Result<(f64, f64, bool, f64), Error> {
+    models::memo::cached(
+        "validate::liu2021_settle",
+        || format!("{m:?}|{periods:?}|{record:?}|{rtol:?}"),
+        || settle_uncached(m, periods, record, rtol),
+    )
+}
+
+fn settle_uncached(
+    m: &Model,
+    periods: f64,
+    record: f64,
+    rtol: f64,
+) -> Result<(f64, f64, bool, f64), Error> {
     let r = liu2021::integrate(
         m,
         &IntegrationOptions {
