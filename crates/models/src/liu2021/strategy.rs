@@ -667,69 +667,34 @@ mod tests {
         let m = super::super::table1().model().unwrap();
         let base = SweepStrategy::default();
         let key = |s: &SweepStrategy| ReferenceSettings::of(s).key(&m);
-        let same = [
-            SweepStrategy {
-                long_window: Some(LongWindowOptions::default()),
-                ..base
-            },
-            SweepStrategy {
-                full_basis: None,
-                neighbour_passes: 1,
-                stability: false,
-                anchor_margin: 0.5,
-                ..base
-            },
-            SweepStrategy {
-                paper_hbm: HbmOptions {
-                    max_iter: base.paper_hbm.max_iter + 1,
-                    ..base.paper_hbm
-                },
-                ..base
-            },
+        let changed = |change: fn(&mut SweepStrategy)| {
+            let mut s = base;
+            change(&mut s);
+            key(&s)
+        };
+        let same: [fn(&mut SweepStrategy); 6] = [
+            |s| s.long_window = Some(LongWindowOptions::default()),
+            |s| s.full_basis = None,
+            |s| s.neighbour_passes = 1,
+            |s| s.stability = false,
+            |s| s.anchor_margin = 0.5,
+            |s| s.paper_hbm.max_iter += 1,
         ];
-        for s in &same {
-            assert_eq!(key(s), key(&base), "{s:?}");
+        for (i, change) in same.into_iter().enumerate() {
+            assert_eq!(changed(change), key(&base), "unread field {i}");
         }
-        let io = base.integration;
-        let other = [
-            SweepStrategy {
-                integration: IntegrationOptions {
-                    rtol: io.rtol / 2.0,
-                    ..io
-                },
-                ..base
-            },
-            SweepStrategy {
-                poincare_periods: base.poincare_periods + 1,
-                ..base
-            },
-            SweepStrategy {
-                poincare_tol: base.poincare_tol * 2.0,
-                ..base
-            },
-            SweepStrategy {
-                refine_factor: base.refine_factor * 2.0,
-                ..base
-            },
-            SweepStrategy {
-                ppv_rel_tol: base.ppv_rel_tol * 2.0,
-                ..base
-            },
-            SweepStrategy {
-                settle_rounds: base.settle_rounds + 1,
-                ..base
-            },
-            SweepStrategy {
-                settle_periods: base.settle_periods + 1.0,
-                ..base
-            },
-            SweepStrategy {
-                settle_margin: base.settle_margin * 2.0,
-                ..base
-            },
+        let other: [fn(&mut SweepStrategy); 8] = [
+            |s| s.integration.rtol /= 2.0,
+            |s| s.poincare_periods += 1,
+            |s| s.poincare_tol *= 2.0,
+            |s| s.refine_factor *= 2.0,
+            |s| s.ppv_rel_tol *= 2.0,
+            |s| s.settle_rounds += 1,
+            |s| s.settle_periods += 1.0,
+            |s| s.settle_margin *= 2.0,
         ];
-        for s in &other {
-            assert_ne!(key(s), key(&base), "{s:?}");
+        for (i, change) in other.into_iter().enumerate() {
+            assert_ne!(changed(change), key(&base), "read field {i}");
         }
         // another model, another key
         let mut p = super::super::table1();
