@@ -415,30 +415,30 @@ fn time_reference_runs(
 
 fn time_reference_runs_uncached(
     model: &Model,
-    strategy: &ReferenceSettings,
+    settings: &ReferenceSettings,
 ) -> Result<(TimeReference, TimeResponse, TimeResponse), Error> {
-    if strategy.settle_rounds > 100 {
+    if settings.settle_rounds > 100 {
         return Err(Error::invalid(
             "liu2021.strategy.settle_rounds",
             "at most 100",
-            strategy.settle_rounds as f64,
+            settings.settle_rounds as f64,
         ));
     }
-    if !(strategy.settle_periods >= 0.0 && strategy.settle_periods <= 1e5) {
+    if !(settings.settle_periods >= 0.0 && settings.settle_periods <= 1e5) {
         return Err(Error::invalid(
             "liu2021.strategy.settle_periods",
             "in [0, 1e5]",
-            strategy.settle_periods,
+            settings.settle_periods,
         ));
     }
-    if !(strategy.settle_margin > 0.0 && strategy.settle_margin.is_finite()) {
+    if !(settings.settle_margin > 0.0 && settings.settle_margin.is_finite()) {
         return Err(Error::invalid(
             "liu2021.strategy.settle_margin",
             "> 0 and finite",
-            strategy.settle_margin,
+            settings.settle_margin,
         ));
     }
-    let mut opts = strategy.integration;
+    let mut opts = settings.integration;
     // the section after the transient; lengthened while it does not repeat with margin
     // (`settle_rounds`: a bounded loop). The transient of the last section is the transient
     // of the nominal run below (the same start, length and tolerances): integrated once.
@@ -446,42 +446,42 @@ fn time_reference_runs_uncached(
         let (strobe, transient) = integrate_after(
             model,
             &IntegrationOptions {
-                record_periods: strategy.poincare_periods as f64,
+                record_periods: settings.poincare_periods as f64,
                 sample_step: model.period(),
                 ..*opts
             },
             None,
         )?;
         let scale = (strobe.rattle.ppv + model.backlash.abs()).max(f64::MIN_POSITIVE);
-        let motion = classify_section(&strobe.q, &strobe.v, strategy.poincare_tol, scale);
+        let motion = classify_section(&strobe.q, &strobe.v, settings.poincare_tol, scale);
         let margin = crate::motion::section_margin(
             &strobe.q,
             &strobe.v,
             motion,
-            strategy.poincare_tol,
+            settings.poincare_tol,
             scale,
         );
         Ok((motion, margin, transient))
     };
     let (mut motion, mut section_margin, mut transient) = section(&opts)?;
-    for _ in 0..strategy.settle_rounds {
+    for _ in 0..settings.settle_rounds {
         // a NaN margin is not settled: it goes on to the next round
-        if section_margin <= strategy.settle_margin {
+        if section_margin <= settings.settle_margin {
             break;
         }
-        opts.transient_periods += strategy.settle_periods;
+        opts.transient_periods += settings.settle_periods;
         (motion, section_margin, transient) = section(&opts)?;
     }
     let (ti, _) = integrate_after(model, &opts, Some(transient))?;
     let refined_opts = IntegrationOptions {
-        rtol: opts.rtol / strategy.refine_factor,
+        rtol: opts.rtol / settings.refine_factor,
         ..opts
     };
     let refined_run = integrate(model, &refined_opts)?;
     let refined = refined_run.rattle;
     let reproducible = refined.state == ti.rattle.state
         && (refined.ppv - ti.rattle.ppv).abs()
-            <= strategy.ppv_rel_tol * refined.ppv.abs().max(model.backlash.abs());
+            <= settings.ppv_rel_tol * refined.ppv.abs().max(model.backlash.abs());
     Ok((
         TimeReference {
             rattle: ti.rattle,
