@@ -49,7 +49,7 @@ struct Store {
 struct Counts {
     hits: u64,
     misses: u64,
-    cpu_ns: u64,
+    cpu_seconds: f64,
 }
 
 /// What one memoised function cost and saved since the first open session ([`stats`]).
@@ -61,11 +61,11 @@ pub struct MemoStats {
     pub hits: u64,
     /// Calls computed (a failed computation included).
     pub misses: u64,
-    /// CPU seconds of the computed calls: the calling thread's CPU clock
-    /// ([`system::account::thread_cpu_ns`]) read before and after each computation. Inclusive:
-    /// a memoised computation inside another one counts in both, and so does whatever the
-    /// thread ran while it waited inside the computation (rayon's work stealing). The
-    /// functions memoised today compute serially.
+    /// CPU seconds of the computed calls: each computation runs under a child
+    /// ([`system::account::Account::child`]) of the account in force, so this counts its CPU on
+    /// every thread of its sweeps, and not the other work a thread ran while it waited inside
+    /// the computation (rayon's work stealing). A memoised computation inside another one
+    /// counts in both. The study that asked first is charged as without the memo.
     pub cpu_seconds: f64,
 }
 
@@ -136,7 +136,7 @@ pub fn stats() -> Vec<MemoStats> {
                 name: k,
                 hits: c.hits,
                 misses: c.misses,
-                cpu_seconds: c.cpu_ns as f64 * 1e-9,
+                cpu_seconds: c.cpu_seconds,
             })
             .collect()
     })
@@ -172,13 +172,18 @@ where
             c.misses += 1;
         }
     }
-    let cpu0 = system::account::thread_cpu_ns();
-    let result = compute();
-    let cpu = system::account::thread_cpu_ns().saturating_sub(cpu0);
+    // a part of the work in force (the study that asked first): charged there as before, and
+    // counted here across every thread of the computation's sweeps
+    let account = match system::account::current() {
+        Some(parent) => system::account::Account::child(name, &parent),
+        None => system::account::Account::new(name),
+    };
+    let result = system::account::scope(&account, compute);
+    let cpu = account.usage().cpu_seconds;
     let mut g = lock();
     if let Some(s) = g.as_mut() {
         let c = s.counts.entry(name).or_default();
-        c.cpu_ns = c.cpu_ns.saturating_add(cpu);
+        c.cpu_seconds += cpu;
     }
     let v = result?;
     if let Some(s) = g.as_mut() {
@@ -203,6 +208,24 @@ where
 mod tests {
     use super::*;
     use std::sync::atomic::{AtomicU32, Ordering};
+    use system::account::{self, Account};
+
+    /// About `ns` nanoseconds of this thread's CPU, bounded also where the clock reads 0;
+    /// returns the CPU nanoseconds it saw pass.
+    fn burn_ns(ns: u64) -> f64 {
+        let t0 = account::thread_cpu_ns();
+        let mut x = 1.0f64;
+        for _ in 0..100_000 {
+            for _ in 0..1000 {
+                x = std::hint::black_box(x.sqrt() + 1.0);
+            }
+            if account::thread_cpu_ns().saturating_sub(t0) >= ns {
+                break;
+            }
+        }
+        std::hint::black_box(x);
+        account::thread_cpu_ns().saturating_sub(t0) as f64
+    }
 
     // one test touches the global store, so that tests running in parallel do not share it
     #[test]
@@ -242,31 +265,10 @@ mod tests {
             let g = cached::<u32, ()>("other", || "3".into(), || Ok(0));
             assert_eq!(g, Ok(0));
             // the CPU time of a computation is counted, that of a hit is not
-            let burn = || {
-                cached::<f64, ()>(
-                    "burn",
-                    || "1".into(),
-                    || {
-                        // about 5 ms of CPU, bounded also where the clock reads 0; returns the
-                        // CPU nanoseconds it saw pass
-                        let t0 = system::account::thread_cpu_ns();
-                        let mut x = 1.0f64;
-                        for _ in 0..100_000 {
-                            for _ in 0..1000 {
-                                x = std::hint::black_box(x.sqrt() + 1.0);
-                            }
-                            if system::account::thread_cpu_ns().saturating_sub(t0) >= 5_000_000 {
-                                break;
-                            }
-                        }
-                        std::hint::black_box(x);
-                        Ok(system::account::thread_cpu_ns().saturating_sub(t0) as f64)
-                    },
-                )
-            };
-            let burnt = |st: Vec<MemoStats>| st.into_iter().find(|m| m.name == "burn").unwrap();
+            let burn = || cached::<f64, ()>("burn", || "1".into(), || Ok(burn_ns(5_000_000)));
+            let burnt = |name: &str| stats().into_iter().find(|m| m.name == name).unwrap();
             let seen = burn().unwrap();
-            let once = burnt(stats());
+            let once = burnt("burn");
             // at least what the computation saw pass (0 where the clock cannot be read)
             assert!(
                 once.cpu_seconds * 1e9 >= seen - 1.0,
@@ -274,12 +276,37 @@ mod tests {
             );
             assert_eq!(once.saved_cpu_seconds().to_bits(), 0.0f64.to_bits());
             burn().unwrap();
-            let twice = burnt(stats());
+            let twice = burnt("burn");
             assert_eq!((twice.hits, twice.misses), (1, 1));
             assert_eq!(twice.cpu_seconds.to_bits(), once.cpu_seconds.to_bits());
             assert_eq!(
                 twice.saved_cpu_seconds().to_bits(),
                 once.cpu_seconds.to_bits()
+            );
+            // a computation that sweeps: its CPU on every thread of the sweep, charged to the
+            // study in force as well
+            let study = Account::new("study");
+            let seen = account::scope(&study, || {
+                cached::<f64, ()>(
+                    "sweeps",
+                    || "1".into(),
+                    || {
+                        let ns = system::sweep::sweep(&[0u8; 4], |_| burn_ns(3_000_000), None);
+                        Ok(ns.iter().sum())
+                    },
+                )
+            })
+            .unwrap();
+            let swept = burnt("sweeps");
+            assert!(
+                swept.cpu_seconds * 1e9 >= seen - 4.0,
+                "{swept:?} against {seen} ns"
+            );
+            let u = study.usage();
+            assert_eq!((u.points, u.points_planned), (4, 4));
+            assert!(
+                u.cpu_seconds >= swept.cpu_seconds,
+                "{u:?} against {swept:?}"
             );
         }
         // closed: cleared and off

@@ -11,11 +11,18 @@
 //!   level).
 //! * **Steps and right-hand-side calls**: the time integrators of `geardyn-timestep` add their
 //!   counters at the end of each integration ([`record_steps`]).
-//! * **CPU time** is *exclusive*: the calling thread's CPU clock ([`thread_cpu_ns`]) is read when an account is put in
-//!   force and when it is left, and the time between goes to the innermost account in force.
-//!   When a thread waiting inside one study's sweep runs a point of another study (rayon's work
-//!   stealing), the time of that point goes to the other study. So the CPU seconds of the
-//!   accounts of a run add up to the run's CPU time (less what ran under no account).
+//! * **CPU time** is *exclusive*: the calling thread's CPU clock ([`thread_cpu_ns`]) is read
+//!   when an account is put in force and when it is left, and the time between goes to the
+//!   innermost account in force (and to its parents, below). When a thread waiting inside one
+//!   study's sweep runs a point of another study (rayon's work stealing), the time of that
+//!   point goes to the other study. So the CPU seconds of the accounts without a parent add up
+//!   to the run's CPU time (less what ran under no account).
+//!
+//! A **child** account ([`Account::child`]) counts a part of its parent's work: whatever is
+//! charged to the child is charged to the parent (and its parents) as well, at the same moment,
+//! so the parent's figures are those it would have without the child, and the child's are the
+//! part's own, across every thread that ran it. The in-run memo of `geardyn-models` counts a
+//! shared computation this way inside the study that asked for it first.
 //!
 //! Accounting never changes a result: it only counts, with relaxed atomics.
 //!
@@ -40,6 +47,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 #[derive(Debug, Default)]
 pub struct Account {
     name: String,
+    /// Charged with everything charged to this account ([`Account::child`]); set at creation,
+    /// so the chain of parents is finite and free of cycles.
+    parent: Option<Arc<Account>>,
     points: AtomicU64,
     points_planned: AtomicU64,
     accepted: AtomicU64,
@@ -78,9 +88,25 @@ impl Account {
         })
     }
 
-    /// The name given to [`Account::new`].
+    /// A new, empty account named `name` for a part of `parent`'s work: everything charged to
+    /// it is charged to `parent` (and to `parent`'s parents) as well (module docs).
+    pub fn child(name: impl Into<String>, parent: &Arc<Account>) -> Arc<Account> {
+        Arc::new(Account {
+            name: name.into(),
+            parent: Some(Arc::clone(parent)),
+            ..Account::default()
+        })
+    }
+
+    /// The name given to [`Account::new`] or [`Account::child`].
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// This account and its parents, innermost first (a finite chain: parents are set at
+    /// creation).
+    fn chain(&self) -> impl Iterator<Item = &Account> {
+        std::iter::successors(Some(self), |a| a.parent.as_deref())
     }
 
     /// The counters now.
@@ -120,7 +146,9 @@ pub fn thread_cpu_ns() -> u64 {
 /// Charge the frame in force (if any) with the CPU time since it was last charged.
 fn charge(frame: &mut Frame, now: u64) {
     let dt = now.saturating_sub(frame.since_ns);
-    frame.account.cpu_ns.fetch_add(dt, Ordering::Relaxed);
+    for a in frame.account.chain() {
+        a.cpu_ns.fetch_add(dt, Ordering::Relaxed);
+    }
     frame.since_ns = now;
 }
 
@@ -179,25 +207,26 @@ pub fn current() -> Option<Arc<Account>> {
 pub fn record_steps(accepted: u64, rejected: u64, rhs_calls: u64) {
     CURRENT.with(|c| {
         if let Some(f) = c.borrow().as_ref() {
-            let a = &f.account;
-            a.accepted.fetch_add(accepted, Ordering::Relaxed);
-            a.rejected.fetch_add(rejected, Ordering::Relaxed);
-            a.rhs.fetch_add(rhs_calls, Ordering::Relaxed);
-            a.integrations.fetch_add(1, Ordering::Relaxed);
+            for a in f.account.chain() {
+                a.accepted.fetch_add(accepted, Ordering::Relaxed);
+                a.rejected.fetch_add(rejected, Ordering::Relaxed);
+                a.rhs.fetch_add(rhs_calls, Ordering::Relaxed);
+                a.integrations.fetch_add(1, Ordering::Relaxed);
+            }
         }
     });
 }
 
 /// `n` sweep points begun under `account` (called by the sweeps).
 pub(crate) fn plan_points(account: Option<&Arc<Account>>, n: usize) {
-    if let Some(a) = account {
+    for a in account.into_iter().flat_map(|a| a.chain()) {
         a.points_planned.fetch_add(n as u64, Ordering::Relaxed);
     }
 }
 
 /// One sweep point done under `account` (called by the sweeps).
 pub(crate) fn point_done(account: Option<&Arc<Account>>) {
-    if let Some(a) = account {
+    for a in account.into_iter().flat_map(|a| a.chain()) {
         a.points.fetch_add(1, Ordering::Relaxed);
     }
 }
@@ -245,6 +274,56 @@ mod tests {
         assert_eq!((o.steps_accepted, o.steps_rejected, o.rhs_calls), (1, 0, 7));
         assert_eq!((o.integrations, i.integrations), (1, 1));
         assert!(o.cpu_seconds > 0.0 && i.cpu_seconds > 0.0);
+    }
+
+    /// A child's figures are its part's own, across the threads of its sweeps; the parent's
+    /// include them, as if the part had run under the parent; a sibling account in force
+    /// inside the child's scope takes its time from both.
+    #[test]
+    fn a_child_is_charged_to_its_parent_too() {
+        let parent = Account::new("study");
+        let child = Account::child("shared", &parent);
+        let other = Account::new("other study");
+        scope(&parent, || {
+            record_steps(1, 0, 7);
+            burn(1_000_000);
+            scope(&child, || {
+                let sq = crate::sweep::sweep(
+                    &[1u64, 2, 3, 4],
+                    |&x| {
+                        record_steps(x, 1, 10 * x);
+                        burn(500_000) ^ x
+                    },
+                    None,
+                );
+                assert_eq!(sq.len(), 4);
+                // another study's point run by a thread waiting inside the child's work
+                scope(&other, || {
+                    record_steps(100, 0, 100);
+                    burn(2_000_000)
+                });
+            });
+        });
+        let (p, c, o) = (parent.usage(), child.usage(), other.usage());
+        // (points, planned, accepted, rejected, RHS calls, integrations)
+        let counts = |u: Usage| {
+            let n = [
+                u.points,
+                u.points_planned,
+                u.steps_accepted,
+                u.steps_rejected,
+            ];
+            (n, u.rhs_calls, u.integrations)
+        };
+        assert_eq!(counts(c), ([4, 4, 10, 4], 100, 4));
+        assert_eq!(counts(p), ([4, 4, 11, 4], 107, 5));
+        assert_eq!((o.steps_accepted, o.integrations), (100, 1));
+        // the parent holds the child's CPU and more; the clock may read 0 on some platforms
+        assert!(p.cpu_seconds >= c.cpu_seconds);
+        if thread_cpu_ns() > 0 {
+            assert!(c.cpu_seconds > 0.0 && o.cpu_seconds > 0.0);
+            assert!(p.cpu_seconds > c.cpu_seconds);
+        }
     }
 
     #[test]
